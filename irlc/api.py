@@ -1,0 +1,1 @@
+"""Public API: compile_program, run_program, load_robot (filled by the areas)."""

@@ -1,0 +1,54 @@
+"""Command line: a thin layer over the public API (``irlc.api``).
+
+Each area registers its commands in its own module; ``main`` maps errors to the
+exit codes of ``interfaces.md`` and never lets a traceback reach the user for bad
+input.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import click
+
+from irlc.cli.app import cli
+from irlc.errors import EXIT_INTERNAL, EXIT_USAGE, UsageError
+
+# Command modules register themselves on `cli` when imported.
+from irlc.cli import lang_cmds, robot_cmds, run_cmds, tool_cmds  # noqa: E402, F401, I001
+
+__all__ = ["cli", "main"]
+
+
+def main(argv: list[str] | None = None) -> int:
+    try:
+        rv = cli.main(args=argv, prog_name="irlc", standalone_mode=False)
+    except click.exceptions.Exit as e:
+        return e.exit_code
+    except click.Abort:
+        click.echo("aborted", err=True)
+        return 130
+    except click.ClickException as e:  # usage errors: exit 3, not click's 2
+        e.show()
+        return EXIT_USAGE
+    except UsageError as e:
+        click.echo(f"irlc: error: {e}", err=True)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        return 130
+    except Exception as e:  # noqa: BLE001 - the last line of defence
+        import traceback
+
+        click.echo(
+            f"irlc: internal error: {type(e).__name__}: {e}\n"
+            "This is a bug in irlc; please report it with the program that triggered it.",
+            err=True,
+        )
+        if "--debug" in (argv or sys.argv):
+            traceback.print_exc()
+        return EXIT_INTERNAL
+    return rv if isinstance(rv, int) else 0
+
+
+def entry() -> None:
+    sys.exit(main())

@@ -1,0 +1,24 @@
+"""The click group and the bare form ``irlc PROGRAM.irl`` (= ``irlc run PROGRAM.irl``)."""
+
+from __future__ import annotations
+
+import click
+
+
+class IrlcGroup(click.Group):
+    """A group whose first argument may be a program file instead of a command."""
+
+    def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
+        if args and not args[0].startswith("-") and args[0] not in self.commands:
+            args = ["run", *args]
+        return super().parse_args(ctx, args)
+
+
+@click.group(
+    cls=IrlcGroup,
+    context_settings={"help_option_names": ["-h", "--help"]},
+    epilog="Bare form: `irlc PROGRAM.irl [options]` is `irlc run PROGRAM.irl [options]`.",
+)
+@click.version_option(package_name="irlc")
+def cli() -> None:
+    """irlc — compile and simulate IRL programs for redundant industrial robots."""

@@ -1,0 +1,551 @@
+"""IRDATA code: the in-memory model, the writer and the reader (assembler).
+
+The format is documented in ``docs/irdata.md``. ``write_code(read_code(text)) == text``
+for every text the writer produced (byte-identical round trip).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from irlc.lang.diagnostics import CompileError, Diagnostic, Span
+
+FORMAT_VERSION = 1
+MAGIC = f"IRDATA {FORMAT_VERSION}"
+
+JOINT_TUPLE_TYPES = (
+    "MAIN_JOINT",
+    "MAIN_JOINT_MIN",
+    "MAIN_JOINT_MAX",
+    "MAIN_JOINT_SPEED_MIN",
+    "MAIN_JOINT_SPEED_MAX",
+    "MAIN_JOINT_ACCEL_MIN",
+    "MAIN_JOINT_ACCEL_MAX",
+)
+SCALAR_TYPES = ("INTEGER", "REAL", "BOOLEAN", "CHAR", "STRING")
+GEOMETRIC_TYPES = ("POSITION", "ORIENTATION", "POSE")
+SYSTEM_VARIABLES = (
+    "R_SPEED",
+    "R_ACC",
+    "R_SPEED_ORI",
+    "R_SPEED_PTP",
+    "R_ACC_PTP",
+    "R_TOOL",
+    "R_BASE",
+    "R_IPO",
+    "R_ACT_POSE",
+    "R_ACT_JOINT",
+)
+MOVE_KINDS = ("PTP", "LIN", "CIRCLE", "LINPATH", "PTPINC", "LININC")
+MODAL_OPTIONS = ("JOINTLIMIT", "JOINTSPEEDLIMIT", "JOINTACCELLIMIT", "CYCLIC", "OBSTACLE", "FREEZE")
+OBSTACLE_KINDS = ("point", "sphere", "box", "capsule", "plane")
+
+# Operand signatures: i = integer, w = word, t = jump target, * = any number of int/word.
+OPCODES: dict[str, str] = {
+    "PUSHC": "i", "PUSHG": "i", "POPG": "i", "PUSHL": "i", "POPL": "i",
+    "REFG": "i", "REFL": "i", "PUSHSYS": "w", "POPSYS": "w", "POP": "", "DUP": "",
+    "GETF": "w", "SETF": "w", "GETI": "", "SETI": "",
+    "ADD": "", "SUB": "", "MUL": "", "DIV": "", "IDIV": "", "MOD": "", "NEG": "", "NOT": "",
+    "EQ": "", "NE": "", "LT": "", "GT": "", "LE": "", "GE": "",
+    "AND": "", "OR": "", "XOR": "", "COMPOSE": "",
+    "MAKE": "wi", "CALLB": "wi", "CALL": "ii", "RET": "", "RETV": "",
+    "JMP": "t", "JF": "t", "JT": "t", "HALT": "", "PAUSE": "", "END": "",
+    "WAIT": "", "WAITFOR": "t", "PUSHIN": "", "SIGOUT": "i", "WRITE": "i", "WRITELN": "i",
+    "MOVE": "wi*", "RECONF": "", "OPTON": "w*", "OPTOFF": "w*",
+}  # fmt: skip
+
+
+@dataclass(frozen=True)
+class Target:
+    """A jump or entry target: the index of an instruction in ``Code.code``."""
+
+    index: int
+
+
+Operand = int | str | Target
+
+
+@dataclass(frozen=True)
+class Instruction:
+    op: str
+    args: tuple[Operand, ...] = ()
+    line: int = 0  # source line (0: generated)
+
+
+@dataclass(frozen=True)
+class Value:
+    """A constant in program units: ``type`` is an IRDATA type name, ``data`` its fields."""
+
+    type: str
+    data: tuple
+
+
+@dataclass(frozen=True)
+class Slot:
+    index: int
+    type: str
+    name: str
+    by_ref: bool = False
+
+
+@dataclass
+class Routine:
+    index: int
+    name: str
+    kind: str  # "MAIN" | "PROC" | "FUNC:<TYPE>"
+    entry: int  # index into Code.code
+    params: list[Slot] = field(default_factory=list)
+    locals: list[Slot] = field(default_factory=list)
+
+    @property
+    def result_type(self) -> str | None:
+        return self.kind[5:] if self.kind.startswith("FUNC:") else None
+
+
+@dataclass(frozen=True)
+class ObstacleDef:
+    """An obstacle from a data list: ``fields`` maps key → numbers (mm / deg), in order."""
+
+    name: str
+    kind: str
+    fields: tuple[tuple[str, tuple[float, ...]], ...]
+
+    def get(self, key: str) -> tuple[float, ...] | None:
+        return dict(self.fields).get(key)
+
+
+@dataclass(frozen=True)
+class RecordType:
+    index: int
+    fields: tuple[tuple[str, str], ...]  # (name, type)
+
+
+@dataclass
+class Code:
+    program: str
+    source: str
+    robot_var: str
+    robot: str
+    joint_kinds: str  # one letter per joint: R | P
+    joint_names: tuple[str, ...]
+    datalists: list[tuple[str, str]] = field(default_factory=list)
+    consts: list[Value] = field(default_factory=list)
+    obstacles: list[ObstacleDef] = field(default_factory=list)
+    inputs: dict[int, list[tuple[float, bool]]] = field(default_factory=dict)
+    types: list[RecordType] = field(default_factory=list)
+    globals: list[Slot] = field(default_factory=list)
+    routines: list[Routine] = field(default_factory=list)
+    code: list[Instruction] = field(default_factory=list)
+
+    @property
+    def joint_count(self) -> int:
+        return len(self.joint_kinds)
+
+    def obstacle(self, name: str) -> ObstacleDef | None:
+        key = name.lower()
+        return next((o for o in self.obstacles if o.name.lower() == key), None)
+
+
+# --------------------------------------------------------------------------- writer
+
+
+def _num(v: float | int) -> str:
+    if isinstance(v, bool):
+        return "TRUE" if v else "FALSE"
+    if isinstance(v, int):
+        return str(v)
+    return repr(float(v))
+
+
+def _quote(s: str) -> str:
+    return "'" + s.replace("'", "''") + "'"
+
+
+def format_value(v: Value) -> str:
+    if v.type in ("STRING", "CHAR"):
+        return f"{v.type} {_quote(v.data[0])}"
+    if v.type == "BOOLEAN":
+        return f"BOOLEAN {'TRUE' if v.data[0] else 'FALSE'}"
+    return " ".join([v.type, *(_num(x) for x in v.data)])
+
+
+def _short_value(v: Value) -> str:
+    text = format_value(v).split(" ", 1)[1] if v.data else ""
+    return text if len(text) <= 48 else text[:45] + "..."
+
+
+def _slot(s: Slot) -> str:
+    return f"{'VAR ' if s.by_ref else ''}{s.type} {s.name}"
+
+
+def _header_records(code: Code, entry_recno) -> list[str]:
+    recs = [
+        f"PROGRAM {code.program}",
+        f"SOURCE {_quote(code.source)}",
+        f"ROBOT {code.robot_var} {code.robot if _is_word(code.robot) else _quote(code.robot)} "
+        f"{code.joint_count} {code.joint_kinds}",
+        "JOINTS " + " ".join(code.joint_names),
+        "UNITS mm deg s",
+    ]
+    recs += [f"DATALIST {name} {_quote(path)}" for name, path in code.datalists]
+    recs += [f"CONST {k} {format_value(v)}" for k, v in enumerate(code.consts)]
+    for o in code.obstacles:
+        parts = [f"OBSTACLE {o.name} {o.kind}"]
+        parts += [f"{key} " + " ".join(_num(x) for x in vals) for key, vals in o.fields]
+        recs.append(" ".join(parts))
+    for n in sorted(code.inputs):
+        events = " ".join(f"{_num(float(t))} {'TRUE' if v else 'FALSE'}" for t, v in code.inputs[n])
+        recs.append(f"INPUT {n} {events}".rstrip())
+    for t in code.types:
+        recs.append(f"TYPE {t.index} RECORD " + " ".join(f"{n}:{ty}" for n, ty in t.fields))
+    recs += [f"GLOBAL {g.index} {g.type} {g.name}" for g in code.globals]
+    for r in code.routines:
+        recs.append(
+            f"ROUTINE {r.index} {r.name} {r.kind} {len(r.params)} {len(r.locals)} "
+            f"@{entry_recno(r.entry)}"
+        )
+        recs += [f"PARAM {r.index} {p.index} {_slot(p)}" for p in r.params]
+        recs += [f"LOCAL {r.index} {s.index} {s.type} {s.name}" for s in r.locals]
+    recs.append("CODE")
+    return recs
+
+
+def _is_word(s: str) -> bool:
+    return re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", s) is not None
+
+
+def _comment(code: Code, ins: Instruction, routine: Routine | None) -> str:
+    op, a = ins.op, ins.args
+    if op in ("PUSHC",) and 0 <= a[0] < len(code.consts):
+        return _short_value(code.consts[a[0]])
+    if op in ("PUSHG", "POPG", "REFG", "SIGOUT") and 0 <= a[0] < len(code.globals):
+        return code.globals[a[0]].name
+    if op in ("PUSHL", "POPL", "REFL") and routine is not None:
+        slots = routine.params + routine.locals
+        if 0 <= a[0] < len(slots):
+            return slots[a[0]].name
+    if op == "CALL" and 0 <= a[0] < len(code.routines):
+        return code.routines[a[0]].name
+    return ""
+
+
+def write_code(code: Code) -> str:
+    """Serialise ``code`` to the IRDATA text format (deterministic)."""
+    header_len = len(_header_records(code, lambda i: 0))
+    first_code_recno = header_len + 1
+
+    def recno(index: int) -> int:
+        return first_code_recno + index
+
+    lines = [MAGIC, f"; irlc IRDATA code of program {code.program}"]
+    n = 0
+    for rec in _header_records(code, recno):
+        n += 1
+        lines.append(f"{n} {rec}")
+    owner = _routine_of_instruction(code)
+    for i, ins in enumerate(code.code):
+        n += 1
+        ops = [_operand(a, recno) for a in ins.args]
+        text = " ".join([str(n), f"L{ins.line}", ins.op, *ops])
+        comment = _comment(code, ins, owner[i])
+        lines.append(f"{text} ; {comment}" if comment else text)
+    return "\n".join(lines) + "\n"
+
+
+def _operand(a: Operand, recno) -> str:
+    if isinstance(a, Target):
+        return f"@{recno(a.index)}"
+    return str(a)
+
+
+def _routine_of_instruction(code: Code) -> list[Routine | None]:
+    """The routine each instruction belongs to (routines are laid out contiguously)."""
+    owner: list[Routine | None] = [None] * len(code.code)
+    starts = sorted(code.routines, key=lambda r: r.entry)
+    for k, r in enumerate(starts):
+        end = starts[k + 1].entry if k + 1 < len(starts) else len(code.code)
+        for i in range(r.entry, end):
+            owner[i] = r
+    return owner
+
+
+# --------------------------------------------------------------------------- reader
+
+_TOKEN = re.compile(r"'(?:[^']|'')*'|[^\s']+")
+
+
+class _Reader:
+    def __init__(self, text: str, filename: str):
+        self.text = text
+        self.file = filename
+        self.diags: list[Diagnostic] = []
+
+    def error(self, line: int, col: int, msg: str, hint: str | None = None) -> None:
+        self.diags.append(Diagnostic("error", msg, self.file, Span(line, col), hint))
+
+    def tokens(self, line_text: str) -> list[tuple[str, int]]:
+        out = []
+        for m in _TOKEN.finditer(line_text):
+            if m.group().startswith(";"):
+                break
+            out.append((m.group(), m.start() + 1))
+        return out
+
+
+def _parse_number(tok: str) -> float | int | None:
+    if re.fullmatch(r"[+-]?\d+", tok):
+        return int(tok)
+    try:
+        v = float(tok)
+    except ValueError:
+        return None
+    return v if v == v and v not in (float("inf"), float("-inf")) else None
+
+
+def _parse_bool(tok: str) -> bool | None:
+    return {"TRUE": True, "FALSE": False}.get(tok.upper())
+
+
+def _unquote(tok: str) -> str | None:
+    if len(tok) >= 2 and tok[0] == tok[-1] == "'":
+        return tok[1:-1].replace("''", "'")
+    return None
+
+
+def read_code(text: str, filename: str = "<irdata>") -> Code:
+    """Parse IRDATA text; raise :class:`CompileError` with positioned diagnostics."""
+    r = _Reader(text, filename)
+    lines = text.splitlines()
+    if not lines or lines[0].strip() != MAGIC:
+        got = lines[0].strip() if lines else "an empty file"
+        r.error(1, 1, f"not IRDATA code of version {FORMAT_VERSION}: expected '{MAGIC}', got {got!r}")
+        raise CompileError(r.diags)
+    code = Code("", "", "", "", "", ())
+    records: list[tuple[int, list[tuple[str, int]]]] = []  # (file line, tokens)
+    expected = 1
+    for lineno, raw in enumerate(lines[1:], start=2):
+        if not raw.strip() or raw.lstrip().startswith(";"):
+            continue
+        toks = r.tokens(raw)
+        if not toks:
+            continue
+        num = _parse_number(toks[0][0])
+        if not isinstance(num, int) or num != expected:
+            r.error(lineno, toks[0][1], f"expected record number {expected}, got {toks[0][0]!r}")
+            raise CompileError(r.diags)
+        expected += 1
+        records.append((lineno, toks[1:]))
+    # header
+    k = 0
+    pending_entries: list[tuple[Routine, int, int, int]] = []  # routine, recno, line, col
+    while k < len(records):
+        lineno, toks = records[k]
+        k += 1
+        if not toks:
+            r.error(lineno, 1, "empty record")
+            continue
+        op, col = toks[0]
+        if op == "CODE":
+            break
+        _read_header_record(r, code, op, toks, lineno, pending_entries)
+    else:
+        r.error(len(lines), 1, "missing CODE record")
+        raise CompileError(r.diags)
+    first_code_recno = k + 1
+    jump_fixups: list[tuple[int, int, int, int, int]] = []
+    for idx, (lineno, toks) in enumerate(records[k:]):
+        ins = _read_instruction(r, toks, lineno, idx, jump_fixups)
+        if ins is not None:
+            code.code.append(ins)
+    ncode = len(code.code)
+    for ins_idx, arg_idx, rec, lineno, col in jump_fixups:
+        target = rec - first_code_recno
+        if not 0 <= target < ncode:
+            r.error(lineno, col, f"jump target @{rec} is not an instruction record")
+            continue
+        ins = code.code[ins_idx]
+        args = list(ins.args)
+        args[arg_idx] = Target(target)
+        code.code[ins_idx] = Instruction(ins.op, tuple(args), ins.line)
+    for routine, rec, lineno, col in pending_entries:
+        target = rec - first_code_recno
+        if not 0 <= target < ncode:
+            r.error(lineno, col, f"routine entry @{rec} is not an instruction record")
+        routine.entry = target
+    _check_references(r, code, records[k:])
+    if r.diags:
+        raise CompileError(r.diags)
+    return code
+
+
+def _read_header_record(r: _Reader, code: Code, op, toks, lineno, pending) -> None:
+    words = [t for t, _ in toks]
+    col_of = [c for _, c in toks]
+
+    def need(n: int) -> bool:
+        if len(words) < n:
+            r.error(lineno, col_of[-1], f"{op}: expected at least {n - 1} operands")
+            return False
+        return True
+
+    if op == "PROGRAM" and need(2):
+        code.program = words[1]
+    elif op == "SOURCE" and need(2):
+        code.source = _unquote(words[1]) or words[1]
+    elif op == "ROBOT" and need(5):
+        code.robot_var = words[1]
+        code.robot = _unquote(words[2]) or words[2]
+        kinds = words[4]
+        if not re.fullmatch(r"[RP]+", kinds) or str(len(kinds)) != words[3]:
+            r.error(lineno, col_of[4], f"ROBOT: joint kinds {kinds!r} do not match count {words[3]}")
+        code.joint_kinds = kinds
+    elif op == "JOINTS":
+        code.joint_names = tuple(words[1:])
+    elif op == "UNITS":
+        if words[1:] != ["mm", "deg", "s"]:
+            r.error(lineno, col_of[0], "UNITS: only 'mm deg s' is supported")
+    elif op == "DATALIST" and need(3):
+        code.datalists.append((words[1], _unquote(words[2]) or words[2]))
+    elif op == "CONST" and need(3):
+        v = _read_value(r, words[2:], col_of[2:], lineno)
+        if v is not None:
+            code.consts.append(v)
+    elif op == "OBSTACLE" and need(3):
+        fields: list[tuple[str, tuple[float, ...]]] = []
+        key, vals = None, []
+        for t, c in zip(words[3:], col_of[3:], strict=True):
+            num = _parse_number(t)
+            if num is None:
+                if key is not None:
+                    fields.append((key, tuple(float(v) for v in vals)))
+                key, vals = t, []
+            elif key is None:
+                r.error(lineno, c, "OBSTACLE: a number before any key")
+            else:
+                vals.append(num)
+        if key is not None:
+            fields.append((key, tuple(float(v) for v in vals)))
+        if words[2] not in OBSTACLE_KINDS:
+            r.error(lineno, col_of[2], f"OBSTACLE: unknown kind {words[2]!r}")
+        code.obstacles.append(ObstacleDef(words[1], words[2], tuple(fields)))
+    elif op == "INPUT" and need(2):
+        events = []
+        rest = words[2:]
+        if len(rest) % 2:
+            r.error(lineno, col_of[-1], "INPUT: expected pairs of time and TRUE/FALSE")
+        for t, v in zip(rest[::2], rest[1::2], strict=False):
+            tv, bv = _parse_number(t), _parse_bool(v)
+            if tv is None or bv is None:
+                r.error(lineno, col_of[0], f"INPUT: bad event {t} {v}")
+                continue
+            events.append((float(tv), bv))
+        code.inputs[int(words[1])] = events
+    elif op == "TYPE" and need(3):
+        fields_t = tuple(tuple(w.split(":", 1)) for w in words[3:])
+        code.types.append(RecordType(int(words[1]), fields_t))  # type: ignore[arg-type]
+    elif op == "GLOBAL" and need(4):
+        code.globals.append(Slot(int(words[1]), words[2], words[3]))
+    elif op == "ROUTINE" and need(7):
+        routine = Routine(int(words[1]), words[2], words[3], -1)
+        code.routines.append(routine)
+        rec = words[6]
+        if not rec.startswith("@") or _parse_number(rec[1:]) is None:
+            r.error(lineno, col_of[6], f"ROUTINE: expected an entry @record, got {rec!r}")
+        else:
+            pending.append((routine, int(rec[1:]), lineno, col_of[6]))
+    elif op in ("PARAM", "LOCAL") and need(5):
+        routine = next((x for x in code.routines if x.index == _parse_number(words[1])), None)
+        if routine is None:
+            r.error(lineno, col_of[1], f"{op}: unknown routine {words[1]}")
+            return
+        by_ref = words[3] == "VAR"
+        rest = words[4:] if by_ref else words[3:]
+        slot = Slot(int(words[2]), rest[0], rest[1] if len(rest) > 1 else "?", by_ref)
+        (routine.params if op == "PARAM" else routine.locals).append(slot)
+    elif op not in ("PROGRAM", "SOURCE", "ROBOT", "DATALIST", "CONST", "OBSTACLE", "INPUT",
+                    "TYPE", "GLOBAL", "ROUTINE", "PARAM", "LOCAL"):  # fmt: skip
+        r.error(lineno, col_of[0], f"unknown header record {op!r}")
+
+
+def _read_value(r: _Reader, words, cols, lineno) -> Value | None:
+    ty, rest = words[0], words[1:]
+    if ty in ("STRING", "CHAR"):
+        s = _unquote(rest[0]) if rest else None
+        if s is None:
+            r.error(lineno, cols[0], f"{ty}: expected a quoted string")
+            return None
+        return Value(ty, (s,))
+    if ty == "BOOLEAN":
+        b = _parse_bool(rest[0]) if rest else None
+        if b is None:
+            r.error(lineno, cols[0], "BOOLEAN: expected TRUE or FALSE")
+            return None
+        return Value(ty, (b,))
+    nums = [_parse_number(t) for t in rest]
+    if any(n is None for n in nums):
+        r.error(lineno, cols[0], f"{ty}: expected numbers")
+        return None
+    if ty == "INTEGER":
+        return Value(ty, (int(nums[0]),))  # type: ignore[arg-type]
+    return Value(ty, tuple(float(n) for n in nums))  # type: ignore[arg-type]
+
+
+def _read_instruction(r: _Reader, toks, lineno, idx, fixups) -> Instruction | None:
+    if len(toks) < 2 or not re.fullmatch(r"L\d+", toks[0][0]):
+        r.error(lineno, toks[0][1] if toks else 1, "expected a source line 'L<n>' and an opcode")
+        return None
+    line = int(toks[0][0][1:])
+    op, col = toks[1]
+    sig = OPCODES.get(op)
+    if sig is None:
+        r.error(lineno, col, f"unknown opcode {op!r}")
+        return None
+    operands = toks[2:]
+    args: list[Operand] = []
+    fixed = sig.rstrip("*")
+    variadic = sig.endswith("*")
+    if len(operands) < len(fixed) or (not variadic and len(operands) > len(fixed)):
+        r.error(lineno, col, f"{op}: expected {len(fixed)} operand(s), got {len(operands)}")
+        return None
+    for k, (tok, c) in enumerate(operands):
+        kind = fixed[k] if k < len(fixed) else "*"
+        if kind == "t":
+            if not tok.startswith("@") or not tok[1:].isdigit():
+                r.error(lineno, c, f"{op}: expected a jump target '@<record>', got {tok!r}")
+                return None
+            fixups.append((idx, k, int(tok[1:]), lineno, c))
+            args.append(Target(-1))
+        elif kind == "i" or (kind == "*" and re.fullmatch(r"-?\d+", tok)):
+            if not re.fullmatch(r"-?\d+", tok):
+                r.error(lineno, c, f"{op}: expected an integer, got {tok!r}")
+                return None
+            args.append(int(tok))
+        else:
+            args.append(tok)
+    return Instruction(op, tuple(args), line)
+
+
+def _check_references(r: _Reader, code: Code, code_records) -> None:
+    """Operands that index tables must be in range (a malformed .ird fails here, not later)."""
+    tables = {
+        "PUSHC": len(code.consts),
+        "PUSHG": len(code.globals),
+        "POPG": len(code.globals),
+        "REFG": len(code.globals),
+        "SIGOUT": len(code.globals),
+        "CALL": len(code.routines),
+    }
+    for ins, (lineno, toks) in zip(code.code, code_records, strict=False):
+        limit = tables.get(ins.op)
+        if limit is not None and not 0 <= int(ins.args[0]) < limit:
+            r.error(lineno, toks[2][1], f"{ins.op}: index {ins.args[0]} out of range (0..{limit - 1})")
+        if ins.op == "PUSHSYS" or ins.op == "POPSYS":
+            if ins.args[0] not in SYSTEM_VARIABLES:
+                r.error(lineno, toks[2][1], f"unknown system variable {ins.args[0]!r}")
+        if ins.op == "MOVE" and ins.args[0] not in MOVE_KINDS:
+            r.error(lineno, toks[2][1], f"unknown motion kind {ins.args[0]!r}")
+        if ins.op in ("OPTON", "OPTOFF") and ins.args[0] not in MODAL_OPTIONS:
+            r.error(lineno, toks[2][1], f"unknown modal option {ins.args[0]!r}")
+    if not any(rt.kind == "MAIN" for rt in code.routines):
+        r.error(1, 1, "no MAIN routine")

@@ -1,0 +1,90 @@
+"""The interface between the interpreter and the simulated robot controller.
+
+The interpreter executes IRDATA code and hands over one :class:`MotionCommand` per
+motion statement, together with the current :class:`Settings` (system variables) and
+:class:`ModalOptions` (the redundancy options switched on by START/END records). The
+controller (pre-interpolator → interpolator → inverse transformation → recorder)
+executes it synchronously, advancing simulated time, and raises
+:class:`~irlc.runtime.errors.RunFailure` when the motion is impossible.
+
+Everything here is in program units (mm, deg, s; joints deg | mm); the controller
+converts to SI with :mod:`irlc.runtime.units`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Protocol
+
+from irlc.runtime.values import IDENTITY, JointTuple, Pose, Position
+
+
+@dataclass(frozen=True)
+class MotionCommand:
+    kind: str  # PTP LIN CIRCLE LINPATH PTPINC LININC (see docs/irdata.md)
+    targets: tuple  # Pose | JointTuple(MAIN_JOINT) per point; deltas for *INC
+    line: int
+    speed: float | None = None  # mm/s
+    acc: float | None = None  # mm/s²
+    speed_ori: float | None = None  # deg/s
+    speed_ptp: float | None = None  # % of each joint's max speed
+    acc_ptp: float | None = None  # % of each joint's max acceleration
+    time: float | None = None  # s, fixed motion time
+    joint_limits: tuple[JointTuple, JointTuple] | None = None  # WITH JOINTLIMIT min, max
+    speed_limits: tuple[JointTuple, JointTuple] | None = None
+    accel_limits: tuple[JointTuple, JointTuple] | None = None
+    reconfiguration: tuple[JointTuple, ...] | None = None  # one, or one per point
+
+
+@dataclass
+class Settings:
+    """System variables (defaults for later motion)."""
+
+    speed: float = 500.0  # R_SPEED, mm/s
+    acc: float = 1000.0  # R_ACC, mm/s²
+    speed_ori: float = 45.0  # R_SPEED_ORI, deg/s
+    speed_ptp: float = 50.0  # R_SPEED_PTP, %
+    acc_ptp: float = 50.0  # R_ACC_PTP, %
+    tool: Pose = field(default_factory=lambda: Pose(Position(0.0, 0.0, 0.0), IDENTITY))
+    base: Pose = field(default_factory=lambda: Pose(Position(0.0, 0.0, 0.0), IDENTITY))
+    ipo: float = 0.01  # R_IPO, s
+
+
+@dataclass
+class ModalOptions:
+    """Redundancy options switched on by the START records of the code."""
+
+    joint_limits: tuple[JointTuple, JointTuple] | None = None
+    speed_limits: tuple[JointTuple, JointTuple] | None = None
+    accel_limits: tuple[JointTuple, JointTuple] | None = None
+    cyclic_reference: tuple[float, ...] | None = None  # joints at CYCLICSTART
+    obstacles: tuple[str, ...] = ()  # active obstacle names, in order of activation
+    frozen: dict[int, float] = field(default_factory=dict)  # 0-based joint → value
+
+
+class Controller(Protocol):
+    """What the interpreter needs from the simulated robot."""
+
+    @property
+    def time(self) -> float: ...
+
+    def joints(self) -> tuple[float, ...]:
+        """Current commanded joints (R_ACT_JOINT)."""
+
+    def pose(self, settings: Settings) -> Pose:
+        """Current commanded TCP pose (R_TOOL applied) in the R_BASE frame (R_ACT_POSE)."""
+
+    def forward(self, joints: JointTuple, settings: Settings) -> Pose:
+        """FK built-in: TCP pose of ``joints`` in the R_BASE frame."""
+
+    def move(self, cmd: MotionCommand, settings: Settings, options: ModalOptions) -> None: ...
+
+    def reconfigure(
+        self, target: JointTuple, line: int, settings: Settings, options: ModalOptions
+    ) -> None: ...
+
+    def wait(self, seconds: float, line: int, settings: Settings, options: ModalOptions) -> None:
+        """Stand still for ``seconds`` of simulated time (samples are still recorded)."""
+
+    def log_event(self, kind: str, line: int, **data) -> None:
+        """Signals, PAUSE, HALT and other timestamped events for the report."""

@@ -1,0 +1,71 @@
+"""The one place where program units (mm, deg, s) meet SI units (m, rad, s).
+
+Programs, data lists, IRDATA operands, CLI arguments and user-facing outputs use
+millimetres and degrees; everything inside the runtime uses metres and radians.
+Joint values depend on the joint kind: revolute joints are in degrees, prismatic
+joints in millimetres.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from irlc.runtime import spatial
+
+MM = 1e-3  # metres per millimetre
+DEG = math.pi / 180.0  # radians per degree
+
+REVOLUTE = "revolute"
+PRISMATIC = "prismatic"
+
+
+def joint_scale(kinds: Sequence[str]) -> np.ndarray:
+    """Per-joint factor from program units to SI (deg → rad, mm → m)."""
+    return np.array([DEG if k == REVOLUTE else MM for k in kinds])
+
+
+def joints_to_si(values: Sequence[float], kinds: Sequence[str]) -> np.ndarray:
+    return np.asarray(values, dtype=float) * joint_scale(kinds)
+
+
+def joints_from_si(values: Sequence[float], kinds: Sequence[str]) -> np.ndarray:
+    return np.asarray(values, dtype=float) / joint_scale(kinds)
+
+
+def joint_unit(kind: str, derivative: int = 0) -> str:
+    """Unit label of a joint quantity: ``deg``, ``deg_s``, ``deg_s2`` / ``mm``, ..."""
+    base = "deg" if kind == REVOLUTE else "mm"
+    return base + ("", "_s", "_s2")[derivative]
+
+
+def pose_to_si(x: float, y: float, z: float, a: float, b: float, c: float) -> np.ndarray:
+    """Program pose (mm, deg, ZYX) → 4×4 transform in metres."""
+    return spatial.transform(
+        spatial.zyx_to_matrix(a * DEG, b * DEG, c * DEG), (x * MM, y * MM, z * MM)
+    )
+
+
+def pose_from_si(t: np.ndarray) -> tuple[float, float, float, float, float, float]:
+    """4×4 transform in metres → program pose (mm, deg, ZYX)."""
+    a, b, c = spatial.matrix_to_zyx(t[:3, :3])
+    x, y, z = (float(v) / MM for v in t[:3, 3])
+    return (x, y, z, a / DEG, b / DEG, c / DEG)
+
+
+def pose_value_to_si(p) -> np.ndarray:
+    """A :class:`~irlc.runtime.values.Pose` (mm, quaternion) → 4×4 transform in metres."""
+    return spatial.transform(
+        spatial.quat_to_matrix(p.ori.as_tuple()), (p.pos.x * MM, p.pos.y * MM, p.pos.z * MM)
+    )
+
+
+def pose_value_from_si(t: np.ndarray):
+    """4×4 transform in metres → :class:`~irlc.runtime.values.Pose` (mm, quaternion)."""
+    from irlc.runtime.values import Orientation, Pose, Position
+
+    x, y, z = (float(v) / MM for v in t[:3, 3])
+    w, qx, qy, qz = (float(v) for v in spatial.matrix_to_quat(t[:3, :3]))
+    return Pose(Position(x, y, z), Orientation(w, qx, qy, qz))

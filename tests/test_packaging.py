@@ -1,0 +1,39 @@
+"""The package-dir mapping lists packages explicitly; every package folder must be listed."""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+MAPPING = {"irlc": "irlc", "irlc.lang": "lang", "irlc.runtime": "runtime", "irlc.robots": "robots"}
+
+
+def _package_folders() -> set[str]:
+    found = set()
+    for pkg, folder in MAPPING.items():
+        base = ROOT / folder
+        for init in base.rglob("__init__.py"):
+            rel = init.parent.relative_to(base)
+            found.add(".".join([pkg, *rel.parts]) if rel.parts else pkg)
+    return found
+
+
+def test_every_package_folder_is_listed_in_pyproject():
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text())
+    listed = set(config["tool"]["setuptools"]["packages"])
+    assert _package_folders() == listed
+
+
+def test_package_dir_mapping_matches_layout():
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text())
+    assert config["tool"]["setuptools"]["package-dir"] == MAPPING
+
+
+def test_lang_never_imports_runtime():
+    offenders = [
+        p.name
+        for p in (ROOT / "lang").rglob("*.py")
+        if "irlc.runtime" in p.read_text(encoding="utf-8")
+    ]
+    assert offenders == []
