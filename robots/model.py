@@ -88,7 +88,8 @@ class RobotModel:
     gravity: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, -9.81]))
     geometry: tuple[Capsule | Sphere, ...] = ()
     inertials: tuple[Inertial, ...] = ()
-    # Named limit sets a program may refer to (e.g. koch11's chapter-6 sets): name → Limits per joint.
+    # Named limit sets a program may refer to (e.g. koch11's chapter-6 sets):
+    # name → Limits per joint.
     limit_sets: dict[str, tuple[Limits, ...]] = field(default_factory=dict)
     # Coupled limits, drives, joint↔motor maps and the rest of the file: typed by the
     # modules that use them (loader validates), kept here as parsed tables.

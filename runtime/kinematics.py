@@ -8,14 +8,46 @@ world-frame geometric Jacobian column of joint ``i`` at a point ``p`` is
 
 with ``z_i`` the joint axis and ``o_i`` the joint origin in the world. Rows are linear
 velocity then angular velocity.
+
+Speed: the joint motion ``M_i(v)`` is affine in ``(1, cos v, sin v, v)`` — Rodrigues,
+``R = k kᵀ + cos v (I − k kᵀ) + sin v [k]×`` for a revolute joint, ``Trans(v k)`` for a
+prismatic one — so the local transform ``L_i = origin_i · M_i`` is
+``A0_i + cos v·A1_i + sin v·A2_i + v·A3_i`` with the ``A`` precomputed per robot. All
+``L_i`` then come from one batched product; only the chain ``T_i = T_{i−1} L_i`` is a
+loop (one in-place 4×4 product per joint). See ``bench/bench_kinematics.py``.
 """
 
 from __future__ import annotations
 
 import numpy as np
-
 from irlc.robots.model import RobotModel
-from irlc.runtime import spatial
+
+_NEXT = np.array([1, 2, 0])
+_PREV = np.array([2, 0, 1])
+
+
+def _motion_basis(axis: np.ndarray, revolute: bool) -> np.ndarray:
+    """``P`` with ``M(v) = P[0] + cos v·P[1] + sin v·P[2] + v·P[3]`` (each 4×4)."""
+    k = np.asarray(axis, dtype=float)
+    p = np.zeros((4, 4, 4))
+    p[0] = np.eye(4)
+    if revolute:
+        kk = np.outer(k, k)
+        p[0, :3, :3] = kk
+        p[1, :3, :3] = np.eye(3) - kk
+        p[2, :3, :3] = [[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]]
+    else:
+        p[3, :3, 3] = k
+    return p
+
+
+def _axis_columns(axes: np.ndarray) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """Column index and sign per joint when every axis is ±x, ±y or ±z, else ``None``."""
+    cols = np.argmax(np.abs(axes), axis=1)
+    signs = axes[np.arange(len(axes)), cols]
+    if not np.allclose(np.abs(signs), 1.0, atol=0.0, rtol=0.0):
+        return None, None
+    return cols, signs[:, None].copy()
 
 
 class Kinematics:
@@ -23,53 +55,110 @@ class Kinematics:
 
     def __init__(self, model: RobotModel, tool: np.ndarray | None = None):
         self.model = model
-        self.n = model.n
+        self.n = n = model.n
         self._origins = [j.origin for j in model.joints]
-        self._axes = [np.asarray(j.axis, dtype=float) for j in model.joints]
-        self._revolute = [j.kind == "revolute" for j in model.joints]
+        self._axes = np.array([np.asarray(j.axis, dtype=float) for j in model.joints])
+        self._revolute = np.array([j.kind == "revolute" for j in model.joints])
+        self._rev_f = self._revolute.astype(float)[:, None]
+        self._pri_f = 1.0 - self._rev_f
+        self._all_revolute = bool(self._revolute.all())
+        self._links = np.arange(1, n + 1)
+        self._axis_cols, self._axis_signs = _axis_columns(self._axes)
         self._offsets = np.array([j.offset for j in model.joints])
         self.tool = model.tool if tool is None else tool
+        # L_i = coef_i · A_i with coef = (1, cos v, sin v, v), A_i = origin_i · P_i (4 × 16)
+        basis = np.empty((n, 4, 16))
+        for i, j in enumerate(model.joints):
+            p = _motion_basis(j.axis, j.kind == "revolute")
+            basis[i] = (j.origin @ p).reshape(4, 16)
+        self._basis = basis
+        self._coef = np.ones((n, 1, 4))
+        self._base = np.array(model.base, dtype=float)
+        # chain buffer with its per-link views made once (indexing costs ~0.1 µs a time)
+        self._frames = np.empty((n + 1, 4, 4))
+        self._frames[0] = self._base
+        self._views = [self._frames[i] for i in range(n + 1)]
+        self._local = np.empty((n, 1, 16))
+        self._local_views = [self._local[i].reshape(4, 4) for i in range(n)]
+
+    @property
+    def tool(self) -> np.ndarray:
+        return self._tool
+
+    @tool.setter
+    def tool(self, value: np.ndarray) -> None:
+        self._tool = np.array(value, dtype=float)
+        self._end = self.model.flange @ self._tool
+
+    # ------------------------------------------------------------------ frames
+
+    def local_transforms(self, q: np.ndarray) -> np.ndarray:
+        """``L_i = origin_i · M_i(q_i + offset_i)`` for all joints, shape ``(n, 4, 4)``."""
+        v = np.asarray(q, dtype=float) + self._offsets
+        coef = self._coef
+        coef[:, 0, 1] = np.cos(v)
+        coef[:, 0, 2] = np.sin(v)
+        coef[:, 0, 3] = v
+        np.matmul(coef, self._basis, out=self._local)
+        return self._local.reshape(self.n, 4, 4).copy()
 
     def link_frames(self, q: np.ndarray) -> np.ndarray:
         """World frames of links ``0..n`` (shape ``(n+1, 4, 4)``); index 0 is the base."""
-        frames = np.empty((self.n + 1, 4, 4))
-        t = self.model.base.copy()
-        frames[0] = t
+        v = np.asarray(q, dtype=float) + self._offsets
+        coef = self._coef
+        coef[:, 0, 1] = np.cos(v)
+        coef[:, 0, 2] = np.sin(v)
+        coef[:, 0, 3] = v
+        np.matmul(coef, self._basis, out=self._local)
+        views, local, dot = self._views, self._local_views, np.dot
         for i in range(self.n):
-            t = t @ self._origins[i]
-            v = q[i] + self._offsets[i]
-            if self._revolute[i]:
-                m = spatial.transform(spatial.axis_angle(self._axes[i], v))
-            else:
-                m = spatial.transform(None, self._axes[i] * v)
-            t = t @ m
-            frames[i + 1] = t
-        return frames
+            dot(views[i], local[i], out=views[i + 1])
+        return self._frames.copy()
 
     def tcp_from_frames(self, frames: np.ndarray) -> np.ndarray:
-        return frames[-1] @ self.model.flange @ self.tool
+        return frames[-1] @ self._end
 
     def tcp(self, q: np.ndarray) -> np.ndarray:
         """World pose of the TCP (4×4)."""
         return self.tcp_from_frames(self.link_frames(q))
 
+    def flange_from_frames(self, frames: np.ndarray) -> np.ndarray:
+        return frames[-1] @ self.model.flange
+
+    def link_point(self, frames: np.ndarray, link: int, point: np.ndarray) -> np.ndarray:
+        """World position of ``point`` given in link ``link``'s frame (0 = base)."""
+        f = frames[link]
+        return f[:3, :3] @ point + f[:3, 3]
+
+    # ------------------------------------------------------------------ Jacobians
+
     def joint_axes_world(self, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Joint axes ``z_i`` and origins ``o_i`` in the world (each ``(n, 3)``)."""
-        z = np.array([frames[i + 1, :3, :3] @ self._axes[i] for i in range(self.n)])
-        o = frames[1:, :3, 3]
-        return z, o
+        if self._axis_cols is not None:  # axes along ±x/y/z: a column of the frame
+            z = frames[self._links, :3, self._axis_cols]
+            z *= self._axis_signs
+        else:
+            z = np.matmul(frames[1:, :3, :3], self._axes[:, :, None])[:, :, 0]
+        return z, frames[1:, :3, 3]
 
     def jacobian_at(self, frames: np.ndarray, point: np.ndarray, upto: int | None = None):
-        """6×n Jacobian of a point rigidly attached to link ``upto`` (default: last link)."""
-        upto = self.n if upto is None else upto
+        """6×n Jacobian of a world ``point`` rigidly attached to link ``upto`` (default:
+        the last link); columns of joints after ``upto`` are zero."""
         z, o = self.joint_axes_world(frames)
-        jac = np.zeros((6, self.n))
-        for i in range(upto):
-            if self._revolute[i]:
-                jac[:3, i] = np.cross(z[i], point - o[i])
-                jac[3:, i] = z[i]
-            else:
-                jac[:3, i] = z[i]
+        r = point - o
+        lin = z.take(_NEXT, 1) * r.take(_PREV, 1)
+        lin -= z.take(_PREV, 1) * r.take(_NEXT, 1)  # z × r, row-wise
+        jac = np.empty((6, self.n))
+        if self._all_revolute:
+            jac[:3] = lin.T
+            jac[3:] = z.T
+        else:
+            lin *= self._rev_f
+            lin += z * self._pri_f
+            jac[:3] = lin.T
+            jac[3:] = (z * self._rev_f).T
+        if upto is not None and upto < self.n:
+            jac[:, upto:] = 0.0
         return jac
 
     def jacobian(self, q: np.ndarray) -> np.ndarray:
@@ -82,7 +171,11 @@ class Kinematics:
         t = self.tcp_from_frames(frames)
         return t, self.jacobian_at(frames, t[:3, 3])
 
+    def point_jacobian_at(self, frames: np.ndarray, link: int, point: np.ndarray) -> np.ndarray:
+        """3×n Jacobian of the world ``point`` moving with link ``link`` (0..n), reusing
+        ``frames`` (the IK evaluates several points per iteration)."""
+        return self.jacobian_at(frames, np.asarray(point, dtype=float), upto=link)[:3]
+
     def point_jacobian(self, q: np.ndarray, link: int, point: np.ndarray) -> np.ndarray:
         """3×n Jacobian of the world ``point`` moving with link ``link`` (0..n)."""
-        frames = self.link_frames(q)
-        return self.jacobian_at(frames, np.asarray(point, dtype=float), upto=link)[:3]
+        return self.point_jacobian_at(self.link_frames(q), link, point)

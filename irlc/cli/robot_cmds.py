@@ -1,0 +1,243 @@
+"""Robot commands: ``irlc robots``, ``irlc robot NAME``, ``irlc fk``, ``irlc ik``.
+
+Program units on the command line and in the output (mm, deg, ZYX angles); the
+``fk --json`` matrix is in metres (``interfaces.md``).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import click
+import numpy as np
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
+from irlc.cli.app import cli
+from irlc.errors import EXIT_RUN, UsageError
+from irlc.robots import RobotFileError, list_robots, load_robot
+from irlc.robots.model import RobotModel
+from irlc.runtime import units
+from irlc.runtime.errors import RunFailure
+from irlc.runtime.reachability import check_vertical_plane
+
+RAW = {"ignore_unknown_options": True}
+
+
+def _robot(name: str) -> RobotModel:
+    try:
+        return load_robot(name)
+    except RobotFileError as e:
+        raise UsageError(str(e)) from None
+
+
+def _numbers(values: list[str], what: str) -> list[float]:
+    out = []
+    for i, v in enumerate(values, 1):
+        try:
+            x = float(v)
+        except ValueError:
+            raise UsageError(f"{what} {i}: {v!r} is not a number") from None
+        if not math.isfinite(x):
+            raise UsageError(f"{what} {i}: {v!r} is not a finite number")
+        out.append(x)
+    return out
+
+
+def _joint_values(model: RobotModel, values: list[str], what: str = "joint value") -> np.ndarray:
+    numbers = _numbers(values, what)
+    if len(numbers) != model.n:
+        raise UsageError(
+            f"robot {model.name} has {model.n} joints ({', '.join(model.joint_names)}); "
+            f"got {len(numbers)} {what}s"
+        )
+    return units.joints_to_si(numbers, model.joint_kinds)
+
+
+def _fmt(values) -> list[float]:
+    return [round(float(v), 9) + 0.0 for v in values]  # + 0.0: no "-0.0"
+
+
+def _print_json(data: dict) -> None:
+    click.echo(json.dumps(data, indent=2))
+
+
+# ----------------------------------------------------------------------------- robots
+
+
+@cli.command("robots")
+def robots_cmd() -> None:
+    """List the robots of the library."""
+    table = Table(title="irlc robots")
+    for col in ("name", "joints", "kinds", "description"):
+        table.add_column(col)
+    for name in list_robots():
+        model = _robot(name)
+        kinds = "".join("R" if k == "revolute" else "P" for k in model.joint_kinds)
+        table.add_row(name, str(model.n), kinds, model.description)
+    Console().print(table)
+
+
+def _range(lo: float, hi: float, kind: str, scale: float = 1.0) -> str:
+    lo, hi = units.joints_from_si([lo * scale, hi * scale], [kind, kind])
+    return f"{lo:g} … {hi:g}"
+
+
+@cli.command("robot")
+@click.argument("name")
+def robot_cmd(name: str) -> None:
+    """Show one robot: joints, units, limits, weights, home, drives."""
+    model = _robot(name)
+    console = Console()
+    console.print(f"[bold]{model.name}[/bold] — {model.description}")
+    console.print(f"file: {model.source}")
+    table = Table(title="joints (program units: deg, mm; speeds /s, accelerations /s²)")
+    for col in ("#", "name", "kind", "unit", "position", "speed", "accel", "weight", "home"):
+        table.add_column(col, justify="right" if col in ("#", "weight", "home") else "left")
+    home = units.joints_from_si(model.home_q(), model.joint_kinds)
+    for i, (j, h) in enumerate(zip(model.joints, home, strict=True), 1):
+        table.add_row(
+            str(i),
+            j.name,
+            j.kind,
+            units.joint_unit(j.kind),
+            _range(*j.limits.position, j.kind),
+            _range(*j.limits.speed, j.kind),
+            _range(*j.limits.accel, j.kind),
+            f"{j.weight:g}",
+            f"{h:g}",
+        )
+    console.print(table)
+    console.print(escape(f"gravity [m/s²]: {_fmt(model.gravity)}"))
+    for label, t in (("tool (flange → TCP)", model.tool), ("base (in the world)", model.base)):
+        console.print(escape(f"{label} [mm, deg]: {_fmt(units.pose_from_si(t))}"))
+    for c in model.extra.get("coupled_limits", []):
+        console.print(escape(f"coupled limit {c['name']}: {c['text'] or c['coeffs']}"))
+    if model.limit_sets:
+        console.print(f"limit sets: {', '.join(model.limit_sets)}")
+    console.print(
+        f"geometry: {len(model.geometry)} shapes; inertials: {len(model.inertials)} links"
+    )
+    if "transmission" in model.extra:
+        kinds = sorted({t["type"] for t in model.extra["transmission"]})
+        console.print(f"transmission: {', '.join(kinds)}")
+    drives = model.extra.get("drives")
+    if isinstance(drives, dict):
+        console.print(f"drives: {', '.join(sorted(drives)) or '(empty table)'}")
+    else:
+        console.print("drives: none in the file")
+    assumed = model.extra.get("assumed", {})
+    if assumed:
+        console.print(f"assumed values ({len(assumed)}): {', '.join(assumed)} — see the file")
+
+
+# ----------------------------------------------------------------------------- fk / ik
+
+
+@cli.command("fk", context_settings=RAW)
+@click.argument("robot")
+@click.argument("q", nargs=-1, type=click.UNPROCESSED)
+@click.option("--json", "as_json", is_flag=True, help="print JSON")
+def fk_cmd(robot: str, q: tuple[str, ...], as_json: bool) -> None:
+    """Forward kinematics: joint values (deg, mm) → TCP pose (mm, deg ZYX) in the world."""
+    from irlc.runtime.kinematics import Kinematics
+
+    model = _robot(robot)
+    q_si = _joint_values(model, list(q))
+    t = Kinematics(model).tcp(q_si)
+    pose = units.pose_from_si(t)
+    joints = units.joints_from_si(q_si, model.joint_kinds)
+    if as_json:
+        _print_json(
+            {
+                "robot": model.name,
+                "joints": _fmt(joints),
+                "pose": _fmt(pose),
+                "matrix": [_fmt(row) for row in t],
+            }
+        )
+        return
+    _pose_table(model, joints, pose, "forward kinematics")
+
+
+def _pose_table(model: RobotModel, joints, pose, title: str) -> None:
+    table = Table(title=f"{model.name}: {title}")
+    table.add_column("quantity")
+    table.add_column("value")
+    for name, kind, v in zip(model.joint_names, model.joint_kinds, joints, strict=True):
+        table.add_row(escape(f"{name} [{units.joint_unit(kind)}]"), f"{v:.4f}")
+    for label, v in zip(
+        ("x [mm]", "y [mm]", "z [mm]", "a [deg]", "b [deg]", "c [deg]"), pose, strict=True
+    ):
+        table.add_row(escape(label), f"{v:.4f}")
+    Console().print(table)
+
+
+def _split_seed(args: list[str]) -> tuple[list[str], list[str] | None]:
+    if "--seed" not in args:
+        return args, None
+    k = args.index("--seed")
+    return args[:k], args[k + 1 :]
+
+
+@cli.command("ik", context_settings=RAW)
+@click.argument("robot")
+@click.argument("args", nargs=-1, type=click.UNPROCESSED)
+@click.option("--json", "as_json", is_flag=True, help="print JSON")
+def ik_cmd(robot: str, args: tuple[str, ...], as_json: bool) -> None:
+    """Inverse kinematics: pose x y z a b c (mm, deg ZYX) [--seed q...] → joints.
+
+    Exit code 2 when the solver does not converge."""
+    model = _robot(robot)
+    pose_args, seed_args = _split_seed(list(args))
+    if len(pose_args) != 6:
+        raise UsageError(f"expected a pose x y z a b c (6 numbers), got {len(pose_args)} values")
+    pose = _numbers(pose_args, "pose value")
+    seed = model.home_q() if seed_args is None else _joint_values(model, seed_args, "seed value")
+    try:
+        from irlc.runtime.ik import solve_pose
+    except ImportError:
+        raise UsageError(
+            "inverse kinematics is not available (irlc.runtime.ik.solve_pose "
+            "is missing in this build)"
+        ) from None
+    target = units.pose_to_si(*pose)
+    try:
+        sol = solve_pose(model, target, seed)
+    except RunFailure as e:
+        click.echo(f"irlc: ik failed: {e.message}", err=True)
+        raise click.exceptions.Exit(EXIT_RUN) from None
+    message = str(sol.message)
+    if not sol.converged and "reachability" in model.extra:
+        check = check_vertical_plane(model, target)
+        if not check.reachable:
+            message = f"{message}; {check.message}"
+    joints = units.joints_from_si(sol.q, model.joint_kinds)
+    pos_mm = float(sol.position_error) / units.MM
+    ori_deg = float(sol.orientation_error) / units.DEG
+    if not np.all(np.isfinite(joints)):
+        raise click.ClickException("the IK solver returned non-finite joint values (a bug)")
+    if as_json:
+        _print_json(
+            {
+                "robot": model.name,
+                "pose": _fmt(pose),
+                "joints": _fmt(joints),
+                "converged": bool(sol.converged),
+                "position_error_mm": pos_mm,
+                "orientation_error_deg": ori_deg,
+                "iterations": int(sol.iterations),
+                "message": message,
+            }
+        )
+    else:
+        _pose_table(model, joints, pose, "inverse kinematics")
+        state = "converged" if sol.converged else "NOT converged"
+        click.echo(
+            f"{state} after {sol.iterations} iterations: position error {pos_mm:.3g} mm, "
+            f"orientation error {ori_deg:.3g} deg. {message}"
+        )
+    if not sol.converged:
+        raise click.exceptions.Exit(EXIT_RUN)

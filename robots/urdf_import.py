@@ -1,0 +1,264 @@
+"""Import a serial robot from URDF (needs the optional ``yourdfpy``: ``pip install irlc[urdf]``).
+
+The chain runs from the root link to a tip link (``tip``; default: the one leaf reached
+through the most movable joints). Conversion into :class:`RobotModel` (SI throughout):
+
+* revolute, continuous, prismatic joints become model joints; ``origin_i`` = the product
+  of the fixed joints' origins since the previous movable joint times joint ``i``'s own
+  origin; the axis is normalised. Fixed joints after the last movable one form the flange.
+* limits: position (continuous joints: ±2π, so the IK box stays finite), velocity;
+  URDF has no accelerations: ``accel = 5·velocity`` per second (full speed in 0.2 s),
+  recorded in ``extra["assumed"]``.
+* links rigidly attached through fixed joints are merged into their chain link:
+  inertials combined (mass, centre of mass, parallel-axis inertia), geometry moved.
+* collision shapes: sphere → sphere; cylinder (radius r, length L) → capsule over the
+  axis segment of length L (it bulges r past the flat ends: conservative); box →
+  the bounding capsule along its longest edge (radius = half the diagonal of the
+  cross-section); meshes are skipped. Each approximation is listed in
+  ``extra["urdf_notes"]``.
+* unsupported: mimic joints, floating/planar joints, several moving branches without a
+  chosen tip — these raise :class:`RobotFileError` with the joint or link name.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+from irlc.robots.loader import RobotFileError
+from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
+
+MOVABLE = {"revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"}
+ACCEL_PER_VELOCITY = 5.0  # 1/s: assumed acceleration limit = 5 × velocity limit
+
+
+def _yourdfpy():
+    try:
+        import yourdfpy
+    except ImportError:
+        raise RobotFileError(
+            "URDF", "", "URDF import needs the optional package yourdfpy: pip install irlc[urdf]"
+        ) from None
+    return yourdfpy
+
+
+def load_urdf(path: str | Path, tip: str | None = None, name: str | None = None) -> RobotModel:
+    """Load a serial chain from a URDF file (see the module docstring)."""
+    yourdfpy = _yourdfpy()
+    file = str(path)
+    try:
+        urdf = yourdfpy.URDF.load(
+            file,
+            build_scene_graph=False,
+            build_collision_scene_graph=False,
+            load_meshes=False,
+            load_collision_meshes=False,
+        )
+    except Exception as e:
+        raise RobotFileError(file, "", f"cannot parse the URDF: {type(e).__name__}: {e}") from None
+    robot = urdf.robot
+    return _convert(robot, file, tip, name or robot.name or Path(file).stem)
+
+
+def _convert(robot, file: str, tip: str | None, name: str) -> RobotModel:
+    by_child = {j.child: j for j in robot.joints}
+    links = {link.name: link for link in robot.links}
+    for j in robot.joints:
+        if j.mimic is not None:
+            raise RobotFileError(file, f"joint '{j.name}'", "mimic joints are not supported")
+        if j.type not in MOVABLE and j.type != "fixed":
+            raise RobotFileError(
+                file,
+                f"joint '{j.name}'",
+                f"joint type {j.type!r} is not supported (revolute, continuous, prismatic, fixed)",
+            )
+    roots = [n for n in links if n not in by_child]
+    if len(roots) != 1:
+        raise RobotFileError(file, "", f"expected one root link, found {roots}")
+    path = _chain(robot, file, roots[0], by_child, tip)
+    notes: list[str] = []
+    assumed: dict[str, str] = {}
+    joints: list[Joint] = []
+    owner = {roots[0]: 0}  # link name → model link index
+    frame_of = {roots[0]: np.eye(4)}  # link name → pose in its model link's frame
+    for j in path:
+        if j.type == "fixed":
+            owner[j.child] = len(joints)
+            frame_of[j.child] = frame_of[j.parent] @ _origin(j)
+            continue
+        joints.append(_joint(j, file, frame_of[j.parent] @ _origin(j), assumed))
+        owner[j.child] = len(joints)
+        frame_of[j.child] = np.eye(4)
+    flange = frame_of[path[-1].child] if path else np.eye(4)
+    _attach_fixed_branches(robot, owner, frame_of)
+    geometry, inertials = [], []
+    for link_name, index in owner.items():
+        link = links[link_name]
+        geometry += _shapes(link, index, frame_of[link_name], notes)
+    for index in range(len(joints) + 1):
+        parts = [(links[n], frame_of[n]) for n, k in owner.items() if k == index]
+        merged = _merged_inertial(parts, index)
+        if merged is not None:
+            inertials.append(merged)
+    if not joints:
+        raise RobotFileError(file, "", "no movable joint between the root and the tip")
+    n = len(joints)
+    joints = [replace(j, weight=float(n - i)) for i, j in enumerate(joints)]  # w_i = n − i + 1
+    home = np.array([_home_value(j) for j in joints])
+    return RobotModel(
+        name=name,
+        joints=tuple(joints),
+        flange=flange,
+        home=home,
+        geometry=tuple(geometry),
+        inertials=tuple(inertials),
+        extra={"assumed": assumed, "urdf_notes": notes, "urdf": file},
+        source=file,
+        description=f"imported from URDF {Path(file).name}",
+    )
+
+
+def _chain(robot, file: str, root: str, by_child: dict, tip: str | None) -> list:
+    """Joints from the root to the tip, in order."""
+    children: dict[str, list] = {}
+    for j in robot.joints:
+        children.setdefault(j.parent, []).append(j)
+    leaves = [lk.name for lk in robot.links if lk.name not in children]
+    if tip is not None:
+        if tip not in {lk.name for lk in robot.links}:
+            raise RobotFileError(file, "tip", f"no link named {tip!r}")
+        chosen = tip
+    else:
+
+        def movable(leaf: str) -> list[str]:
+            return [j.name for j in _path(root, leaf, by_child) if j.type != "fixed"]
+
+        ranked = sorted(leaves, key=lambda lf: (len(movable(lf)), len(_path(root, lf, by_child))))
+        best = ranked[-1]
+        best_set = set(movable(best))
+        for other in ranked[:-1]:
+            if not set(movable(other)) <= best_set:
+                raise RobotFileError(
+                    file,
+                    "tip",
+                    f"the tree branches (leaves {', '.join(leaves)});"
+                    " choose the tip link (load_urdf(path, tip=...) or "
+                    '[robot] tip = "...")',
+                )
+        chosen = best
+    return _path(root, chosen, by_child)
+
+
+def _path(root: str, leaf: str, by_child: dict) -> list:
+    out = []
+    link = leaf
+    while link != root:
+        j = by_child[link]
+        out.append(j)
+        link = j.parent
+    return out[::-1]
+
+
+def _attach_fixed_branches(robot, owner: dict, frame_of: dict) -> None:
+    """Links hanging off the chain through fixed joints belong to the chain link."""
+    changed = True
+    while changed:
+        changed = False
+        for j in robot.joints:
+            if j.type == "fixed" and j.parent in owner and j.child not in owner:
+                owner[j.child] = owner[j.parent]
+                frame_of[j.child] = frame_of[j.parent] @ _origin(j)
+                changed = True
+
+
+def _origin(j) -> np.ndarray:
+    return np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=float)
+
+
+def _joint(j, file: str, origin: np.ndarray, assumed: dict) -> Joint:
+    kind = MOVABLE[j.type]
+    axis = np.array([1.0, 0.0, 0.0]) if j.axis is None else np.asarray(j.axis, dtype=float)
+    norm = float(np.linalg.norm(axis))
+    if norm < 1e-12:
+        raise RobotFileError(file, f"joint '{j.name}'.axis", "expected a non-zero axis")
+    lim = j.limit
+    if j.type == "continuous":
+        position = (-2 * math.pi, 2 * math.pi)
+    else:
+        if lim is None or lim.lower is None or lim.upper is None:
+            raise RobotFileError(file, f"joint '{j.name}'.limit", "expected lower and upper")
+        position = (float(lim.lower), float(lim.upper))
+        if position[0] > position[1]:
+            raise RobotFileError(file, f"joint '{j.name}'.limit", "expected lower ≤ upper")
+    velocity = None if lim is None else lim.velocity
+    if velocity is None or not velocity > 0.0:
+        raise RobotFileError(
+            file,
+            f"joint '{j.name}'.limit.velocity",
+            "expected a positive velocity limit (the runtime needs one)",
+        )
+    v = float(velocity)
+    a = ACCEL_PER_VELOCITY * v
+    assumed[f"joint '{j.name}' acceleration"] = (
+        f"URDF has no acceleration limit: {ACCEL_PER_VELOCITY:g} × velocity = {a:g}/s²"
+    )
+    return Joint(j.name, kind, origin, axis / norm, Limits(position, (-v, v), (-a, a)))
+
+
+def _home_value(j: Joint) -> float:
+    lo, hi = j.limits.position
+    return 0.0 if lo <= 0.0 <= hi else 0.5 * (lo + hi)
+
+
+def _shapes(link, index: int, frame: np.ndarray, notes: list[str]) -> list:
+    out: list[Capsule | Sphere] = []
+    for c in link.collisions or []:
+        t = frame @ (np.eye(4) if c.origin is None else np.asarray(c.origin, dtype=float))
+        g = c.geometry
+        if g.sphere is not None:
+            out.append(Sphere(index, t[:3, 3].copy(), float(g.sphere.radius)))
+        elif g.cylinder is not None:
+            half = 0.5 * float(g.cylinder.length)
+            a, b = _segment(t, 2, half)
+            out.append(Capsule(index, a, b, float(g.cylinder.radius)))
+            notes.append(f"{link.name}: cylinder → capsule (ends bulge by the radius)")
+        elif g.box is not None:
+            size = np.asarray(g.box.size, dtype=float)
+            k = int(np.argmax(size))
+            others = [s for i, s in enumerate(size) if i != k]
+            radius = 0.5 * math.hypot(*others)
+            a, b = _segment(t, k, 0.5 * size[k])
+            out.append(Capsule(index, a, b, radius))
+            notes.append(f"{link.name}: box → bounding capsule along its longest edge")
+        else:
+            notes.append(f"{link.name}: mesh/unknown collision shape skipped")
+    return out
+
+
+def _segment(t: np.ndarray, axis: int, half: float) -> tuple[np.ndarray, np.ndarray]:
+    d = t[:3, axis] * half
+    return t[:3, 3] - d, t[:3, 3] + d
+
+
+def _merged_inertial(parts: list, index: int) -> Inertial | None:
+    """Combine the inertials of rigidly joined links (in the chain link's frame)."""
+    items = []
+    for link, frame in parts:
+        inertial = link.inertial
+        if inertial is None or inertial.mass is None or inertial.mass <= 0.0:
+            continue
+        t = frame @ (np.eye(4) if inertial.origin is None else np.asarray(inertial.origin))
+        r = t[:3, :3]
+        inertia = np.zeros((3, 3)) if inertial.inertia is None else np.asarray(inertial.inertia)
+        items.append((float(inertial.mass), t[:3, 3], r @ inertia @ r.T))
+    if not items:
+        return None
+    mass = sum(m for m, _, _ in items)
+    com = sum(m * c for m, c, _ in items) / mass
+    total = np.zeros((3, 3))
+    for m, c, inertia in items:
+        d = c - com
+        total += inertia + m * (float(d @ d) * np.eye(3) - np.outer(d, d))
+    return Inertial(index, mass, com, total)

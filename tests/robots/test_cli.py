@@ -1,0 +1,127 @@
+"""irlc robots / robot / fk / ik through the real entry point (exit codes of interfaces.md)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from irlc.robots import load_robot
+from irlc.runtime import units
+from irlc.runtime.kinematics import Kinematics
+
+from irlc.cli import main
+
+
+def run(capsys, *args: str) -> tuple[int, str, str]:
+    code = main(list(args))
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+KONF0 = [
+    "2.158",
+    "-75",
+    "-102",
+    "110.633",
+    "-91.115",
+    "-121.5",
+    "99.792",
+    "47.095",
+    "-76.742",
+    "18.11",
+    "39.975",
+]
+
+
+def test_fk_json(capsys):
+    code, out, _ = run(capsys, "fk", "koch11", *KONF0, "--json")
+    assert code == 0
+    data = json.loads(out)
+    assert set(data) == {"robot", "joints", "pose", "matrix"}
+    assert data["robot"] == "koch11" and data["joints"] == [float(v) for v in KONF0]
+    assert np.allclose(data["pose"], [11500, 1000, 3500, 0, 0, 0], atol=0.1)
+    m = np.array(data["matrix"])
+    assert m.shape == (4, 4) and np.allclose(m[:3, 3], [11.5, 1.0, 3.5], atol=1e-4)  # metres
+
+
+def test_fk_planar3_values(capsys):
+    code, out, _ = run(capsys, "fk", "planar3", "90", "-90", "0", "--json")
+    data = json.loads(out)
+    assert code == 0 and np.allclose(data["pose"], [2000, 1000, 0, 0, 0, 0], atol=1e-9)
+
+
+def test_fk_table(capsys):
+    code, out, _ = run(capsys, "fk", "planar3", "0", "0", "0")
+    assert code == 0 and "x [mm]" in out and "3000.0000" in out
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (["fk", "planar3", "1", "2"], "has 3 joints"),
+        (["fk", "planar3", "1", "x", "2"], "'x' is not a number"),
+        (["fk", "planar3", "1", "nan", "2"], "not a finite number"),
+        (["fk", "nobot", "1"], "unknown robot"),
+        (["ik", "planar3", "1", "2", "3"], "x y z a b c"),
+        (["ik", "planar3", "1000", "0", "0", "0", "0", "0", "--seed", "1"], "has 3 joints"),
+        (["robot", "nobot"], "unknown robot"),
+    ],
+)
+def test_usage_errors_exit_3(capsys, args, words):
+    code, out, err = run(capsys, *args)
+    assert code == 3
+    assert words in err
+    assert "Traceback" not in out + err
+
+
+def test_robots_and_robot(capsys):
+    code, out, _ = run(capsys, "robots")
+    assert code == 0 and "koch11" in out and "RRRRRRRRRPR" in out
+    code, out, _ = run(capsys, "robot", "koch11")
+    assert code == 0 and "J10" in out and "limit sets" in out
+
+
+ik = pytest.importorskip("irlc.runtime.ik")
+needs_ik = pytest.mark.skipif(not hasattr(ik, "solve_pose"), reason="solve_pose not yet available")
+
+
+@needs_ik
+def test_ik_json_converges_to_an_fk_pose(capsys):
+    model = load_robot("planar3")
+    q = units.joints_to_si([20, 40, -30], model.joint_kinds)
+    pose = units.pose_from_si(Kinematics(model).tcp(q))
+    code, out, _ = run(
+        capsys, "ik", "planar3", *map(str, pose), "--seed", "10", "30", "-20", "--json"
+    )
+    data = json.loads(out)
+    assert code == 0
+    assert set(data) >= {
+        "robot",
+        "pose",
+        "joints",
+        "converged",
+        "position_error_mm",
+        "orientation_error_deg",
+    }
+    assert data["converged"] is True and data["position_error_mm"] < 1e-3
+    reached = units.pose_from_si(
+        Kinematics(model).tcp(units.joints_to_si(data["joints"], model.joint_kinds))
+    )
+    assert np.allclose(reached[:3], pose[:3], atol=1e-3)
+
+
+@needs_ik
+def test_ik_unreachable_exits_2(capsys):
+    code, out, _ = run(capsys, "ik", "planar3", "5000", "0", "0", "0", "0", "0", "--json")
+    assert code == 2
+    assert json.loads(out)["converged"] is False
+
+
+@needs_ik
+def test_ik_five_axis_out_of_plane_explains_why(capsys):
+    """A pose whose approach vector leaves the IRb-6's vertical plane cannot be reached."""
+    code, out, _ = run(capsys, "ik", "irb6", "600", "300", "900", "30", "40", "0", "--json")
+    data = json.loads(out)
+    assert code == 2 and data["converged"] is False
+    assert "vertical plane" in data["message"]

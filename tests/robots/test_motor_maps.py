@@ -1,0 +1,54 @@
+"""Motor ↔ joint maps: round trips, Jacobians vs finite differences, the L-1 formulas."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from irlc.robots import load_robot
+from irlc.runtime.motor_maps import MotorMap
+
+
+@pytest.mark.parametrize("name", ["l1", "irb6", "irb6_track", "as6", "koch11"])
+def test_round_trip_and_jacobians(name):
+    model = load_robot(name)
+    mm = MotorMap.from_model(model)
+    rng = np.random.default_rng(0)
+    lim = model.position_limits
+    h = 1e-6
+    for _ in range(10):
+        q = rng.uniform(lim[:, 0], lim[:, 1])
+        th = mm.motor_from_joint(q)
+        assert np.allclose(mm.joint_from_motor(th), q, atol=1e-10)
+        fd = np.empty((model.n, model.n))
+        for i in range(model.n):
+            dq = np.zeros(model.n)
+            dq[i] = h
+            fd[:, i] = (mm.motor_from_joint(q + dq) - mm.motor_from_joint(q - dq)) / (2 * h)
+        jac = mm.motor_jacobian(q)
+        assert np.allclose(jac, fd, rtol=1e-6, atol=1e-6)
+        assert np.allclose(mm.joint_jacobian(q) @ jac, np.eye(model.n), atol=1e-9)
+
+
+def test_l1_book_formulas():
+    """λ_i = θs_i/k_i; θ4 = θs4/k4; θ5 = θs5/k5 + 0.5·θ4; θ6 = θs6/k6 + 2·θ5."""
+    mm = MotorMap.from_model(load_robot("l1"))
+    ts = np.array([100.0, 200.0, 300.0, 1.2, -0.7, 2.5])
+    k = 360 * np.pi
+    t4 = ts[3] / -3.6
+    t5 = ts[4] / 7.2 + 0.5 * t4
+    t6 = ts[5] / 7.2 + 2 * t5
+    assert np.allclose(mm.joint_from_motor(ts), [100 / k, 200 / k, 300 / k, t4, t5, t6])
+
+
+def test_direct_drive_without_table():
+    model = load_robot("planar3")
+    mm = MotorMap.from_model(model)
+    q = np.array([0.1, -0.2, 0.3])
+    assert np.allclose(mm.motor_from_joint(q), q)
+    assert np.allclose(mm.motor_jacobian(q), np.eye(3))
+
+
+def test_screw_out_of_reach_is_an_error():
+    mm = MotorMap.from_model(load_robot("irb6"))
+    with pytest.raises(ValueError, match="joint 2"):
+        mm.joint_from_motor(np.array([0.0, 1e4, 0.0, 0.0, 0.0]))
