@@ -319,7 +319,9 @@ def read_code(text: str, filename: str = "<irdata>") -> Code:
     lines = text.splitlines()
     if not lines or lines[0].strip() != MAGIC:
         got = lines[0].strip() if lines else "an empty file"
-        r.error(1, 1, f"not IRDATA code of version {FORMAT_VERSION}: expected '{MAGIC}', got {got!r}")
+        r.error(
+            1, 1, f"not IRDATA code of version {FORMAT_VERSION}: expected '{MAGIC}', got {got!r}"
+        )
         raise CompileError(r.diags)
     code = Code("", "", "", "", "", ())
     records: list[tuple[int, list[tuple[str, int]]]] = []  # (file line, tokens)
@@ -398,7 +400,9 @@ def _read_header_record(r: _Reader, code: Code, op, toks, lineno, pending) -> No
         code.robot = _unquote(words[2]) or words[2]
         kinds = words[4]
         if not re.fullmatch(r"[RP]+", kinds) or str(len(kinds)) != words[3]:
-            r.error(lineno, col_of[4], f"ROBOT: joint kinds {kinds!r} do not match count {words[3]}")
+            r.error(
+                lineno, col_of[4], f"ROBOT: joint kinds {kinds!r} do not match count {words[3]}"
+            )
         code.joint_kinds = kinds
     elif op == "JOINTS":
         code.joint_names = tuple(words[1:])
@@ -539,10 +543,11 @@ def _check_references(r: _Reader, code: Code, code_records) -> None:
     for ins, (lineno, toks) in zip(code.code, code_records, strict=False):
         limit = tables.get(ins.op)
         if limit is not None and not 0 <= int(ins.args[0]) < limit:
-            r.error(lineno, toks[2][1], f"{ins.op}: index {ins.args[0]} out of range (0..{limit - 1})")
-        if ins.op == "PUSHSYS" or ins.op == "POPSYS":
-            if ins.args[0] not in SYSTEM_VARIABLES:
-                r.error(lineno, toks[2][1], f"unknown system variable {ins.args[0]!r}")
+            r.error(
+                lineno, toks[2][1], f"{ins.op}: index {ins.args[0]} out of range (0..{limit - 1})"
+            )
+        if ins.op in ("PUSHSYS", "POPSYS") and ins.args[0] not in SYSTEM_VARIABLES:
+            r.error(lineno, toks[2][1], f"unknown system variable {ins.args[0]!r}")
         if ins.op == "MOVE" and ins.args[0] not in MOVE_KINDS:
             r.error(lineno, toks[2][1], f"unknown motion kind {ins.args[0]!r}")
         if ins.op in ("OPTON", "OPTOFF") and ins.args[0] not in MODAL_OPTIONS:

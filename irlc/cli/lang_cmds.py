@@ -1,0 +1,156 @@
+"""``irlc check``, ``irlc compile`` and ``irlc disasm`` (the language front end's commands).
+
+Diagnostics go to stderr as ``FILE:LINE:COL: severity: message`` + source line + caret +
+hint. Exit codes: 0 ok, 1 compile errors, 3 usage errors (missing file, unknown --robot).
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import click
+
+from irlc.cli.app import cli
+from irlc.errors import EXIT_COMPILE, EXIT_OK, UsageError
+
+
+def library_resolver(name_or_path: str):
+    """Resolve a robot through the robot library; its errors become LookupError."""
+    from irlc.robots import RobotFileError, load_robot
+
+    try:
+        return load_robot(name_or_path)
+    except RobotFileError as e:
+        raise LookupError(e.message if not e.key else str(e)) from None
+    except OSError as e:
+        raise LookupError(str(e)) from None
+
+
+def _compile(program: Path, robot: str | None, datalist_path: tuple[Path, ...]):
+    from irlc.lang import compile_file
+
+    if not program.is_file():
+        raise UsageError(f"{program}: no such file")
+    for d in datalist_path:
+        if not d.is_dir():
+            raise UsageError(f"--datalist-path {d}: no such folder")
+    if robot is not None:
+        try:
+            library_resolver(robot)
+        except LookupError as e:
+            raise UsageError(f"--robot {robot}: {e}") from None
+    return compile_file(
+        str(program),
+        resolve_robot=library_resolver,
+        datalist_path=tuple(str(d) for d in datalist_path),
+        robot_override=robot,
+    )
+
+
+def print_diagnostics(result) -> None:
+    from irlc.lang import render
+
+    for d in result.diagnostics:
+        src = result.source if d.file == result.filename else None
+        click.echo(render(d, src), err=True)
+
+
+def _summary(result) -> str:
+    n_err, n_warn = len(result.errors), len(result.warnings)
+    return f"{n_err} error{'s' if n_err != 1 else ''}, {n_warn} warning{'s' if n_warn != 1 else ''}"
+
+
+def write_atomic(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` through a temporary file in the same folder + os.replace."""
+    folder = path.parent if str(path.parent) else Path(".")
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+_robot_option = click.option("--robot", default=None, help="Robot name or file (overrides ROBOT).")
+_datalist_option = click.option(
+    "--datalist-path",
+    "datalist_path",
+    multiple=True,
+    type=click.Path(path_type=Path),
+    help="Folder searched for IMPORT DATALIST files (repeatable).",
+)
+
+
+@cli.command("check")
+@click.argument("program", type=click.Path(path_type=Path))
+@_robot_option
+@_datalist_option
+def check_cmd(program: Path, robot: str | None, datalist_path: tuple[Path, ...]) -> int:
+    """Compile PROGRAM.irl without writing code; print diagnostics."""
+    result = _compile(program, robot, datalist_path)
+    print_diagnostics(result)
+    if not result.ok:
+        click.echo(f"{program}: {_summary(result)}", err=True)
+        return EXIT_COMPILE
+    click.echo(f"{program}: ok ({_summary(result)})")
+    return EXIT_OK
+
+
+@cli.command("compile")
+@click.argument("program", type=click.Path(path_type=Path))
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(path_type=Path, dir_okay=False),
+    default=None,
+    help="Output file (default: PROGRAM.ird next to the source).",
+)
+@_robot_option
+@_datalist_option
+def compile_cmd(
+    program: Path, output: Path | None, robot: str | None, datalist_path: tuple[Path, ...]
+) -> int:
+    """Compile PROGRAM.irl to IRDATA code (PROGRAM.ird)."""
+    from irlc.lang import write_code
+
+    result = _compile(program, robot, datalist_path)
+    print_diagnostics(result)
+    if not result.ok:
+        click.echo(f"{program}: {_summary(result)}", err=True)
+        return EXIT_COMPILE
+    out = output if output is not None else program.with_suffix(".ird")
+    if not out.parent.is_dir() and str(out.parent):
+        raise UsageError(f"-o {out}: folder {out.parent} does not exist")
+    try:
+        write_atomic(out, write_code(result.code))
+    except OSError as e:
+        raise UsageError(f"cannot write {out}: {e.strerror or e}") from None
+    click.echo(f"wrote {out}")
+    return EXIT_OK
+
+
+@cli.command("disasm")
+@click.argument("code_file", metavar="PROGRAM.ird", type=click.Path(path_type=Path))
+def disasm_cmd(code_file: Path) -> int:
+    """Pretty-print IRDATA code with the source lines interleaved."""
+    from irlc.lang import CompileError, read_code, render
+    from irlc.lang.disasm import disassemble, find_source
+
+    if not code_file.is_file():
+        raise UsageError(f"{code_file}: no such file")
+    try:
+        text = code_file.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as e:
+        raise UsageError(f"cannot read {code_file}: {e}") from None
+    try:
+        code = read_code(text, str(code_file))
+    except CompileError as e:
+        for d in e.diagnostics:
+            click.echo(render(d, text), err=True)
+        return EXIT_COMPILE
+    click.echo(disassemble(code, find_source(code, code_file)), nl=False)
+    return EXIT_OK

@@ -1,0 +1,176 @@
+"""The front end's entry points: IRL source in, diagnostics and IRDATA code out.
+
+``compile_source`` never raises for bad user input: parse errors, unknown robots,
+missing or malformed data lists and every static check end up as diagnostics, and
+``code`` is ``None`` when any of them is an error.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from irlc.lang import ast
+from irlc.lang import datalist as dlmod
+from irlc.lang.checker import Checker
+from irlc.lang.codegen import generate
+from irlc.lang.diagnostics import Diagnostic, Span
+from irlc.lang.irdata import Code
+from irlc.lang.parser import parse
+from irlc.lang.signature import RobotResolver, RobotSignature, kind_letters
+
+
+@dataclass
+class CompileResult:
+    code: Code | None
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    source: str = ""
+    filename: str = ""
+
+    @property
+    def ok(self) -> bool:
+        return self.code is not None
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if d.is_error]
+
+    @property
+    def warnings(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if d.severity == "warning"]
+
+
+def compile_source(
+    text: str,
+    filename: str,
+    *,
+    resolve_robot: RobotResolver,
+    datalist_path: Iterable[str] = (),
+    robot_override: str | None = None,
+    repl: bool = False,
+) -> CompileResult:
+    """Compile IRL ``text`` (``filename`` is used in diagnostics and the SOURCE record).
+
+    Data lists are searched in ``filename``'s folder, then in ``datalist_path``, then in
+    the robot library. ``robot_override`` is the command line's ``--robot``.
+    """
+    result = CompileResult(None, [], text, filename)
+    program, diags = parse(text, filename)
+    result.diagnostics += diags
+    if program is None:
+        return result
+    robot, robot_text, robot_var = _robot(program, filename, resolve_robot, robot_override, result)
+    datalists = _datalists(program, filename, tuple(datalist_path), robot, result)
+    checker = Checker(program, filename, robot, datalists, repl=repl)
+    checked = checker.check()
+    result.diagnostics += checker.diags
+    if robot is None or any(d.is_error for d in result.diagnostics):
+        return result
+    result.code = generate(checked, robot, robot_text, robot_var, filename)
+    return result
+
+
+def compile_file(path: str | Path, **options) -> CompileResult:
+    """Read ``path`` (UTF-8) and compile it; a read failure is a diagnostic."""
+    name = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as e:
+        msg = e.strerror if isinstance(e, OSError) and e.strerror else str(e)
+        return CompileResult(
+            None, [Diagnostic("error", f"cannot read the program: {msg}", name)], "", name
+        )
+    return compile_source(text, name, **options)
+
+
+def _robot(
+    program: ast.Program,
+    filename: str,
+    resolve: RobotResolver,
+    override: str | None,
+    result: CompileResult,
+) -> tuple[RobotSignature | None, str, str]:
+    clause = program.robot[0] if program.robot else None
+    if clause is None and override is None:
+        result.diagnostics.append(
+            Diagnostic(
+                "error",
+                "the program names no robot",
+                filename,
+                program.span,
+                "add 'ROBOT r := koch11;' after the PROGRAM line, or pass --robot NAME",
+            )
+        )
+        return None, "", ""
+    span: Span | None = clause.robot_span if clause else None
+    wanted = override if override is not None else clause.robot  # type: ignore[union-attr]
+    if clause is not None and override is not None and override.lower() != clause.robot.lower():
+        result.diagnostics.append(
+            Diagnostic(
+                "warning",
+                f"--robot {override} overrides the program's robot {clause.robot}",
+                filename,
+                clause.robot_span,
+            )
+        )
+    robot_var = clause.var if clause else "r"
+    try:
+        robot = resolve(wanted)
+        letters = kind_letters(robot)
+        if robot.joint_count != len(letters) or robot.joint_count < 1:
+            raise ValueError(f"robot {wanted}: inconsistent joint count")
+    except Exception as e:
+        where = "" if span is not None else " (given with --robot)"
+        msg = str(e.args[0]) if isinstance(e, KeyError) and e.args else str(e)
+        result.diagnostics.append(
+            Diagnostic(
+                "error",
+                f"cannot use robot '{wanted}'{where}: {msg}",
+                filename,
+                span,
+            )
+        )
+        return None, "", robot_var
+    return robot, wanted, robot_var
+
+
+def _datalists(
+    program: ast.Program,
+    filename: str,
+    search: tuple[str, ...],
+    robot: RobotSignature | None,
+    result: CompileResult,
+) -> list[dlmod.Datalist]:
+    out = []
+    program_dir = Path(filename).parent
+    seen: dict[str, int] = {}
+    for clause in program.datalists:
+        key = clause.name.lower()
+        if key in seen:
+            result.diagnostics.append(
+                Diagnostic(
+                    "error",
+                    f"data list {clause.name} is imported twice (first on line {seen[key]})",
+                    filename,
+                    clause.span,
+                )
+            )
+            continue
+        seen[key] = clause.span.line
+        path, searched = dlmod.find(clause.name, program_dir, search)
+        if path is None:
+            result.diagnostics.append(
+                Diagnostic(
+                    "error",
+                    f"data list '{clause.name}.toml' not found",
+                    filename,
+                    clause.span,
+                    "searched: " + ", ".join(searched) + " (add folders with --datalist-path DIR)",
+                )
+            )
+            continue
+        dl, diags = dlmod.load(clause.name, path, program_dir, robot.joint_count if robot else None)
+        result.diagnostics += diags
+        out.append(dl)
+    return out

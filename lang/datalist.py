@@ -1,0 +1,336 @@
+"""Data lists (``IMPORT DATALIST name;``): taught poses, configurations, obstacles, inputs.
+
+A data list is a TOML file ``name.toml`` found in the program's folder, then in each
+``--datalist-path`` directory, then in the robot library's ``datalists`` folder. Sections
+(language.md §6, plus ``[limits]``)::
+
+    [poses]               name = [x, y, z, a, b, c]        mm, deg (ZYX)
+    [joints]              name = [q1, ..., qN]             deg / mm per joint
+    [limits]              name = { type = "MAIN_JOINT_MIN" | ... , values = [N numbers] }
+    [obstacles.NAME]      kind = point|sphere|box|capsule|plane and its keys (mm)
+    [inputs]              "n" = [[time_s, bool], ...]      times non-decreasing
+
+Every problem is a :class:`Diagnostic` naming the file and the key (with the key's line
+when it can be found in the text).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+
+from irlc.lang.diagnostics import Diagnostic, Span
+from irlc.lang.irdata import JOINT_TUPLE_TYPES, ObstacleDef, Value
+
+OBSTACLE_KEYS: dict[str, tuple[tuple[str, int, bool], ...]] = {
+    # kind: ((key, size, required), ...) in the order of the IRDATA OBSTACLE record
+    "point": (("center", 3, True),),
+    "sphere": (("center", 3, True), ("radius", 1, True)),
+    "box": (("center", 3, True), ("size", 3, True), ("rotation", 3, False)),
+    "capsule": (("a", 3, True), ("b", 3, True), ("radius", 1, True)),
+    "plane": (("point", 3, True), ("normal", 3, True)),
+}
+SECTIONS = ("poses", "joints", "limits", "obstacles", "inputs")
+_IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+
+
+@dataclass(frozen=True)
+class Item:
+    """A named value of a data list: a global constant of the program."""
+
+    name: str
+    value: Value
+    file: str
+    key: str  # e.g. "poses.poz_1"
+    span: Span | None
+
+
+@dataclass
+class Datalist:
+    name: str
+    path: str  # as used for reading (for diagnostics)
+    shown_path: str  # provenance written to the IRDATA DATALIST record
+    items: list[Item] = field(default_factory=list)
+    obstacles: list[tuple[ObstacleDef, Item]] = field(default_factory=list)
+    inputs: dict[int, list[tuple[float, bool]]] = field(default_factory=dict)
+
+
+def library_folder() -> Path | None:
+    try:
+        return Path(str(resources.files("irlc.robots") / "datalists"))
+    except (ModuleNotFoundError, TypeError):
+        return None
+
+
+def find(
+    name: str, program_dir: Path, search_path: tuple[str, ...]
+) -> tuple[Path | None, list[str]]:
+    """Locate ``name.toml``; return the path (or None) and the folders searched."""
+    folders = [program_dir, *(Path(p) for p in search_path)]
+    lib = library_folder()
+    if lib is not None:
+        folders.append(lib)
+    searched = []
+    for folder in folders:
+        candidate = folder / f"{name}.toml"
+        searched.append(str(folder) if str(folder) else ".")
+        if candidate.is_file():
+            return candidate, searched
+    return None, searched
+
+
+def shown_path(path: Path, program_dir: Path) -> str:
+    """A machine-independent provenance string for the IRDATA header."""
+    lib = library_folder()
+    try:
+        if lib is not None and path.resolve().parent == lib.resolve():
+            return f"irlc.robots:datalists/{path.name}"
+    except OSError:
+        pass
+    try:
+        return path.resolve().relative_to(program_dir.resolve()).as_posix()
+    except (ValueError, OSError):
+        return str(path)
+
+
+class _Loader:
+    def __init__(self, path: Path, text: str, joint_count: int | None):
+        self.file = str(path)
+        self.text = text
+        self.lines = text.splitlines()
+        self.n = joint_count
+        self.diags: list[Diagnostic] = []
+
+    def error(self, key: str, message: str, hint: str | None = None) -> None:
+        span = self.key_span(key)
+        self.diags.append(Diagnostic("error", f"key '{key}': {message}", self.file, span, hint))
+
+    def key_span(self, key: str) -> Span | None:
+        """Best-effort line of ``key`` (``table.sub.name``) in the TOML text."""
+        parts = key.split(".")
+        whole = self._find(parts, None)
+        if whole is not None:
+            return whole
+        for split in range(len(parts) - 1, -1, -1):
+            table, leaf = parts[:split], parts[split:]
+            span = self._find(table, leaf[0] if leaf else None)
+            if span is not None:
+                return span
+        return None
+
+    def _find(self, table: list[str], leaf: str | None) -> Span | None:
+        current: list[str] = []
+        for i, raw in enumerate(self.lines, start=1):
+            line = raw.strip()
+            m = re.match(r"\[\s*([^\]]+?)\s*\]", line)
+            if m:
+                current = [p.strip().strip("\"'") for p in m.group(1).split(".")]
+                if leaf is None and current == table:
+                    return Span(i, raw.index("[") + 1)
+                continue
+            if leaf is not None and current == table:
+                m = re.match(r"\s*[\"']?" + re.escape(leaf) + r"[\"']?\s*=", raw)
+                if m:
+                    return Span(i, raw.index(leaf[0]) + 1)
+        return None
+
+    def numbers(self, value, key: str, size: int | None, what: str) -> tuple[float, ...] | None:
+        if not isinstance(value, list) or not all(_is_number(v) for v in value):
+            self.error(key, f"expected {what}, got {_show(value)}")
+            return None
+        if size is not None and len(value) != size:
+            self.error(key, f"expected {size} numbers ({what}), got {len(value)}")
+            return None
+        if not all(math.isfinite(v) for v in value):
+            self.error(key, "numbers must be finite")
+            return None
+        return tuple(float(v) for v in value)
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, int | float) and not isinstance(v, bool)
+
+
+def _show(v) -> str:
+    text = repr(v)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def load(
+    name: str, path: Path, program_dir: Path, joint_count: int | None
+) -> tuple[Datalist, list[Diagnostic]]:
+    """Read and validate one data list; ``joint_count`` None skips joint-arity checks."""
+    dl = Datalist(name, str(path), shown_path(path, program_dir))
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as e:
+        return dl, [Diagnostic("error", f"cannot read data list: {e}", str(path))]
+    ld = _Loader(path, text, joint_count)
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        m = re.search(r"\(at line (\d+), column (\d+)\)", str(e))
+        span = Span(int(m.group(1)), int(m.group(2))) if m else None
+        msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(e)) or "invalid TOML"
+        return dl, [Diagnostic("error", f"invalid TOML: {msg}", str(path), span)]
+    for section, body in doc.items():
+        if section not in SECTIONS:
+            ld.error(section, "unknown section", f"data list sections: {', '.join(SECTIONS)}")
+        elif not isinstance(body, dict):
+            ld.error(section, f"expected a table, got {_show(body)}")
+        else:
+            _SECTION_READERS[section](ld, dl, body)
+    return dl, ld.diags
+
+
+def _item(ld: _Loader, dl: Datalist, key: str, name: str, value: Value) -> None:
+    if not _IDENT.fullmatch(name):
+        ld.error(key, f"'{name}' is not a valid IRL name (letters, digits, '_')")
+        return
+    dl.items.append(Item(name, value, ld.file, key, ld.key_span(key)))
+
+
+def _read_poses(ld: _Loader, dl: Datalist, body: dict) -> None:
+    for name, value in body.items():
+        key = f"poses.{name}"
+        nums = ld.numbers(value, key, 6, "x, y, z in mm and a, b, c in degrees")
+        if nums is not None:
+            _item(ld, dl, key, name, Value("POSE", nums))
+
+
+def _read_joints(ld: _Loader, dl: Datalist, body: dict) -> None:
+    for name, value in body.items():
+        key = f"joints.{name}"
+        nums = ld.numbers(value, key, ld.n, "one value per joint")
+        if nums is not None:
+            _item(ld, dl, key, name, Value("MAIN_JOINT", nums))
+
+
+def _read_limits(ld: _Loader, dl: Datalist, body: dict) -> None:
+    for name, value in body.items():
+        key = f"limits.{name}"
+        if not isinstance(value, dict):
+            ld.error(
+                key, f'expected {{ type = "MAIN_JOINT_MIN", values = [...] }}, got {_show(value)}'
+            )
+            continue
+        extra = sorted(set(value) - {"type", "values"})
+        if extra:
+            ld.error(f"{key}.{extra[0]}", "unknown key; a limit has 'type' and 'values'")
+            continue
+        ty = value.get("type")
+        limit_types = JOINT_TUPLE_TYPES[1:]
+        if ty not in limit_types:
+            ld.error(f"{key}.type", f"expected one of {', '.join(limit_types)}, got {_show(ty)}")
+            continue
+        nums = ld.numbers(value.get("values"), f"{key}.values", ld.n, "one value per joint")
+        if nums is not None:
+            _item(ld, dl, key, name, Value(ty, nums))
+
+
+def _read_obstacles(ld: _Loader, dl: Datalist, body: dict) -> None:
+    for name, table in body.items():
+        key = f"obstacles.{name}"
+        if not isinstance(table, dict):
+            ld.error(key, f"expected a table [obstacles.{name}], got {_show(table)}")
+            continue
+        kind = table.get("kind")
+        if kind not in OBSTACLE_KEYS:
+            ld.error(
+                f"{key}.kind", f"expected one of {', '.join(OBSTACLE_KEYS)}, got {_show(kind)}"
+            )
+            continue
+        spec = OBSTACLE_KEYS[kind]
+        allowed = {"kind", *(k for k, _, _ in spec)}
+        unknown = sorted(set(table) - allowed)
+        if unknown:
+            ld.error(
+                f"{key}.{unknown[0]}",
+                f"unknown key for a {kind}; keys: {', '.join(sorted(allowed))}",
+            )
+            continue
+        fields = _obstacle_fields(ld, key, kind, table, spec)
+        if fields is None or not _IDENT.fullmatch(name):
+            if fields is not None:
+                ld.error(key, f"'{name}' is not a valid IRL name (letters, digits, '_')")
+            continue
+        o = ObstacleDef(name, kind, tuple(fields))
+        dl.obstacles.append((o, Item(name, Value("OBSTACLE", ()), ld.file, key, ld.key_span(key))))
+
+
+def _obstacle_fields(ld: _Loader, key: str, kind: str, table: dict, spec) -> list | None:
+    fields = []
+    ok = True
+    for k, size, required in spec:
+        if k not in table:
+            if required:
+                ld.error(key, f"a {kind} needs '{k}'")
+                ok = False
+            continue
+        raw = table[k]
+        if size == 1:
+            if not _is_number(raw) or not math.isfinite(raw) or raw <= 0:
+                ld.error(f"{key}.{k}", f"expected a positive number (mm), got {_show(raw)}")
+                ok = False
+                continue
+            fields.append((k, (float(raw),)))
+            continue
+        nums = ld.numbers(raw, f"{key}.{k}", size, f"{size} numbers")
+        if nums is None:
+            ok = False
+        elif k == "size" and min(nums) <= 0:
+            ld.error(f"{key}.{k}", "box sizes must be positive")
+            ok = False
+        elif k == "normal" and not any(nums):
+            ld.error(f"{key}.{k}", "the plane normal must not be zero")
+            ok = False
+        else:
+            fields.append((k, nums))
+    return fields if ok else None
+
+
+def _read_inputs(ld: _Loader, dl: Datalist, body: dict) -> None:
+    for name, events in body.items():
+        key = f"inputs.{name}"
+        if not re.fullmatch(r"\d+", name):
+            ld.error(key, "input keys are input numbers (0, 1, 2, ...)")
+            continue
+        timeline = _timeline(ld, key, events)
+        if timeline is not None:
+            dl.inputs[int(name)] = timeline
+
+
+def _timeline(ld: _Loader, key: str, events) -> list[tuple[float, bool]] | None:
+    shape = "a list of [time_s, true|false] pairs"
+    if not isinstance(events, list):
+        ld.error(key, f"expected {shape}, got {_show(events)}")
+        return None
+    out: list[tuple[float, bool]] = []
+    for ev in events:
+        if not (
+            isinstance(ev, list) and len(ev) == 2 and _is_number(ev[0]) and isinstance(ev[1], bool)
+        ):
+            ld.error(key, f"expected {shape}, got the event {_show(ev)}")
+            return None
+        t = float(ev[0])
+        if not math.isfinite(t) or t < 0:
+            ld.error(key, f"event times must be finite and >= 0, got {ev[0]}")
+            return None
+        if out and t < out[-1][0]:
+            ld.error(key, f"event times must not decrease ({out[-1][0]} then {t})")
+            return None
+        out.append((t, ev[1]))
+    return out
+
+
+_SECTION_READERS = {
+    "poses": _read_poses,
+    "joints": _read_joints,
+    "limits": _read_limits,
+    "obstacles": _read_obstacles,
+    "inputs": _read_inputs,
+}

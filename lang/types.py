@@ -1,0 +1,151 @@
+"""The types of the IRL dialect and their IRDATA names.
+
+Scalars ``INTEGER REAL BOOLEAN CHAR STRING``; geometric ``POSITION ORIENTATION POSE``;
+``SIGNAL`` (a digital output, read as BOOLEAN); the seven joint-tuple types with one
+value per robot joint; ``ARRAY [lo..hi] OF T``; records. ``ERROR`` stands for an
+expression that already produced a diagnostic (it is compatible with everything, so
+one mistake gives one message).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+JOINT_TUPLES = (
+    "MAIN_JOINT",
+    "MAIN_JOINT_MIN",
+    "MAIN_JOINT_MAX",
+    "MAIN_JOINT_SPEED_MIN",
+    "MAIN_JOINT_SPEED_MAX",
+    "MAIN_JOINT_ACCEL_MIN",
+    "MAIN_JOINT_ACCEL_MAX",
+)
+
+
+@dataclass(frozen=True)
+class Type:
+    name: str
+
+    def ird(self) -> str:
+        """The type's name in IRDATA records."""
+        return self.name
+
+    def __str__(self) -> str:
+        return self.name
+
+    @property
+    def is_numeric(self) -> bool:
+        return self.name in ("INTEGER", "REAL")
+
+
+@dataclass(frozen=True)
+class JointTuple(Type):
+    n: int = 0
+
+
+@dataclass(frozen=True)
+class Array(Type):
+    lo: int = 0
+    hi: int = 0
+    elem: Type = None  # type: ignore[assignment]
+
+    def ird(self) -> str:
+        return f"ARRAY[{self.lo}..{self.hi}]OF{self.elem.ird()}"
+
+    def __str__(self) -> str:
+        return f"ARRAY [{self.lo}..{self.hi}] OF {self.elem}"
+
+    @property
+    def length(self) -> int:
+        return self.hi - self.lo + 1
+
+
+@dataclass(frozen=True)
+class Record(Type):
+    index: int = 0
+    fields: tuple[tuple[str, Type], ...] = ()
+
+    def ird(self) -> str:
+        return f"RECORD#{self.index}"
+
+    def __str__(self) -> str:
+        return self.name
+
+    def field(self, name: str) -> tuple[str, Type] | None:
+        key = name.lower()
+        return next(((n, t) for n, t in self.fields if n.lower() == key), None)
+
+
+INTEGER = Type("INTEGER")
+REAL = Type("REAL")
+BOOLEAN = Type("BOOLEAN")
+CHAR = Type("CHAR")
+STRING = Type("STRING")
+POSITION = Type("POSITION")
+ORIENTATION = Type("ORIENTATION")
+POSE = Type("POSE")
+SIGNAL = Type("SIGNAL")
+ERROR = Type("<error>")
+VOID = Type("<no value>")
+
+SIMPLE = {
+    t.name: t for t in (INTEGER, REAL, BOOLEAN, CHAR, STRING, POSITION, ORIENTATION, POSE, SIGNAL)
+}
+
+
+def joint_tuple(name: str, n: int) -> JointTuple:
+    return JointTuple(name, n)
+
+
+def is_joint(t: Type) -> bool:
+    return isinstance(t, JointTuple)
+
+
+def value_type(t: Type) -> Type:
+    """The type of a variable's value when read (a SIGNAL reads as BOOLEAN)."""
+    return BOOLEAN if t == SIGNAL else t
+
+
+def assignable(target: Type, source: Type) -> bool:
+    """May a value of ``source`` be stored where ``target`` is expected?"""
+    if ERROR in (target, source) or target == source:
+        return True
+    if target == REAL and source == INTEGER:
+        return True
+    if target == STRING and source == CHAR:
+        return True
+    if target == SIGNAL and source == BOOLEAN:
+        return True
+    if isinstance(target, Array) and isinstance(source, Array):
+        return target.length == source.length and assignable(target.elem, source.elem)
+    return False
+
+
+def tuple_arity(t: Type) -> int | None:
+    """How many items a tuple literal of type ``t`` has (None: not tuple-constructible)."""
+    if isinstance(t, JointTuple):
+        return t.n
+    if t == POSE:
+        return 6
+    if t == POSITION:
+        return 3
+    if isinstance(t, Array):
+        return t.length
+    if isinstance(t, Record):
+        return len(t.fields)
+    return None
+
+
+def tuple_items(t: Type) -> list[Type]:
+    """The expected type of each item of a tuple literal of type ``t``."""
+    if isinstance(t, JointTuple):
+        return [REAL] * t.n
+    if t == POSE:
+        return [REAL] * 6
+    if t == POSITION:
+        return [REAL] * 3
+    if isinstance(t, Array):
+        return [t.elem] * t.length
+    if isinstance(t, Record):
+        return [ft for _, ft in t.fields]
+    return []
