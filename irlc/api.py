@@ -1,1 +1,78 @@
-"""Public API: compile_program, run_program, load_robot (filled by the areas)."""
+"""The public Python API; the command line is a thin layer over the same functions.
+
+from irlc import compile_program, run_program, load_robot
+
+robot = load_robot("koch11")                    # RobotModel (SI)
+code = compile_program("programs/square.irl")   # IRDATA Code; CompileError on errors
+run = run_program("programs/square.irl")        # RunResult: status, report, trace, q
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from irlc.lang.diagnostics import CompileError
+from irlc.lang.irdata import Code
+from irlc.robots import RobotModel
+from irlc.robots import load_robot as _load_robot
+
+
+def load_robot(name_or_path: str | Path) -> RobotModel:
+    """A robot of the library by name (``"koch11"``) or a ``.toml`` / ``.urdf`` file."""
+    return _load_robot(str(name_or_path))
+
+
+def _resolver(base_dir: Path):
+    def resolve(name: str) -> RobotModel:
+        candidate = base_dir / name
+        if name.endswith((".toml", ".urdf")) and candidate.is_file():
+            return _load_robot(str(candidate))
+        return _load_robot(name)
+
+    return resolve
+
+
+def compile_program(
+    path: str | Path,
+    *,
+    robot: str | None = None,
+    datalist_path: Sequence[str | Path] = (),
+    source: str | None = None,
+) -> Code:
+    """Compile an IRL program to IRDATA code.
+
+    ``robot`` overrides the program's ``ROBOT`` clause (like ``--robot``); ``source``
+    compiles that text under the name ``path`` instead of reading the file. Raises
+    :class:`~irlc.lang.diagnostics.CompileError` carrying the diagnostics on errors.
+    """
+    from irlc.lang.compiler import compile_file, compile_source
+
+    path = Path(path)
+    options = {
+        "resolve_robot": _resolver(path.parent),
+        "datalist_path": tuple(str(d) for d in datalist_path),
+        "robot_override": robot,
+    }
+    if source is None:
+        result = compile_file(path, **options)
+    else:
+        result = compile_source(source, str(path), **options)
+    if result.code is None:
+        raise CompileError(result.diagnostics)
+    return result.code
+
+
+def run_program(program: str | Path | Code, **options):
+    """Compile (``.irl``) or read (``.ird``) and simulate a program; or run given ``Code``.
+
+    Options are those of :func:`irlc.runtime.run.run_code` / ``run_file`` (``robot``,
+    ``ipo``, ``drives``, ``seed_config``, ``datalist_path``…). Returns a ``RunResult``
+    whose ``status`` is ``"ok"`` or ``"failed"`` (with ``error``); raises
+    :class:`~irlc.lang.diagnostics.CompileError` if the program does not compile.
+    """
+    from irlc.runtime.run import run_code, run_file
+
+    if isinstance(program, Code):
+        return run_code(program, **options)
+    return run_file(program, **options)

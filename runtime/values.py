@@ -1,12 +1,25 @@
-"""Run-time values of IRL programs, in program units (mm, deg, s).
+"""Run-time values of IRL programs, in program units (mm, deg, s), and their geometry.
 
 The interpreter computes with these; the controller converts them to SI through
-:mod:`irlc.runtime.units` at its boundary.
+:mod:`irlc.runtime.units` at its boundary (:func:`pose_to_matrix`, :func:`pose_from_matrix`).
+
+Geometry (all in mm and unit quaternions ``q = (w, x, y, z)``, ``w ≥ 0``):
+
+* pose composition ``p1 : p2``:  ``R = R₁R₂``, ``t = t₁ + R₁t₂`` (p2 expressed in p1's frame),
+  computed as the quaternion product ``q₁ ⊗ q₂``;
+* inverse ``INV(p)``:  ``R = R₁ᵀ``, ``t = −R₁ᵀt₁``;
+* ZYX angles ``(a, b, c)`` in degrees mean ``R = Rz(a)·Ry(b)·Rx(c)`` (see :mod:`spatial`);
+* ``ORIRS(roll, pitch, yaw)`` = roll about the fixed X, then pitch about the fixed Y, then
+  yaw about the fixed Z: ``R = Rz(yaw)·Ry(pitch)·Rx(roll)`` = ``ORIZYX(yaw, pitch, roll)``.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+
+import numpy as np
+from irlc.runtime import spatial, units
 
 
 @dataclass(frozen=True, slots=True)
@@ -59,3 +72,253 @@ class ArrayValue:
 class RecordValue:
     type_index: int
     fields: tuple[tuple[str, object], ...]
+
+
+# --------------------------------------------------------------------------- positions
+
+
+def position_add(a: Position, b: Position) -> Position:
+    return Position(a.x + b.x, a.y + b.y, a.z + b.z)
+
+
+def position_sub(a: Position, b: Position) -> Position:
+    return Position(a.x - b.x, a.y - b.y, a.z - b.z)
+
+
+def position_scale(s: float, p: Position) -> Position:
+    return Position(s * p.x, s * p.y, s * p.z)
+
+
+def distance(a: Position, b: Position) -> float:
+    """Euclidean distance ``‖a − b‖`` (mm)."""
+    return math.sqrt((a.x - b.x) ** 2 + (a.y - b.y) ** 2 + (a.z - b.z) ** 2)
+
+
+# --------------------------------------------------------------------------- joint tuples
+
+
+def joint_add(a: JointTuple, b: JointTuple) -> JointTuple:
+    return JointTuple(a.type, tuple(x + y for x, y in zip(a.values, b.values, strict=True)))
+
+
+def joint_sub(a: JointTuple, b: JointTuple) -> JointTuple:
+    return JointTuple(a.type, tuple(x - y for x, y in zip(a.values, b.values, strict=True)))
+
+
+def joint_scale(s: float, j: JointTuple) -> JointTuple:
+    return JointTuple(j.type, tuple(s * v for v in j.values))
+
+
+# --------------------------------------------------------------------------- orientations
+
+
+def _unit_quat(w: float, x: float, y: float, z: float) -> Orientation:
+    """Normalised quaternion with ``w ≥ 0``; the caller guarantees a non-zero norm."""
+    n = math.sqrt(w * w + x * x + y * y + z * z)
+    if w < 0.0:
+        n = -n
+    return Orientation(w / n, x / n, y / n, z / n)
+
+
+def orientation_from_quat(w: float, x: float, y: float, z: float) -> Orientation:
+    """``ORIQUAT``: normalised; raises ``ValueError`` for the zero quaternion."""
+    if math.sqrt(w * w + x * x + y * y + z * z) < 1e-12:
+        raise ValueError("the quaternion (0, 0, 0, 0) is not a rotation")
+    return _unit_quat(w, x, y, z)
+
+
+def orientation_from_matrix(r: np.ndarray) -> Orientation:
+    w, x, y, z = (float(v) for v in spatial.matrix_to_quat(r))
+    return Orientation(w, x, y, z)
+
+
+def orientation_matrix(o: Orientation) -> np.ndarray:
+    return spatial.quat_to_matrix(o.as_tuple())
+
+
+def orientation_from_zyx(a: float, b: float, c: float) -> Orientation:
+    """``ORIZYX(a, b, c)``: ``R = Rz(a)·Ry(b)·Rx(c)``, degrees."""
+    d = units.DEG
+    return orientation_from_matrix(spatial.zyx_to_matrix(a * d, b * d, c * d))
+
+
+def orientation_from_xyz(a: float, b: float, c: float) -> Orientation:
+    """``ORIXYZ(a, b, c)``: ``R = Rx(a)·Ry(b)·Rz(c)``, degrees."""
+    d = units.DEG
+    return orientation_from_matrix(spatial.xyz_to_matrix(a * d, b * d, c * d))
+
+
+def orientation_from_zyz(a: float, b: float, c: float) -> Orientation:
+    """``ORIZYZ(a, b, c)``: ``R = Rz(a)·Ry(b)·Rz(c)``, degrees (Euler ZYZ)."""
+    d = units.DEG
+    return orientation_from_matrix(spatial.zyz_to_matrix(a * d, b * d, c * d))
+
+
+def orientation_from_rpy(roll: float, pitch: float, yaw: float) -> Orientation:
+    """``ORIRS(roll, pitch, yaw)``: fixed axes X, Y, Z in turn = ``ORIZYX(yaw, pitch, roll)``."""
+    return orientation_from_zyx(yaw, pitch, roll)
+
+
+def orientation_from_axis_angle(axis: Position, angle: float) -> Orientation:
+    """``ORIVANG(axis, angle)``: rotation by ``angle`` degrees about ``axis`` (any length > 0)."""
+    n = math.sqrt(axis.x**2 + axis.y**2 + axis.z**2)
+    if n < 1e-12:
+        raise ValueError("the rotation axis (0, 0, 0) has no direction")
+    h = 0.5 * angle * units.DEG
+    s = math.sin(h) / n
+    return _unit_quat(math.cos(h), axis.x * s, axis.y * s, axis.z * s)
+
+
+def orientation_to_zyx(o: Orientation) -> tuple[float, float, float]:
+    """ZYX angles ``(a, b, c)`` in degrees (``c = 0`` at the singularity ``b = ±90°``)."""
+    a, b, c = spatial.matrix_to_zyx(orientation_matrix(o))
+    return (a / units.DEG, b / units.DEG, c / units.DEG)
+
+
+def quat_multiply(p: Orientation, q: Orientation) -> Orientation:
+    """Hamilton product ``p ⊗ q`` (the rotation ``R_p·R_q``), normalised, ``w ≥ 0``."""
+    w = p.w * q.w - p.x * q.x - p.y * q.y - p.z * q.z
+    x = p.w * q.x + p.x * q.w + p.y * q.z - p.z * q.y
+    y = p.w * q.y - p.x * q.z + p.y * q.w + p.z * q.x
+    z = p.w * q.z + p.x * q.y - p.y * q.x + p.z * q.w
+    return _unit_quat(w, x, y, z)
+
+
+def orientation_inverse(o: Orientation) -> Orientation:
+    return Orientation(o.w, -o.x, -o.y, -o.z)
+
+
+def rotate(o: Orientation, v: Position) -> Position:
+    """``R(o) · v`` (``v' = v + 2w(u×v) + 2u×(u×v)`` with ``u`` the vector part)."""
+    ux, uy, uz = o.x, o.y, o.z
+    tx = 2.0 * (uy * v.z - uz * v.y)
+    ty = 2.0 * (uz * v.x - ux * v.z)
+    tz = 2.0 * (ux * v.y - uy * v.x)
+    return Position(
+        v.x + o.w * tx + (uy * tz - uz * ty),
+        v.y + o.w * ty + (uz * tx - ux * tz),
+        v.z + o.w * tz + (ux * ty - uy * tx),
+    )
+
+
+# --------------------------------------------------------------------------- poses
+
+
+def pose_from_zyx(x: float, y: float, z: float, a: float, b: float, c: float) -> Pose:
+    """The 6-tuple ``(x, y, z, a, b, c)``: mm and ZYX degrees."""
+    return Pose(Position(float(x), float(y), float(z)), orientation_from_zyx(a, b, c))
+
+
+def pose_to_zyx(p: Pose) -> tuple[float, float, float, float, float, float]:
+    return (p.pos.x, p.pos.y, p.pos.z, *orientation_to_zyx(p.ori))
+
+
+def compose(p1: Pose, p2: Pose) -> Pose:
+    """``p1 : p2`` — the frame product ``T₁·T₂``."""
+    return Pose(position_add(p1.pos, rotate(p1.ori, p2.pos)), quat_multiply(p1.ori, p2.ori))
+
+
+def transform_point(p: Pose, v: Position) -> Position:
+    """``p : v`` — the point ``v`` given in frame ``p``, expressed in p's parent frame."""
+    return position_add(p.pos, rotate(p.ori, v))
+
+
+def inverse(p: Pose) -> Pose:
+    """``INV(p)`` — ``T⁻¹``."""
+    qi = orientation_inverse(p.ori)
+    return Pose(position_scale(-1.0, rotate(qi, p.pos)), qi)
+
+
+def pose_to_matrix(p: Pose) -> np.ndarray:
+    """4×4 homogeneous transform in metres (SI boundary)."""
+    return units.pose_value_to_si(p)
+
+
+def pose_from_matrix(t: np.ndarray) -> Pose:
+    """Inverse of :func:`pose_to_matrix`."""
+    return units.pose_value_from_si(t)
+
+
+# --------------------------------------------------------------------------- equality
+
+GEOMETRY_TOLERANCE = 1e-9  # mm / quaternion component, for EQ and NE of geometric values
+
+
+def geometric_equal(a: object, b: object) -> bool:
+    """``=`` for POSITION, ORIENTATION, POSE and joint tuples (``q`` and ``−q`` are equal)."""
+    tol = GEOMETRY_TOLERANCE
+    if isinstance(a, Position) and isinstance(b, Position):
+        return all(abs(u - v) <= tol for u, v in zip(a.as_tuple(), b.as_tuple(), strict=True))
+    if isinstance(a, Orientation) and isinstance(b, Orientation):
+        qa, qb = a.as_tuple(), b.as_tuple()
+        return all(abs(u - v) <= tol for u, v in zip(qa, qb, strict=True)) or all(
+            abs(u + v) <= tol for u, v in zip(qa, qb, strict=True)
+        )
+    if isinstance(a, Pose) and isinstance(b, Pose):
+        return geometric_equal(a.pos, b.pos) and geometric_equal(a.ori, b.ori)
+    if isinstance(a, JointTuple) and isinstance(b, JointTuple):
+        return len(a.values) == len(b.values) and all(
+            abs(u - v) <= tol for u, v in zip(a.values, b.values, strict=True)
+        )
+    return False
+
+
+# --------------------------------------------------------------------------- names and text
+
+
+def type_name(v: object) -> str:
+    """The IRL type name of a run-time value, for messages."""
+    if isinstance(v, bool):
+        return "BOOLEAN"
+    if isinstance(v, int):
+        return "INTEGER"
+    if isinstance(v, float):
+        return "REAL"
+    if isinstance(v, str):
+        return "CHAR" if len(v) == 1 else "STRING"
+    if isinstance(v, JointTuple):
+        return v.type
+    if isinstance(v, ArrayValue):
+        return f"ARRAY[{v.low}..{v.low + len(v.items) - 1}]"
+    if isinstance(v, RecordValue):
+        return "RECORD"
+    return {Position: "POSITION", Orientation: "ORIENTATION", Pose: "POSE"}.get(
+        type(v), type(v).__name__
+    )
+
+
+def format_real(x: float) -> str:
+    """A REAL for WRITE: rounded to 6 decimals, shortest form, ``2000.0`` keeps its ``.0``."""
+    r = round(x, 6)
+    if r == 0.0:
+        return "0.0"
+    return repr(r)
+
+
+def _seq(items) -> str:
+    return "(" + ", ".join(items) + ")"
+
+
+def format_value(v: object) -> str:
+    """Text of a value for WRITE / WRITELN (see docs/interpreter.md)."""
+    if isinstance(v, bool):
+        return "TRUE" if v else "FALSE"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        return format_real(v)
+    if isinstance(v, str):
+        return v
+    if isinstance(v, Position):
+        return _seq(format_real(c) for c in v.as_tuple())
+    if isinstance(v, Orientation):
+        return "ORIZYX" + _seq(format_real(c) for c in orientation_to_zyx(v))
+    if isinstance(v, Pose):
+        return _seq(format_real(c) for c in pose_to_zyx(v))
+    if isinstance(v, JointTuple):
+        return _seq(format_real(c) for c in v.values)
+    if isinstance(v, ArrayValue):
+        return _seq(format_value(item) for item in v.items)
+    if isinstance(v, RecordValue):
+        return _seq(f"{name}: {format_value(item)}" for name, item in v.fields)
+    return str(v)
