@@ -1,0 +1,41 @@
+"""Inverse transformation: Newton–Raphson with the compact QP (seed chapter 4.2).
+
+Public API::
+
+    solve_pose(model, target, seed, ...) -> PoseSolution        # one pose (CLI, PTP)
+    InverseTransformation(model, kinematics, IKParams).step(     # one IPO cycle
+        q_start, q_prev, target, dt, CycleOptions) -> CycleResult
+    intersect_limits(model, position, speed, accel)
+    reconfiguration_done(q, q_prev, eps_conf)
+"""
+
+from irlc.runtime.ik.freeze import FreezeError
+from irlc.runtime.ik.limits import LimitViolation, LimitViolationError, intersect_limits
+from irlc.runtime.ik.newton import DeviationError, IKFailure, InverseTransformation
+from irlc.runtime.ik.params import (
+    CycleOptions,
+    CycleResult,
+    IKParams,
+    ObstacleParams,
+    task_rows_for,
+)
+from irlc.runtime.ik.pose import PoseSolution, solve_pose
+from irlc.runtime.ik.self_motion import reconfiguration_done
+
+__all__ = [
+    "CycleOptions",
+    "CycleResult",
+    "DeviationError",
+    "FreezeError",
+    "IKFailure",
+    "IKParams",
+    "InverseTransformation",
+    "LimitViolation",
+    "LimitViolationError",
+    "ObstacleParams",
+    "PoseSolution",
+    "intersect_limits",
+    "reconfiguration_done",
+    "solve_pose",
+    "task_rows_for",
+]

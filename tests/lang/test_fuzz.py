@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import re
 
-from conftest import GOLDEN, HERE, compile_text
+from .conftest import GOLDEN, HERE, compile_text
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 

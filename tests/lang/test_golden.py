@@ -9,7 +9,7 @@ from __future__ import annotations
 import os
 
 import pytest
-from conftest import GOLDEN, fake_resolver
+from .conftest import GOLDEN, fake_resolver
 from irlc.lang import compile_source, read_code, write_code
 
 PROGRAMS = sorted(GOLDEN.glob("*.irl"))

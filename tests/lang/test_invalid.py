@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import pytest
-from conftest import HERE, compile_text
-from invalid_cases import CASES
+from .conftest import HERE, compile_text
+from .invalid_cases import CASES
 
 PROGRAM_FILE = str(HERE / "invalid" / "t.irl")  # data lists of the cases live next to it
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from conftest import GOLDEN, fake_resolver
+from .conftest import GOLDEN, fake_resolver
 from irlc.lang import compile_file, read_code, write_code
 
 ROOT = Path(__file__).resolve().parents[2]

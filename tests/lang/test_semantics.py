@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from conftest import compile_text
+from .conftest import compile_text
 from irlc.lang import SimpleRobot, compile_source
 from irlc.lang.parser import keywords, parse
 

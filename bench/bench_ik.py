@@ -1,0 +1,120 @@
+"""IPO-cycle time of the inverse transformation on koch11, per option.
+
+    python bench/bench_ik.py [--cycles 400] [--repeat 3]
+
+A straight line of the TCP (−2 m along x from the home pose, smooth profile, Δt = 10 ms,
+400 cycles) is solved cycle by cycle with each option; the per-cycle wall time of
+``InverseTransformation.step`` (and its thread CPU time, which a loaded machine's
+preemptions do not inflate) is collected over ``repeat`` passes (the first pass is a
+warm-up and not counted). quadprog (Goldfarb–Idnani) and, if installed, daqp side by
+side. Prints a Markdown table (paste into docs/benchmarks.md).
+"""
+
+from __future__ import annotations
+
+import argparse
+import platform
+import time
+
+import numpy as np
+from irlc.robots import load_robot
+from irlc.runtime.distance import robot_parts
+from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation
+from irlc.runtime.ik.qp import daqp_available
+from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.obstacles import PointObstacle
+
+
+def line_targets(kin, q0, cycles):
+    start = kin.tcp(q0)
+    out = []
+    for i in range(1, cycles + 1):
+        s = i / cycles
+        t = start.copy()
+        t[0, 3] -= 2.0 * s * s * (3.0 - 2.0 * s)
+        out.append(t)
+    return out
+
+
+def limits_array(sets, attr):
+    return np.array([getattr(lim, attr) for lim in sets])
+
+
+def options(model, kin, q0):
+    sets = model.limit_sets
+    base = limits_array(sets["base"], "position") if "base" in sets else None
+    speed = limits_array(sets["speed"], "speed") if "speed" in sets else None
+    accel = limits_array(sets["accel"], "accel") if "accel" in sets else None
+    # a point obstacle 0.35 m beside the middle of link 4 (inside the activation distance)
+    _, a, b, r = next(p for p in robot_parts(kin, kin.link_frames(q0)) if p[0] == 4)
+    point = 0.5 * (a + b) + np.array([0.0, r + 0.35, 0.0])
+    obstacle = PointObstacle("bench_point", point)
+    return {
+        "default": CycleOptions(),
+        "joint limits (set 6.1)": CycleOptions(position=base),
+        "speed + accel limits (6.2, 6.3)": CycleOptions(speed=speed, accel=accel),
+        "cyclic": CycleOptions(reference=q0.copy()),
+        "obstacle (1 point)": CycleOptions(
+            obstacles=[obstacle], active_obstacles=frozenset({"bench_point"})
+        ),
+        "freeze J2, J3": CycleOptions(frozen={1: q0[1], 2: q0[2]}),
+    }
+
+
+def run(model, kin, q0, targets, opts, solver, repeat):
+    times, cpu, iters, relaxed = [], [], [], 0
+    for rep in range(repeat + 1):
+        ik = InverseTransformation(model, kin, IKParams(solver=solver))
+        q_prev, q = q0.copy(), q0.copy()
+        for target in targets:
+            c0 = time.thread_time_ns()
+            t0 = time.perf_counter()
+            r = ik.step(q, q_prev, target, 0.01, opts)
+            dt = time.perf_counter() - t0
+            dc = time.thread_time_ns() - c0
+            q_prev, q = q, r.q
+            if rep:
+                times.append(dt)
+                cpu.append(dc)
+                iters.append(r.iterations)
+                relaxed += r.relaxed
+    t = np.array(times) * 1e6
+    c = np.array(cpu) * 1e-3
+    return (
+        np.median(t),
+        np.percentile(t, 99),
+        np.median(c),
+        np.percentile(c, 99),
+        np.mean(iters),
+        relaxed // repeat,
+    )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cycles", type=int, default=400)
+    parser.add_argument("--repeat", type=int, default=3)
+    args = parser.parse_args()
+    model = load_robot("koch11")
+    kin = Kinematics(model)
+    q0 = model.home_q()
+    targets = line_targets(kin, q0, args.cycles)
+    solvers = ["quadprog"] + (["daqp"] if daqp_available() else [])
+    print(f"python {platform.python_version()}, numpy {np.__version__}, {platform.machine()}")
+    print(f"koch11 (n = 11, m = 6), {args.cycles} cycles × {args.repeat} passes\n")
+    print(
+        "| option | solver | median µs | p99 µs | CPU median µs | CPU p99 µs "
+        "| iterations/cycle | relaxed cycles |"
+    )
+    print("|---|---|---:|---:|---:|---:|---:|---:|")
+    for name, opts in options(model, kin, q0).items():
+        for solver in solvers:
+            med, p99, cmed, cp99, it, rel = run(model, kin, q0, targets, opts, solver, args.repeat)
+            print(
+                f"| {name} | {solver} | {med:.0f} | {p99:.0f} | {cmed:.0f} | {cp99:.0f} "
+                f"| {it:.2f} | {rel} |"
+            )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,342 @@
+"""Exact closest points between the robot's link geometry and obstacles (SI, world frame).
+
+Both sides are a *core* swept by a sphere: robot capsules are segments with a radius,
+robot spheres are degenerate segments (``a = b``); obstacles are points, spheres and
+capsules (segments with a radius), boxes and planes (radius 0). The distance between
+two swept shapes is the distance between their cores minus both radii, along the same
+direction, so three core problems suffice, each solved in closed form:
+
+* **segment–segment** (covers point and sphere): minimise ``‖p(s) − q(t)‖²`` over the
+  unit square; the unconstrained stationary point is clamped edge by edge (Ericson,
+  *Real-Time Collision Detection*, §5.1.9), with the degenerate and parallel cases
+  handled explicitly.
+* **segment–box** (oriented box, half extents ``h``, in the box frame): the squared
+  distance ``φ(t) = Σ_i max(0, |p_i(t)| − h_i)²`` of ``p(t) = a + t·u`` is convex and
+  piecewise quadratic with breakpoints where ``p_i(t) = ±h_i``; on each piece it is an
+  explicit quadratic, minimised exactly. If the minimum is 0 the segment enters the box
+  and the *signed* distance ``max_i(|p_i| − h_i)`` (convex, piecewise linear) is
+  minimised exactly over its breakpoints (``p_i = 0`` and the crossings of two pieces):
+  the deepest point, escaping through the nearest face.
+* **segment–plane**: the signed distance is linear along the segment, so the minimum is
+  at an endpoint (the midpoint when both are equal).
+
+Sign convention: ``distance < 0`` is penetration (its magnitude is the depth of the
+deepest core point beyond the obstacle's surface, reduced by the radii for swept
+shapes). ``direction`` is the unit vector along which the robot point should move to
+get away from the obstacle (obstacle → robot); for a penetrating box core it is the
+normal of the face nearest to the deepest point, for a plane its normal.
+
+Robots without collision geometry fall back to radius-0 segments between successive
+link-frame origins, the last one ending at the TCP.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import numpy as np
+from irlc.robots.model import Capsule, Sphere
+from irlc.runtime.kinematics import Kinematics
+
+_EPS = 1e-14
+
+
+@dataclass
+class Proximity:
+    """Closest pair between one robot part and one obstacle."""
+
+    distance: float  # m, negative = penetration
+    robot_point: np.ndarray  # on the robot part's surface
+    obstacle_point: np.ndarray  # on the obstacle's surface
+    direction: np.ndarray  # unit, obstacle → robot (escape direction of the robot point)
+
+
+@dataclass
+class CriticalPoint(Proximity):
+    """The closest robot part to one obstacle (seed 4.2.4: x_k, v, R)."""
+
+    name: str = ""
+    link: int = 0  # link index 0..n the robot point moves with
+
+
+# ---------------------------------------------------------------------- core problems
+def closest_segment_segment(p0, p1, q0, q1) -> tuple[float, float, np.ndarray, np.ndarray]:
+    """Parameters ``s, t ∈ [0, 1]`` and points of the closest pair of two segments."""
+    d1 = p1 - p0
+    d2 = q1 - q0
+    r = p0 - q0
+    a = float(d1 @ d1)
+    e = float(d2 @ d2)
+    f = float(d2 @ r)
+    if a <= _EPS and e <= _EPS:
+        return 0.0, 0.0, p0.copy(), q0.copy()
+    if a <= _EPS:
+        s, t = 0.0, _clamp01(f / e)
+    else:
+        c = float(d1 @ r)
+        if e <= _EPS:
+            s, t = _clamp01(-c / a), 0.0
+        else:
+            b = float(d1 @ d2)
+            denom = a * e - b * b
+            s = _clamp01((b * f - c * e) / denom) if denom > _EPS * a * e else 0.0
+            t = (b * s + f) / e
+            if t < 0.0:
+                t, s = 0.0, _clamp01(-c / a)
+            elif t > 1.0:
+                t, s = 1.0, _clamp01((b - c) / a)
+    return s, t, p0 + s * d1, q0 + t * d2
+
+
+def closest_segment_box(a, b, center, rotation, half):
+    """Signed core distance of segment ``a``–``b`` to an oriented box, with the segment
+    point, the box point and the unit escape direction (all world frame)."""
+    pa = rotation.T @ (a - center)
+    u = rotation.T @ (b - a)
+    t, d2 = _segment_box_outside(pa, u, half)
+    if d2 > 1e-24:
+        p = pa + t * u
+        q = np.clip(p, -half, half)
+        dist = float(np.sqrt(d2))
+        normal = (p - q) / dist
+    else:  # touching or entering (rounding may leave ~1e-32): signed depth, nearest face
+        t, dist, face = _segment_box_deepest(pa, u, half)
+        p = pa + t * u
+        sign = 1.0 if p[face] >= 0.0 else -1.0
+        q = p.copy()
+        q[face] = sign * half[face]
+        normal = np.zeros(3)
+        normal[face] = sign
+    return dist, center + rotation @ p, center + rotation @ q, rotation @ normal
+
+
+def _segment_box_outside(pa, u, half) -> tuple[float, float]:
+    """Exact ``argmin_t φ(t)`` and ``min φ`` of the squared outside distance."""
+    cuts = [0.0, 1.0]
+    for i in range(3):
+        if u[i] != 0.0:
+            for bound in (half[i], -half[i]):
+                t = (bound - pa[i]) / u[i]
+                if 0.0 < t < 1.0:
+                    cuts.append(t)
+    cuts.sort()
+    best_t, best = 0.0, np.inf
+    for t0, t1 in itertools.pairwise(cuts):
+        mid = pa + 0.5 * (t0 + t1) * u
+        alpha = beta = gamma = 0.0
+        for i in range(3):
+            if mid[i] > half[i]:
+                c, d = pa[i] - half[i], u[i]
+            elif mid[i] < -half[i]:
+                c, d = -half[i] - pa[i], -u[i]
+            else:
+                continue
+            alpha += d * d
+            beta += c * d
+            gamma += c * c
+        t = t0 if alpha <= 0.0 else min(max(-beta / alpha, t0), t1)
+        value = max(alpha * t * t + 2.0 * beta * t + gamma, 0.0)
+        if value < best:
+            best_t, best = t, value
+    # the piecewise form above is exact; evaluate the clamp directly at the minimiser
+    p = pa + best_t * u
+    exact = float(np.sum((p - np.clip(p, -half, half)) ** 2))
+    return best_t, exact
+
+
+def _segment_box_deepest(pa, u, half) -> tuple[float, float, int]:
+    """Exact minimum over t of ``max_i(|p_i(t)| − h_i)`` (≤ 0 here) and its face."""
+    cands = [0.0, 1.0]
+    for i in range(3):
+        if u[i] != 0.0:
+            cands.append(-pa[i] / u[i])
+        for j in range(i + 1, 3):
+            for si in (1.0, -1.0):
+                for sj in (1.0, -1.0):
+                    den = si * u[i] - sj * u[j]
+                    if den != 0.0:
+                        cands.append((half[i] - half[j] - si * pa[i] + sj * pa[j]) / den)
+    best_t, best, face = 0.0, np.inf, 0
+    for t in cands:
+        if 0.0 <= t <= 1.0:
+            excess = np.abs(pa + t * u) - half
+            k = int(np.argmax(excess))
+            if excess[k] < best:
+                best_t, best, face = t, float(excess[k]), k
+    return best_t, best, face
+
+
+def closest_segment_plane(a, b, point, normal):
+    """Signed core distance of a segment to a plane (solid below the normal)."""
+    sa = float(normal @ (a - point))
+    sb = float(normal @ (b - point))
+    if abs(sa - sb) <= 1e-15:
+        p, s = 0.5 * (a + b), 0.5 * (sa + sb)
+    elif sa < sb:
+        p, s = a, sa
+    else:
+        p, s = b, sb
+    return s, p, p - s * normal, normal
+
+
+# ---------------------------------------------------------------------- swept shapes
+def segment_obstacle(a: np.ndarray, b: np.ndarray, radius: float, obstacle) -> Proximity:
+    """Closest pair between a robot part (segment ``a``–``b`` with ``radius``, world) and
+    an obstacle of :mod:`irlc.runtime.obstacles`."""
+    kind = obstacle.kind
+    if kind == "box":
+        core, p, q, v = closest_segment_box(a, b, obstacle.center, obstacle.rotation, obstacle.half)
+    elif kind == "plane":
+        core, p, q, v = closest_segment_plane(a, b, obstacle.point, obstacle.normal)
+    else:
+        if kind == "point":
+            q0 = q1 = obstacle.position
+        elif kind == "sphere":
+            q0 = q1 = obstacle.center
+        else:
+            q0, q1 = obstacle.a, obstacle.b
+        _, _, p, q = closest_segment_segment(a, b, q0, q1)
+        diff = p - q
+        core = float(np.sqrt(diff @ diff))
+        v = diff / core if core > _EPS else _fallback_direction(b - a, q1 - q0)
+    r_obst = obstacle.radius
+    return Proximity(core - radius - r_obst, p - radius * v, q + r_obst * v, v)
+
+
+def _fallback_direction(d1: np.ndarray, d2: np.ndarray) -> np.ndarray:
+    """Escape direction when two cores touch: the common normal of the two segments,
+    else any direction perpendicular to the robot segment, else +z."""
+    n = np.cross(d1, d2)
+    if n @ n <= _EPS:
+        n = (
+            np.cross(d1, (1.0, 0.0, 0.0))
+            if abs(d1[0]) < 0.9 * np.linalg.norm(d1)
+            else np.cross(d1, (0.0, 1.0, 0.0))
+        )
+    if n @ n <= _EPS:
+        return np.array([0.0, 0.0, 1.0])
+    return n / np.linalg.norm(n)
+
+
+# ---------------------------------------------------------------------- the robot side
+class RobotSegments:
+    """The robot's parts as arrays (hot path): ``links (k,)``, ``a, b (k, 3)`` world,
+    ``radius (k,)``. Built from the model's capsules/spheres, or the fallback chain."""
+
+    def __init__(self, kin: Kinematics):
+        geometry = [g for g in kin.model.geometry if isinstance(g, Capsule | Sphere)]
+        self.fallback = not geometry
+        if self.fallback:
+            self.links = np.arange(1, kin.n + 1)
+            self.radius = np.zeros(kin.n)
+            return
+        self.links = np.array([g.link for g in geometry])
+        self.a_local = np.array([g.a if isinstance(g, Capsule) else g.center for g in geometry])
+        self.b_local = np.array([g.b if isinstance(g, Capsule) else g.center for g in geometry])
+        self.radius = np.array([g.radius for g in geometry], dtype=float)
+
+    def world(self, kin: Kinematics, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        if self.fallback:
+            origins = np.empty((kin.n + 1, 3))
+            origins[:-1] = frames[1:, :3, 3]
+            origins[-1] = kin.tcp_from_frames(frames)[:3, 3]
+            return origins[:-1], origins[1:]
+        rot = frames[self.links, :3, :3]
+        pos = frames[self.links, :3, 3]
+        a = np.einsum("kij,kj->ki", rot, self.a_local) + pos
+        b = np.einsum("kij,kj->ki", rot, self.b_local) + pos
+        return a, b
+
+
+_SEGMENTS: dict[int, tuple[object, RobotSegments]] = {}
+
+
+def robot_segments(kin: Kinematics) -> RobotSegments:
+    """Cached :class:`RobotSegments` of a kinematics object's model."""
+    hit = _SEGMENTS.get(id(kin))
+    if hit is None or hit[0] is not kin.model:
+        hit = (kin.model, RobotSegments(kin))
+        _SEGMENTS[id(kin)] = hit
+    return hit[1]
+
+
+def robot_parts(
+    kin: Kinematics, frames: np.ndarray
+) -> list[tuple[int, np.ndarray, np.ndarray, float]]:
+    """World segments ``(link, a, b, radius)`` of the robot's collision geometry."""
+    seg = robot_segments(kin)
+    a, b = seg.world(kin, frames)
+    return [(int(seg.links[i]), a[i], b[i], float(seg.radius[i])) for i in range(a.shape[0])]
+
+
+def _points_to_segments(a: np.ndarray, b: np.ndarray, p: np.ndarray):
+    """Closest points on each segment ``a_i b_i`` to ``p`` and their distances."""
+    u = b - a
+    uu = np.einsum("ij,ij->i", u, u)
+    t = np.einsum("ij,ij->i", p - a, u) / np.where(uu > _EPS, uu, 1.0)
+    np.clip(t, 0.0, 1.0, out=t)
+    c = a + t[:, None] * u
+    diff = c - p
+    return c, np.sqrt(np.einsum("ij,ij->i", diff, diff))
+
+
+def critical_points(kin: Kinematics, frames: np.ndarray, obstacles) -> list[CriticalPoint]:
+    """One record per obstacle: the robot part closest to it and the closest pair.
+
+    Point and sphere obstacles are measured against all parts at once (vectorised); for
+    the others, parts are visited in order of a lower bound of their distance (centre
+    distance minus the obstacle's bounding radius) and the search stops when the bound
+    exceeds the best exact distance found — the result is still exact."""
+    seg = robot_segments(kin)
+    a_all, b_all = seg.world(kin, frames)
+    radius = seg.radius
+    out = []
+    for obstacle in obstacles:
+        kind = obstacle.kind
+        if kind in ("point", "sphere"):
+            p = obstacle.position if kind == "point" else obstacle.center
+            _, dist = _points_to_segments(a_all, b_all, p)
+            i = int(np.argmin(dist - radius))
+            best = segment_obstacle(a_all[i], b_all[i], float(radius[i]), obstacle)
+        else:
+            best, i = _search_parts(a_all, b_all, radius, obstacle)
+        out.append(
+            CriticalPoint(
+                best.distance,
+                best.robot_point,
+                best.obstacle_point,
+                best.direction,
+                obstacle.name,
+                int(seg.links[i]),
+            )
+        )
+    return out
+
+
+def _search_parts(a_all, b_all, radius, obstacle) -> tuple[Proximity, int]:
+    if obstacle.kind == "box":
+        center, reach = obstacle.center, float(np.linalg.norm(obstacle.half))
+    elif obstacle.kind == "capsule":
+        center = 0.5 * (obstacle.a + obstacle.b)
+        reach = 0.5 * float(np.linalg.norm(obstacle.b - obstacle.a)) + obstacle.radius
+    else:  # plane: no useful bound, visit all
+        center, reach = None, np.inf
+    if center is None:
+        order, bound = range(a_all.shape[0]), np.full(a_all.shape[0], -np.inf)
+    else:
+        _, dist = _points_to_segments(a_all, b_all, center)
+        bound = dist - reach - radius
+        order = np.argsort(bound)
+    best, best_i = None, 0
+    for i in order:
+        if best is not None and bound[i] >= best.distance:
+            break
+        prox = segment_obstacle(a_all[i], b_all[i], float(radius[i]), obstacle)
+        if best is None or prox.distance < best.distance:
+            best, best_i = prox, int(i)
+    return best, best_i
+
+
+def _clamp01(x: float) -> float:
+    return 0.0 if x < 0.0 else (1.0 if x > 1.0 else x)

@@ -1,0 +1,127 @@
+"""The compact form of the equality-constrained QP (seed eq. 40–41).
+
+Full problem in ``Δθ ∈ Rⁿ`` with ``J`` of shape ``m×n`` (``m ≤ n``, full row rank)::
+
+    min ½ΔθᵀHΔθ + gᵀΔθ   s.t.  JΔθ = −F,  AΔθ ≥ b
+
+Split the columns ``J = [J_m  J_{n−m}]`` with ``J_m`` an invertible ``m×m`` block (the
+*basic* joints). Every solution of the equality is ``Δθ = Δθ_p + N z`` with::
+
+    Δθ_p = [ −J_m⁻¹F ; 0 ],    N = [ −J_m⁻¹J_{n−m} ; I_{n−m} ]
+
+(rows in basic / non-basic order), so the problem becomes, in ``z ∈ R^{n−m}``::
+
+    min ½zᵀH̃z + g̃ᵀz   s.t.  Ãz ≥ b̃
+    H̃ = NᵀHN,   g̃ = Nᵀ(g + HΔθ_p),   Ã = AN,   b̃ = b − AΔθ_p
+
+For the joint box ``A = [I; −I]``, ``b = [lower; −upper]``: ``Ã = [N; −N]``.
+
+**Choice of the basic columns.** QR with column pivoting of ``J``
+(``scipy.linalg.qr(pivoting=True)``) orders the columns by how much new direction each
+adds; the first ``m`` form ``J_m``. The basis is kept from cycle to cycle (the compact
+problem is an exact reparametrisation for *any* invertible ``J_m``, so the solution does
+not depend on the choice — only the rounding does) and re-chosen when it degrades: when
+the spread of the LU pivots of ``J_m`` (``max|u_ii| / min|u_ii|``, a cheap lower bound
+of its condition number, free with the solve) exceeds ``cond_max``; if even the new
+block's exceeds ``singular_cond``, ``J`` is treated as singular.
+
+**Rank.** If ``|R_mm| ≤ rank_tol·|R_11|`` after pivoting, ``J`` has no invertible
+``m×m`` block: :meth:`CompactBasis.split` returns ``None`` and the caller solves the
+relaxed (damped) problem instead. ``n = m`` needs no QP: ``Δθ = Δθ_p`` is checked
+against the box.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg
+from scipy.linalg.lapack import dgesv as _dgesv
+
+
+class CompactBasis:
+    """Basic-column choice for ``J`` plus the particular solution and null-space map."""
+
+    def __init__(self, cond_max: float = 1e4, singular_cond: float = 1e10, rank_tol=1e-10):
+        self.cond_max = cond_max
+        self.singular_cond = singular_cond
+        self.rank_tol = rank_tol
+        self.columns: np.ndarray | None = None  # pivot order: first m basic
+        self.shape: tuple[int, int] = (0, 0)
+        self.rechosen = 0  # statistics: how often QR pivoting ran
+        self.cond = 1.0
+
+    def choose(self, J: np.ndarray) -> bool:
+        """Re-choose the basic columns by QR with column pivoting; False if rank < m."""
+        m, n = J.shape
+        self.rechosen += 1
+        if m > n:
+            self.columns = None
+            return False
+        r, perm = scipy.linalg.qr(J, mode="r", pivoting=True, check_finite=False)
+        self.columns = perm
+        self.shape = J.shape
+        self._basic, self._free = perm[:m], perm[m:]
+        self._N = np.zeros((n, n - m))  # buffers: the identity rows are set once
+        self._N[self._free, np.arange(n - m)] = 1.0
+        self._dp = np.zeros(n)
+        if m == 0:
+            return True
+        r00 = abs(r[0, 0])
+        return r00 > 0.0 and abs(r[m - 1, m - 1]) > self.rank_tol * r00
+
+    def split(self, J: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        """``(Δθ_p, N)`` in the original column order, or ``None`` when ``J`` is singular."""
+        _m, _n = J.shape
+        if (self.columns is None or self.shape != J.shape) and not self.choose(J):
+            return None
+        out = self._try_split(J, F, self.cond_max)
+        if out is None:  # degraded basis: re-choose once
+            if not self.choose(J):
+                return None
+            out = self._try_split(J, F, self.singular_cond)
+        return out
+
+    def _try_split(self, J: np.ndarray, F: np.ndarray, cond_limit: float):
+        """Returns views of reused buffers: valid until the next call."""
+        m = J.shape[0]
+        basic = self._basic
+        rhs = np.empty((m, J.shape[1] - m + 1))
+        rhs[:, 0] = F
+        rhs[:, 1:] = J[:, self._free]
+        lu, _, x, info = _dgesv(J[:, basic], rhs)
+        if info != 0:
+            return None
+        # cheap degradation test: spread of the LU pivots (a lower bound of cond(J_m))
+        piv = np.abs(lu.diagonal())
+        pmin = piv.min()
+        self.cond = float(piv.max() / pmin) if pmin > 0.0 else np.inf
+        if not self.cond <= cond_limit:  # also catches NaN
+            return None
+        self._dp[basic] = -x[:, 0]
+        self._N[basic] = -x[:, 1:]
+        return self._dp, self._N
+
+
+def compact_box_qp(
+    H: np.ndarray,
+    g: np.ndarray,
+    dtheta_p: np.ndarray,
+    N: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``(H̃, g̃, Ãᵀ, b̃)`` for the joint box ``lower ≤ Δθ ≤ upper`` (finite bounds; use
+    ±1e30 for "none"). ``Ãᵀ = [Nᵀ  −Nᵀ]`` is returned transposed (columns are
+    constraints, quadprog's layout): column ``r < n`` is the lower bound of joint ``r``,
+    column ``n + r`` its upper bound.
+    """
+    n, nz = N.shape
+    Ht = N.T @ (H @ N)
+    gt = N.T @ (g + H @ dtheta_p)
+    Ct = np.empty((nz, 2 * n))
+    Ct[:, :n] = N.T
+    np.negative(N.T, out=Ct[:, n:])
+    bt = np.empty(2 * n)
+    np.subtract(lower, dtheta_p, out=bt[:n])
+    np.subtract(dtheta_p, upper, out=bt[n:])
+    return Ht, gt, Ct, bt

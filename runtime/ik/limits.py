@@ -1,0 +1,296 @@
+"""Joint limits as a box on the Newton step Δθ (seed eq. 42–45 and the acceleration form).
+
+Within one IPO cycle, with ``θ_s`` the configuration at the start of the cycle,
+``θ_k`` the current Newton iterate, ``Σ = θ_k − θ_s`` the increments already taken,
+``Δt`` the IPO cycle and ``d = θ_s − θ_prev`` the previous cycle's displacement::
+
+    lower = max( θmin − θ_k,  Δt·θ̇min − Σ,  Δt²·θ̈min + d − Σ,  brake_min − Σ )
+    upper = min( θmax − θ_k,  Δt·θ̇max − Σ,  Δt²·θ̈max + d − Σ,  brake_max − Σ )
+
+Every candidate is "a bound on the cycle displacement ``δ = Σ + Δθ``" minus ``Σ``, so
+the bounds on ``δ`` are computed once per cycle (:meth:`JointBox.prepare`) and each
+iteration only subtracts ``Σ`` (:meth:`JointBox.at`).
+
+**Braking distance.** Near a position limit the acceleration box can become empty
+(the joint arrives too fast to stop in time). The speed is therefore also bounded by
+the discrete form of ``θ̇ ≤ √(2·a·(θmax − θ))``: with ``ε = a·Δt²`` the per-cycle
+speed change available for braking (``a = −θ̈min`` towards ``θmax``), a displacement
+``δ`` this cycle can still be braked to rest before ``θmax`` if
+``δ²/(2ε) ≤ θmax − θ_s − δ``, i.e.::
+
+    δ ≤ brake_max = −ε + √(ε² + 2ε·(θmax − θ_s))
+
+(and symmetrically ``δ ≥ brake_min = ε' − √(ε'² + 2ε'·(θ_s − θmin))``, ``ε' = θ̈max·Δt²``).
+If the previous cycle obeyed this bound, ``d ≤ √(2ε·(θmax − θ_s))`` and the new box
+``[d − ε, brake_max]`` is never empty — recursive feasibility.
+
+**States the limits exclude.** If ``θ_s`` is outside the position limits, the previous
+speed ``d/Δt`` is outside the speed limits, or the candidates leave an empty box, the
+limits exclude the current state: :meth:`JointBox.prepare` raises
+:class:`LimitViolationError` naming the joint, value and bound (never a silent clamp).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from irlc.robots.model import RobotModel
+from irlc.runtime import units
+from irlc.runtime.errors import RunFailure
+
+POSITION, SPEED, ACCEL, BRAKING = 0, 1, 2, 3
+SOURCE_NAMES = ("position", "speed", "accel", "braking")
+_DERIVATIVE = (0, 1, 2, 0)  # unit of the bound reported for each source
+_BIG = 1e30  # stands for "no bound" in the QP
+_TOL = 1e-9  # absolute slack for "outside the limits" (rounding of earlier cycles)
+
+
+def format_joint_value(model: RobotModel, joint: int, value_si: float, derivative: int) -> str:
+    """``"60 deg"``, ``"25 deg/s"``, ``"500 mm"`` — program units via :mod:`units`."""
+    kind = model.joints[joint].kind
+    value = float(units.joints_from_si([value_si], [kind])[0])
+    label = units.joint_unit(kind, derivative).replace("_s2", "/s²").replace("_s", "/s")
+    return f"{value:.6g} {label}"
+
+
+@dataclass(frozen=True)
+class LimitViolation:
+    """A limit that excludes the current state: joint index (0-based), what, the value."""
+
+    joint: int
+    source: str  # "position" | "speed" | "accel" | "braking" | "box"
+    side: str  # "min" | "max"
+    value: float  # SI (the state, e.g. θ_s,i or d_i/Δt)
+    bound: float  # SI
+
+    def describe(self, model: RobotModel) -> str:
+        name = model.joints[self.joint].name
+        deriv = {"speed": 1, "accel": 2}.get(self.source, 0)
+        bound = format_joint_value(model, self.joint, self.bound, deriv)
+        value = format_joint_value(model, self.joint, self.value, deriv)
+        return f"{name} {self.source} {self.side} {bound} (value {value})"
+
+
+class LimitViolationError(RunFailure):
+    """Raised when the limits exclude the current state; carries the violation."""
+
+    def __init__(self, violation: LimitViolation, model: RobotModel):
+        text = violation.describe(model)
+        super().__init__(f"joint limit excludes the current state: {text}", constraint=text)
+        self.violation = violation
+
+
+def intersect_limits(
+    model: RobotModel,
+    position: np.ndarray | None = None,
+    speed: np.ndarray | None = None,
+    accel: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Robot limits intersected with optional program limits (each ``(n, 2)`` SI arrays;
+    ``NaN`` entries mean "no program bound"). Returns ``(position, speed, accel)``.
+    Raises ``ValueError`` if a program bound has min > max."""
+    out = []
+    for own, prog, what in (
+        (model.position_limits, position, "position"),
+        (model.speed_limits, speed, "speed"),
+        (model.accel_limits, accel, "accel"),
+    ):
+        lim = np.array(own, dtype=float)
+        if prog is not None:
+            prog = np.asarray(prog, dtype=float)
+            lim[:, 0] = np.fmax(lim[:, 0], prog[:, 0])
+            lim[:, 1] = np.fmin(lim[:, 1], prog[:, 1])
+        bad = np.flatnonzero(lim[:, 0] > lim[:, 1])
+        if bad.size:
+            j = int(bad[0])
+            raise ValueError(f"{what} limits of joint {model.joints[j].name} are empty: {lim[j]}")
+        out.append(lim)
+    return out[0], out[1], out[2]
+
+
+class _BoxConstants:
+    """Everything of the box that depends only on the limits and Δt (cached)."""
+
+    def __init__(self, position, speed, accel, dt):
+        self.inputs = (position, speed, accel)
+        self.dt = dt
+        pos = np.clip(np.asarray(position, dtype=float), -_BIG, _BIG)  # inf → 1e30
+        spd = np.clip(np.asarray(speed, dtype=float), -_BIG, _BIG)
+        acc = np.clip(np.asarray(accel, dtype=float), -_BIG, _BIG)
+        self.limits = (pos, spd, acc)
+        dt2 = dt * dt
+        self.pmin, self.pmax = pos[:, 0].copy(), pos[:, 1].copy()
+        self.smin_dt, self.smax_dt = dt * spd[:, 0], dt * spd[:, 1]
+        self.amin_dt2, self.amax_dt2 = dt2 * acc[:, 0], dt2 * acc[:, 1]
+        self.eps_hi = -dt2 * acc[:, 0]  # braking towards θmax uses the negative accel
+        self.eps_lo = dt2 * acc[:, 1]
+        self.two_eps_hi, self.two_eps_lo = 2.0 * self.eps_hi, 2.0 * self.eps_lo
+        self.eps_hi_sq, self.eps_lo_sq = self.eps_hi**2, self.eps_lo**2
+        # displacement slack of the speed check (same as _check_state's, in δ units)
+        self.dtol = _TOL + 1e-9 * float(np.max(np.abs(spd))) * dt
+
+
+class BoxSnapshot:
+    """One cycle's box, kept for reports (copies: safe to hold after the next cycle)."""
+
+    def __init__(self, lower, upper, cand_lo, cand_hi, limits):
+        self.lower, self.upper = lower, upper  # bounds on the cycle displacement δ
+        self.cand_lo, self.cand_hi = cand_lo, cand_hi  # (4, n) candidates
+        self.limits = limits  # (position, speed, accel) SI arrays
+
+    def source(self, joint: int, upper_side: bool) -> int:
+        """Which candidate (POSITION, SPEED, ACCEL, BRAKING) sets this bound."""
+        col = (self.cand_hi if upper_side else self.cand_lo)[:, joint]
+        return int(np.argmin(col) if upper_side else np.argmax(col))
+
+
+def _limit_value(limits: tuple, joint: int, source: int, upper_side: bool) -> float:
+    position, speed, accel = limits
+    table = (position, speed, accel, position)[source]
+    return float(table[joint, 1 if upper_side else 0])
+
+
+def describe_box_bound(
+    model: RobotModel, snapshot: BoxSnapshot, joint: int, upper_side: bool
+) -> str:
+    """``"J11 position max 60 deg"``: the candidate that sets one bound of a box snapshot."""
+    src = snapshot.source(joint, upper_side)
+    limit = _limit_value(snapshot.limits, joint, src, upper_side)
+    side = "max" if upper_side else "min"
+    value = format_joint_value(model, joint, limit, _DERIVATIVE[src])
+    return f"{model.joints[joint].name} {SOURCE_NAMES[src]} {side} {value}"
+
+
+class JointBox:
+    """Per-cycle joint box. Arrays are reused from cycle to cycle (hot path)."""
+
+    def __init__(self, n: int):
+        self.n = n
+        self.cand_lo = np.empty((4, n))
+        self.cand_hi = np.empty((4, n))
+        self.lower_d = np.empty(n)  # bounds on the cycle displacement δ
+        self.upper_d = np.empty(n)
+        self._room = np.empty(n)
+        self._limits: tuple = ()
+        self._cache: _BoxConstants | None = None
+
+    def prepare(
+        self,
+        model: RobotModel,
+        q_start: np.ndarray,
+        q_prev: np.ndarray,
+        dt: float,
+        position: np.ndarray,
+        speed: np.ndarray,
+        accel: np.ndarray,
+    ) -> None:
+        """Bounds on ``δ`` for this cycle; raises :class:`LimitViolationError`.
+        Infinite limits are allowed (they never bind)."""
+        c = self._constants(position, speed, accel, dt)
+        d = q_start - q_prev
+        lo, hi = self.cand_lo, self.cand_hi
+        np.subtract(c.pmin, q_start, out=lo[POSITION])
+        np.subtract(c.pmax, q_start, out=hi[POSITION])
+        if (
+            lo[POSITION].max() > _TOL
+            or hi[POSITION].min() < -_TOL
+            or (d - hi[SPEED]).max() > c.dtol
+            or (lo[SPEED] - d).max() > c.dtol
+        ):
+            self._check_state(model, q_start, d, dt, c.limits[0], c.limits[1])
+        np.add(c.amin_dt2, d, out=lo[ACCEL])
+        np.add(c.amax_dt2, d, out=hi[ACCEL])
+        room = self._room
+        np.maximum(hi[POSITION], 0.0, out=room)  # braking before θmax
+        room *= c.two_eps_hi
+        room += c.eps_hi_sq
+        np.sqrt(room, out=room)
+        np.subtract(room, c.eps_hi, out=hi[BRAKING])
+        np.minimum(lo[POSITION], 0.0, out=room)  # braking before θmin (room ≤ 0 here)
+        room *= -c.two_eps_lo
+        room += c.eps_lo_sq
+        np.sqrt(room, out=room)
+        np.subtract(c.eps_lo, room, out=lo[BRAKING])
+        self.lower_d = lo.max(axis=0)
+        self.upper_d = hi.min(axis=0)
+        self._limits = c.limits
+        if (self.lower_d > self.upper_d).any():
+            self._check_nonempty(model, q_start, d, dt)
+
+    def _constants(self, position, speed, accel, dt) -> _BoxConstants:
+        c = self._cache
+        if (
+            c is None
+            or c.inputs[0] is not position
+            or c.inputs[1] is not speed
+            or c.inputs[2] is not accel
+            or c.dt != dt
+        ):
+            c = _BoxConstants(position, speed, accel, dt)
+            self._cache = c
+            self.cand_lo[SPEED] = c.smin_dt
+            self.cand_hi[SPEED] = c.smax_dt
+        return c
+
+    def at(self, sigma: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> None:
+        """Box on Δθ at an iterate with increments ``sigma`` (written into lower/upper)."""
+        np.subtract(self.lower_d, sigma, out=lower)
+        np.subtract(self.upper_d, sigma, out=upper)
+
+    def limit_value(self, joint: int, source: int, upper_side: bool) -> float:
+        """The SI limit behind a candidate bound (braking: the position limit)."""
+        return _limit_value(self._limits, joint, source, upper_side)
+
+    def snapshot(self) -> BoxSnapshot:
+        """This cycle's box for later reports (candidates copied)."""
+        return BoxSnapshot(
+            self.lower_d, self.upper_d, self.cand_lo.copy(), self.cand_hi.copy(), self._limits
+        )
+
+    def describe_bound(self, model: RobotModel, joint: int, upper_side: bool) -> str:
+        """E.g. ``"a11 position max 60 deg"`` for the candidate that sets this bound."""
+        return describe_box_bound(model, self.snapshot(), joint, upper_side)
+
+    def source(self, joint: int, upper_side: bool) -> str:
+        col = (self.cand_hi if upper_side else self.cand_lo)[:, joint]
+        return SOURCE_NAMES[int(np.argmin(col) if upper_side else np.argmax(col))]
+
+    # --- helpers -----------------------------------------------------------------
+    @staticmethod
+    def _check_state(model, q_start, d, dt, position, speed) -> None:
+        v = d / dt
+        vtol = _TOL / dt + 1e-9 * np.max(np.abs(speed), axis=1)
+        bad_q = (q_start < position[:, 0] - _TOL) | (q_start > position[:, 1] + _TOL)
+        bad_v = (v < speed[:, 0] - vtol) | (v > speed[:, 1] + vtol)
+        if not (bad_q.any() or bad_v.any()):
+            return
+        checks = (
+            ("position", "min", q_start, position[:, 0], q_start < position[:, 0] - _TOL),
+            ("position", "max", q_start, position[:, 1], q_start > position[:, 1] + _TOL),
+            ("speed", "min", v, speed[:, 0], v < speed[:, 0] - vtol),
+            ("speed", "max", v, speed[:, 1], v > speed[:, 1] + vtol),
+        )
+        for source, side, value, bound, bad in checks:
+            if bad.any():
+                j = int(np.flatnonzero(bad)[0])
+                violation = LimitViolation(j, source, side, float(value[j]), float(bound[j]))
+                raise LimitViolationError(violation, model)
+
+    def _check_nonempty(self, model, q_start, d, dt) -> None:
+        gap = self.lower_d - self.upper_d
+        bad = np.flatnonzero(gap > 0.0)
+        for j in bad:
+            if gap[j] <= _TOL:  # rounding: collapse to the midpoint
+                mid = 0.5 * (self.lower_d[j] + self.upper_d[j])
+                self.lower_d[j] = self.upper_d[j] = mid
+                continue
+            # name the bound the state cannot meet: the upper one unless it is the
+            # acceleration bound (then the joint is decelerating too hard: the lower one)
+            snap = self.snapshot()
+            side = "max" if snap.source(int(j), True) != ACCEL else "min"
+            code = snap.source(int(j), side == "max")
+            value = q_start[j] if code == POSITION else d[j] / dt
+            limit = self.limit_value(int(j), code, side == "max")
+            violation = LimitViolation(int(j), SOURCE_NAMES[code], side, float(value), float(limit))
+            raise LimitViolationError(violation, model)

@@ -1,0 +1,204 @@
+"""Parameters of the inverse transformation and the per-cycle options.
+
+Defaults (SI) and where they come from:
+
+* ``tol_position = 1e-9`` m, ``tol_orientation = 1e-9`` rad: Newton stops when both
+  parts of ``F`` are below them (1–3 iterations per IPO cycle).
+* ``max_iter = 10`` Newton iterations per cycle.
+* ``relax_weight = 1e6``: ``ρ = relax_weight·max(diag H)`` in the relaxed step.
+* ``cond_max = 1e4`` (re-choose the compact basis), ``singular_cond = 1e10``.
+* obstacle criterion (seed 4.2.4, chapter 6.6): ``a_obst = 0.7``, ``a_conf = 0.3``,
+  ``α = c/R``. The seed writes ``α = 1000/R`` in its program units (mm): ``α·v`` is the
+  desired escape displacement of the critical point *per IPO cycle*, 1000/R mm with R in
+  mm, i.e. ``c = 1e-3 m²`` in SI (R = 1 m → 1 mm per cycle). Beyond ``activation``
+  (0.5 m) an obstacle contributes nothing; between ``activation·(1 − ramp)`` and
+  ``activation`` its weight fades smoothly to zero, so switching on is continuous.
+* ``task``: which components of the 6-vector pose error are controlled — all six by
+  default; a robot file may restrict it (``[ik] task = ["x", "y"]`` for a planar arm).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+from irlc.robots.model import RobotModel
+from irlc.runtime.ik.limits import SOURCE_NAMES, describe_box_bound
+
+TASK_COMPONENTS = ("x", "y", "z", "rx", "ry", "rz")
+
+
+@dataclass
+class ObstacleParams:
+    a_obst: float = 0.7
+    a_conf: float = 0.3
+    c: float = 1e-3  # m²: α = c/R metres per cycle
+    activation: float = 0.5  # m: farther obstacles contribute nothing
+    ramp: float = 0.5  # fraction of ``activation`` over which the weight fades in
+    min_distance: float = 1e-3  # m: R is floored here (contact / penetration)
+
+
+@dataclass
+class IKParams:
+    tol_position: float = 1e-9
+    tol_orientation: float = 1e-9
+    max_iter: int = 10
+    task_rows: tuple[int, ...] = (0, 1, 2, 3, 4, 5)
+    relax_weight: float = 1e6
+    cond_max: float = 1e4
+    singular_cond: float = 1e10
+    max_deviation: float | None = None  # m; a relaxed cycle beyond it raises DeviationError
+    max_orientation_deviation: float | None = None  # rad
+    eps_conf: float = 1e-6  # RECONFIGURATION ends when ‖θ(t) − θ(t−Δt)‖ < eps_conf
+    solver: str = "quadprog"
+    warm_start: bool = True  # first iterate θ_s + d (see newton); not for self-motion
+    obstacle: ObstacleParams = field(default_factory=ObstacleParams)
+
+    @classmethod
+    def for_robot(cls, model: RobotModel, **overrides) -> IKParams:
+        """Defaults with the robot file's task selection (``extra['ik']['task']``)."""
+        params = cls(**overrides)
+        if "task_rows" not in overrides:
+            params.task_rows = task_rows_for(model)
+        return params
+
+
+def task_rows_for(model: RobotModel) -> tuple[int, ...]:
+    """Controlled pose-error components from the robot file (default: all six)."""
+    ik = model.extra.get("ik", {}) if isinstance(model.extra, dict) else {}
+    names: Sequence[str] | None = ik.get("task") if isinstance(ik, dict) else None
+    if names is None:
+        names = model.extra.get("task") if isinstance(model.extra, dict) else None
+    if not names:
+        return tuple(range(6))
+    bad = [c for c in names if c not in TASK_COMPONENTS]
+    if bad:
+        raise ValueError(
+            f"robot {model.name}: unknown task component(s) {bad}; "
+            f"known: {', '.join(TASK_COMPONENTS)}"
+        )
+    return tuple(sorted(TASK_COMPONENTS.index(c) for c in names))
+
+
+@dataclass
+class CycleOptions:
+    """What the program has switched on for this cycle (all SI, 0-based joints).
+
+    ``position``/``speed``/``accel``: ``(n, 2)`` [min, max] arrays already intersected
+    with the robot's own limits (:func:`~irlc.runtime.ik.limits.intersect_limits`);
+    ``None`` means the robot's limits. ``reference``: θ⁰ for CYCLIC / WITH
+    RECONFIGURATION (``None``: default criterion). ``self_motion``: RECONFIGURATION k
+    (``reference = k``, the TCP is held at ``target``). ``frozen``: joint → held value.
+    ``obstacles``: every obstacle whose clearance is reported; ``active_obstacles``: the
+    names avoided (OBSTACLE … OBSTACLEEND).
+    """
+
+    position: np.ndarray | None = None
+    speed: np.ndarray | None = None
+    accel: np.ndarray | None = None
+    reference: np.ndarray | None = None
+    self_motion: bool = False
+    frozen: dict[int, float] = field(default_factory=dict)
+    obstacles: Sequence = ()
+    active_obstacles: frozenset[str] = frozenset()
+
+
+class CycleResult:
+    """Outcome of one IPO cycle (SI).
+
+    Fields: ``q`` (configuration at the end of the cycle), ``iterations`` (Newton steps
+    taken), ``position_error`` (m) / ``orientation_error`` (rad) left on the controlled
+    task components, ``converged``, ``relaxed`` (the hard QP had no solution: the task
+    was moved into the cost), ``deviation`` (m, the position error when not converged,
+    else 0), ``singular`` (no well-conditioned m×m block of J was found in some step),
+    ``clearances`` (obstacle name → (distance m, link) at the end of the cycle, for every
+    obstacle in ``CycleOptions.obstacles``).
+
+    Computed on first access (the hot loop does not pay for them): ``active`` (joint →
+    ``"position max"``, ``"speed min"``, … for the box bounds the cycle displacement
+    touches), ``binding`` (the active bound with the largest QP multiplier, in program
+    units, e.g. ``"J11 position max 60 deg"``; ``""`` if none), ``manipulability``
+    (``Π σ_i`` of the task Jacobian over the free joints at the last Newton iterate) and
+    ``sigma_min`` (its smallest singular value).
+    """
+
+    def __init__(
+        self,
+        q,
+        iterations,
+        position_error,
+        orientation_error,
+        converged,
+        relaxed,
+        singular,
+        clearances,
+        *,
+        delta=None,
+        box=None,
+        model=None,
+        free=None,
+        qp_active=None,
+        qp_multipliers=None,
+        jacobian=None,
+    ):
+        self.q = q
+        self.iterations = iterations
+        self.position_error = position_error
+        self.orientation_error = orientation_error
+        self.converged = converged
+        self.relaxed = relaxed
+        self.deviation = 0.0 if converged else position_error
+        self.singular = singular
+        self.clearances: dict[str, tuple[float, int]] = clearances
+        self._delta, self._box, self._model, self._free = delta, box, model, free
+        self._qp_active, self._qp_mult, self._jac = qp_active, qp_multipliers, jacobian
+
+    def __repr__(self) -> str:
+        return (
+            f"CycleResult(iterations={self.iterations}, position_error="
+            f"{self.position_error:.3g}, orientation_error={self.orientation_error:.3g}, "
+            f"converged={self.converged}, relaxed={self.relaxed}, binding={self.binding!r})"
+        )
+
+    @cached_property
+    def active(self) -> dict[int, str]:
+        box, delta = self._box, self._delta
+        if box is None:
+            return {}
+        tol = 1e-10 + 1e-9 * np.abs(delta)
+        out: dict[int, str] = {}
+        for j in np.flatnonzero(delta <= box.lower + tol):
+            out[int(j)] = f"{SOURCE_NAMES[box.source(int(j), False)]} min"
+        for j in np.flatnonzero(delta >= box.upper - tol):
+            out[int(j)] = f"{SOURCE_NAMES[box.source(int(j), True)]} max"
+        return out
+
+    @cached_property
+    def binding(self) -> str:
+        if self._box is None:
+            return ""
+        if self._qp_active is not None and self._qp_active.size:
+            nf = self._free.size
+            r = int(self._qp_active[int(np.argmax(self._qp_mult))])
+            return describe_box_bound(self._model, self._box, int(self._free[r % nf]), r >= nf)
+        if self.active:
+            j, what = next(iter(self.active.items()))
+            return describe_box_bound(self._model, self._box, j, what.endswith("max"))
+        return ""
+
+    @cached_property
+    def _singular_values(self) -> np.ndarray:
+        if self._jac is None:
+            return np.full(1, np.nan)
+        return np.linalg.svd(self._jac, compute_uv=False)
+
+    @property
+    def manipulability(self) -> float:
+        return float(np.prod(self._singular_values))
+
+    @property
+    def sigma_min(self) -> float:
+        s = self._singular_values
+        return float(s[-1]) if s.size else 0.0

@@ -1,0 +1,159 @@
+"""Joint configuration for one TCP pose (``irlc ik``, PTP to a POSE target).
+
+The same machinery as the IPO cycle (:mod:`newton_step`: compact QP, relaxed QP when
+the hard step has no solution) iterated from a seed configuration::
+
+    min  ½(θ_k + Δθ − θ_seed)ᵀW(θ_k + Δθ − θ_seed)
+    s.t. JΔθ = −F(θ_k),   max(θmin − θ_k, −s) ≤ Δθ ≤ min(θmax − θ_k, s)
+
+The robot's position limits always hold; the trust box ``s`` (``max_step`` rad for
+revolute, ``max_step_prismatic`` m for prismatic joints) keeps steps short for far
+targets, where the hard step is infeasible and the relaxed step (damped Gauss–Newton
+inside the box) walks towards the target. Near the solution the hard step is plain
+Newton–Raphson (quadratic convergence) and the cost picks, among the configurations
+reaching the pose, one close to the seed. If the relaxed steps stall away from the
+target (the step vanishes, or the error falls by less than 0.1 % over ten steps), the
+target is out of reach (or behind a joint limit): the result says how far the closest
+pose is and which limits are reached. In relaxed steps the seed pull is dropped (pure
+damped least squares), so it cannot bias where the iteration stops.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from irlc.robots.model import RobotModel
+from irlc.runtime import spatial
+from irlc.runtime.ik.compact import CompactBasis
+from irlc.runtime.ik.limits import format_joint_value
+from irlc.runtime.ik.newton_step import NewtonStep
+from irlc.runtime.ik.params import task_rows_for
+from irlc.runtime.ik.qp import QuadprogSolver
+from irlc.runtime.kinematics import Kinematics
+
+
+@dataclass
+class PoseSolution:
+    q: np.ndarray  # SI
+    converged: bool
+    position_error: float  # m (controlled components only)
+    orientation_error: float  # rad
+    iterations: int
+    message: str
+
+
+def solve_pose(
+    model: RobotModel,
+    target: np.ndarray,
+    seed: np.ndarray,
+    *,
+    tool: np.ndarray | None = None,
+    max_iter: int = 200,
+    tol_position: float = 1e-7,
+    tol_orientation: float = 1e-7,
+    task_rows: tuple[int, ...] | None = None,
+    max_step: float = 0.3,
+    max_step_prismatic: float = 0.1,
+) -> PoseSolution:
+    """Solve ``f(q) = target`` (4×4 world pose, m) starting from ``seed`` (SI)."""
+    target = np.asarray(target, dtype=float)
+    q = np.array(seed, dtype=float)
+    if target.shape != (4, 4) or not np.all(np.isfinite(target)):
+        return PoseSolution(q, False, np.inf, np.inf, 0, "target must be a finite 4×4 pose")
+    if q.shape != (model.n,) or not np.all(np.isfinite(q)):
+        return PoseSolution(
+            q, False, np.inf, np.inf, 0, f"seed must be {model.n} finite joint values"
+        )
+    limits = model.position_limits
+    outside = np.flatnonzero((q < limits[:, 0]) | (q > limits[:, 1]))
+    if outside.size:
+        j = int(outside[0])
+        side = 0 if q[j] < limits[j, 0] else 1
+        return PoseSolution(
+            q,
+            False,
+            np.inf,
+            np.inf,
+            0,
+            f"seed joint {model.joints[j].name} = "
+            f"{format_joint_value(model, j, q[j], 0)} is outside its "
+            f"position {'min' if side == 0 else 'max'} "
+            f"{format_joint_value(model, j, limits[j, side], 0)}",
+        )
+
+    kin = Kinematics(model, tool)
+    rows = np.array(task_rows if task_rows is not None else task_rows_for(model), dtype=int)
+    pos_rows, ori_rows = np.flatnonzero(rows < 3), np.flatnonzero(rows >= 3)
+    step = np.array(
+        [max_step if j.kind == "revolute" else max_step_prismatic for j in model.joints]
+    )
+    w = model.weights
+    H = np.diag(w)
+    stepper = NewtonStep(QuadprogSolver(), basis=CompactBasis())
+    zero = np.zeros(model.n)
+    pe = oe = np.inf
+    last = None
+    history: list[float] = []
+    for it in range(max_iter + 1):
+        frames = kin.link_frames(q)
+        tcp = kin.tcp_from_frames(frames)
+        F = spatial.pose_error(tcp, target)[rows]
+        pe, oe = _norm(F[pos_rows]), _norm(F[ori_rows])
+        if pe < tol_position and oe < tol_orientation:
+            return PoseSolution(q, True, pe, oe, it, f"converged in {it} iterations")
+        if it == max_iter:
+            break
+        history.append(pe + oe)
+        if last is not None and last.relaxed and _stalled(last.dtheta, history):
+            return PoseSolution(q, False, pe, oe, it, _unreachable(model, q, pe, oe))
+        J = kin.jacobian_at(frames, tcp[:3, 3])[rows]
+        lower = np.maximum(limits[:, 0] - q, -step)
+        upper = np.minimum(limits[:, 1] - q, step)
+        try:  # the seed pull acts in the null space only; the relaxed step is pure DLS
+            last = stepper.hard(J, F, H, w * (q - seed), lower, upper) or stepper.relaxed(
+                J, F, H, zero, lower, upper
+            )
+        except FloatingPointError as exc:
+            return PoseSolution(q, False, pe, oe, it, f"solver failure: {exc}")
+        if not np.all(np.isfinite(last.dtheta)):
+            return PoseSolution(q, False, pe, oe, it, "solver produced a non-finite step")
+        q = np.clip(q + last.dtheta, limits[:, 0], limits[:, 1])  # rounding only (≤ 1e-12)
+    return PoseSolution(
+        q,
+        False,
+        pe,
+        oe,
+        max_iter,
+        f"no convergence in {max_iter} iterations "
+        f"(left {pe * 1e3:.4g} mm, {np.degrees(oe):.4g} deg)",
+    )
+
+
+def _norm(v: np.ndarray) -> float:
+    return float(np.sqrt(v @ v)) if v.size else 0.0
+
+
+def _stalled(dtheta: np.ndarray, history: list[float], window: int = 10) -> bool:
+    """Relaxed steps vanish, or the error fell by < 0.1 % over the last ``window`` steps."""
+    if float(np.max(np.abs(dtheta))) < 1e-12:
+        return True
+    return len(history) > window and history[-1] > 0.999 * history[-1 - window]
+
+
+def _unreachable(model, q, pe, oe) -> str:
+    text = (
+        f"target not reachable: the closest pose found is {pe * 1e3:.4g} mm and "
+        f"{np.degrees(oe):.4g} deg away"
+    )
+    limits = model.position_limits
+    at = [j for j in range(model.n) if q[j] <= limits[j, 0] + 1e-9 or q[j] >= limits[j, 1] - 1e-9]
+    if at:
+        names = ", ".join(
+            f"{model.joints[j].name} at position "
+            f"{'min' if q[j] <= limits[j, 0] + 1e-9 else 'max'} "
+            f"{format_joint_value(model, j, q[j], 0)}"
+            for j in at
+        )
+        text += f" (limits reached: {names})"
+    return text

@@ -1,0 +1,138 @@
+"""Obstacle shapes of the robot cell, in SI (metres), world frame.
+
+Obstacles are taught outside the program (data lists, in mm and degrees) and referred
+to by name (``OBSTACLE name``). Kinds:
+
+* ``point``: a point ``position``;
+* ``sphere``: ``center``, ``radius``;
+* ``box``: ``center``, full edge lengths ``size`` (x, y, z of the box frame) and an
+  optional ``rotation`` (3×3, box frame → world; data lists give it as ZYX angles
+  ``orientation = [a, b, c]`` in degrees);
+* ``capsule``: segment ``a``–``b`` swept by a sphere of ``radius``;
+* ``plane``: ``point`` and ``normal``; the free side is where the normal points, the
+  other half-space is solid (a floor, a wall).
+
+Every shape is a *core* (point, segment, box, plane) plus a ``radius`` (0 for point,
+box, plane), which is how :mod:`irlc.runtime.distance` measures it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+from irlc.runtime import spatial, units
+
+KINDS = ("point", "sphere", "box", "capsule", "plane")
+
+
+def _vec3(value, what: str) -> np.ndarray:
+    v = np.asarray(value, dtype=float)
+    if v.shape != (3,) or not np.all(np.isfinite(v)):
+        raise ValueError(f"{what} must be 3 finite numbers, got {value!r}")
+    return v
+
+
+@dataclass(frozen=True)
+class PointObstacle:
+    name: str
+    position: np.ndarray
+    kind: str = field(default="point", init=False)
+    radius: float = field(default=0.0, init=False)
+
+
+@dataclass(frozen=True)
+class SphereObstacle:
+    name: str
+    center: np.ndarray
+    radius: float
+    kind: str = field(default="sphere", init=False)
+
+
+@dataclass(frozen=True)
+class BoxObstacle:
+    name: str
+    center: np.ndarray
+    size: np.ndarray  # full edge lengths
+    rotation: np.ndarray = field(default_factory=lambda: np.eye(3))
+    kind: str = field(default="box", init=False)
+    radius: float = field(default=0.0, init=False)
+
+    @property
+    def half(self) -> np.ndarray:
+        return 0.5 * np.asarray(self.size, dtype=float)
+
+
+@dataclass(frozen=True)
+class CapsuleObstacle:
+    name: str
+    a: np.ndarray
+    b: np.ndarray
+    radius: float
+    kind: str = field(default="capsule", init=False)
+
+
+@dataclass(frozen=True)
+class PlaneObstacle:
+    name: str
+    point: np.ndarray
+    normal: np.ndarray  # unit; points into the free half-space
+    kind: str = field(default="plane", init=False)
+    radius: float = field(default=0.0, init=False)
+
+
+Obstacle = PointObstacle | SphereObstacle | BoxObstacle | CapsuleObstacle | PlaneObstacle
+
+
+def from_program_units(name: str, spec: Mapping) -> Obstacle:
+    """Build an obstacle from a data-list table (mm, degrees). Raises ``ValueError``
+    naming the key for unknown kinds, missing or unknown keys and bad values."""
+    kind = spec.get("kind")
+    allowed = {
+        "point": {"position"},
+        "sphere": {"center", "radius"},
+        "box": {"center", "size", "orientation"},
+        "capsule": {"a", "b", "radius"},
+        "plane": {"point", "normal"},
+    }
+    if kind not in allowed:
+        raise ValueError(f"obstacle {name}: kind must be one of {', '.join(KINDS)}, got {kind!r}")
+    keys = set(spec) - {"kind"}
+    unknown = keys - allowed[kind]
+    if unknown:
+        raise ValueError(f"obstacle {name}: unknown key(s) {sorted(unknown)} for kind {kind}")
+    required = allowed[kind] - {"orientation"}
+    missing = required - keys
+    if missing:
+        raise ValueError(f"obstacle {name}: missing key(s) {sorted(missing)} for kind {kind}")
+
+    def mm3(key: str) -> np.ndarray:
+        return _vec3(spec[key], f"obstacle {name}.{key}") * units.MM
+
+    def radius() -> float:
+        r = float(spec["radius"])
+        if not np.isfinite(r) or r < 0.0:
+            raise ValueError(f"obstacle {name}.radius must be ≥ 0, got {spec['radius']!r}")
+        return r * units.MM
+
+    if kind == "point":
+        return PointObstacle(name, mm3("position"))
+    if kind == "sphere":
+        return SphereObstacle(name, mm3("center"), radius())
+    if kind == "capsule":
+        return CapsuleObstacle(name, mm3("a"), mm3("b"), radius())
+    if kind == "plane":
+        normal = _vec3(spec["normal"], f"obstacle {name}.normal")
+        norm = float(np.linalg.norm(normal))
+        if norm == 0.0:
+            raise ValueError(f"obstacle {name}.normal must not be zero")
+        return PlaneObstacle(name, mm3("point"), normal / norm)
+    size = mm3("size")
+    if np.any(size < 0.0):
+        raise ValueError(f"obstacle {name}.size must be ≥ 0, got {spec['size']!r}")
+    rotation = np.eye(3)
+    if "orientation" in spec:
+        a, b, c = _vec3(spec["orientation"], f"obstacle {name}.orientation") * units.DEG
+        rotation = spatial.zyx_to_matrix(a, b, c)
+    return BoxObstacle(name, mm3("center"), size, rotation)
