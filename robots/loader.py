@@ -46,7 +46,9 @@ TOP_KEYS = {
     "reachability",
     "assumptions",
     "drives",
+    "ik",
 }
+TASK_COMPONENTS = ("x", "y", "z", "rx", "ry", "rz")
 ROBOT_KEYS = {
     "name",
     "description",
@@ -245,6 +247,21 @@ def load_toml(path: str | Path) -> RobotModel:
     return build_model(doc, file, path.parent)
 
 
+def _read_ik(rd: Reader, table: Any) -> dict:
+    """``[ik] task = ["x", "y"]``: the pose-error components the inverse transformation
+    controls (default all six; a planar arm controls only its plane's position)."""
+    ik = rd.table(table, "ik", {"task"})
+    if "task" not in ik:
+        return {}
+    task = ik["task"]
+    if not isinstance(task, list) or not task:
+        raise rd.fail("ik.task", f"expected a non-empty list of {', '.join(TASK_COMPONENTS)}")
+    names = [rd.string(c, f"ik.task[{i}]", TASK_COMPONENTS) for i, c in enumerate(task)]
+    if len(set(names)) != len(names):
+        raise rd.fail("ik.task", "a component is listed twice")
+    return {"task": names}
+
+
 def build_model(doc: dict, file: str, folder: Path) -> RobotModel:
     rd = Reader(file)
     rd.table(doc, "", TOP_KEYS)
@@ -287,6 +304,8 @@ def build_model(doc: dict, file: str, folder: Path) -> RobotModel:
         extra["transmission"] = _read_transmission(rd, doc["transmission"], joints, assumed)
     if "reachability" in doc:
         extra["reachability"] = _read_reachability(rd, doc["reachability"], n)
+    if "ik" in doc:
+        extra["ik"] = _read_ik(rd, doc["ik"])
     for k in ("source", "notes"):
         if k in robot:
             extra[k] = rd.string(robot[k], f"robot.{k}")
