@@ -1,0 +1,48 @@
+"""Tool commands: ``irlc test DIR [--update]`` (golden tests) and ``irlc repl``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from irlc.cli.app import cli
+from irlc.errors import EXIT_OK, UsageError
+
+EXIT_TEST_FAILED = 1  # some golden test failed (like pytest); 3 for usage errors
+
+
+@cli.command("test")
+@click.argument("directory", required=False, default=".", type=click.Path(path_type=Path))
+@click.option("--update", is_flag=True, help="Rewrite NAME.expected.json / .txt from this run.")
+def test_cmd(directory: Path, update: bool) -> int:
+    """Run every NAME.irl in DIRECTORY against NAME.expected.json (+ .expected.txt).
+
+    Exit status: 0 all passed (or updated), 1 some failed or have no expectation,
+    3 the directory does not exist or holds no programs.
+    """
+    from rich.console import Console
+
+    from irlc.golden import find_programs, render_results, run_golden
+
+    if not directory.is_dir():
+        raise UsageError(f"{directory}: no such directory")
+    if not find_programs(directory):
+        raise UsageError(f"{directory}: no *.irl programs")
+    results = run_golden(directory, update=update)
+    render_results(results, Console(highlight=False))
+    return EXIT_OK if all(r.ok for r in results) else EXIT_TEST_FAILED
+
+
+@cli.command("repl")
+@click.option("--robot", "robot", default=None, help="Robot name or description file.")
+@click.option(
+    "--datalist-path", "datalist_path", multiple=True, type=click.Path(path_type=Path),
+    help="Folder searched for IMPORT DATALIST files (repeatable).",
+)  # fmt: skip
+@click.option("--plain", is_flag=True, help="Plain line input even on a terminal.")
+def repl_cmd(robot: str | None, datalist_path: tuple[Path, ...], plain: bool) -> int:
+    """Interactive session: declarations and statements run as they are entered."""
+    from irlc.repl import main as repl_main
+
+    return repl_main(robot=robot, datalist_path=datalist_path, plain=plain)

@@ -1,0 +1,303 @@
+"""Run data for tools (plots, animation, exports) and the ROS-like trajectory export.
+
+:func:`run_data` turns what a run produced — a ``RunResult`` of :mod:`irlc.runtime.run`,
+what :func:`irlc.report.load_run` read back from a report or trace, or a path to one —
+into one :class:`RunData` with plain arrays in SI (rad | m, s). Columns of the trace are
+found by their ``interfaces.md`` names (``a1_deg``, ``a1_speed_deg_s``, ``a1_cmd_deg``,
+``a1_current_A``, ``x_mm`` …) and converted with :mod:`irlc.runtime.units` only.
+
+When the trace has no speed / acceleration columns they are the finite differences of
+the positions, ``q̇ ≈ np.gradient(q, t)`` (central inside, one-sided at the ends).
+
+:func:`write_trajectory` writes a JSON document shaped like ROS ``trajectory_msgs/
+JointTrajectory``: ``joint_names`` and ``points`` with ``positions``, ``velocities``,
+``accelerations`` (rad | m, per second, per second²) and ``time_from_start``
+``{sec, nanosec}``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from irlc.errors import UsageError
+from irlc.runtime import units
+
+TRAJECTORY_FORMAT = "irlc-joint-trajectory 1"
+_POSE_AXES = {"x", "y", "z", "a", "b", "c"}
+DIGITS = 9  # decimals kept in exported SI numbers (1 nrad, 1 nm)
+
+
+@dataclass
+class RunData:
+    """One run as arrays; ``k`` samples, ``n`` joints; SI unless named otherwise."""
+
+    times: np.ndarray  # (k,) s
+    joint_names: tuple[str, ...]
+    joint_kinds: tuple[str, ...]  # "revolute" | "prismatic"
+    q: np.ndarray  # (k, n) rad | m
+    qd: np.ndarray  # (k, n) /s
+    qdd: np.ndarray  # (k, n) /s²
+    lines: np.ndarray | None = None  # (k,) program line per sample
+    tcp: np.ndarray | None = None  # (k, 3) m, world frame
+    path_error_mm: np.ndarray | None = None  # (k,)
+    q_cmd: np.ndarray | None = None  # (k, n) drive setpoints (with simulated drives)
+    current: np.ndarray | None = None  # (k, n) A
+    report: dict = field(default_factory=dict)
+    model: Any = None  # RobotModel | None
+    obstacles: tuple = ()
+    label: str = ""
+
+    @property
+    def k(self) -> int:
+        return len(self.times)
+
+    @property
+    def n(self) -> int:
+        return len(self.joint_names)
+
+    def program_units(self, values: np.ndarray) -> np.ndarray:
+        """SI joint values → deg | mm (per joint kind)."""
+        return units.joints_from_si(values, self.joint_kinds)
+
+    def unit(self, j: int, derivative: int = 0) -> str:
+        """Readable unit of joint ``j``: ``deg``, ``deg/s``, ``mm/s²`` …"""
+        return (
+            units.joint_unit(self.joint_kinds[j], derivative)
+            .replace("_s2", "/s²")
+            .replace("_s", "/s")
+        )
+
+
+class RunDataError(UsageError, ValueError):
+    """The run has no usable samples (e.g. a report without a trace): a usage error."""
+
+
+# --------------------------------------------------------------------------- reading
+
+
+def _get(obj: Any, *names: str, default: Any = None) -> Any:
+    for name in names:
+        if isinstance(obj, dict) and name in obj:
+            return obj[name]
+        if hasattr(obj, name):
+            return getattr(obj, name)
+    return default
+
+
+def _trace_table(run: Any) -> dict[str, np.ndarray]:
+    """The trace as ``column name → (k,) array`` (empty when the run has none)."""
+    table = _get(run, "trace_table")
+    if isinstance(table, dict):
+        return {str(k): np.asarray(v, dtype=float) for k, v in table.items()}
+    columns = _get(run, "trace_columns", "columns")
+    data = _get(run, "trace_data", "trace")
+    if columns is None and data is not None and hasattr(data, "columns"):
+        columns, data = _get(data, "columns"), _get(data, "data", "values", "rows")
+    if columns is None or data is None:
+        return {}
+    arr = np.asarray(data, dtype=float)
+    if arr.ndim != 2 or arr.shape[1] != len(columns):
+        return {}
+    return {str(c): arr[:, i] for i, c in enumerate(columns)}
+
+
+def _joint_names_kinds(run: Any, report: dict, model: Any, table) -> tuple[tuple, tuple]:
+    rows = report.get("joints") or []
+    if rows and all("name" in r for r in rows):
+        names = tuple(str(r["name"]) for r in rows)
+        kinds = tuple(units.PRISMATIC if r.get("unit") == "mm" else units.REVOLUTE for r in rows)
+        return names, kinds
+    if model is not None:
+        names = tuple(_get(run, "joint_names", default=None) or model.joint_names)
+        return names, tuple(model.joint_kinds)
+    names, kinds = [], []
+    for col in table:
+        for suffix, kind in (("_deg", units.REVOLUTE), ("_mm", units.PRISMATIC)):
+            stem = col[: -len(suffix)]
+            if col.endswith(suffix) and "_" not in stem and stem not in _POSE_AXES:
+                names.append(stem)
+                kinds.append(kind)
+    return tuple(names), tuple(kinds)
+
+
+def _joint_columns(table, names, kinds, middle: str, derivative: int) -> np.ndarray | None:
+    cols = []
+    for name, kind in zip(names, kinds, strict=True):
+        unit = units.joint_unit(kind, derivative) if derivative >= 0 else "A"
+        key = f"{name}{middle}_{unit}"
+        if key not in table:
+            return None
+        cols.append(table[key])
+    return np.column_stack(cols) if cols else None
+
+
+def _model_of(run: Any, report: dict) -> Any:
+    model = _get(run, "model")
+    if model is not None or not report.get("robot"):
+        return model
+    try:
+        from irlc.robots import load_robot
+
+        return load_robot(report["robot"])
+    except Exception:
+        return None
+
+
+def run_data(run: Any, label: str = "") -> RunData:
+    """Normalise a run (RunResult, loaded run, report/trace path, or RunData)."""
+    if isinstance(run, RunData):
+        return run
+    if isinstance(run, (str, Path)):
+        from irlc.report import load_run  # the reader of report JSON / trace CSV
+
+        run = load_run(Path(run))
+    report = dict(_get(run, "report", default=None) or {})
+    table = _trace_table(run)
+    model = _model_of(run, report)
+    names, kinds = _joint_names_kinds(run, report, model, table)
+    times = _get(run, "times")
+    times = np.asarray(times if times is not None else table.get("t_s", []), dtype=float)
+    q = _get(run, "q")
+    if q is not None:
+        q = np.asarray(q, dtype=float)
+    else:
+        q_prog = _joint_columns(table, names, kinds, "", 0)
+        q = None if q_prog is None else units.joints_to_si(q_prog, kinds)
+    if q is None or q.ndim != 2 or len(q) == 0 or len(times) != len(q):
+        where = _get(run, "path", default=None) or report.get("program") or "the run"
+        raise RunDataError(
+            f"{where}: no joint samples (a report holds none; use a trace CSV from --trace)"
+        )
+    if not names or len(names) != q.shape[1]:
+        names = tuple(f"a{i + 1}" for i in range(q.shape[1]))
+        kinds = tuple(model.joint_kinds) if model is not None else (units.REVOLUTE,) * q.shape[1]
+    qd = _derivative(table, names, kinds, "_speed", 1, q, times)
+    qdd = _derivative(table, names, kinds, "_accel", 2, qd, times)
+    cmd = _joint_columns(table, names, kinds, "_cmd", 0)
+    current = _joint_columns(table, names, kinds, "_current", -1)
+    return RunData(
+        times=times,
+        joint_names=names,
+        joint_kinds=kinds,
+        q=q,
+        qd=qd,
+        qdd=qdd,
+        lines=table["line"].astype(int) if "line" in table else _lines_of(run),
+        tcp=_tcp_of(run, table, model, q),
+        path_error_mm=table.get("path_error_mm"),
+        q_cmd=None if cmd is None else units.joints_to_si(cmd, kinds),
+        current=current,
+        report=report,
+        model=model,
+        obstacles=tuple(_get(run, "obstacles", default=()) or ()),
+        label=label or str(report.get("program", "")),
+    )
+
+
+def _derivative(table, names, kinds, middle, order, lower, times) -> np.ndarray:
+    prog = _joint_columns(table, names, kinds, middle, order)
+    if prog is not None:
+        return units.joints_to_si(prog, kinds)
+    if len(times) < 2:
+        return np.zeros_like(lower)
+    return np.gradient(lower, times, axis=0)
+
+
+def _lines_of(run: Any) -> np.ndarray | None:
+    lines = _get(run, "lines")
+    return None if lines is None else np.asarray(lines, dtype=int)
+
+
+def _tcp_of(run: Any, table, model, q: np.ndarray) -> np.ndarray | None:
+    tcp = _get(run, "tcp")
+    if tcp is not None:
+        tcp = np.asarray(tcp, dtype=float)
+        if tcp.ndim == 3:  # (k, 4, 4) transforms
+            return tcp[:, :3, 3]
+        if tcp.ndim == 2 and tcp.shape[1] >= 3:
+            return tcp[:, :3]
+    if all(c in table for c in ("x_mm", "y_mm", "z_mm")):
+        return np.column_stack([table["x_mm"], table["y_mm"], table["z_mm"]]) * units.MM
+    if model is not None:
+        from irlc.runtime.kinematics import Kinematics
+
+        kin = Kinematics(model)
+        return np.array([kin.tcp(qi)[:3, 3] for qi in q])
+    return None
+
+
+# --------------------------------------------------------------------------- writing
+
+
+def atomic_write_bytes(path: Path, data: bytes) -> None:
+    """Write ``data`` to a temporary file next to ``path``, then rename it into place."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; keep the usual mode
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def atomic_write_text(path: Path, text: str) -> None:
+    atomic_write_bytes(path, text.encode("utf-8"))
+
+
+def _round(values: np.ndarray) -> list[float]:
+    return [float(v) + 0.0 for v in np.round(values, DIGITS)]  # + 0.0: no "-0.0"
+
+
+def _time_from_start(t: float) -> dict[str, int]:
+    ns = round(t * 1e9)
+    return {"sec": ns // 1_000_000_000, "nanosec": ns % 1_000_000_000}
+
+
+def trajectory_document(run: Any) -> dict:
+    """The JointTrajectory-like document of a run (see the module docstring)."""
+    d = run_data(run)
+    t0 = float(d.times[0])
+    points = [
+        {
+            "positions": _round(d.q[i]),
+            "velocities": _round(d.qd[i]),
+            "accelerations": _round(d.qdd[i]),
+            "time_from_start": _time_from_start(float(d.times[i]) - t0),
+        }
+        for i in range(d.k)
+    ]
+    return {
+        "format": TRAJECTORY_FORMAT,
+        "header": {"frame_id": "world", "stamp": {"sec": 0, "nanosec": 0}},
+        "robot": d.report.get("robot", getattr(d.model, "name", "")),
+        "program": d.report.get("program", ""),
+        "joint_names": list(d.joint_names),
+        "joint_kinds": list(d.joint_kinds),
+        "units": {"revolute": "rad", "prismatic": "m", "time": "s"},
+        "points": points,
+    }
+
+
+def write_trajectory(run: Any, path: str | Path) -> Path:
+    """Write the run's joint trajectory as JSON (atomic, deterministic); returns the path."""
+    path = Path(path)
+    text = json.dumps(trajectory_document(run), indent=1, separators=(",", ": "))
+    atomic_write_text(path, text + "\n")
+    return path

@@ -1,0 +1,311 @@
+"""Golden-output tests of IRL programs: ``NAME.irl`` + ``NAME.expected.json`` (+ ``.txt``).
+
+A run's report is *reduced* to what matters and rounded (:func:`reduce_report`, the
+rules are in ``docs/golden.md``); the expectation is compared key by key with a
+tolerance of one rounding quantum, so last-digit float noise across machines passes
+and real changes fail with a readable list of what changed. ``--update`` rewrites the
+expectations (atomically), keeping the user's ``options`` and ``tolerances``.
+"""
+
+from __future__ import annotations
+
+import difflib
+import json
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from irlc.export import atomic_write_text
+
+GOLDEN_FORMAT = "irlc-golden 1"
+USER_KEYS = ("options", "tolerances")  # kept as written by the user on --update
+# Rounding quantum per key (the key's last path component, or its first for joints).
+QUANTA = {
+    "duration_s": 0.001,
+    "min": 0.01,
+    "max": 0.01,
+    "end": 0.01,
+    "max_following_error": 0.001,
+    "min_distance_mm": 0.1,
+}
+EXACT_KEYS = ("format", "status", "error_line", "samples", "ik_relaxed_cycles", "output")
+BOUND_SUFFIX = "_below"  # "x_below": passes when actual x ≤ expected bound
+BOUND_FLOOR = 1e-3  # mm | deg: path errors below this are solver noise, not behaviour
+
+Runner = Callable[[Path, dict], dict]  # (program, options) → report dict
+
+
+# --------------------------------------------------------------------------- reduction
+
+
+def _q(value: float | None, quantum: float) -> float | None:
+    """``value`` rounded to a multiple of ``quantum`` (a float with no noise digits)."""
+    if value is None or not math.isfinite(value):
+        return None
+    decimals = max(0, -math.floor(math.log10(quantum)))
+    return round(round(value / quantum) * quantum, decimals) + 0.0
+
+
+def nice_bound(value: float | None) -> float | None:
+    """The smallest ``{1, 2, 5}·10^k`` ≥ 2·value (≥ :data:`BOUND_FLOOR`): a bound with headroom."""
+    if value is None or not math.isfinite(value):
+        return None
+    target = max(2.0 * abs(value), BOUND_FLOOR)
+    exp = math.floor(math.log10(target))
+    for mantissa in (1.0, 2.0, 5.0, 10.0):
+        bound = float(f"{mantissa}e{exp}")
+        if bound >= target * (1 - 1e-12):
+            return bound
+    return float(f"1e{exp + 1}")  # pragma: no cover - the loop always returns
+
+
+def reduce_report(report: dict) -> dict:
+    """The reduced, rounded report (``docs/golden.md``)."""
+    if report.get("status") == "compile_error":
+        return {
+            "format": GOLDEN_FORMAT,
+            "status": "compile_error",
+            "diagnostics": list(report.get("diagnostics", [])),
+        }
+    error = report.get("error") or {}
+    out: dict[str, Any] = {
+        "format": GOLDEN_FORMAT,
+        "status": report.get("status"),
+        "error_line": error.get("line"),
+        "duration_s": _q(report.get("duration_s"), QUANTA["duration_s"]),
+        "samples": report.get("samples"),
+        "joints": {},
+    }
+    ends = report.get("end_joints") or []
+    for i, row in enumerate(report.get("joints") or []):
+        j = {"min": _q(row.get("min"), 0.01), "max": _q(row.get("max"), 0.01)}
+        if i < len(ends):
+            j["end"] = _q(ends[i], 0.01)
+        if row.get("max_following_error") is not None:
+            j["max_following_error"] = _q(row["max_following_error"], 0.001)
+        out["joints"][row.get("name", f"a{i + 1}")] = j
+    for key in ("max_path_error_mm", "max_orientation_error_deg"):
+        if report.get(key) is not None:
+            out[key + BOUND_SUFFIX] = nice_bound(report[key])
+    obstacles = report.get("obstacles") or {}
+    out["obstacles"] = {
+        name: {"min_distance_mm": _q((v or {}).get("min_distance_mm"), 0.1)}
+        for name, v in sorted(obstacles.items())
+    }
+    out["ik_relaxed_cycles"] = (report.get("ik") or {}).get("relaxed_cycles")
+    out["output"] = list(report.get("output") or [])
+    return out
+
+
+# --------------------------------------------------------------------------- comparison
+
+
+@dataclass(frozen=True)
+class Mismatch:
+    path: str  # dotted key, e.g. "joints.a3.max"
+    expected: Any
+    actual: Any
+    note: str = ""
+
+
+def _tolerance(path: str, tolerances: dict) -> float:
+    best, best_len = None, -1
+    for prefix, tol in tolerances.items():
+        if (path == prefix or path.startswith(prefix + ".")) and len(prefix) > best_len:
+            best, best_len = float(tol), len(prefix)
+    if best is not None:
+        return best
+    leaf = path.rsplit(".", 1)[-1]
+    return QUANTA.get(leaf, 0.0)
+
+
+def compare(expected: dict, actual: dict, tolerances: dict | None = None) -> list[Mismatch]:
+    """Differences between a reduced expectation and a reduced actual report."""
+    out: list[Mismatch] = []
+    tolerances = tolerances or {}
+    _compare(expected, actual, "", tolerances, out)
+    return out
+
+
+def _compare(exp: Any, act: Any, path: str, tolerances: dict, out: list) -> None:
+    if isinstance(exp, dict) and isinstance(act, dict):
+        for key in exp:
+            if key in USER_KEYS and not path:
+                continue
+            sub = f"{path}.{key}" if path else key
+            if key not in act:
+                out.append(Mismatch(sub, exp[key], "(missing)"))
+            else:
+                _compare(exp[key], act[key], sub, tolerances, out)
+        for key in act:
+            if key not in exp:
+                out.append(Mismatch(f"{path}.{key}" if path else key, "(missing)", act[key]))
+        return
+    if path.endswith(BOUND_SUFFIX) and _is_num(exp) and _is_num(act):
+        if act > exp * (1 + 1e-9):
+            out.append(Mismatch(path, exp, act, "actual bound exceeds the expected bound"))
+        return
+    if _is_num(exp) and _is_num(act) and not isinstance(exp, bool):
+        tol = _tolerance(path, tolerances)
+        if abs(act - exp) > tol * (1 + 1e-9) + 1e-12:
+            out.append(Mismatch(path, exp, act, f"tolerance {tol:g}" if tol else "exact"))
+        return
+    if exp != act:
+        out.append(Mismatch(path, exp, act))
+
+
+def _is_num(v: Any) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+# --------------------------------------------------------------------------- cases
+
+
+@dataclass
+class CaseResult:
+    program: Path
+    status: str  # "pass" | "fail" | "missing" | "updated" | "error"
+    mismatches: list[Mismatch] = field(default_factory=list)
+    output_diff: list[str] = field(default_factory=list)
+    message: str = ""
+
+    @property
+    def name(self) -> str:
+        return self.program.stem
+
+    @property
+    def ok(self) -> bool:
+        return self.status in ("pass", "updated")
+
+
+def expected_paths(program: Path) -> tuple[Path, Path]:
+    stem = program.with_suffix("")
+    return Path(f"{stem}.expected.json"), Path(f"{stem}.expected.txt")
+
+
+def find_programs(directory: Path) -> list[Path]:
+    return sorted(p for p in Path(directory).glob("*.irl") if p.is_file())
+
+
+def _output_text(report: dict) -> str:
+    lines = report.get("output") or []
+    return "".join(f"{line}\n" for line in lines)
+
+
+def _dump(doc: dict) -> str:
+    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+
+
+def run_case(program: Path, update: bool = False, runner: Runner | None = None) -> CaseResult:
+    """Run one program and check (or, with ``update``, rewrite) its expectations."""
+    runner = runner or default_runner
+    json_path, txt_path = expected_paths(program)
+    try:
+        expected = (
+            json.loads(json_path.read_text(encoding="utf-8")) if json_path.is_file() else None
+        )
+    except (OSError, json.JSONDecodeError) as e:
+        return CaseResult(program, "error", message=f"{json_path.name}: not valid JSON ({e})")
+    user = {k: expected[k] for k in USER_KEYS if expected and k in expected}
+    try:
+        report = runner(program, dict(user.get("options", {})))
+    except Exception as e:
+        return CaseResult(program, "error", message=f"{type(e).__name__}: {e}")
+    actual = reduce_report(report)
+    text = _output_text(report)
+    if update:
+        atomic_write_text(json_path, _dump({**actual, **user}))
+        if text or txt_path.is_file():
+            atomic_write_text(txt_path, text)
+        return CaseResult(program, "updated")
+    if expected is None:
+        return CaseResult(program, "missing", message=f"no {json_path.name}; run with --update")
+    mismatches = compare(expected, actual, user.get("tolerances"))
+    diff: list[str] = []
+    if txt_path.is_file():
+        want = txt_path.read_text(encoding="utf-8")
+        if want != text:
+            diff = list(
+                difflib.unified_diff(
+                    want.splitlines(),
+                    text.splitlines(),
+                    txt_path.name,
+                    "actual output",
+                    lineterm="",
+                )
+            )
+    status = "pass" if not mismatches and not diff else "fail"
+    return CaseResult(program, status, mismatches, diff)
+
+
+def run_golden(directory: Path, update: bool = False, runner: Runner | None = None):
+    """All cases of ``directory`` (``*.irl``, sorted by name)."""
+    return [run_case(p, update, runner) for p in find_programs(directory)]
+
+
+# --------------------------------------------------------------------------- running
+
+
+def default_runner(program: Path, options: dict) -> dict:
+    """Run ``program`` with the runtime; compile errors become a ``compile_error`` report."""
+    from irlc.lang.diagnostics import CompileError
+    from irlc.runtime.run import run_file
+
+    try:
+        result = run_file(program, **options)
+    except CompileError as e:
+        return _compile_error_report(program, e.diagnostics)
+    diags = getattr(result, "diagnostics", None)
+    report = getattr(result, "report", None)
+    if report is None and diags:
+        return _compile_error_report(program, diags)
+    report = dict(report or {})
+    if "output" not in report and getattr(result, "output", None) is not None:
+        report["output"] = list(result.output)
+    return report
+
+
+def _compile_error_report(program: Path, diagnostics) -> dict:
+    heads = []
+    for d in diagnostics:
+        if getattr(d, "is_error", True):
+            head = d.header() if hasattr(d, "header") else str(d)
+            heads.append(head.replace(str(program), program.name))
+    return {"status": "compile_error", "diagnostics": heads}
+
+
+# --------------------------------------------------------------------------- rendering
+
+
+def _show(v: Any) -> str:
+    text = json.dumps(v, ensure_ascii=False) if not isinstance(v, str) else v
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def render_results(results: list[CaseResult], console) -> None:
+    """Print one line per case and, for failures, a table of what changed (rich)."""
+    from rich.table import Table
+    from rich.text import Text
+
+    style = {"pass": "green", "updated": "cyan", "fail": "red", "missing": "yellow",
+             "error": "red"}  # fmt: skip
+    for r in results:
+        console.print(Text.assemble((f"{r.status.upper():8}", style[r.status]), r.program.name))
+        if r.message:
+            console.print(f"  {r.message}")
+        if r.mismatches:
+            table = Table(show_header=True, header_style="bold", box=None, padding=(0, 2))
+            for col in ("key", "expected", "actual", "note"):
+                table.add_column(col)
+            for m in r.mismatches:
+                table.add_row(m.path, _show(m.expected), _show(m.actual), m.note)
+            console.print(table)
+        for line in r.output_diff:
+            colour = "green" if line.startswith("+") else "red" if line.startswith("-") else ""
+            console.print(Text("  " + line, style=colour))
+    passed = sum(r.ok for r in results)
+    failed = len(results) - passed
+    summary = f"{passed} passed, {failed} failed" if failed else f"{passed} passed"
+    console.print(Text(summary, style="bold red" if failed else "bold green"))

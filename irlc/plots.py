@@ -1,0 +1,247 @@
+"""PNG figures of a run, after the monograph's figures 6.4–6.29.
+
+Per joint over time (one subplot per joint, at most six joints per figure, like the
+book's figures for joints 1–6 and 7–11): positions, speeds and accelerations in
+program units (deg | mm), with the robot's own limits and any program limits the run
+reports drawn as dashed lines. Then the TCP path in 3D and the path length ``s(t)``
+and path speed ``v(t) = ‖ṗ(t)‖`` (figures 6.4, 6.24); with simulated drives, the
+following errors ``q − q_cmd`` and the motor currents.
+
+``compare`` overlays a second run as crosses (the book's "— without / +++ with the
+option" plots). Figures are written with matplotlib's Agg backend (extra ``plot``);
+names are fixed (:data:`FIGURE_STEMS`) so scripts can rely on them.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from irlc.errors import UsageError
+from irlc.export import RunData, atomic_write_bytes, run_data
+from irlc.runtime import units
+
+JOINTS_PER_FIGURE = 6
+MARKERS_PER_CURVE = 60  # crosses of the compared run per subplot
+DPI = 80
+QUANTITIES = (  # (file stem, title, derivative order)
+    ("joint_positions", "joint positions", 0),
+    ("joint_speeds", "joint speeds", 1),
+    ("joint_accels", "joint accelerations", 2),
+)
+FIGURE_STEMS = (
+    "joint_positions_<a>-<b>",
+    "joint_speeds_<a>-<b>",
+    "joint_accels_<a>-<b>",
+    "tcp_path_3d",
+    "tcp_path_speed",
+    "drive_following_errors_<a>-<b>",
+    "drive_currents_<a>-<b>",
+)
+
+
+def _pyplot():
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError as e:
+        raise UsageError(
+            "plots need matplotlib: pip install 'irlc[plot]' (or pip install matplotlib)"
+        ) from e
+    return plt
+
+
+def write_plots(run: Any, out_dir: str | Path, compare: Any = None) -> list[Path]:
+    """Write the figures of ``run`` (optionally overlaid with ``compare``) into ``out_dir``."""
+    plt = _pyplot()
+    d = run_data(run)
+    c = None if compare is None else run_data(compare)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    paths: list[Path] = []
+    for stem, title, order in QUANTITIES:
+        paths += _joint_figures(plt, out, stem, d, c, order, title)
+    if d.tcp is not None:
+        paths.append(_save(plt, _tcp_path_3d(plt, d, c), out / "tcp_path_3d.png"))
+        paths.append(_save(plt, _tcp_path_speed(plt, d, c), out / "tcp_path_speed.png"))
+    if d.q_cmd is not None:
+        paths += _joint_figures(
+            plt, out, "drive_following_errors", d, c, "error", "following error q − q_cmd"
+        )
+    if d.current is not None:
+        paths += _joint_figures(plt, out, "drive_currents", d, c, "current", "motor current")
+    return paths
+
+
+def _save(plt, fig, path: Path) -> Path:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=DPI, metadata={"Software": None})
+    plt.close(fig)
+    atomic_write_bytes(path, buf.getvalue())
+    return path
+
+
+# --------------------------------------------------------------------------- per joint
+
+
+def _series(d: RunData, what) -> np.ndarray | None:
+    """(k, n) values in program units for ``what`` = 0 | 1 | 2 | "error" | "current"."""
+    if what == "current":
+        return d.current
+    if what == "error":
+        return None if d.q_cmd is None else d.program_units(d.q - d.q_cmd)
+    return d.program_units((d.q, d.qd, d.qdd)[what])
+
+
+def _axis_label(d: RunData, j: int, what) -> str:
+    unit = "A" if what == "current" else d.unit(j, 0 if what == "error" else what)
+    return f"{d.joint_names[j]} [{unit}]"
+
+
+def _joint_figures(plt, out: Path, stem, d: RunData, c, what, title) -> list[Path]:
+    values = _series(d, what)
+    other = None if c is None else _series(c, what)
+    paths = []
+    for first in range(0, d.n, JOINTS_PER_FIGURE):
+        joints = range(first, min(first + JOINTS_PER_FIGURE, d.n))
+        fig = _joint_page(plt, d, c, values, other, joints, what, title)
+        name = f"{stem}_{joints[0] + 1}-{joints[-1] + 1}.png"
+        paths.append(_save(plt, fig, out / name))
+    return paths
+
+
+def _joint_page(plt, d, c, values, other, joints, what, title):
+    rows = math.ceil(len(joints) / 2)
+    fig, axes = plt.subplots(rows, 2, figsize=(10, 2.1 * rows + 0.6), squeeze=False)
+    for ax in axes.flat[len(joints) :]:
+        ax.set_visible(False)
+    for ax, j in zip(axes.flat, joints, strict=False):
+        ax.plot(d.times, values[:, j], "-", color="C0", lw=1.2, label=d.label or "run")
+        shown = values[:, j]
+        jc = None if other is None else _matching_joint(d, c, j)
+        if jc is not None:
+            shown = np.concatenate([shown, other[:, jc]])
+            every = max(1, c.k // MARKERS_PER_CURVE)
+            ax.plot(c.times[::every], other[::every, jc], "+", color="C3", ms=5,
+                    label=c.label or "compare")  # fmt: skip
+        _draw_limits(ax, d, j, what, shown)
+        ax.set_ylabel(_axis_label(d, j, what))
+        ax.grid(True, lw=0.3)
+    for ax in axes[-1]:
+        ax.set_xlabel("t [s]")
+    name = d.report.get("program") or d.label or "run"
+    fig.suptitle(f"{name}: {title}", fontsize=11)
+    if c is not None:
+        axes.flat[0].legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    return fig
+
+
+def _matching_joint(d: RunData, c: RunData, j: int) -> int | None:
+    if d.joint_names[j] in c.joint_names:
+        return c.joint_names.index(d.joint_names[j])
+    return j if j < c.n else None
+
+
+def limit_values(d: RunData, j: int, order: int) -> list[tuple[float, str]]:
+    """Limits of joint ``j`` in program units: ``[(value, "robot" | "program"), ...]``.
+
+    The robot's own limits come from the model; program limits (JOINTLIMIT …) from
+    the report's ``joints[j].program_limits`` = ``{"position"|"speed"|"accel": [lo, hi]}``
+    when the run reports them.
+    """
+    out: list[tuple[float, str]] = []
+    kind = ("position", "speed", "accel")[order]
+    if d.model is not None and j < d.model.n:
+        pair = getattr(d.model.joints[j].limits, kind)
+        scale = units.joint_scale([d.joint_kinds[j]])[0]
+        out += [(float(v) / scale, "robot") for v in pair if math.isfinite(v)]
+    rows = d.report.get("joints") or []
+    prog = (rows[j].get("program_limits") or {}) if j < len(rows) else {}
+    for v in prog.get(kind) or ():
+        if v is not None and math.isfinite(v):
+            out.append((float(v), "program"))
+    return out
+
+
+def _draw_limits(ax, d: RunData, j: int, what, data: np.ndarray) -> None:
+    """Dashed limit lines; the view shows the data plus the limits that come near it."""
+    lo, hi = float(np.min(data)), float(np.max(data))
+    span = max(hi - lo, 1e-9, 0.05 * max(abs(lo), abs(hi)))
+    view = [lo - 0.08 * span, hi + 0.08 * span]
+    if what in (0, 1, 2):
+        for value, source in limit_values(d, j, what):
+            style = {"robot": ("k", "--"), "program": ("C2", "-.")}[source]
+            ax.axhline(value, color=style[0], ls=style[1], lw=0.9)
+            if lo - span <= value <= hi + span:  # near enough to matter: keep in view
+                view = [min(view[0], value - 0.05 * span), max(view[1], value + 0.05 * span)]
+    ax.set_ylim(*view)
+
+
+# --------------------------------------------------------------------------- TCP
+
+
+def _tcp_path_3d(plt, d: RunData, c):
+    fig = plt.figure(figsize=(6.5, 5.5))
+    ax = fig.add_subplot(projection="3d")
+    p = d.tcp / units.MM
+    ax.plot(p[:, 0], p[:, 1], p[:, 2], "-", color="C0", lw=1.5, label=d.label or "run")
+    ax.scatter(*p[0], color="g", s=25, label="start")
+    ax.scatter(*p[-1], color="r", s=25, label="end")
+    if c is not None and c.tcp is not None:
+        pc = c.tcp / units.MM
+        every = max(1, c.k // (2 * MARKERS_PER_CURVE))
+        ax.plot(pc[::every, 0], pc[::every, 1], pc[::every, 2], "+", color="C3",
+                label=c.label or "compare")  # fmt: skip
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("y [mm]")
+    ax.set_zlabel("z [mm]")
+    _equal_3d(ax, p)
+    ax.legend(fontsize=7, loc="upper left")
+    ax.set_title(f"{d.report.get('program') or d.label or 'run'}: TCP path", fontsize=11)
+    fig.tight_layout()
+    return fig
+
+
+def _equal_3d(ax, p: np.ndarray) -> None:
+    centre = (p.min(axis=0) + p.max(axis=0)) / 2
+    half = max(float(np.max(p.max(axis=0) - p.min(axis=0))) / 2, 1.0)
+    for setter, m in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre, strict=True):
+        setter(m - half, m + half)
+
+
+def path_length_and_speed(d: RunData) -> tuple[np.ndarray, np.ndarray]:
+    """Path length ``s(t)`` [mm] (cumulative chord length) and speed ``ds/dt`` [mm/s]."""
+    p = d.tcp / units.MM
+    steps = np.linalg.norm(np.diff(p, axis=0), axis=1)
+    s = np.concatenate([[0.0], np.cumsum(steps)])
+    v = np.gradient(s, d.times) if d.k > 1 else np.zeros(1)
+    return s, v
+
+
+def _tcp_path_speed(plt, d: RunData, c):
+    fig, (ax_s, ax_v) = plt.subplots(2, 1, figsize=(8, 5), sharex=True)
+    for run, fmt, colour in ((d, "-", "C0"), (c, "+", "C3")):
+        if run is None or run.tcp is None:
+            continue
+        s, v = path_length_and_speed(run)
+        every = 1 if run is d else max(1, run.k // MARKERS_PER_CURVE)
+        label = run.label or ("run" if run is d else "compare")
+        ax_s.plot(run.times[::every], s[::every], fmt, color=colour, label=label)
+        ax_v.plot(run.times[::every], v[::every], fmt, color=colour, label=label)
+    ax_s.set_ylabel("path s [mm]")
+    ax_v.set_ylabel("speed v [mm/s]")
+    ax_v.set_xlabel("t [s]")
+    for ax in (ax_s, ax_v):
+        ax.grid(True, lw=0.3)
+    if c is not None:
+        ax_s.legend(fontsize=7)
+    ax_s.set_title(f"{d.report.get('program') or d.label or 'run'}: TCP path and speed")
+    fig.tight_layout()
+    return fig

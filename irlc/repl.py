@@ -1,0 +1,633 @@
+"""``irlc repl``: an interactive IRL session on one simulated robot.
+
+Every entry is compiled as a whole program — the accumulated data-list imports and
+declarations, then the new statements as the main body (``compile_source(…, repl=True)``)
+— and executed with the interpreter's incremental mode on one persistent
+:class:`~irlc.runtime.executor.SimulatedController` and
+:class:`~irlc.runtime.interpreter.MachineState`: variables, system variables, modal
+options (JOINTLIMIT … FREEZE), simulated time and the recorded trace carry over.
+
+Entries:
+
+* declarations — ``VAR …``, ``CONST …``, ``TYPE …``, ``PROCEDURE … ENDPROC``,
+  ``FUNCTION … ENDFCT``, the short form ``POSE: p1, p2;`` (= ``VAR POSE: p1, p2;``) and
+  ``POSE: p := expr;`` (declare, then assign); ``IMPORT DATALIST name;``;
+* statements — anything else; after motion the session prints where the robot went;
+* meta-commands — ``:where :robot :limits :options :trace FILE :plot DIR :program :reset
+  :help :quit``.
+
+A block (IF … ENDIF, WHILE … ENDWHILE, FOR, REPEAT … UNTIL, CASE, PROCEDURE … ENDPROC,
+FUNCTION … ENDFCT, RECORD … ENDRECORD) is read until it closes; a final ``;`` may be left
+out. Diagnostics point into the entry (``<input>:LINE:COL``). On a terminal the line
+editor is prompt_toolkit (history, completion, highlighting); otherwise plain lines.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import re
+import sys
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from irlc.runtime import units
+
+INPUT_NAME = "<input>"
+DEFAULT_ROBOT = "koch11"
+TYPE_WORDS = (
+    *("INTEGER", "REAL", "BOOLEAN", "CHAR", "STRING", "POSITION", "ORIENTATION", "POSE"),
+    *("SIGNAL", "MAIN_JOINT", "MAIN_JOINT_MIN", "MAIN_JOINT_MAX", "MAIN_JOINT_SPEED_MIN"),
+    *("MAIN_JOINT_SPEED_MAX", "MAIN_JOINT_ACCEL_MIN", "MAIN_JOINT_ACCEL_MAX"),
+)
+DECL_STARTS = ("VAR", "CONST", "TYPE", "PROCEDURE", "FUNCTION")
+BLOCKS = {  # opener → closer
+    "IF": "ENDIF",
+    "WHILE": "ENDWHILE",
+    "FOR": "ENDFOR",
+    "REPEAT": "UNTIL",
+    "CASE": "ENDCASE",
+    "PROCEDURE": "ENDPROC",
+    "FUNCTION": "ENDFCT",
+    "RECORD": "ENDRECORD",
+}
+META_HELP = """\
+:where          pose (mm, deg) and joints of the robot, simulated time
+:robot          the robot: joints, kinds, units
+:limits         joint limits: the robot's and the active program limits
+:options        active modal options (JOINTLIMIT …, CYCLIC, OBSTACLE, FREEZE)
+:trace FILE     write the session's trace (CSV, program units)
+:plot DIR       write the session's figures (PNG) into DIR
+:program        print the session as one IRL program
+:reset          forget declarations and variables; robot back home
+:help           this text
+:quit           end the session (also Ctrl-D)
+Declarations: VAR POSE: p;  POSE: p := (x, y, z, a, b, c);  CONST …;  PROCEDURE … ENDPROC
+Statements run at once; blocks (IF … ENDIF, WHILE … ENDWHILE, …) are read until they close."""
+
+_TOKEN = re.compile(
+    r"\{.*?\}|\(\*.*?\*\)|//[^\n]*|'(?:[^']|'')*'|\"[^\"]*\"|[A-Za-z_][A-Za-z0-9_]*|\S", re.S
+)
+
+
+# --------------------------------------------------------------------------- input shape
+
+
+def words(text: str) -> list[str]:
+    """Upper-cased words of ``text`` outside comments and strings."""
+    out = []
+    for m in _TOKEN.finditer(text):
+        tok = m.group()
+        if tok[0].isalpha() or tok[0] == "_":
+            out.append(tok.upper())
+    return out
+
+
+def block_depth(text: str) -> int:
+    """Open blocks in ``text`` (openers minus closers; ``END…`` words of options excluded)."""
+    depth = 0
+    closers = set(BLOCKS.values())
+    for w in words(text):
+        if w in BLOCKS:
+            depth += 1
+        elif w in closers:
+            depth -= 1
+    return depth
+
+
+_CLOSED = re.compile(r"\{.*?\}|\(\*.*?\*\)|//[^\n]*|'(?:[^']|'')*'|\"[^\"]*\"", re.S)
+
+
+def _unterminated_comment(text: str) -> bool:
+    rest = _CLOSED.sub(" ", text)
+    return "{" in rest or "(*" in rest
+
+
+def is_complete(text: str) -> bool:
+    """An entry is complete when no block or comment is left open."""
+    return block_depth(text) <= 0 and not _unterminated_comment(text)
+
+
+def _terminated(text: str) -> str:
+    body = text.rstrip()
+    return body if body.endswith(";") else body + ";"
+
+
+def classify(text: str) -> str:
+    """``meta`` | ``empty`` | ``import`` | ``robot`` | ``decl`` | ``typed`` | ``stmt``."""
+    stripped = text.strip()
+    if not stripped:
+        return "empty"
+    if stripped.startswith(":") and not stripped.startswith(":="):
+        return "meta"
+    ws = words(stripped)
+    if not ws:
+        return "empty"
+    if ws[:2] == ["IMPORT", "DATALIST"]:
+        return "import"
+    if ws[0] == "ROBOT":
+        return "robot"
+    if ws[0] in DECL_STARTS:
+        return "decl"
+    if _typed_short_form(stripped):
+        return "typed"
+    return "stmt"
+
+
+_TYPE_ALTERNATIVES = "|".join(sorted(TYPE_WORDS, key=len, reverse=True))
+_TYPED = re.compile(
+    rf"^\s*(?P<type>(?:{_TYPE_ALTERNATIVES})\b|ARRAY\s*\[.*?\]\s*OF\s+\w+)\s*:\s*"
+    r"(?P<names>[^:;]*?)\s*(?::=\s*(?P<init>.*?))?\s*;?\s*$",
+    re.I | re.S,
+)
+
+
+def _typed_short_form(text: str) -> re.Match | None:
+    return _TYPED.match(text)
+
+
+# --------------------------------------------------------------------------- session
+
+
+@dataclass
+class Entry:
+    """The outcome of one entry: what to print and whether it failed (1 compile, 2 run)."""
+
+    lines: list[str] = field(default_factory=list)
+    failure: int = 0
+
+
+class Session:
+    """One robot, one controller, one machine state; see the module docstring."""
+
+    def __init__(self, robot: str | None = None, datalist_path=(), cwd: Path | None = None):
+        from irlc.robots import load_robot
+
+        self.robot_name = robot or DEFAULT_ROBOT
+        self.model = load_robot(self.robot_name)
+        self.cwd = Path(cwd or Path.cwd())
+        self.datalist_path = tuple(str(p) for p in datalist_path)
+        self.imports: list[str] = []
+        self.decls: list[str] = []
+        self.names: set[str] = set()
+        self.history: list[str] = []  # statements run, for :program
+        self.last_code = None
+        self.q_start = self.model.home_q()
+        self._new_machine(self.q_start, {})
+
+    # ------------------------------------------------------------------ machine
+
+    def _new_machine(self, q0: np.ndarray, obstacles: dict, keep_state: bool = False) -> None:
+        from irlc.runtime.executor import SimulatedController
+        from irlc.runtime.interpreter import MachineState
+
+        self.obstacles = obstacles
+        self.controller = SimulatedController(self.model, q0, obstacles=obstacles)
+        if not keep_state:
+            self.state = MachineState()
+
+    def reset(self) -> Entry:
+        self.imports, self.decls, self.names, self.history = [], [], set(), []
+        self.last_code = None
+        self._new_machine(self.model.home_q(), {})
+        return Entry([f"reset: {self.model.name} at home, no declarations"])
+
+    # ------------------------------------------------------------------ program text
+
+    def _robot_clause(self) -> str:
+        name = self.robot_name
+        shown = name if re.fullmatch(r"[A-Za-z_]\w*", name) else "'" + name.replace("'", "''") + "'"
+        return f"ROBOT r := {shown};"
+
+    def program_text(self, decls: list[str], imports: list[str], body: str) -> tuple[str, int]:
+        """The whole program and the 1-based line where ``body`` starts."""
+        head = ["PROGRAM repl;", self._robot_clause(), *imports, *decls, "BEGIN"]
+        text = "\n".join(head)
+        first = text.count("\n") + 2
+        return f"{text}\n{body}\nENDPROGRAM\n", first
+
+    # ------------------------------------------------------------------ compiling
+
+    def compile(self, decls, imports, body: str, chunk: str, chunk_line: int):
+        """Compile; return ``(code, messages)`` (code None on errors)."""
+        from irlc.lang.compiler import compile_source
+        from irlc.robots import load_robot
+
+        text, _ = self.program_text(decls, imports, body)
+
+        def resolve(name: str):
+            return self.model if str(name) == self.robot_name else load_robot(name)
+
+        result = compile_source(
+            text,
+            str(self.cwd / "repl.irl"),
+            resolve_robot=resolve,
+            datalist_path=(str(self.cwd), *self.datalist_path),
+            repl=True,
+        )
+        diags = list(result.diagnostics)
+        errors = [d for d in diags if d.is_error]
+        messages = [self._render(d, chunk, chunk_line) for d in diags]
+        if errors or result.code is None:
+            return None, messages or ["error: the entry does not compile"]
+        return result.code, messages
+
+    def _render(self, diag, chunk: str, chunk_line: int) -> str:
+        from irlc.lang.diagnostics import Span, render
+
+        span = diag.span
+        n_lines = chunk.count("\n") + 1
+        if span is not None and chunk_line <= span.line < chunk_line + n_lines:
+            shift = chunk_line - 1
+            end = span.end_line - shift if span.end_line else 0
+            local = Span(span.line - shift, span.column, max(end, 0), span.end_column)
+            return render(dataclasses.replace(diag, file=INPUT_NAME, span=local), chunk)
+        text = render(dataclasses.replace(diag, span=None), "")
+        return text.replace(str(self.cwd / "repl.irl"), "<session>")
+
+    # ------------------------------------------------------------------ entries
+
+    def enter(self, text: str) -> Entry:
+        kind = classify(text)
+        if kind == "empty":
+            return Entry()
+        if kind == "meta":
+            return self.meta(text.strip())
+        if kind == "robot":
+            return Entry(["the robot is chosen with --robot or :robot NAME"], 1)
+        if kind == "import":
+            return self._declare(imports=[_terminated(text.strip())], decls=[])
+        if kind == "decl":
+            return self._declare(imports=[], decls=[_terminated(text.strip())])
+        if kind == "typed":
+            return self._typed(text)
+        return self._statement(_terminated(text.strip()))
+
+    def _typed(self, text: str) -> Entry:
+        m = _typed_short_form(text)
+        decl = f"VAR {m.group('type')}: {m.group('names')};"
+        if not m.group("init"):
+            return self._declare(imports=[], decls=[decl], shown=text.strip())
+        names = [n.strip() for n in m.group("names").split(",")]
+        if len(names) != 1:
+            return Entry(["error: ':=' declares one name at a time"], 1)
+        entry = self._declare(imports=[], decls=[decl], shown=text.strip())
+        if entry.failure:
+            return entry
+        more = self._statement(f"{names[0]} := {m.group('init').strip().rstrip(';')};")
+        if more.failure:  # keep the declaration; report the assignment's problem
+            return Entry(entry.lines + more.lines, more.failure)
+        return Entry(entry.lines + more.lines)
+
+    def _declare(self, imports: list[str], decls: list[str], shown: str | None = None) -> Entry:
+        chunk = (imports or decls)[0]
+        new_imports, new_decls = self.imports + imports, self.decls + decls
+        text, _ = self.program_text(new_decls, new_imports, "")
+        chunk_line = text.splitlines().index(chunk.splitlines()[0]) + 1
+        code, messages = self.compile(new_decls, new_imports, "", shown or chunk, chunk_line)
+        if code is None:
+            return Entry(messages, 1)
+        self.imports, self.decls, self.last_code = new_imports, new_decls, code
+        self._learn_names(code, chunk)
+        notes = self._obstacle_change(code)
+        return Entry(messages + notes)
+
+    def _learn_names(self, code, chunk: str) -> None:
+        self.names.update(g.name for g in code.globals)
+        self.names.update(r.name for r in code.routines if r.kind != "MAIN")
+        self.names.update(o.name for o in code.obstacles)
+        for m in re.finditer(r"\b([A-Za-z_]\w*)\s*=", chunk):
+            self.names.add(m.group(1))
+
+    def _obstacle_change(self, code) -> list[str]:
+        from irlc.runtime.run import obstacle_shapes
+
+        shapes = obstacle_shapes(code)
+        if set(shapes) == set(self.obstacles):
+            return []
+        self._new_machine(self.controller.q.copy(), shapes, keep_state=True)
+        return [f"obstacles now known: {', '.join(sorted(shapes))} (the trace restarts here)"]
+
+    def _statement(self, body: str) -> Entry:
+        from irlc.runtime.interpreter import Interpreter
+
+        _, first = self.program_text(self.decls, self.imports, body)
+        code, messages = self.compile(self.decls, self.imports, body, body, first)
+        if code is None:
+            return Entry(messages, 1)
+        out: list[str] = []
+        t0, q0 = self.controller.time, self.controller.q.copy()
+        result = Interpreter(code, self.controller, state=self.state, output=out.append).run(
+            check=False
+        )
+        self.state, self.last_code = result.state, code
+        lines = messages + list(out)
+        if result.error is not None:
+            lines.append(self._run_error(result.error, first, body))
+            return Entry(lines, 2)
+        self.history.append(body)
+        if self.controller.time > t0 or not np.array_equal(self.controller.q, q0):
+            lines += self.where(short=True)
+        return Entry(lines)
+
+    def _run_error(self, error, first: int, body: str) -> str:
+        line = getattr(error, "line", None)
+        where = INPUT_NAME
+        if line is not None and first <= line < first + body.count("\n") + 1:
+            where += f":{line - first + 1}"
+        t = getattr(error, "time_s", None)
+        at = f" (t = {t:.3f} s)" if t is not None else ""
+        return f"{where}: run-time error{at}: {getattr(error, 'message', str(error))}"
+
+    # ------------------------------------------------------------------ meta-commands
+
+    def meta(self, text: str) -> Entry:
+        name, _, arg = text[1:].partition(" ")
+        arg = arg.strip()
+        handlers: dict[str, Callable[[str], Entry]] = {
+            "where": lambda a: Entry(self.where()),
+            "robot": self._meta_robot,
+            "limits": lambda a: Entry(self.limits()),
+            "options": lambda a: Entry(self.options()),
+            "trace": self._meta_trace,
+            "plot": self._meta_plot,
+            "program": lambda a: Entry(self.program_text(self.decls, self.imports,
+                                                        "\n".join(self.history))[0].splitlines()),
+            "reset": lambda a: self.reset(),
+            "help": lambda a: Entry(META_HELP.splitlines()),
+        }  # fmt: skip
+        handler = handlers.get(name.lower())
+        if handler is None:
+            known = " ".join(":" + k for k in [*handlers, "quit"])
+            return Entry([f"unknown command :{name}; known: {known}"], 1)
+        try:
+            return handler(arg)
+        except Exception as e:  # a meta-command must not end the session
+            return Entry([f"error: {e}"], 3)
+
+    def _program_units(self, q_si: np.ndarray) -> list[float]:
+        return [float(v) for v in units.joints_from_si(q_si, self.model.joint_kinds)]
+
+    def joint_names(self) -> tuple[str, ...]:
+        code = self.last_code
+        if code is not None and len(code.joint_names) == self.model.n:
+            return tuple(code.joint_names)
+        return tuple(f"a{i + 1}" for i in range(self.model.n))
+
+    def where(self, short: bool = False) -> list[str]:
+        pose = self.controller.pose(self.state.settings)
+        x, y, z, a, b, c = units.pose_from_si(units.pose_value_to_si(pose))
+        q = self._program_units(self.controller.q)
+        joints = "  ".join(f"{n}={_fmt(v)}" for n, v in zip(self.joint_names(), q, strict=True))
+        pose_text = ", ".join(_fmt(v) for v in (x, y, z, a, b, c))
+        prefix = "→ " if short else ""
+        return [
+            f"{prefix}t = {self.controller.time:.3f} s  pose ({pose_text})  [mm, deg ZYX]",
+            f"  joints {joints}",
+        ]
+
+    def _meta_robot(self, arg: str) -> Entry:
+        if arg:
+            old = self.robot_name
+            try:
+                self.__init__(arg, self.datalist_path, self.cwd)
+            except Exception as e:
+                self.__init__(old, self.datalist_path, self.cwd)
+                return Entry([f"error: {e}"], 3)
+            return Entry([f"robot {self.model.name}: a new session (declarations cleared)"])
+        m = self.model
+        out = [f"robot {m.name}: {m.n} joints  {m.description}".rstrip()]
+        for name, j in zip(self.joint_names(), m.joints, strict=True):
+            out.append(f"  {name:6} {j.kind:9} [{units.joint_unit(j.kind)}]  ({j.name})")
+        return Entry(out)
+
+    def limits(self) -> list[str]:
+        m, opts = self.model, self.state.options
+        out = ["joint   position min..max    speed max    accel max   program position"]
+        scale = units.joint_scale(m.joint_kinds)
+        prog = opts.joint_limits
+        for j, (name, joint) in enumerate(zip(self.joint_names(), m.joints, strict=True)):
+            lo, hi = (v / scale[j] for v in joint.limits.position)
+            sp = joint.limits.speed[1] / scale[j]
+            ac = joint.limits.accel[1] / scale[j]
+            p = f"{_fmt(prog[0].values[j])}..{_fmt(prog[1].values[j])}" if prog else "-"
+            unit = units.joint_unit(joint.kind)
+            out.append(f"{name:6} {_fmt(lo):>9}..{_fmt(hi):<9} {_fmt(sp):>8} {_fmt(ac):>12}"
+                       f"   {p}  [{unit}]")  # fmt: skip
+        return out
+
+    def options(self) -> list[str]:
+        o = self.state.options
+        out = []
+        for label, pair in (("JOINTLIMIT", o.joint_limits), ("JOINTSPEEDLIMIT", o.speed_limits),
+                            ("JOINTACCELLIMIT", o.accel_limits)):  # fmt: skip
+            if pair:
+                lo = ", ".join(_fmt(v) for v in pair[0].values)
+                hi = ", ".join(_fmt(v) for v in pair[1].values)
+                out.append(f"{label} min ({lo}) max ({hi})")
+        if o.cyclic_reference is not None:
+            out.append("CYCLIC reference (" + ", ".join(_fmt(v) for v in o.cyclic_reference) + ")")
+        for name in o.obstacles:
+            out.append(f"OBSTACLE {name}")
+        if o.frozen:
+            frozen = ", ".join(f"{j + 1}={_fmt(v)}" for j, v in sorted(o.frozen.items()))
+            out.append(f"FREEZE {frozen}")
+        s = self.state.settings
+        out.append(f"R_SPEED {_fmt(s.speed)}  R_ACC {_fmt(s.acc)}  R_SPEED_ORI {_fmt(s.speed_ori)}"
+                   f"  R_SPEED_PTP {_fmt(s.speed_ptp)}  R_IPO {_fmt(s.ipo)}")  # fmt: skip
+        return out if len(out) > 1 else ["no modal options active", *out]
+
+    # ------------------------------------------------------------------ files
+
+    def run_result(self):
+        """The session so far as a RunResult (for traces and plots)."""
+        from irlc.runtime.executor import ExecutionOptions
+        from irlc.runtime.interpreter import ExecutionResult
+        from irlc.runtime.results import assemble
+
+        if self.last_code is None:
+            _, self.last_code = None, self.compile([], [], "", "", 1)[0]
+        s = self.state
+        execution = ExecutionResult("ok", list(s.output), list(s.events), list(s.warnings),
+                                    None, s, 0)  # fmt: skip
+        return assemble(self.last_code, self.model, self.controller, self.obstacles, execution,
+                        ExecutionOptions(), "ideal", False)  # fmt: skip
+
+    def _meta_trace(self, arg: str) -> Entry:
+        from irlc.report import write_trace
+
+        if not arg:
+            return Entry(["usage: :trace FILE.csv"], 3)
+        run = self.run_result()
+        path = write_trace(run.trace_columns, run.trace, Path(arg).expanduser())
+        return Entry([f"trace: {len(run.trace)} samples → {path}"])
+
+    def _meta_plot(self, arg: str) -> Entry:
+        from irlc.plots import write_plots
+
+        if not arg:
+            return Entry(["usage: :plot DIR"], 3)
+        paths = write_plots(self.run_result(), Path(arg).expanduser())
+        return Entry([f"{len(paths)} figures → {Path(arg)}"])
+
+    # ------------------------------------------------------------------ completion
+
+    def completions(self) -> list[str]:
+        from irlc.lang.parser import keywords
+
+        metas = [":" + k for k in ("where", "robot", "limits", "options", "trace", "plot",
+                                   "program", "reset", "help", "quit")]  # fmt: skip
+        return sorted(set(keywords()) | self.names) + metas
+
+
+def _fmt(v: float) -> str:
+    text = f"{v:.3f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+# --------------------------------------------------------------------------- front ends
+
+
+def read_entries(lines: Iterator[str]) -> Iterator[str]:
+    """Group raw lines into entries (blocks and comments are read until they close)."""
+    buf: list[str] = []
+    for line in lines:
+        buf.append(line.rstrip("\n"))
+        text = "\n".join(buf)
+        if text.strip().startswith(":") or is_complete(text):
+            yield text
+            buf = []
+    if buf and "\n".join(buf).strip():
+        yield "\n".join(buf)
+
+
+def run_plain(session: Session, stream, echo: Callable[[str], None]) -> int:
+    """Scripted session: read entries from ``stream``; status of the first failure."""
+    status = 0
+    for entry in read_entries(iter(stream.readline, "")):
+        if entry.strip().lower() in (":quit", ":q", ":exit"):
+            break
+        result = session.enter(entry)
+        for line in result.lines:
+            echo(line)
+        if result.failure and not status:
+            status = result.failure
+    return status
+
+
+def history_file() -> Path:
+    state = os.environ.get("XDG_STATE_HOME")
+    if state:
+        return Path(state) / "irlc" / "history"
+    return Path.home() / ".irlc_history"
+
+
+_STYLE_OF = {"keyword": "ansiblue bold", "comment": "ansigreen", "string": "ansimagenta",
+             "number": "ansicyan", "meta": "ansiyellow"}  # fmt: skip
+
+
+def token_styles(line: str, keywords: frozenset[str]) -> list[tuple[str, str]]:
+    """``(style, text)`` fragments of one input line (for the terminal's highlighting)."""
+    out, pos = [], 0
+    for m in re.finditer(r"\{[^}]*\}?|\(\*.*?(?:\*\)|$)|//.*|'(?:[^']|'')*'?|\"[^\"]*\"?"
+                         r"|\d+\.?\d*(?:[eE][+-]?\d+)?|[A-Za-z_]\w*|^:\w*", line):  # fmt: skip
+        if m.start() > pos:
+            out.append(("", line[pos : m.start()]))
+        tok = m.group()
+        if tok.startswith(("{", "(*", "//")):
+            kind = "comment"
+        elif tok.startswith(("'", '"')):
+            kind = "string"
+        elif tok[0].isdigit():
+            kind = "number"
+        elif tok.startswith(":"):
+            kind = "meta"
+        else:
+            kind = "keyword" if tok.upper() in keywords else ""
+        out.append((_STYLE_OF.get(kind, ""), tok))
+        pos = m.end()
+    if pos < len(line):
+        out.append(("", line[pos:]))
+    return out
+
+
+def run_terminal(session: Session, echo: Callable[[str], None]) -> int:  # pragma: no cover
+    """Interactive session with prompt_toolkit (history, completion, highlighting)."""
+    from prompt_toolkit import PromptSession
+    from prompt_toolkit.completion import WordCompleter
+    from prompt_toolkit.history import FileHistory
+    from prompt_toolkit.key_binding import KeyBindings
+    from prompt_toolkit.lexers import Lexer
+
+    from irlc.lang.parser import keywords
+
+    kw = frozenset(keywords())
+
+    class IrlLexer(Lexer):
+        def lex_document(self, document):
+            lines = document.lines
+            return lambda i: token_styles(lines[i], kw) if i < len(lines) else []
+
+    bindings = KeyBindings()
+
+    @bindings.add("enter")
+    def _(event):
+        buf = event.current_buffer
+        text = buf.text
+        if text.strip().startswith(":") or is_complete(text):
+            buf.validate_and_handle()
+        else:
+            buf.insert_text("\n")
+
+    path = history_file()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    prompt = PromptSession(
+        history=FileHistory(str(path)),
+        completer=WordCompleter(
+            session.completions, ignore_case=True, pattern=re.compile(r"^[\w:]*")
+        ),
+        lexer=IrlLexer(),
+        multiline=True,
+        complete_while_typing=False,  # Tab completes
+        key_bindings=bindings,
+        prompt_continuation=lambda width, line, wrap: "." * (width - 1) + " ",
+    )
+    while True:
+        try:
+            text = prompt.prompt(f"{session.model.name}> ")
+        except KeyboardInterrupt:
+            continue
+        except EOFError:
+            return 0
+        if text.strip().lower() in (":quit", ":q", ":exit"):
+            return 0
+        for line in session.enter(text).lines:
+            echo(line)
+
+
+def main(robot: str | None = None, datalist_path=(), plain: bool = False) -> int:
+    from irlc.errors import UsageError
+    from irlc.robots import RobotFileError
+
+    try:
+        session = Session(robot, datalist_path)
+    except RobotFileError as e:
+        raise UsageError(str(e)) from None
+
+    def echo(line: str) -> None:
+        print(line, flush=True)
+
+    interactive = not plain and sys.stdin.isatty() and sys.stdout.isatty()
+    if interactive:
+        try:
+            import prompt_toolkit  # noqa: F401
+        except ImportError:
+            echo("(prompt_toolkit is not installed: plain line input; pip install 'irlc[repl]')")
+            interactive = False
+    if interactive:
+        echo(f"irlc repl on {session.model.name} ({session.model.n} joints). :help for help.")
+        return run_terminal(session, echo)
+    return run_plain(session, sys.stdin, echo)

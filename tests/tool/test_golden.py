@@ -1,0 +1,131 @@
+"""Golden-test mechanics: reduction, tolerant comparison, readable diffs, --update, CLI."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from irlc import golden
+from irlc.cli import main
+from irlc.golden import compare, nice_bound, reduce_report, run_case, run_golden
+
+from .tool_fixtures import make_run
+
+
+def _report(**changes):
+    report = make_run().report
+    report.update(changes)
+    return report
+
+
+def _program(tmp_path, name="tiny", text="PROGRAM tiny;\nBEGIN\nENDPROGRAM\n"):
+    p = tmp_path / f"{name}.irl"
+    p.write_text(text)
+    return p
+
+
+def test_reduction_rounds_and_bounds():
+    red = reduce_report(_report())
+    assert red["status"] == "ok" and red["error_line"] is None
+    assert red["samples"] == 301 and red["duration_s"] == 3.0
+    assert red["joints"]["a1"]["max"] == round(30.0 * math.sin(1.5), 2)  # at t = 3 s
+    assert red["joints"]["a3"]["end"] == round(150.0 * 0.932039085967226, 2)  # sin(1.2)
+    assert red["max_path_error_mm_below"] == 0.001  # 2·1e-4 is below the 1 µm floor
+    assert red["output"] == ["hello"] and red["ik_relaxed_cycles"] == 0
+
+
+@pytest.mark.parametrize(
+    ("value", "bound"),
+    [(0.0, 1e-3), (0.3, 1.0), (0.26, 1.0), (0.24, 0.5), (4.9, 10.0), (1e-3, 2e-3)],
+)
+def test_nice_bound(value, bound):
+    assert nice_bound(value) == pytest.approx(bound)
+    assert nice_bound(value) >= 2 * value
+
+
+def test_last_digit_noise_passes_real_changes_fail():
+    base = reduce_report(_report())
+    noisy = _report()
+    noisy["joints"][0]["max"] += 0.004  # below the 0.01 quantum
+    noisy["duration_s"] += 1e-12
+    noisy["max_path_error_mm"] *= 0.5  # better accuracy is fine
+    assert compare(base, reduce_report(noisy)) == []
+    worse = _report(max_path_error_mm=0.0006, output=["hello", "extra"])  # > 1 µm bound / 2
+    worse["joints"][1]["min"] -= 0.5
+    paths = {m.path for m in compare(base, reduce_report(worse))}
+    assert paths == {"joints.a2.min", "max_path_error_mm_below", "output"}
+
+
+def test_user_tolerances_widen_a_key():
+    base = reduce_report(_report())
+    moved = _report()
+    moved["joints"][1]["min"] -= 0.5
+    assert compare(base, reduce_report(moved), {"joints.a2": 1.0}) == []
+    assert compare(base, reduce_report(moved), {"joints.a1": 1.0}) != []
+
+
+def test_case_passes_fails_and_updates(tmp_path):
+    prog = _program(tmp_path)
+    report = _report()
+    calls = []
+
+    def runner(path, options):
+        calls.append(options)
+        return json.loads(json.dumps(report))
+
+    assert run_case(prog, runner=runner).status == "missing"
+    assert run_case(prog, update=True, runner=runner).status == "updated"
+    exp = json.loads((tmp_path / "tiny.expected.json").read_text())
+    assert exp["joints"]["a4"]["max"] == 45.0
+    assert (tmp_path / "tiny.expected.txt").read_text() == "hello\n"
+    assert run_case(prog, runner=runner).status == "pass"
+
+    exp["joints"]["a4"]["max"] = 44.0  # a modified expectation fails with a readable diff
+    exp["options"] = {"ipo": 0.005}
+    (tmp_path / "tiny.expected.json").write_text(json.dumps(exp))
+    (tmp_path / "tiny.expected.txt").write_text("bye\n")
+    res = run_case(prog, runner=runner)
+    assert res.status == "fail" and calls[-1] == {"ipo": 0.005}
+    assert [(m.path, m.expected, m.actual) for m in res.mismatches] == [
+        ("joints.a4.max", 44.0, 45.0)
+    ]
+    assert "-bye" in res.output_diff and "+hello" in res.output_diff
+
+    run_case(prog, update=True, runner=runner)  # keeps the user's options
+    again = json.loads((tmp_path / "tiny.expected.json").read_text())
+    assert again["options"] == {"ipo": 0.005} and again["joints"]["a4"]["max"] == 45.0
+    assert run_case(prog, runner=runner).status == "pass"
+
+
+def test_compile_errors_are_golden_too(tmp_path):
+    prog = _program(tmp_path, "bad")
+    diag = {"status": "compile_error", "diagnostics": ["bad.irl:2:3: error: unknown name 'x'"]}
+    run_case(prog, update=True, runner=lambda p, o: diag)
+    assert run_case(prog, runner=lambda p, o: diag).status == "pass"
+    other = {"status": "compile_error", "diagnostics": ["bad.irl:2:4: error: unknown name 'x'"]}
+    assert run_case(prog, runner=lambda p, o: other).status == "fail"
+    assert run_case(prog, runner=lambda p, o: _report()).status == "fail"
+
+
+def test_cli_exit_codes_and_diff(tmp_path, monkeypatch, capsys):
+    _program(tmp_path, "a")
+    _program(tmp_path, "b")
+    monkeypatch.setattr(golden, "default_runner", lambda p, o: _report())
+    assert main(["test", str(tmp_path)]) == 1  # no expectations yet
+    assert main(["test", str(tmp_path), "--update"]) == 0
+    assert main(["test", str(tmp_path)]) == 0
+    assert "2 passed" in capsys.readouterr().out
+    exp = json.loads((tmp_path / "b.expected.json").read_text())
+    exp["samples"] = 300
+    (tmp_path / "b.expected.json").write_text(json.dumps(exp))
+    assert main(["test", str(tmp_path)]) == 1
+    out = capsys.readouterr().out
+    assert "FAIL" in out and "samples" in out and "300" in out and "301" in out
+    assert "1 passed, 1 failed" in out
+    assert main(["test", str(tmp_path / "nope")]) == 3
+    assert [r.status for r in run_golden(tmp_path, runner=lambda p, o: _report())] == [
+        "pass",
+        "fail",
+    ]

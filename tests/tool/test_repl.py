@@ -1,0 +1,157 @@
+"""The REPL: scripted sessions through a pipe, plus the input-shape helpers."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+
+import pytest
+
+from irlc.repl import block_depth, classify, is_complete, read_entries, token_styles
+
+IRLC = [sys.executable, "-c", "from irlc.cli import entry; entry()"]
+
+
+def _session(script: str, *args: str, cwd=None) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [*IRLC, "repl", "--robot", "koch11", *args],
+        input=script,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=cwd,
+    )
+
+
+def _compiler_available() -> bool:
+    try:
+        from irlc.lang.compiler import compile_source  # noqa: F401
+        from irlc.runtime.executor import SimulatedController  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+needs_runtime = pytest.mark.skipif(not _compiler_available(), reason="compiler/runtime missing")
+
+
+def test_entry_shapes():
+    assert classify("POSE: p, q;") == "typed"
+    assert classify("pose: p := (1, 2, 3, 0, 0, 0)") == "typed"
+    assert classify("VAR REAL: x;") == "decl"
+    assert classify("x := 1") == "stmt"
+    assert classify(":where") == "meta"
+    assert classify("IMPORT DATALIST cell;") == "import"
+    assert classify("  { only a comment }  ") == "empty"
+    assert block_depth("IF a THEN WHILE b DO x := 1; ENDWHILE") == 1
+    assert block_depth("JOINTLIMIT a, b; JOINTLIMITEND") == 0  # options are not blocks
+    assert not is_complete("PROCEDURE p; BEGIN")
+    assert not is_complete("x := 1; { comment")
+    assert is_complete("WRITELN('IF');")  # keywords in strings do not count
+
+
+def test_entries_from_lines():
+    text = "IF x > 1 THEN\n  y := 2;\nENDIF\n:where\n(* a\nENDIF *) z := 1\n"
+    assert list(read_entries(iter(text.splitlines(keepends=True)))) == [
+        "IF x > 1 THEN\n  y := 2;\nENDIF",
+        ":where",
+        "(* a\nENDIF *) z := 1",
+    ]
+
+
+def test_highlighting_covers_the_line():
+    line = "MOVE LIN p WITH SPEED := 200 { fast } 'x'"
+    frags = token_styles(line, frozenset({"MOVE", "LIN", "WITH"}))
+    assert "".join(t for _, t in frags) == line
+    styles = dict((t, s) for s, t in frags)
+    assert styles["MOVE"] == styles["WITH"] != styles["p"]
+    assert styles["200"] != styles["{ fast }"]
+
+
+@needs_runtime
+def test_scripted_session():
+    script = "\n".join(
+        [
+            "POSE: p := (11500, 1000, 3500, 0, 0, 0);",
+            "MOVE LIN (11000, 1000, 3500, 0, 0, 0)",
+            ":where",
+            "MOVE LIN p + 1;",  # a compile error: the session goes on
+            "REAL: x;",
+            "x := 2.5",
+            "IF x > 2 THEN",
+            "  WRITELN('big', x * 2);",
+            "ENDIF",
+            ":options",
+            ":quit",
+            "WRITELN('never');",
+        ]
+    )
+    res = _session(script + "\n")
+    out = res.stdout.splitlines()
+    assert res.returncode == 1, res.stderr  # the first failure was a compile error
+    assert "Traceback" not in res.stdout + res.stderr
+    moved = [i for i, line in enumerate(out) if line.startswith("→ t = ")]
+    assert len(moved) == 1
+    assert "pose (11000, 1000, 3500, 0, 0, 0)" in out[moved[0]]
+    where = out[moved[0] + 2]  # :where repeats the pose, without the arrow
+    assert where.startswith("t = ") and "pose (11000, 1000, 3500, 0, 0, 0)" in where
+    # the straight 500 mm line at R_SPEED 500, R_ACC 1000: t = s/v + v/a = 1.5 s (+ 1 cycle)
+    t = float(where.split()[2])
+    assert math.isclose(t, 1.5, abs_tol=0.03)
+    err = out.index("<input>:1:12: error: cannot add POSE and INTEGER")
+    assert out[err + 1].strip() == "MOVE LIN p + 1;" and out[err + 2].strip() == "^"
+    assert "big5.0" in out
+    assert "no modal options active" in out
+    assert "never" not in res.stdout
+
+
+@needs_runtime
+def test_modal_options_persist_and_runtime_errors_continue(tmp_path):
+    jmin = "(-180, -150, -180, 0, -240, -240, -240, -90, -180, -700, 0)"
+    jmax = "(180, 90, 60, 240, 0, 60, 240, 90, 180, 700, {a11})"
+    script = "\n".join(
+        [
+            f"MAIN_JOINT_MIN: jmin := {jmin};",
+            f"MAIN_JOINT_MAX: jmax := {jmax.format(a11=60)};",
+            f"MAIN_JOINT_MAX: tight := {jmax.format(a11=30)};",
+            "JOINTLIMIT jmin, jmax;",
+            "JOINTLIMIT jmin, jmax;",  # already on: a run-time error, the session goes on
+            ":options",
+            "JOINTLIMITEND;",
+            "JOINTLIMIT jmin, tight;",  # a11 is at 39.975 deg (home): excluded
+            "JOINTLIMIT jmin, jmax;",
+            "MOVE LIN (11000, 1000, 3500, 0, 0, 0);",
+            f":trace {tmp_path / 'session.csv'}",
+            ":quit",
+        ]
+    )
+    res = _session(script + "\n")
+    out = res.stdout.splitlines()
+    assert "Traceback" not in res.stdout + res.stderr
+    errors = [line for line in out if "run-time error" in line]
+    assert len(errors) == 2 and all(e.startswith("<input>:1:") for e in errors)
+    assert "already on" in errors[0]
+    assert "a11" in errors[1] and "30" in errors[1]
+    assert res.returncode == 2
+    active = next(line for line in out if line.startswith("JOINTLIMIT min"))
+    assert active.endswith("max (180, 90, 60, 240, 0, 60, 240, 90, 180, 700, 60)")
+    assert any(line.startswith("→ t = ") for line in out)  # the move ran under the limits
+    trace = (tmp_path / "session.csv").read_text().splitlines()
+    assert trace[0].startswith("t_s,line,a1_deg")
+    assert len(trace) > 100  # ≈ 1.5 s of 10 ms samples
+    a11 = trace[0].split(",").index("a11_deg")
+    assert all(-1e-6 <= float(row.split(",")[a11]) <= 60 + 1e-6 for row in trace[1:])
+
+
+@needs_runtime
+def test_unknown_robot_is_a_usage_error():
+    res = subprocess.run(
+        [*IRLC, "repl", "--robot", "no_such_robot"],
+        input=":quit\n",
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert res.returncode == 3 and "no_such_robot" in res.stderr
+    assert "Traceback" not in res.stderr
