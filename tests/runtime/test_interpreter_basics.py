@@ -5,6 +5,7 @@ from __future__ import annotations
 import pytest
 from irlc.lang.irdata import Code, Instruction, Routine, Slot, Value
 from irlc.runtime.interpreter import Interpreter
+
 from .test_interpreter_fakes import FakeController, failure, main_program, run
 
 

@@ -8,6 +8,7 @@ import pytest
 from irlc.lang.irdata import read_code, write_code
 from irlc.robots import load_robot
 from irlc.runtime.interpreter import Interpreter
+
 from .test_interpreter_fakes import FakeController
 
 compiler = pytest.importorskip("irlc.lang.compiler")

@@ -11,6 +11,7 @@ import pytest
 from irlc.runtime import units
 from irlc.runtime import values as V
 from irlc.runtime.values import JointTuple, Orientation, Pose, Position
+
 from .test_interpreter_fakes import FakeController, failure, main_program, planar_fk, run
 
 

@@ -6,6 +6,7 @@ import pytest
 from irlc.runtime.controller import Settings
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.values import JointTuple, Pose
+
 from .test_interpreter_fakes import HEADER, FakeController, code_of, failure, main_program, run
 
 JOINT_CONSTS = """CONST 0 MAIN_JOINT 10.0 20.0 30.0

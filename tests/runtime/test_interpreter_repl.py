@@ -5,6 +5,7 @@ from __future__ import annotations
 import pytest
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.interpreter import Interpreter, MachineState
+
 from .test_interpreter_fakes import FakeController, main_program
 
 CONSTS = """CONST 0 INTEGER 5

@@ -1,0 +1,325 @@
+"""``irlc run PROGRAM.irl|PROGRAM.ird`` (and the bare form ``irlc PROGRAM.irl``).
+
+Exit codes (``interfaces.md``): 0 ok; 1 the program does not compile (diagnostics on
+stderr); 2 run-time failure (report and trace up to the failure are still written, with
+``status = "failed"``); 3 usage or environment error.
+
+``--seed-config`` takes the start configuration in program units (deg | mm), either as
+one string (``--seed-config "0 90 -90"``, commas allowed) or repeated once per joint
+(``--seed-config 0 --seed-config 90 --seed-config -90``).
+"""
+
+from __future__ import annotations
+
+import re
+import sys
+import time
+from pathlib import Path
+
+import click
+
+from irlc.cli.app import cli
+from irlc.errors import EXIT_COMPILE, EXIT_OK, EXIT_RUN, UsageError
+
+DRIVE_CHOICES = ("ideal", "decoupled", "coupled", "pwm")
+
+
+def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
+    """``("0 90", "-90")`` → ``[0.0, 90.0, -90.0]``; raises UsageError for non-numbers."""
+    if not values:
+        return None
+    out = []
+    for text in values:
+        for tok in re.split(r"[\s,;]+", text.strip()):
+            if not tok:
+                continue
+            try:
+                out.append(float(tok))
+            except ValueError:
+                raise UsageError(f"--seed-config: {tok!r} is not a number") from None
+    return out
+
+
+@cli.command("run")
+@click.argument("program", type=click.Path(path_type=Path, dir_okay=False))
+@click.option("--robot", default=None, help="Robot name or description file (overrides ROBOT).")
+@click.option(
+    "--datalist-path",
+    "datalist_path",
+    multiple=True,
+    type=click.Path(path_type=Path, file_okay=False),
+    help="Folder searched for IMPORT DATALIST files (repeatable).",
+)
+@click.option("--ipo", type=float, default=None, help="IPO cycle in seconds (overrides R_IPO).")
+@click.option(
+    "--drives",
+    type=click.Choice(DRIVE_CHOICES),
+    default="ideal",
+    show_default=True,
+    help="Drive simulation level after the kinematic run.",
+)
+@click.option(
+    "--report",
+    "report_path",
+    type=click.Path(path_type=Path, dir_okay=False),
+    help="Write the report as JSON.",
+)
+@click.option(
+    "--trace",
+    "trace_path",
+    type=click.Path(path_type=Path, dir_okay=False),
+    help="Write the trace as CSV (one row per IPO sample).",
+)
+@click.option(
+    "--trace-every-step",
+    is_flag=True,
+    help="With --drives: one trace row per drive step instead of per IPO sample.",
+)
+@click.option(
+    "--plot",
+    "plot_dir",
+    type=click.Path(path_type=Path, file_okay=False),
+    help="Write PNG figures into this folder.",
+)
+@click.option(
+    "--animate",
+    "animate_path",
+    type=click.Path(path_type=Path, dir_okay=False),
+    help="Write a self-contained 3D animation (HTML).",
+)
+@click.option(
+    "--compare",
+    "compare_path",
+    type=click.Path(path_type=Path, dir_okay=False),
+    help="A previous report (.json) or trace (.csv) to compare with.",
+)
+@click.option(
+    "--export-trajectory",
+    "export_path",
+    type=click.Path(path_type=Path, dir_okay=False),
+    help="Write the joint trajectory as JSON.",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the report as JSON on stdout.")
+@click.option("--quiet", "-q", is_flag=True, help="No summary, no progress, no program output.")
+@click.option(
+    "--seed-config",
+    "seed_config",
+    multiple=True,
+    help="Start configuration (deg | mm): one string of numbers, or repeated.",
+)
+def run_cmd(
+    program: Path,
+    robot,
+    datalist_path,
+    ipo,
+    drives,
+    report_path,
+    trace_path,
+    trace_every_step,
+    plot_dir,
+    animate_path,
+    compare_path,
+    export_path,
+    as_json,
+    quiet,
+    seed_config,
+) -> int:
+    """Compile (.irl) or load (.ird) PROGRAM and simulate it; print a summary."""
+    from rich.console import Console
+
+    seed = parse_seed_config(seed_config)
+    if not program.is_file():
+        raise UsageError(f"{program}: no such file")
+    if trace_every_step and drives == "ideal":
+        raise UsageError("--trace-every-step needs --drives other than ideal")
+    compare = _load_compare(compare_path) if compare_path is not None else None
+    out = Console(highlight=False, soft_wrap=False)
+    err = Console(stderr=True, highlight=False)
+    live = not (quiet or as_json)
+    run = _run(
+        program,
+        robot,
+        datalist_path,
+        ipo,
+        drives,
+        seed,
+        trace_every_step,
+        live and sys.stdout.isatty(),
+        None if not live else click.echo,
+        err,
+    )
+    if isinstance(run, int):
+        return run
+    for d in run.diagnostics:
+        err.print(_render_diag(d), markup=False)
+    _write_outputs(run, report_path, trace_path)
+    code = _tool_outputs(run, plot_dir, animate_path, export_path, compare, err)
+    if as_json:
+        from irlc.report import report_json
+
+        click.echo(report_json(run.report), nl=False)
+    elif not quiet:
+        from irlc.summary import render_comparison, render_summary
+
+        render_summary(run.report, out)
+        if compare is not None:
+            render_comparison(run.report, compare, out)
+    if run.error is not None:
+        err.print(_render_failure(program, run.error), markup=False)
+        return EXIT_RUN
+    return code
+
+
+def _run(program, robot, datalist_path, ipo, drives, seed, every_step, show_progress, echo, err):
+    """Compile and run; returns the RunResult, or an exit code after printing the error."""
+    from irlc.lang.diagnostics import CompileError
+    from irlc.robots import RobotFileError
+    from irlc.runtime.results import DriveSetupError
+    from irlc.runtime.run import RunSetupError, run_file
+
+    progress, stop = _progress(show_progress)
+    try:
+        return run_file(
+            program,
+            robot=robot,
+            datalist_path=datalist_path,
+            ipo=ipo,
+            drives=drives,
+            seed_config=seed,
+            progress=progress,
+            output=echo,
+            trace_every_step=every_step,
+        )
+    except CompileError as exc:
+        stop()
+        for d in exc.diagnostics:
+            err.print(_render_diag(d), markup=False)
+        return EXIT_COMPILE
+    except (RunSetupError, DriveSetupError, RobotFileError) as exc:
+        stop()
+        raise UsageError(str(exc)) from None
+    finally:
+        stop()
+
+
+def _render_diag(d) -> str:
+    from irlc.lang.diagnostics import render
+
+    return render(d)
+
+
+def _render_failure(program: Path, error) -> str:
+    """``FILE:LINE:1: error: run-time failure at t = … s: message`` with the source line."""
+    from irlc.lang.diagnostics import Diagnostic, Span, render
+
+    when = f" at t = {error.time_s:.3f} s" if error.time_s is not None else ""
+    span = Span(error.line, 1) if error.line else None
+    source = _source_file(program)
+    hint = f"binding constraint: {error.constraint}" if error.constraint else None
+    diag = Diagnostic("error", f"run-time failure{when}: {error.message}", str(source), span, hint)
+    return render(diag)
+
+
+def _source_file(program: Path) -> Path:
+    """The .irl source of a program (an .ird's SOURCE record when it exists)."""
+    if program.suffix.lower() != ".ird":
+        return program
+    try:
+        from irlc.lang.irdata import read_code
+
+        src = read_code(program.read_text(encoding="utf-8"), str(program)).source
+    except Exception:
+        return program
+    cand = program.parent / src
+    return cand if src and cand.is_file() else program
+
+
+def _write_outputs(run, report_path, trace_path) -> None:
+    from irlc.report import write_report, write_trace
+
+    try:
+        if report_path is not None:
+            write_report(run.report, report_path)
+        if trace_path is not None:
+            write_trace(run.trace_columns, run.trace, trace_path)
+    except OSError as exc:
+        raise UsageError(f"cannot write {exc.filename}: {exc.strerror}") from None
+
+
+def _tool_outputs(run, plot_dir, animate_path, export_path, compare, err) -> int:
+    jobs = [
+        (plot_dir, "irlc.plots", "write_plots", "--plot"),
+        (animate_path, "irlc.animate", "write_animation", "--animate"),
+        (export_path, "irlc.export", "write_trajectory", "--export-trajectory"),
+    ]
+    for target, module, func, option in jobs:
+        if target is None:
+            continue
+        try:
+            mod = __import__(module, fromlist=[func])
+            fn = getattr(mod, func)
+        except (ImportError, AttributeError) as exc:
+            raise UsageError(f"{option} is not available: {exc}") from None
+        try:
+            if func == "write_plots":
+                overlay = compare if getattr(compare, "trace", None) is not None else None
+                if compare is not None and overlay is None:
+                    err.print(
+                        "note: --compare with a report has no samples to overlay in the "
+                        "plots; give a trace CSV (--trace) for that",
+                        markup=False,
+                    )
+                fn(run, target, compare=overlay)
+            else:
+                fn(run, target)
+        except ImportError as exc:  # e.g. matplotlib not installed
+            raise UsageError(f"{option} needs an optional package: {exc}") from None
+        except OSError as exc:
+            raise UsageError(f"{option}: cannot write {exc.filename}: {exc.strerror}") from None
+    return EXIT_OK
+
+
+def _load_compare(path: Path):
+    from irlc.report import RunFileError, load_run
+
+    try:
+        return load_run(path)
+    except RunFileError as exc:
+        raise UsageError(f"--compare: {exc}") from None
+
+
+def _progress(show: bool):
+    """A transient rich progress line (simulated time, program line) on stderr."""
+    if not show:
+        return None, lambda: None
+    from rich.console import Console
+    from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+
+    bar = Progress(
+        SpinnerColumn(),
+        TextColumn("{task.description}"),
+        TimeElapsedColumn(),
+        console=Console(stderr=True),
+        transient=True,
+    )
+    task = bar.add_task("simulating", total=None)
+    started = False
+    wall0 = time.monotonic()
+
+    def update(t: float, line: int) -> None:
+        nonlocal started
+        if not started:
+            if time.monotonic() - wall0 < 0.5:  # only for runs longer than a moment
+                return
+            bar.start()
+            started = True
+        bar.update(task, description=f"simulating: line {line}, t = {t:.2f} s")
+
+    def stop() -> None:
+        if started:
+            bar.stop()
+
+    return update, stop
+
+
+__all__ = ["parse_seed_config", "run_cmd"]

@@ -1,0 +1,168 @@
+"""Writers for the run report (JSON) and trace (CSV), and the reader ``load_run``.
+
+Both writers are
+
+* **atomic**: the text goes to a temporary file in the target's directory, which is then
+  renamed over the target (``os.replace``), so a reader never sees half a file;
+* **deterministic**: same run → same bytes. JSON: two-space indent, keys in the order of
+  ``interfaces.md`` (the report dict's insertion order), UTF-8, a final newline. CSV:
+  numbers with ``%.10g`` (no negative zero), ``line`` as an integer, ``\\n`` line ends;
+* **never NaN**: a non-finite number raises :class:`NonFiniteError` (a bug upstream),
+  nothing is written.
+
+``load_run(path)`` reads a report (``.json``) or a trace (``.csv``) back, e.g. for
+``--compare``: a :class:`LoadedRun` with ``report``, ``trace_columns``, ``trace`` (and
+``times`` when a trace is given).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import io
+import json
+import math
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+FLOAT_FORMAT = "%.10g"
+
+
+class NonFiniteError(ValueError):
+    """A NaN or infinity reached a report or trace (a bug: never written)."""
+
+
+class RunFileError(ValueError):
+    """A report or trace file cannot be read back."""
+
+
+# --------------------------------------------------------------------------- writing
+
+
+def atomic_write_text(path: str | Path, text: str) -> Path:
+    """Write ``text`` (UTF-8, ``\\n`` line ends) atomically to ``path``."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+    return path
+
+
+def report_json(report: dict) -> str:
+    _check_finite(report, "report")
+    return json.dumps(report, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
+
+
+def write_report(report: dict, path: str | Path) -> Path:
+    return atomic_write_text(path, report_json(report))
+
+
+def trace_csv(columns: list[str], table: np.ndarray) -> str:
+    table = np.asarray(table, dtype=float)
+    if table.ndim != 2 or table.shape[1] != len(columns):
+        raise ValueError(f"trace has {table.shape} values for {len(columns)} columns")
+    bad = ~np.isfinite(table)
+    if bad.any():
+        r, c = np.argwhere(bad)[0]
+        raise NonFiniteError(f"trace: non-finite value in column {columns[c]!r}, row {r}")
+    table = table + 0.0  # no negative zero
+    line_col = columns.index("line") if "line" in columns else -1
+    out = io.StringIO()
+    out.write(",".join(columns) + "\n")
+    for row in table:
+        cells = [FLOAT_FORMAT % v for v in row]
+        if line_col >= 0:
+            cells[line_col] = str(int(row[line_col]))
+        out.write(",".join(cells) + "\n")
+    return out.getvalue()
+
+
+def write_trace(columns: list[str], table: np.ndarray, path: str | Path) -> Path:
+    return atomic_write_text(path, trace_csv(columns, table))
+
+
+def _check_finite(obj: Any, where: str) -> None:
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            _check_finite(v, f"{where}.{k}")
+    elif isinstance(obj, list | tuple):
+        for i, v in enumerate(obj):
+            _check_finite(v, f"{where}[{i}]")
+    elif isinstance(obj, float) and not math.isfinite(obj):
+        raise NonFiniteError(f"non-finite number at {where}: {obj}")
+
+
+# --------------------------------------------------------------------------- reading
+
+
+@dataclass
+class LoadedRun:
+    """A run read back from files (the fields the tools read from a RunResult)."""
+
+    path: Path
+    report: dict = field(default_factory=dict)
+    trace_columns: list[str] | None = None
+    trace: np.ndarray | None = None
+
+    @property
+    def times(self) -> np.ndarray | None:
+        if self.trace is None or not self.trace_columns or "t_s" not in self.trace_columns:
+            return None
+        return self.trace[:, self.trace_columns.index("t_s")]
+
+    def column(self, name: str) -> np.ndarray:
+        if self.trace is None or not self.trace_columns or name not in self.trace_columns:
+            raise KeyError(name)
+        return self.trace[:, self.trace_columns.index(name)]
+
+
+def load_run(path: str | Path) -> LoadedRun:
+    """Read a report (``.json``) or a trace (``.csv``); raises :class:`RunFileError`."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise RunFileError(f"{path}: {exc.strerror or exc}") from None
+    if path.suffix.lower() == ".json" or text.lstrip().startswith("{"):
+        try:
+            report = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise RunFileError(f"{path}:{exc.lineno}:{exc.colno}: not JSON: {exc.msg}") from None
+        if not isinstance(report, dict) or "status" not in report:
+            raise RunFileError(f"{path}: not an irlc report (no 'status' key)")
+        return LoadedRun(path, report)
+    columns, table = _read_csv(path, text)
+    return LoadedRun(path, {}, columns, table)
+
+
+def _read_csv(path: Path, text: str) -> tuple[list[str], np.ndarray]:
+    rows = list(csv.reader(io.StringIO(text)))
+    if not rows or "t_s" not in rows[0]:
+        raise RunFileError(f"{path}: not an irlc trace (no 't_s' column in the header)")
+    columns = [c.strip() for c in rows[0]]
+    data = []
+    for i, row in enumerate(rows[1:], start=2):
+        if not row:
+            continue
+        if len(row) != len(columns):
+            raise RunFileError(f"{path}:{i}: {len(row)} values for {len(columns)} columns")
+        try:
+            data.append([float(v) for v in row])
+        except ValueError:
+            raise RunFileError(f"{path}:{i}: not a number in {row!r}") from None
+    table = np.array(data, dtype=float) if data else np.zeros((0, len(columns)))
+    return columns, table

@@ -1,0 +1,168 @@
+"""The table printed after a run (rich): duration, per-joint motion, path error, obstacle
+clearances, IK statistics, drives, warnings. Reads only the report dict (program units),
+so it shows a loaded report the same way as a fresh run."""
+
+from __future__ import annotations
+
+from rich.console import Console, Group
+from rich.panel import Panel
+from rich.table import Table
+from rich.text import Text
+
+
+def _num(v, fmt: str = ".4g") -> str:
+    return "—" if v is None else format(v, fmt)
+
+
+_SHORT = {"position": "pos", "speed": "speed", "accel": "acc", "braking": "brake"}
+
+
+def _limit_cell(joint: dict) -> Text:
+    """Total time any limit of the joint was active, and the bound active longest."""
+    t = joint.get("limit_active_s") or 0.0
+    if not t:
+        return Text("—", style="dim")
+    labels = joint.get("limit_activity") or {}
+    top = max(labels.items(), key=lambda kv: kv[1])[0] if labels else ""
+    what, _, side = top.partition(" ")
+    short = f" {_SHORT.get(what, what)} {side}".rstrip() if top else ""
+    return Text(f"{t:.2f}s{short}", style="yellow")
+
+
+def joints_table(report: dict) -> Table:
+    table = Table(
+        title="joints (deg | mm, /s, /s²)", title_justify="left", show_edge=False, pad_edge=False
+    )
+    table.add_column("joint")
+    for name in ("min", "max", "end", "|v|max", "|a|max"):
+        table.add_column(name, justify="right")
+    table.add_column("limit active", no_wrap=True)
+    following = any(j.get("max_following_error") is not None for j in report["joints"])
+    if following:
+        table.add_column("follow err", justify="right")
+    end = report.get("end_joints") or []
+    for i, j in enumerate(report["joints"]):
+        cells: list = [
+            Text(f"{j['name']} [{j['unit']}]"),
+            _num(j["min"], ".2f"),
+            _num(j["max"], ".2f"),
+            _num(end[i] if i < len(end) else None, ".2f"),
+            _num(j["max_abs_speed"], ".1f"),
+            _num(j["max_abs_accel"], ".0f"),
+            _limit_cell(j),
+        ]
+        if following:
+            cells.append(_num(j.get("max_following_error"), ".3g"))
+        table.add_row(*cells)
+    return table
+
+
+def overview_table(report: dict) -> Table:
+    table = Table.grid(padding=(0, 2))
+    table.add_column(style="bold")
+    table.add_column()
+    status = report["status"]
+    style = "green" if status == "ok" else "red"
+    table.add_row("status", Text(status, style=style))
+    table.add_row("program / robot", f"{report['program']} on {report['robot']}")
+    table.add_row(
+        "duration",
+        f"{_num(report['duration_s'], '.3f')} s, {report['samples']} samples at "
+        f"IPO {_num(report['ipo_s'] * 1e3, '.3g')} ms, drives {report['drives']}",
+    )
+    table.add_row(
+        "path error",
+        f"max {_num(report['max_path_error_mm'], '.3g')} mm, "
+        f"{_num(report['max_orientation_error_deg'], '.3g')} deg",
+    )
+    ik = report.get("ik") or {}
+    table.add_row(
+        "inverse transformation",
+        f"{ik.get('cycles', 0)} cycles, {_num(ik.get('iterations_mean'), '.2f')} iterations "
+        f"mean / {ik.get('iterations_max', 0)} max, {ik.get('relaxed_cycles', 0)} relaxed",
+    )
+    for name, o in sorted((report.get("obstacles") or {}).items()):
+        table.add_row(
+            f"obstacle {name}",
+            f"min clearance {_num(o.get('min_distance_mm'), '.1f')} mm"
+            + (f" at t = {o['at_time_s']:.2f} s" if o.get("at_time_s") is not None else ""),
+        )
+    drives = report.get("drives_summary")
+    if drives:
+        table.add_row(
+            "drives",
+            f"{drives['level']}, step {_num(drives['step_s'] * 1e3, '.3g')} ms, "
+            + ("could follow" if drives["could_follow"] else "[red]could NOT follow[/red]"),
+        )
+    error = report.get("error")
+    if error:
+        where = f"line {error.get('line')}, t = {_num(error.get('time_s'), '.3f')} s"
+        table.add_row("error", Text(f"{where}: {error['message']}", style="red"))
+    return table
+
+
+def render_summary(report: dict, console: Console) -> None:
+    parts: list = [overview_table(report)]
+    if report.get("joints"):
+        parts += [Text(""), joints_table(report)]
+    warnings = report.get("warnings") or []
+    if warnings:
+        shown = warnings[:10]
+        more = len(warnings) - len(shown)
+        body = "\n".join(f"• {w}" for w in shown) + (f"\n… and {more} more" if more else "")
+        parts += [Text(""), Text("warnings", style="bold yellow"), Text(body, style="yellow")]
+    console.print(Panel(Group(*parts), title="irlc run", expand=False))
+
+
+def _metrics(report: dict | None, loaded) -> dict:
+    """Comparable numbers of a report, or of a loaded trace when there is no report."""
+    if report:
+        return {
+            "duration_s": report.get("duration_s"),
+            "max_path_error_mm": report.get("max_path_error_mm"),
+            "joints": {
+                j["name"]: (j.get("min"), j.get("max"), j.get("max_abs_speed"))
+                for j in report.get("joints", [])
+            },
+        }
+    cols = loaded.trace_columns or []
+    data = loaded.trace
+    out: dict = {"duration_s": None, "max_path_error_mm": None, "joints": {}}
+    if data is None or not len(data):
+        return out
+    out["duration_s"] = float(data[-1, cols.index("t_s")])
+    if "path_error_mm" in cols:
+        out["max_path_error_mm"] = float(data[:, cols.index("path_error_mm")].max())
+    for i, c in enumerate(cols):
+        stem, _, unit = c.rpartition("_")
+        if unit in ("deg", "mm") and stem and "_" not in stem and stem not in "xyzabc":
+            sc = f"{stem}_speed_{unit}_s"
+            speed = float(abs(data[:, cols.index(sc)]).max()) if sc in cols else None
+            out["joints"][stem] = (float(data[:, i].min()), float(data[:, i].max()), speed)
+    return out
+
+
+def render_comparison(report: dict, other, console: Console) -> None:
+    """This run against a loaded report / trace (``--compare``)."""
+    a = _metrics(report, None)
+    b = _metrics(getattr(other, "report", None), other)
+    table = Table(
+        title=f"compared with {getattr(other, 'path', 'previous run')}",
+        title_justify="left",
+        show_edge=False,
+    )
+    for name in ("quantity", "this run", "other", "difference"):
+        table.add_column(name, justify="left" if name == "quantity" else "right")
+
+    def row(label: str, x, y) -> None:
+        diff = None if x is None or y is None else x - y
+        table.add_row(label, _num(x, ".4g"), _num(y, ".4g"), _num(diff, "+.3g"))
+
+    row("duration s", a["duration_s"], b["duration_s"])
+    row("max path error mm", a["max_path_error_mm"], b["max_path_error_mm"])
+    for name, (lo, hi, sp) in a["joints"].items():
+        olo, ohi, osp = b["joints"].get(name, (None, None, None))
+        row(f"{name} min", lo, olo)
+        row(f"{name} max", hi, ohi)
+        row(f"{name} |speed| max", sp, osp)
+    console.print(table)

@@ -1,0 +1,425 @@
+"""The simulated controller: executes motion commands cycle by cycle (kinematic run).
+
+:class:`SimulatedController` implements :class:`~irlc.runtime.controller.Controller`.
+For each command the pre-interpolator (:mod:`preinterp`) makes segments; every IPO cycle
+``Δt`` the interpolator gives the desired setpoint, and
+
+* PTP segments set the joints directly (the profile respects the joint limits);
+* Cartesian segments (LIN, CIRCLE) and RECONFIGURATION call the inverse transformation
+  (:class:`~irlc.runtime.ik.newton.InverseTransformation`) with the options of this
+  cycle: the active limits, the reference θ⁰ (WITH RECONFIGURATION of the statement,
+  else CYCLIC), FREEZE, and the obstacles (every obstacle's clearance is measured,
+  the OBSTACLE … OBSTACLEEND ones are avoided).
+
+**Path deviation.** When the hard problem is infeasible the inverse transformation
+returns a relaxed cycle. Its TCP error is recorded with time and line (a warning); if it
+exceeds ``tol_position`` (default 0.05 mm) or ``tol_orientation`` (default 0.01°) the run
+fails (:class:`RunFailure`, exit 2) naming the line, the time and the binding
+constraint. Never a silent zero step: an unconverged cycle is treated the same way.
+
+**RECONFIGURATION k** (self-motion). The reference moves from the current configuration
+to ``k`` along a synchronised joint profile (PTP timing under the active limits and
+``R_SPEED_PTP``/``R_ACC_PTP``) while the TCP is held; after the profile ends the
+reference stays at ``k`` and the statement ends at the first cycle with
+``‖θ(t) − θ(t−Δt)‖ < ε_conf`` (``IKParams.eps_conf``) or after ``reconf_settle_s``
+seconds (a warning).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from irlc.robots.model import RobotModel
+from irlc.runtime import spatial, units
+from irlc.runtime.controller import ModalOptions, MotionCommand, Settings
+from irlc.runtime.errors import RunFailure
+from irlc.runtime.ik.newton import InverseTransformation
+from irlc.runtime.ik.params import CycleOptions, IKParams
+from irlc.runtime.ik.pose import solve_pose
+from irlc.runtime.ik.self_motion import reconfiguration_done
+from irlc.runtime.interpolator import JointLine, ReferencePath, Segment
+from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.preinterp import (
+    Limits3,
+    PlanState,
+    PreInterpolator,
+    base_transform,
+    tool_transform,
+)
+from irlc.runtime.recorder import Recorder
+from irlc.runtime.values import JointTuple, Pose
+
+
+@dataclass
+class ExecutionOptions:
+    """Run-time parameters of the controller (SI)."""
+
+    ipo: float | None = None  # overrides R_IPO when set (``--ipo``)
+    tol_position: float = 5e-5  # m: a path deviation beyond this fails the run
+    tol_orientation: float = 0.01 * units.DEG  # rad
+    reconf_settle_s: float = 10.0  # s after the reference arrived before giving up
+    progress_every: int = 200  # cycles between progress callbacks
+    manipulability_every: int = 10  # cycles between manipulability samples (an SVD each)
+    ik: IKParams | None = None
+
+
+@dataclass
+class _Solver:
+    kin: Kinematics
+    ik: InverseTransformation
+
+
+class SimulatedController:
+    """Kinematic simulation of one robot (``drives = ideal``); records every IPO cycle."""
+
+    def __init__(
+        self,
+        model: RobotModel,
+        start_q: np.ndarray,
+        *,
+        obstacles: dict[str, object] | None = None,
+        options: ExecutionOptions | None = None,
+        progress: Callable[[float, int], None] | None = None,
+    ):
+        self.model = model
+        self.opts = options or ExecutionOptions()
+        self.ik_params = self.opts.ik or IKParams.for_robot(model)
+        self.obstacles = dict(obstacles or {})
+        self.recorder = Recorder(model.n, tuple(self.obstacles), self.ik_params.task_rows)
+        self.pre = PreInterpolator(model, self._solve_pose, self.ik_params.task_rows)
+        self.progress = progress
+        self.scale = units.joint_scale(model.joint_kinds)
+        self._solvers: dict[bytes, _Solver] = {}
+        self._t = 0.0
+        self.q = np.array(start_q, dtype=float)
+        self.q_prev = self.q.copy()
+        self._cycles = 0
+        self._line = 0
+        self._manip_every = max(1, self.opts.manipulability_every)
+        self._collision_warned: set[str] = set()
+        self._last_reference: np.ndarray | None = None  # θ⁰ of the last IK cycle
+        self._active_obstacles: frozenset[str] = frozenset()
+        self.dt_used = self.opts.ipo if self.opts.ipo is not None else Settings().ipo
+        self._record_still(0, Settings(), initial=True)
+
+    # ------------------------------------------------------------------ protocol
+    @property
+    def time(self) -> float:
+        return self._t
+
+    def joints(self) -> tuple[float, ...]:
+        return tuple(float(v) for v in self.q / self.scale)
+
+    def pose(self, settings: Settings) -> Pose:
+        return self._program_pose(self._tcp(self.q, settings), settings)
+
+    def forward(self, joints: JointTuple, settings: Settings) -> Pose:
+        q = self.pre.joints_si(joints)
+        return self._program_pose(self._tcp(q, settings), settings)
+
+    def move(self, cmd: MotionCommand, settings: Settings, options: ModalOptions) -> None:
+        self._line = cmd.line
+        solver = self._solver(settings)
+        state = self._plan_state(settings, solver)
+        self._settings = settings
+        segments = self.pre.plan(cmd, settings, options, state)
+        for seg in segments:
+            self._run_segment(seg, settings, options, solver)
+
+    def reconfigure(
+        self, target: JointTuple, line: int, settings: Settings, options: ModalOptions
+    ) -> None:
+        self._line = line
+        solver = self._solver(settings)
+        state = self._plan_state(settings, solver)
+        lims = self.pre.limits((None, None, None), options, line)
+        self.pre.check_inside(self.q, lims[0], line, "the limits exclude the current state")
+        k = self.pre.joints_si(target)
+        # reference profile: a synchronised joint move from here to k (PTP timing)
+        cmd = MotionCommand("PTP", (target,), line)
+        ref_seg = self.pre._ptp_segment(cmd, settings, self.q, k, lims, state.dt, 1)
+        hold = self.pre.hold("reconf", line, state, 0, lims)
+        dt = state.dt
+        cycle_opts = self._cycle_options(hold, options)
+        cycle_opts.self_motion = True
+        settle = max(1, math.ceil(self.opts.reconf_settle_s / dt))
+        k_cyc = 0
+        while True:
+            k_cyc += 1
+            if k_cyc <= ref_seg.cycles:
+                _, ref = ref_seg.setpoint(k_cyc, dt)
+            else:
+                ref = k
+            cycle_opts.reference = ref
+            self._ik_cycle(hold, hold.path.pose, dt, cycle_opts, solver)
+            self._last_reference = np.array(ref, dtype=float)
+            if k_cyc > ref_seg.cycles and reconfiguration_done(
+                self.q, self.q_prev, self.ik_params.eps_conf
+            ):
+                break
+            if k_cyc > ref_seg.cycles + settle:
+                self.recorder.warnings.append(
+                    f"line {line}: RECONFIGURATION did not settle within "
+                    f"{self.opts.reconf_settle_s:g} s after its reference arrived"
+                )
+                break
+
+    def wait(self, seconds: float, line: int, settings: Settings, options: ModalOptions) -> None:
+        if not (seconds >= 0.0 and math.isfinite(seconds)):
+            raise RunFailure(f"WAIT needs a finite time ≥ 0 s, got {seconds!r}", line, self._t)
+        self._line = line
+        dt = self._dt(settings)
+        n = round(seconds / dt)
+        if abs(n * dt - seconds) > 1e-9 * max(1.0, seconds):
+            n = math.ceil(seconds / dt)
+        for _ in range(n):
+            self.q_prev = self.q.copy()
+            self._t = _advance(self._t, dt)
+            self._record_still(line, settings)
+            self._tick()
+
+    def log_event(self, kind: str, line: int, **data) -> None:
+        event = {"kind": kind, "line": line, "time_s": round(self._t, 9)}
+        event.update(data)
+        self.recorder.events.append(event)
+
+    # ------------------------------------------------------------------ cycles
+    def _run_segment(self, seg: Segment, settings, options, solver: _Solver) -> None:
+        dt = self._dt(settings)
+        self._active_obstacles = frozenset(options.obstacles)
+        if seg.is_joint:
+            for k in range(1, seg.cycles + 1):
+                s, q = seg.setpoint(k, dt)
+                self._joint_cycle(seg, q, k, s, dt, solver)
+            self._last_reference = None
+            return
+        cycle_opts = self._cycle_options(seg, options)
+        reference = self._blended_reference(seg.reference, cycle_opts.reference)
+        for k in range(1, seg.cycles + 1):
+            s, target = seg.setpoint(k, dt)
+            if reference is not None:
+                cycle_opts.reference = reference.at(s)
+            self._ik_cycle(seg, target, dt, cycle_opts, solver)
+        self._last_reference = None if cycle_opts.reference is None else cycle_opts.reference
+
+    def _blended_reference(self, path: ReferencePath | None, constant: np.ndarray | None):
+        """The segment's θ⁰(s), starting from the previous cycle's reference (or the
+        current configuration when none was active) so that switching the criterion (e.g.
+        CYCLIC again after a WITH RECONFIGURATION statement) does not jerk the joints."""
+        start = self._last_reference if self._last_reference is not None else self.q
+        if path is not None:
+            configs = path.configs.copy()
+            configs[0] = start
+            return ReferencePath(path.knots, configs)
+        if constant is None or np.allclose(start, constant, rtol=0.0, atol=1e-12):
+            return None
+        return ReferencePath(np.array([0.0, 1.0]), np.array([start, constant]))
+
+    def _cycle_options(self, seg: Segment, options: ModalOptions) -> CycleOptions:
+        pos, spd, acc = seg.limits
+        reference = None
+        if options.cyclic_reference is not None:
+            reference = self.pre.joints_si(options.cyclic_reference)
+        for name in options.obstacles:
+            if name not in self.obstacles:
+                raise RunFailure(f"unknown obstacle {name!r}", seg.line, self._t)
+        return CycleOptions(
+            position=pos,
+            speed=spd,
+            accel=acc,
+            reference=reference,
+            frozen=self.pre.frozen_si(options),
+            obstacles=tuple(self.obstacles.values()),
+            active_obstacles=frozenset(options.obstacles),
+        )
+
+    def _ik_cycle(self, seg: Segment, target, dt, opts: CycleOptions, solver: _Solver) -> None:
+        t = _advance(self._t, dt)
+        try:
+            res = solver.ik.step(self.q, self.q_prev, target, dt, opts)
+        except RunFailure as exc:
+            raise _located(exc, seg.line, t) from None
+        except FloatingPointError as exc:
+            raise RunFailure(f"inverse transformation failed: {exc}", seg.line, t) from None
+        self.q_prev, self.q = self.q, res.q
+        self._t = t
+        tcp = solver.kin.tcp(self.q)
+        self.recorder.ik_cycles += 1
+        self.recorder.add(
+            t,
+            seg.line,
+            self.q,
+            tcp,
+            target,
+            iterations=res.iterations,
+            relaxed=res.relaxed,
+            active=res.active,
+            clearances=res.clearances,
+            dt=dt,
+            manipulability=res.manipulability
+            if self._cycles % self._manip_every == 0
+            else float("nan"),
+        )
+        self._check_collisions(res.clearances, opts.active_obstacles, seg.line, t)
+        pos_err, ori_err = self.recorder.pos_error[-1], self.recorder.ori_error[-1]
+        if res.relaxed or not res.converged:
+            self.recorder.note_relaxed(seg.line, t, dt, pos_err, ori_err, res.binding)
+        if pos_err > self.opts.tol_position or ori_err > self.opts.tol_orientation:
+            raise self._deviation_failure(seg, t, pos_err, ori_err, res)
+        self._tick()
+
+    def _joint_cycle(self, seg: Segment, q, k: int, s: float, dt: float, solver) -> None:
+        self.q_prev, self.q = self.q, np.array(q, dtype=float)
+        self._t = _advance(self._t, dt)
+        frames = solver.kin.link_frames(self.q)
+        tcp = solver.kin.tcp_from_frames(frames)
+        active = self._ptp_active(seg, k, dt)
+        clearances = self._clearances(solver, frames)
+        self.recorder.add(
+            self._t, seg.line, self.q, tcp, None, active=active, clearances=clearances, dt=dt
+        )
+        self._check_collisions(clearances, self._active_obstacles, seg.line, self._t)
+        self._tick()
+
+    def _check_collisions(self, clearances, active, line: int, t: float) -> None:
+        """A negative clearance is a collision: a failure for an avoided (active) obstacle,
+        a warning (once per obstacle) for the others."""
+        if not clearances:
+            return
+        for name, (distance, link) in clearances.items():
+            if distance >= 0.0:
+                continue
+            depth = f"{-distance / units.MM:.4g} mm deep, link {link}"
+            if name in active:
+                raise RunFailure(
+                    f"the arm collides with obstacle {name} ({depth})", line, t, f"obstacle {name}"
+                )
+            if name not in self._collision_warned:
+                self._collision_warned.add(name)
+                self.recorder.warnings.append(
+                    f"line {line}: the arm touches obstacle {name} at t = {t:.3f} s ({depth}); "
+                    "it is not avoided (no OBSTACLE statement active)"
+                )
+
+    def _ptp_active(self, seg: Segment, k: int, dt: float) -> dict[int, str] | None:
+        """The joint that sets a PTP segment's time is at its acceleration bound while
+        ramping and at its speed bound while cruising at the full speed."""
+        j = seg.limiting_joint
+        if j < 0:
+            return None
+        phase = int(seg.profile.phase((k - 0.5) * dt))
+        if phase != 0:
+            return {j: "accel max" if phase > 0 else "accel min"}
+        vmax = seg.limits[1][j, 1] if seg.path.q1[j] >= seg.path.q0[j] else -seg.limits[1][j, 0]
+        if seg.info["joint_speed"][j] >= vmax * (1.0 - 1e-9):
+            return {j: "speed max"}
+        return None
+
+    def _record_still(self, line: int, settings: Settings, initial: bool = False) -> None:
+        solver = self._solver(settings)
+        frames = solver.kin.link_frames(self.q)
+        tcp = solver.kin.tcp_from_frames(frames)
+        clear = self._clearances(solver, frames) if initial else None
+        self.recorder.add(self._t, line, self.q, tcp, None, clearances=clear)
+
+    def _clearances(self, solver: _Solver, frames) -> dict[str, tuple[float, int]] | None:
+        if not self.obstacles:
+            return None
+        from irlc.runtime.distance import critical_points
+
+        cps = critical_points(solver.kin, frames, tuple(self.obstacles.values()))
+        return {cp.name: (cp.distance, cp.link) for cp in cps}
+
+    def _tick(self) -> None:
+        self._cycles += 1
+        if self.progress is not None and self._cycles % self.opts.progress_every == 0:
+            self.progress(self._t, self._line)
+
+    def _deviation_failure(self, seg, t, pos_err, ori_err, res) -> RunFailure:
+        what = (
+            f"the path cannot be followed: TCP deviation {pos_err / units.MM:.4g} mm, "
+            f"{ori_err / units.DEG:.4g} deg (tolerance {self.opts.tol_position / units.MM:g} mm, "
+            f"{self.opts.tol_orientation / units.DEG:g} deg)"
+        )
+        if res.binding:
+            what += f"; bound by {res.binding}"
+        if res.singular or (math.isfinite(res.sigma_min) and res.sigma_min < 1e-6):
+            what += f"; near a singular configuration (σ_min = {res.sigma_min:.3g})"
+        return RunFailure(what, seg.line, t, res.binding or None)
+
+    # ------------------------------------------------------------------ helpers
+    def _dt(self, settings: Settings) -> float:
+        dt = self.opts.ipo if self.opts.ipo is not None else settings.ipo
+        if not (isinstance(dt, float | int) and 1e-5 <= dt <= 1.0):
+            raise RunFailure(
+                f"the IPO cycle must be between 1e-5 and 1 s, got {dt!r}", self._line, self._t
+            )
+        self.dt_used = float(dt)
+        return self.dt_used
+
+    def _solver(self, settings: Settings) -> _Solver:
+        tool = tool_transform(self.model, settings)
+        key = tool.tobytes()
+        solver = self._solvers.get(key)
+        if solver is None:
+            kin = Kinematics(self.model, tool)
+            solver = _Solver(kin, InverseTransformation(self.model, kin, self.ik_params))
+            self._solvers[key] = solver
+        return solver
+
+    def _plan_state(self, settings: Settings, solver: _Solver) -> PlanState:
+        return PlanState(
+            self.q.copy(), solver.kin.tcp(self.q), self._dt(settings), base_transform(settings)
+        )
+
+    def _tcp(self, q: np.ndarray, settings: Settings) -> np.ndarray:
+        return self._solver(settings).kin.tcp(q)
+
+    @staticmethod
+    def _program_pose(world: np.ndarray, settings: Settings) -> Pose:
+        return units.pose_value_from_si(spatial.inverse(base_transform(settings)) @ world)
+
+    def _solve_pose(
+        self, target, seed, frozen: dict[int, float], lims: Limits3, line: int
+    ) -> np.ndarray:
+        """PTP to a POSE: joints for ``target`` from the current configuration, within
+        the active position limits and with frozen joints held."""
+        pos = lims[0].copy()
+        for j, v in frozen.items():
+            pos[j] = (v, v)
+        model = _with_position_limits(self.model, pos)
+        tool = self._solver(self._settings).kin.tool
+        sol = solve_pose(model, target, seed, tool=tool)
+        if not sol.converged:
+            raise RunFailure(f"MOVE PTP: {sol.message}", line, self._t)
+        return sol.q
+
+
+def _with_position_limits(model: RobotModel, position: np.ndarray) -> RobotModel:
+    joints = tuple(
+        dataclasses.replace(j, limits=dataclasses.replace(j.limits, position=tuple(position[i])))
+        for i, j in enumerate(model.joints)
+    )
+    return dataclasses.replace(model, joints=joints)
+
+
+def _advance(t: float, dt: float) -> float:
+    """The next sample time, rounded to 1 ns so that time stamps do not drift."""
+    return round(t + dt, 9)
+
+
+def _located(exc: RunFailure, line: int, t: float) -> RunFailure:
+    """The same failure with the statement line and the simulated time filled in."""
+    if exc.line is None:
+        exc.line = line
+    if exc.time_s is None:
+        exc.time_s = t
+    return exc
+
+
+# re-exported for tests that build segments by hand
+__all__ = ["ExecutionOptions", "JointLine", "ReferencePath", "SimulatedController"]

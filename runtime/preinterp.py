@@ -1,0 +1,392 @@
+"""The pre-interpolator: one motion command → profiled segments (SI, world frame).
+
+For each :class:`~irlc.runtime.controller.MotionCommand` it resolves
+
+* **units**: program values (mm, deg, s; joints deg | mm) → SI, via :mod:`units` only;
+* **frames**: program poses are in the ``R_BASE`` frame: ``T_world = R_BASE · T_prog``;
+  the TCP is the robot's own tool (robot file) followed by ``R_TOOL``
+  (:func:`tool_transform`); ``MOVE_INC LIN`` deltas are in the tool frame:
+  ``T_target = T_now · Δ``;
+* **limits**: program limits (modal JOINTLIMIT … blocks and WITH clauses, intersected
+  with each other) ∩ the robot's own limits, which always apply. A position bound that
+  excludes the current configuration is a :class:`~irlc.runtime.errors.RunFailure`
+  naming joint, value and bound (never a clamp);
+* **profile** (:mod:`profiles`), a trapezoid stretched to a whole number of IPO cycles:
+
+  - PTP: straight line in joint space, synchronised; joint ``i`` may use
+    ``R_SPEED_PTP % · θ̇max_i`` and ``R_ACC_PTP % · θ̈max_i`` (of the active limits);
+    the slowest joint sets the time;
+  - LIN: position (``R_SPEED``, ``R_ACC``) and orientation (``R_SPEED_ORI`` with the
+    same ramp time, ``ω̇ = R_SPEED_ORI · R_ACC / R_SPEED``) share one ``s(t)``; the segment
+    time is the larger of the two times (orientation only counts when the robot's task
+    controls it: not for a planar arm whose task is x, y);
+  - CIRCLE: the same on the arc length and the start → target orientation angle;
+  - several LIN points / LIN PATH: consecutive segments, each stopping at its point
+    (no blending); ``WITH TIME`` is split over them in proportion to their minimum times;
+  - ``WITH TIME t``: the profile is stretched to ``t``; shorter than the limits allow is
+    a RunFailure.
+
+``WITH RECONFIGURATION`` gives a reference θ⁰(s), linear per segment from the
+configuration at the start of the statement (or the previous point's) to each point's.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from irlc.robots.model import RobotModel
+from irlc.runtime import units
+from irlc.runtime.controller import ModalOptions, MotionCommand, Settings
+from irlc.runtime.errors import RunFailure
+from irlc.runtime.ik.limits import format_joint_value, intersect_limits
+from irlc.runtime.interpolator import (
+    CartesianArc,
+    CartesianLine,
+    CircleError,
+    Hold,
+    JointLine,
+    ReferencePath,
+    Segment,
+)
+from irlc.runtime.profiles import (
+    ProfileError,
+    Trapezoid,
+    common_bounds,
+    cycles,
+    minimum_time,
+    trapezoid,
+)
+from irlc.runtime.values import JointTuple, Pose
+
+Limits3 = tuple[np.ndarray, np.ndarray, np.ndarray]
+
+
+def tool_transform(model: RobotModel, settings: Settings) -> np.ndarray:
+    """TCP in the flange frame: the robot's own tool, then ``R_TOOL``."""
+    return model.tool @ units.pose_value_to_si(settings.tool)
+
+
+def base_transform(settings: Settings) -> np.ndarray:
+    """``R_BASE``: the program's base frame in the world (4×4, SI)."""
+    return units.pose_value_to_si(settings.base)
+
+
+@dataclass
+class PlanState:
+    """What the pre-interpolator needs to know about the robot right now (SI)."""
+
+    q: np.ndarray  # commanded configuration
+    tcp: np.ndarray  # its world TCP pose (with the current tool)
+    dt: float  # IPO cycle
+    base: np.ndarray  # R_BASE in the world (4×4)
+
+
+PoseSolver = Callable[[np.ndarray, np.ndarray, dict[int, float], Limits3, int], np.ndarray]
+
+
+class PreInterpolator:
+    """Turns motion commands into segments for one robot."""
+
+    def __init__(
+        self,
+        model: RobotModel,
+        solve_pose: PoseSolver | None = None,
+        task_rows: Sequence[int] = (0, 1, 2, 3, 4, 5),
+    ):
+        self.model = model
+        # a task without orientation rows (a planar arm's x, y) does not time orientation
+        self.timed_orientation = any(r >= 3 for r in task_rows)
+        self.kinds = model.joint_kinds
+        self.scale = units.joint_scale(self.kinds)
+        self.solve_pose = solve_pose
+
+    # ------------------------------------------------------------------ units
+    def joints_si(self, values: Sequence[float] | JointTuple) -> np.ndarray:
+        vals = values.values if isinstance(values, JointTuple) else values
+        if len(vals) != self.model.n:
+            raise RunFailure(
+                f"a joint tuple has {len(vals)} values but robot {self.model.name} has "
+                f"{self.model.n} joints"
+            )
+        return np.asarray(vals, dtype=float) * self.scale
+
+    def frozen_si(self, options: ModalOptions) -> dict[int, float]:
+        return {j: float(v) * float(self.scale[j]) for j, v in sorted(options.frozen.items())}
+
+    # ------------------------------------------------------------------ limits
+    def limits(self, cmd_limits: Sequence, options: ModalOptions, line: int) -> Limits3:
+        """Robot limits ∩ modal program limits ∩ this statement's WITH limits."""
+        progs = []
+        for modal, clause in zip(
+            (options.joint_limits, options.speed_limits, options.accel_limits),
+            cmd_limits,
+            strict=True,
+        ):
+            bound = None
+            for pair in (modal, clause):
+                if pair is None:
+                    continue
+                lo, hi = self.joints_si(pair[0]), self.joints_si(pair[1])
+                if bound is None:
+                    bound = np.column_stack((lo, hi))
+                else:
+                    bound[:, 0] = np.fmax(bound[:, 0], lo)
+                    bound[:, 1] = np.fmin(bound[:, 1], hi)
+            progs.append(bound)
+        try:
+            return intersect_limits(self.model, *progs)
+        except ValueError as exc:
+            raise RunFailure(f"the active joint limits are contradictory: {exc}", line) from None
+
+    def check_inside(self, q: np.ndarray, position: np.ndarray, line: int, what: str) -> None:
+        """RunFailure if ``q`` is outside the position limits (naming joint, value, bound)."""
+        tol = 1e-9
+        for j in range(self.model.n):
+            lo, hi = position[j]
+            side, bound = ("min", lo) if q[j] < lo - tol else ("max", hi)
+            if lo - tol <= q[j] <= hi + tol:
+                continue
+            name = self.model.joints[j].name
+            val = format_joint_value(self.model, j, q[j], 0)
+            lim = format_joint_value(self.model, j, bound, 0)
+            raise RunFailure(
+                f"{what}: joint {name} = {val} is outside the active position limit ({side} {lim})",
+                line,
+                constraint=f"{name} position {side} {lim}",
+            )
+
+    # ------------------------------------------------------------------ planning
+    def plan(
+        self, cmd: MotionCommand, settings: Settings, options: ModalOptions, state: PlanState
+    ) -> list[Segment]:
+        lims = self.limits(
+            (cmd.joint_limits, cmd.speed_limits, cmd.accel_limits), options, cmd.line
+        )
+        self.check_inside(state.q, lims[0], cmd.line, "the limits exclude the current state")
+        kind = cmd.kind
+        if kind in ("PTP", "PTPINC"):
+            return self._plan_ptp(cmd, settings, options, state, lims)
+        if kind in ("LIN", "LINPATH", "LININC"):
+            return self._plan_lin(cmd, settings, state, lims)
+        if kind == "CIRCLE":
+            return self._plan_circle(cmd, settings, state, lims)
+        raise RunFailure(f"unknown motion kind {kind!r}", cmd.line)
+
+    def hold(
+        self,
+        kind: str,
+        line: int,
+        state: PlanState,
+        n_cycles: int,
+        lims: Limits3,
+        reference: np.ndarray | None = None,
+    ) -> Segment:
+        """A segment holding the TCP (WAIT: ``n_cycles``; RECONFIGURATION: open-ended)."""
+        ref = None
+        if reference is not None:
+            ref = ReferencePath(np.array([0.0]), reference[None, :])
+        profile = Trapezoid(n_cycles * state.dt, 0.0, 0.0)
+        return Segment(kind, line, Hold(state.tcp.copy()), profile, n_cycles, lims, ref)
+
+    # PTP ------------------------------------------------------------------
+    def _plan_ptp(self, cmd, settings, options, state: PlanState, lims: Limits3) -> list[Segment]:
+        out = []
+        q0 = state.q
+        frozen = self.frozen_si(options)
+        for target in cmd.targets:
+            q1 = self._ptp_target(cmd, target, q0, frozen, lims, state)
+            self.check_inside(q1, lims[0], cmd.line, "PTP target")
+            for j, v in frozen.items():
+                if abs(q1[j] - v) > 1e-9 * (1.0 + abs(v)):
+                    name = self.model.joints[j].name
+                    raise RunFailure(
+                        f"PTP target moves the frozen joint {name} "
+                        f"(held at {format_joint_value(self.model, j, v, 0)}, target "
+                        f"{format_joint_value(self.model, j, q1[j], 0)})",
+                        cmd.line,
+                    )
+            seg = self._ptp_segment(cmd, settings, q0, q1, lims, state.dt, len(cmd.targets))
+            out.append(seg)
+            q0 = q1
+        return out
+
+    def _ptp_target(self, cmd, target, q0, frozen, lims, state) -> np.ndarray:
+        if cmd.kind == "PTPINC":
+            return q0 + self.joints_si(target)
+        if isinstance(target, JointTuple):
+            return self.joints_si(target)
+        if isinstance(target, Pose):
+            if self.solve_pose is None:
+                raise RunFailure("MOVE PTP to a POSE needs the pose solver", cmd.line)
+            world = self._world(target, state)
+            return self.solve_pose(world, q0, frozen, lims, cmd.line)
+        raise RunFailure(f"MOVE PTP: unsupported target {type(target).__name__}", cmd.line)
+
+    def _ptp_segment(self, cmd, settings, q0, q1, lims, dt, npts) -> Segment:
+        _, spd, acc = lims
+        delta = q1 - q0
+        pct_v = (cmd.speed_ptp if cmd.speed_ptp is not None else settings.speed_ptp) / 100.0
+        pct_a = (cmd.acc_ptp if cmd.acc_ptp is not None else settings.acc_ptp) / 100.0
+        if not (0.0 < pct_v <= 1.0 and 0.0 < pct_a <= 1.0):
+            raise RunFailure(
+                f"PTP speed/acceleration must be in (0, 100] %, got {pct_v * 100:g} / "
+                f"{pct_a * 100:g}",
+                cmd.line,
+            )
+        vmax = np.where(delta >= 0.0, spd[:, 1], -spd[:, 0]) * pct_v
+        amax = np.minimum(acc[:, 1], -acc[:, 0]) * pct_a
+        for j in np.flatnonzero(np.abs(delta) > 0.0):
+            if not (vmax[j] > 0.0 and amax[j] > 0.0):
+                name = self.model.joints[j].name
+                raise RunFailure(
+                    f"PTP: joint {name} must move but its active speed/acceleration limits "
+                    "do not allow motion in that direction",
+                    cmd.line,
+                )
+        v, a, slowest = common_bounds(np.abs(delta), vmax, amax)
+        duration = self._time(cmd, npts, minimum_time(v, a) if slowest >= 0 else 0.0)
+        profile = self._profile(v, a, duration, dt, cmd.line)
+        limiting = ""
+        if slowest >= 0:
+            limiting = f"joint {self.model.joints[slowest].name} speed/acceleration"
+        seg = Segment(
+            "ptp",
+            cmd.line,
+            JointLine(q0.copy(), q1.copy()),
+            profile,
+            cycles(profile.duration, dt),
+            lims,
+            None,
+            limiting,
+            slowest,
+        )
+        moving = profile.duration > 0.0
+        seg.info["joint_speed"] = np.abs(delta) * (profile.cruise if moving else 0.0)
+        seg.info["joint_accel"] = np.abs(delta) * (profile.accel if moving else 0.0)
+        return seg
+
+    # LIN ------------------------------------------------------------------
+    def _plan_lin(self, cmd, settings, state: PlanState, lims) -> list[Segment]:
+        if cmd.kind == "LININC":
+            poses = [state.tcp @ units.pose_value_to_si(t) for t in cmd.targets]
+        else:
+            poses = [self._world(t, state) for t in cmd.targets]
+        paths, start = [], state.tcp
+        for p in poses:
+            paths.append(CartesianLine(start.copy(), p))
+            start = p
+        return self._cartesian_segments(cmd, settings, state, lims, paths, "lin")
+
+    def _plan_circle(self, cmd, settings, state: PlanState, lims) -> list[Segment]:
+        if len(cmd.targets) != 2:
+            raise RunFailure("MOVE CIRCLE needs a via point and a target", cmd.line)
+        via, target = (self._world(t, state) for t in cmd.targets)
+        try:
+            arc = CartesianArc(state.tcp.copy(), via[:3, 3].copy(), target)
+        except CircleError as exc:
+            raise RunFailure(f"MOVE CIRCLE: {exc}", cmd.line) from None
+        return self._cartesian_segments(cmd, settings, state, lims, [arc], "circle")
+
+    def _cartesian_segments(self, cmd, settings, state, lims, paths, kind) -> list[Segment]:
+        speed = (cmd.speed if cmd.speed is not None else settings.speed) * units.MM
+        acc = (cmd.acc if cmd.acc is not None else settings.acc) * units.MM
+        w = (cmd.speed_ori if cmd.speed_ori is not None else settings.speed_ori) * units.DEG
+        if not (speed > 0.0 and acc > 0.0 and w > 0.0):
+            raise RunFailure(
+                "path speed, acceleration and orientation speed must be positive", cmd.line
+            )
+        w_acc = w * acc / speed
+        bounds = []
+        for path in paths:
+            angle = path.angle if self.timed_orientation else 0.0
+            v, a, slowest = common_bounds([path.length, angle], [speed, w], [acc, w_acc])
+            tmin = minimum_time(v, a) if slowest >= 0 else 0.0
+            bounds.append((v, a, slowest, tmin))
+        times = self._split_time(cmd, [b[3] for b in bounds])
+        refs = self._references(cmd, state.q, paths)
+        out = []
+        for path, (v, a, slowest, _), t, ref in zip(paths, bounds, times, refs, strict=True):
+            if slowest < 0:  # zero-length segment: nothing to interpolate
+                continue
+            profile = self._profile(v, a, t, state.dt, cmd.line)
+            what = ("path speed/acceleration", "orientation speed")[slowest]
+            out.append(
+                Segment(
+                    kind,
+                    cmd.line,
+                    path,
+                    profile,
+                    cycles(profile.duration, state.dt),
+                    lims,
+                    ref,
+                    what,
+                )
+            )
+        return out
+
+    def _references(self, cmd, q_start, paths) -> list[ReferencePath | None]:
+        """Per-segment θ⁰(s) for WITH RECONFIGURATION (``None`` without it)."""
+        if not cmd.reconfiguration:
+            return [None] * len(paths)
+        configs = [self.joints_si(k) for k in cmd.reconfiguration]
+        if isinstance(paths[0], CartesianArc):
+            arc = paths[0]
+            if len(configs) == 1:
+                return [ReferencePath(np.array([0.0, 1.0]), np.array([q_start, configs[0]]))]
+            knots = np.array([0.0, arc.via_fraction, 1.0])
+            return [ReferencePath(knots, np.array([q_start, configs[0], configs[-1]]))]
+        if len(configs) == 1 and len(paths) > 1:  # one target: spread along the path
+            lengths = np.array([max(p.length, 1e-12) for p in paths])
+            frac = np.cumsum(lengths) / lengths.sum()
+            configs = [q_start + f * (configs[0] - q_start) for f in frac]
+        if len(configs) != len(paths):
+            raise RunFailure(
+                f"WITH RECONFIGURATION gives {len(configs)} configurations for {len(paths)} points",
+                cmd.line,
+            )
+        out, prev = [], q_start
+        for k in configs:
+            out.append(ReferencePath(np.array([0.0, 1.0]), np.array([prev, k])))
+            prev = k
+        return out
+
+    # helpers --------------------------------------------------------------
+    def _world(self, pose: Pose, state: PlanState) -> np.ndarray:
+        if not isinstance(pose, Pose):
+            raise RunFailure(f"expected a POSE target, got {type(pose).__name__}")
+        return state.base @ units.pose_value_to_si(pose)
+
+    def _time(self, cmd, npts: int, t_min: float) -> float | None:
+        if cmd.time is None:
+            return None
+        if npts > 1:
+            raise RunFailure("WITH TIME on a multi-target PTP is not supported", cmd.line)
+        return float(cmd.time)
+
+    def _split_time(self, cmd, tmins: list[float]) -> list[float | None]:
+        if cmd.time is None:
+            return [None] * len(tmins)
+        total = float(cmd.time)
+        tsum = sum(tmins)
+        if total < tsum * (1.0 - 1e-12):
+            raise RunFailure(
+                f"WITH TIME := {total:g} s is shorter than the {tsum:.6g} s the speed and "
+                "acceleration limits allow",
+                cmd.line,
+            )
+        if tsum == 0.0:
+            return [None] * len(tmins)
+        return [total * t / tsum for t in tmins]
+
+    def _profile(self, v, a, duration, dt, line) -> Trapezoid:
+        """The trapezoid (stretched to ``duration`` if given), rounded up to whole cycles."""
+        if v == np.inf:  # nothing moves
+            n = cycles(duration or 0.0, dt)
+            return Trapezoid(n * dt, 0.0, 0.0) if n else Trapezoid(0.0, np.inf, np.inf)
+        try:
+            base = trapezoid(v, a, duration)
+            return trapezoid(v, a, cycles(base.duration, dt) * dt)
+        except ProfileError as exc:
+            raise RunFailure(f"WITH TIME: {exc}", line) from None

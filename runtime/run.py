@@ -1,0 +1,264 @@
+"""Run a program: IRDATA code → interpreter → simulated controller → :class:`RunResult`.
+
+``run_code(code, …)`` executes compiled code; ``run_file(path, …)`` compiles an ``.irl``
+file first (or reads an ``.ird`` file with :func:`irlc.lang.irdata.read_code`).
+
+**Start configuration**, in this order: ``seed_config`` (program units, ``--seed-config``);
+the robot's ``home``; the target of the program's first motion statement if that is a
+``MOVE PTP`` to a constant MAIN_JOINT (the robot starts there, the PTP takes no time);
+else the zero configuration.
+
+The result carries the samples (SI), the report (``interfaces.md`` keys, program units)
+and the trace table (program units, column names per ``interfaces.md``). A run failure
+(:class:`~irlc.runtime.errors.RunFailure`) does not raise: the result has
+``status = "failed"``, the error, and everything recorded up to the failure.
+Bad setup (unknown robot, joint count mismatch, bad ``seed_config``) raises
+:class:`RunSetupError` (a usage error, exit 3).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from irlc.lang.irdata import Code
+from irlc.robots.model import RobotModel
+from irlc.runtime import units
+from irlc.runtime.controller import Settings
+from irlc.runtime.errors import RunFailure
+from irlc.runtime.executor import ExecutionOptions, SimulatedController
+from irlc.runtime.recorder import RecordedRun
+
+DRIVE_LEVELS = ("ideal", "decoupled", "coupled", "pwm")
+
+
+class RunSetupError(Exception):
+    """The run cannot start: unknown robot, mismatching code, bad options (exit 3)."""
+
+
+@dataclass
+class RunResult:
+    status: str  # "ok" | "failed"
+    error: RunFailure | None
+    report: dict
+    times: np.ndarray  # (k,) s
+    q: np.ndarray  # (k, n) SI (actual joints; the commanded ones with ideal drives)
+    tcp: np.ndarray  # (k, 4, 4) world, m
+    trace_columns: list[str]
+    trace: np.ndarray  # (k', len(trace_columns)), program units
+    model: RobotModel
+    obstacles: tuple  # SI shapes (runtime.obstacles)
+    output: list[str]
+    drive: Any = None  # the drive simulation result, or None (ideal)
+    recorded: RecordedRun | None = None
+    code: Code | None = None
+    joint_names: tuple[str, ...] = ()
+    diagnostics: list = field(default_factory=list)  # compiler warnings (run_file)
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "ok"
+
+    @property
+    def lines(self) -> np.ndarray:
+        return self.recorded.lines if self.recorded is not None else np.zeros(0, dtype=int)
+
+
+# --------------------------------------------------------------------------- setup
+
+
+def resolve_model(code: Code, robot: str | Path | RobotModel | None, base_dir: Path | None):
+    """The robot to run on: ``robot`` (override) or the code's robot (a library name or a
+    path relative to the program)."""
+    from irlc.robots import RobotFileError, load_robot
+
+    if isinstance(robot, RobotModel):
+        model = robot
+    else:
+        name = str(robot) if robot is not None else code.robot
+        if robot is None and base_dir is not None and name.endswith((".toml", ".urdf")):
+            candidate = base_dir / name
+            if candidate.is_file():
+                name = str(candidate)
+        try:
+            model = load_robot(name)
+        except RobotFileError as exc:
+            raise RunSetupError(str(exc)) from None
+    kinds = "".join("P" if k == units.PRISMATIC else "R" for k in model.joint_kinds)
+    if code.joint_kinds and kinds != code.joint_kinds:
+        raise RunSetupError(
+            f"the code was compiled for {code.joint_count} joints ({code.joint_kinds}) but robot "
+            f"{model.name} has {model.n} ({kinds})"
+        )
+    return model
+
+
+def obstacle_shapes(code: Code) -> dict[str, Any]:
+    """The code's obstacles (data lists, mm) as SI shapes, by name."""
+    from irlc.runtime.obstacles import from_program_units
+
+    out = {}
+    for o in code.obstacles:
+        spec: dict[str, Any] = {"kind": o.kind}
+        for key, vals in o.fields:
+            spec[_OBSTACLE_KEYS.get((o.kind, key), key)] = vals[0] if len(vals) == 1 else vals
+        try:
+            out[o.name] = from_program_units(o.name, spec)
+        except ValueError as exc:
+            raise RunSetupError(str(exc)) from None
+    return out
+
+
+# IRDATA names (docs/irdata.md) → runtime.obstacles names
+_OBSTACLE_KEYS = {("point", "center"): "position", ("box", "rotation"): "orientation"}
+
+
+def start_configuration(code: Code, model: RobotModel, seed_config) -> np.ndarray:
+    """See the module doc (seed, home, first PTP target, zero)."""
+    if seed_config is not None:
+        vals = [float(v) for v in seed_config]
+        if len(vals) != model.n:
+            raise RunSetupError(
+                f"--seed-config has {len(vals)} values but robot {model.name} has {model.n} joints"
+            )
+        if not all(math.isfinite(v) for v in vals):
+            raise RunSetupError("--seed-config values must be finite numbers")
+        return units.joints_to_si(vals, model.joint_kinds)
+    if model.home is not None:
+        return np.array(model.home, dtype=float)
+    first = _first_ptp_target(code)
+    if first is not None and len(first) == model.n:
+        return units.joints_to_si(first, model.joint_kinds)
+    return np.zeros(model.n)
+
+
+def _first_ptp_target(code: Code) -> tuple[float, ...] | None:
+    """The constant MAIN_JOINT target of the main routine's first motion, if it is a
+    one-point ``MOVE PTP`` without clauses."""
+    main = next((r for r in code.routines if r.kind == "MAIN"), None)
+    if main is None:
+        return None
+    for i in range(main.entry, len(code.code)):
+        ins = code.code[i]
+        if ins.op in ("JMP", "JF", "JT", "CALL", "RET", "END", "HALT"):
+            return None
+        if ins.op != "MOVE":
+            continue
+        if ins.args[:2] != ("PTP", 1) or len(ins.args) > 2 or i == 0:
+            return None
+        prev = code.code[i - 1]
+        if prev.op == "PUSHC":
+            value = code.consts[int(prev.args[0])]
+            if value.type == "MAIN_JOINT":
+                return tuple(float(v) for v in value.data)
+        return None
+    return None
+
+
+# --------------------------------------------------------------------------- running
+
+
+def run_code(
+    code: Code,
+    *,
+    robot: str | Path | RobotModel | None = None,
+    ipo: float | None = None,
+    drives: str = "ideal",
+    seed_config: Sequence[float] | None = None,
+    base_dir: str | Path | None = None,
+    progress: Callable[[float, int], None] | None = None,
+    output: Callable[[str], None] | None = None,
+    options: ExecutionOptions | None = None,
+    trace_every_step: bool = False,
+) -> RunResult:
+    """Execute compiled ``code`` (see the module doc)."""
+    if drives not in DRIVE_LEVELS:
+        raise RunSetupError(f"unknown drive level {drives!r} (known: {', '.join(DRIVE_LEVELS)})")
+    if ipo is not None and not (1e-5 <= ipo <= 1.0):
+        raise RunSetupError(f"--ipo must be between 1e-5 and 1 s, got {ipo!r}")
+    base = Path(base_dir) if base_dir is not None else None
+    model = resolve_model(code, robot, base)
+    obstacles = obstacle_shapes(code)
+    q0 = start_configuration(code, model, seed_config)
+    opts = options or ExecutionOptions()
+    if ipo is not None:
+        opts.ipo = float(ipo)
+    controller = SimulatedController(
+        model, q0, obstacles=obstacles, options=opts, progress=progress
+    )
+    settings = Settings(ipo=opts.ipo) if opts.ipo is not None else Settings()
+    execution = _interpret(code, controller, settings, output)
+    from irlc.runtime.results import assemble
+
+    return assemble(code, model, controller, obstacles, execution, opts, drives, trace_every_step)
+
+
+def _interpret(code, controller, settings, output: Callable[[str], None] | None):
+    """Run the interpreter; its result carries output, events, warnings and the error."""
+    from irlc.runtime.interpreter import Interpreter
+
+    interp = Interpreter(code, controller, settings=settings, output=output)
+    result = interp.run(check=False)
+    if result.error is not None and result.error.time_s is None:
+        result.error.time_s = controller.time
+    return result
+
+
+def run_file(
+    path: str | Path,
+    *,
+    robot: str | Path | RobotModel | None = None,
+    datalist_path: Sequence[str | Path] = (),
+    **kwargs,
+) -> RunResult:
+    """Compile (``.irl``) or read (``.ird``) ``path`` and run it. Raises
+    :class:`~irlc.lang.diagnostics.CompileError` when it does not compile and
+    :class:`RunSetupError` for a missing file or robot."""
+    from irlc.lang.diagnostics import CompileError
+
+    path = Path(path)
+    if not path.is_file():
+        raise RunSetupError(f"{path}: no such file")
+    diagnostics: list = []
+    if path.suffix.lower() == ".ird":
+        from irlc.lang.irdata import read_code
+
+        code = read_code(path.read_text(encoding="utf-8"), str(path))
+    else:
+        from irlc.lang.compiler import compile_file
+
+        override = None if robot is None or isinstance(robot, RobotModel) else str(robot)
+        result = compile_file(
+            path,
+            resolve_robot=_robot_resolver(path.parent, robot),
+            datalist_path=tuple(str(d) for d in datalist_path),
+            robot_override=override,
+        )
+        diagnostics = list(result.diagnostics)
+        if result.code is None or any(d.is_error for d in diagnostics):
+            raise CompileError(diagnostics)
+        code = result.code
+    run = run_code(code, robot=robot, base_dir=path.parent, **kwargs)
+    run.diagnostics = [d for d in diagnostics if not d.is_error]
+    return run
+
+
+def _robot_resolver(base_dir: Path, override):
+    """``name → RobotModel`` for the compiler (library names, paths relative to the program)."""
+    from irlc.robots import load_robot
+
+    def resolve(name: str):
+        if isinstance(override, RobotModel):
+            return override
+        text = str(name)
+        if text.endswith((".toml", ".urdf")) and not Path(text).is_absolute():
+            candidate = base_dir / text
+            if candidate.is_file():
+                text = str(candidate)
+        return load_robot(text)
+
+    return resolve
