@@ -3,11 +3,11 @@
 Obstacles are taught outside the program (data lists, in mm and degrees) and referred
 to by name (``OBSTACLE name``). Kinds:
 
-* ``point``: a point ``position``;
+* ``point``: a point ``center``;
 * ``sphere``: ``center``, ``radius``;
 * ``box``: ``center``, full edge lengths ``size`` (x, y, z of the box frame) and an
   optional ``rotation`` (3×3, box frame → world; data lists give it as ZYX angles
-  ``orientation = [a, b, c]`` in degrees);
+  ``rotation = [a, b, c]`` in degrees);
 * ``capsule``: segment ``a``–``b`` swept by a sphere of ``radius``;
 * ``plane``: ``point`` and ``normal``; the free side is where the normal points, the
   other half-space is solid (a floor, a wall).
@@ -86,13 +86,14 @@ Obstacle = PointObstacle | SphereObstacle | BoxObstacle | CapsuleObstacle | Plan
 
 
 def from_program_units(name: str, spec: Mapping) -> Obstacle:
-    """Build an obstacle from a data-list table (mm, degrees). Raises ``ValueError``
+    """Build an obstacle from a data-list table (mm, degrees; the keys of
+    ``language.md`` §6 and of IRDATA's OBSTACLE record). Raises ``ValueError``
     naming the key for unknown kinds, missing or unknown keys and bad values."""
     kind = spec.get("kind")
     allowed = {
-        "point": {"position"},
+        "point": {"center"},
         "sphere": {"center", "radius"},
-        "box": {"center", "size", "orientation"},
+        "box": {"center", "size", "rotation"},
         "capsule": {"a", "b", "radius"},
         "plane": {"point", "normal"},
     }
@@ -102,7 +103,7 @@ def from_program_units(name: str, spec: Mapping) -> Obstacle:
     unknown = keys - allowed[kind]
     if unknown:
         raise ValueError(f"obstacle {name}: unknown key(s) {sorted(unknown)} for kind {kind}")
-    required = allowed[kind] - {"orientation"}
+    required = allowed[kind] - {"rotation"}
     missing = required - keys
     if missing:
         raise ValueError(f"obstacle {name}: missing key(s) {sorted(missing)} for kind {kind}")
@@ -117,7 +118,7 @@ def from_program_units(name: str, spec: Mapping) -> Obstacle:
         return r * units.MM
 
     if kind == "point":
-        return PointObstacle(name, mm3("position"))
+        return PointObstacle(name, mm3("center"))
     if kind == "sphere":
         return SphereObstacle(name, mm3("center"), radius())
     if kind == "capsule":
@@ -132,7 +133,7 @@ def from_program_units(name: str, spec: Mapping) -> Obstacle:
     if np.any(size < 0.0):
         raise ValueError(f"obstacle {name}.size must be ≥ 0, got {spec['size']!r}")
     rotation = np.eye(3)
-    if "orientation" in spec:
-        a, b, c = _vec3(spec["orientation"], f"obstacle {name}.orientation") * units.DEG
+    if "rotation" in spec:
+        a, b, c = _vec3(spec["rotation"], f"obstacle {name}.rotation") * units.DEG
         rotation = spatial.zyx_to_matrix(a, b, c)
     return BoxObstacle(name, mm3("center"), size, rotation)

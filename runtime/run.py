@@ -105,16 +105,12 @@ def obstacle_shapes(code: Code) -> dict[str, Any]:
     for o in code.obstacles:
         spec: dict[str, Any] = {"kind": o.kind}
         for key, vals in o.fields:
-            spec[_OBSTACLE_KEYS.get((o.kind, key), key)] = vals[0] if len(vals) == 1 else vals
+            spec[key] = vals[0] if len(vals) == 1 else vals
         try:
             out[o.name] = from_program_units(o.name, spec)
         except ValueError as exc:
             raise RunSetupError(str(exc)) from None
     return out
-
-
-# IRDATA names (docs/irdata.md) → runtime.obstacles names
-_OBSTACLE_KEYS = {("point", "center"): "position", ("box", "rotation"): "orientation"}
 
 
 def start_configuration(code: Code, model: RobotModel, seed_config) -> np.ndarray:

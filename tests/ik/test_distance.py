@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.optimize
-from .ik_robots import planar_arm
 from irlc.runtime import spatial
 from irlc.runtime.distance import (
     closest_segment_box,
@@ -22,6 +21,8 @@ from irlc.runtime.obstacles import (
     SphereObstacle,
     from_program_units,
 )
+
+from .ik_robots import planar_arm
 
 S = np.linspace(0.0, 1.0, 4001)
 
@@ -218,3 +219,14 @@ def test_critical_points_equal_exhaustive_search_for_every_kind(koch11):
         for cp, obstacle in zip(critical_points(kin, frames, obstacles), obstacles, strict=True):
             exhaustive = min(segment_obstacle(a, b, r, obstacle).distance for _, a, b, r in parts)
             assert cp.distance == pytest.approx(exhaustive, abs=1e-12)
+
+
+def test_obstacle_keys_are_the_data_list_keys():
+    """The keys of language.md §6 (point ``center``, box ``rotation`` as ZYX degrees)."""
+    point = from_program_units("p", {"kind": "point", "center": [1000, 2000, 3000]})
+    np.testing.assert_allclose(point.position, [1.0, 2.0, 3.0])
+    box = from_program_units(
+        "b", {"kind": "box", "center": [0, 0, 0], "size": [2000, 1000, 500], "rotation": [90, 0, 0]}
+    )
+    # a box turned 90° about z: its local x axis points along the world y axis
+    np.testing.assert_allclose(box.rotation @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-12)
