@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import re
 from dataclasses import dataclass, field
 
 from irlc.lang import ast
@@ -865,7 +866,7 @@ class Checker:
             return T.REAL
         res = sig(arg_types, self.n)
         if isinstance(res, str):
-            self.error(e.span, f"{up}: {res}")
+            self.error(_blamed_span(e, res), f"{up}: {res}")
             return T.ERROR
         return res
 
@@ -895,7 +896,7 @@ class Checker:
             return T.ERROR
         if isinstance(res, str):
             self.error(
-                e.span,
+                _blamed_span(e, res),
                 f"POSE: {res}",
                 "POSE(POSITION(x, y, z), ORIZYX(a, b, c)) or POSE(x, y, z, a, b, c)",
             )
@@ -1477,6 +1478,19 @@ def _describe(target: ast.Expr, sym: Symbol) -> str:
     if isinstance(target, ast.Index):
         return f"{_describe(target.base, sym)}[...]"
     return sym.name
+
+
+_ARGUMENT_N = re.compile(r"argument (\d+):")
+
+
+def _blamed_span(call: ast.Call, message: str) -> Span:
+    """Where a built-in's type error points: the argument it names, else the call."""
+    m = _ARGUMENT_N.match(message)
+    if m and 1 <= int(m.group(1)) <= len(call.args):
+        return call.args[int(m.group(1)) - 1].span
+    if message.startswith("expected") and len(call.args) == 1:
+        return call.args[0].span
+    return call.span
 
 
 def _builtin_hint(name: str) -> str | None:

@@ -115,8 +115,10 @@ def _robot(
             )
         )
     robot_var = clause.var if clause else "r"
+    if override is None:
+        wanted = _program_relative(wanted, filename)
     try:
-        robot = resolve(wanted)
+        robot = _resolve_any_case(resolve, wanted)
         letters = kind_letters(robot)
         if robot.joint_count != len(letters) or robot.joint_count < 1:
             raise ValueError(f"robot {wanted}: inconsistent joint count")
@@ -133,6 +135,26 @@ def _robot(
         )
         return None, "", robot_var
     return robot, wanted, robot_var
+
+
+def _program_relative(robot: str, filename: str) -> str:
+    """A relative robot file named in the program is looked up next to the program first."""
+    if not (robot.endswith((".toml", ".urdf")) or "/" in robot or "\\" in robot):
+        return robot
+    candidate = Path(filename).parent / robot
+    if not Path(robot).is_absolute() and candidate.is_file():
+        return str(candidate)
+    return robot
+
+
+def _resolve_any_case(resolve: RobotResolver, wanted: str) -> RobotSignature:
+    """Robot names are identifiers, so case-insensitive: retry a library name in lower case."""
+    try:
+        return resolve(wanted)
+    except Exception:
+        if wanted.lower() == wanted or "/" in wanted or "." in wanted:
+            raise
+        return resolve(wanted.lower())
 
 
 def _datalists(

@@ -55,6 +55,18 @@ def _name_callback(tok: Token) -> Token:
     return tok
 
 
+_NUMBER_RE = re.compile(r"(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
+
+
+def _malformed_number(tok: Token) -> _BuildError:
+    return _BuildError(
+        _tok_span(tok),
+        f"malformed number '{tok.value}'",
+        "numbers look like 12, 180., .5, 1e-3 or 2.5E+2; put a space between a number and "
+        "a following word",
+    )
+
+
 @lru_cache(maxsize=1)
 def _lark() -> Lark:
     grammar = resources.files("irlc.lang").joinpath("irl.lark").read_text(encoding="utf-8")
@@ -64,7 +76,10 @@ def _lark() -> Lark:
         lexer="contextual",
         transformer=_Builder(),
         maybe_placeholders=True,
-        lexer_callbacks={"COMMENT": _comment_callback, "NAME": _name_callback},
+        lexer_callbacks={
+            "COMMENT": _comment_callback,
+            "NAME": _name_callback,
+        },
     )
 
 
@@ -380,6 +395,11 @@ def _eof_hint(expected: set[str]) -> str | None:
 def _token_hint(tok: Token, expected: set[str]) -> str | None:
     if tok.type == "EQUAL" and "__ANON_0" in expected:
         return "assignment is written ':='"
+    if tok.type in ("RELOP", "EQUAL") and not expected & {"RELOP", "EQUAL"}:
+        return (
+            "comparisons bind looser than AND/OR (Pascal precedence) and do not chain: "
+            "parenthesize each one, e.g. (x > 1) AND (y < 2)"
+        )
     if tok.type == "NAME" and tok.value.upper() in ("END", "ENDMOVE", "ENDLOOP"):
         ends = sorted(t for t in expected if t.startswith("END"))
         if ends:
@@ -436,7 +456,18 @@ class _Builder(Transformer):
         routines: list[ast.Routine] = []
         body: list[ast.Stmt] = []
         end_span = _span(c[0])
+        first_decl: Span | None = None
         for x in c[2:]:
+            if isinstance(x, (ast.RobotClause, ast.DatalistClause)) and first_decl is not None:
+                what = "ROBOT" if isinstance(x, ast.RobotClause) else "IMPORT DATALIST"
+                raise _BuildError(
+                    x.span,
+                    f"{what} must come before the declarations",
+                    f"move it up, right after the PROGRAM line (first declaration: line "
+                    f"{first_decl.line})",
+                )
+            if isinstance(x, (ast.Decls, ast.Routine)) and first_decl is None:
+                first_decl = x.order[0].span if isinstance(x, ast.Decls) and x.order else x.span
             if isinstance(x, ast.RobotClause):
                 robots.append(x)
             elif isinstance(x, ast.DatalistClause):
@@ -816,6 +847,8 @@ class _Builder(Transformer):
     def number(self, c):
         tok = c[0]
         text = tok.value
+        if not _NUMBER_RE.fullmatch(text):  # NUMBER swallows trailing letters: '1e', '12abc'
+            raise _malformed_number(tok)
         if re.fullmatch(r"\d+", text):
             return ast.Num(_span(tok), int(text), text)
         value = float(text)
@@ -842,8 +875,8 @@ class _Builder(Transformer):
         return ast.Input(_span(c[0]), c[1])
 
     def tuple(self, c):
-        first, rest = c[0], c[1]
-        return ast.Tuple(first.span, [first, *rest])
+        paren, first, rest = c
+        return ast.Tuple(_span(paren), [first, *rest])
 
 
 def _unquote(text: str) -> str:

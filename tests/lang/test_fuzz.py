@@ -9,9 +9,10 @@ from __future__ import annotations
 
 import re
 
-from .conftest import GOLDEN, HERE, compile_text
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+
+from .conftest import GOLDEN, HERE, compile_text
 
 SEEDS = [p.read_text(encoding="utf-8") for p in sorted(GOLDEN.glob("*.irl"))]
 TOKEN = re.compile(r"'(?:[^']|'')*'|\"[^\"]*\"|\{[^}]*\}|\w+|:=|\.\.|<>|<=|>=|\S")

@@ -9,8 +9,9 @@ from __future__ import annotations
 import os
 
 import pytest
-from .conftest import GOLDEN, fake_resolver
 from irlc.lang import compile_source, read_code, write_code
+
+from .conftest import GOLDEN, fake_resolver
 
 PROGRAMS = sorted(GOLDEN.glob("*.irl"))
 

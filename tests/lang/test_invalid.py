@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pytest
+
 from .conftest import HERE, compile_text
 from .invalid_cases import CASES
 

@@ -5,8 +5,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from .conftest import GOLDEN, fake_resolver
 from irlc.lang import compile_file, read_code, write_code
+
+from .conftest import GOLDEN, fake_resolver
 
 ROOT = Path(__file__).resolve().parents[2]
 SHIPPED = sorted((ROOT / "programs").glob("*.irl"))

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .conftest import compile_text
 from irlc.lang import SimpleRobot, compile_source
 from irlc.lang.parser import keywords, parse
+
+from .conftest import compile_text
 
 
 def test_repl_mode_skips_pairing_checks() -> None:
