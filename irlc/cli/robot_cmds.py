@@ -235,9 +235,10 @@ def ik_cmd(robot: str, args: tuple[str, ...], as_json: bool) -> None:
     else:
         _pose_table(model, joints, pose, "inverse kinematics")
         state = "converged" if sol.converged else "NOT converged"
+        detail = "" if sol.converged else f" {message}"  # the solver's diagnosis
         click.echo(
             f"{state} after {sol.iterations} iterations: position error {pos_mm:.3g} mm, "
-            f"orientation error {ori_deg:.3g} deg. {message}"
+            f"orientation error {ori_deg:.3g} deg.{detail}"
         )
     if not sol.converged:
         raise click.exceptions.Exit(EXIT_RUN)
