@@ -12,7 +12,8 @@ the positions, ``q̇ ≈ np.gradient(q, t)`` (central inside, one-sided at the e
 :func:`write_trajectory` writes a JSON document shaped like ROS ``trajectory_msgs/
 JointTrajectory``: ``joint_names`` and ``points`` with ``positions``, ``velocities``,
 ``accelerations`` (rad | m, per second, per second²) and ``time_from_start``
-``{sec, nanosec}``.
+``{sec, nanosec}``. Velocities and accelerations there are derivatives *at* the sample
+times (:func:`sample_derivatives`), not the trace's backward differences.
 """
 
 from __future__ import annotations
@@ -270,15 +271,39 @@ def _time_from_start(t: float) -> dict[str, int]:
     return {"sec": ns // 1_000_000_000, "nanosec": ns % 1_000_000_000}
 
 
+def sample_derivatives(q: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Velocity and acceleration *at* the sample times, from the positions ``q`` (k, n).
+
+    q̇ₖ = np.gradient (central, second order; one-sided second order at the ends, so a
+    run that starts and ends at rest has q̇ = 0 there); q̈ₖ = 2·(δ₊/h₊ − δ₋/h₋)/(h₊ + h₋)
+    with δ± the position steps and h± the time steps (the 3-point second difference;
+    the ends repeat their neighbour). The trace's speed columns are backward differences
+    — the mean speed of the cycle *before* the sample, half a cycle late — which a
+    trajectory follower interpolating positions and velocities must not be given."""
+    k = len(t)
+    if k < 2:
+        return np.zeros_like(q), np.zeros_like(q)
+    qd = np.gradient(q, t, axis=0, edge_order=2 if k >= 3 else 1)
+    if k < 3:
+        return qd, np.zeros_like(q)
+    h = np.diff(t)[:, None]
+    slope = np.diff(q, axis=0) / h
+    qdd = np.empty_like(q)
+    qdd[1:-1] = 2.0 * (slope[1:] - slope[:-1]) / (h[1:] + h[:-1])
+    qdd[0], qdd[-1] = qdd[1], qdd[-2]
+    return qd, qdd
+
+
 def trajectory_document(run: Any) -> dict:
     """The JointTrajectory-like document of a run (see the module docstring)."""
     d = run_data(run)
     t0 = float(d.times[0])
+    qd, qdd = sample_derivatives(d.q, d.times)
     points = [
         {
             "positions": _round(d.q[i]),
-            "velocities": _round(d.qd[i]),
-            "accelerations": _round(d.qdd[i]),
+            "velocities": _round(qd[i]),
+            "accelerations": _round(qdd[i]),
             "time_from_start": _time_from_start(float(d.times[i]) - t0),
         }
         for i in range(d.k)

@@ -297,8 +297,12 @@ def render_results(results: list[CaseResult], console) -> None:
             console.print(f"  {r.message}")
         if r.mismatches:
             table = Table(show_header=True, header_style="bold", box=None, padding=(0, 2))
-            for col in ("key", "expected", "actual", "note"):
-                table.add_column(col)
+            # the key is what the user looks for: never cut it; values wrap instead
+            longest = max(len(m.path) for m in r.mismatches)
+            table.add_column("key", no_wrap=True, min_width=longest)
+            table.add_column("expected", overflow="fold")
+            table.add_column("actual", overflow="fold")
+            table.add_column("note", no_wrap=True)
             for m in r.mismatches:
                 table.add_row(m.path, _show(m.expected), _show(m.actual), m.note)
             console.print(table)

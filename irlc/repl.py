@@ -324,6 +324,7 @@ class Session:
             check=False
         )
         self.state, self.last_code = result.state, code
+        _drop_temporaries(self.state)
         lines = messages + list(out)
         if result.error is not None:
             lines.append(self._run_error(result.error, first, body))
@@ -481,6 +482,18 @@ class Session:
         metas = [":" + k for k in ("where", "robot", "limits", "options", "trace", "plot",
                                    "program", "reset", "help", "quit")]  # fmt: skip
         return sorted(set(keywords()) | self.names) + metas
+
+
+def _drop_temporaries(state) -> None:
+    """Forget the entry's compiler temporaries (``$for12``, ``$case3`` globals).
+
+    The main body's temporaries are globals numbered after the declared ones; the next
+    entry's code does not have them, so they must not stay in the session state."""
+    keep = len(state.global_slots)
+    while keep and state.global_slots[keep - 1].name.startswith("$"):
+        keep -= 1
+    del state.global_slots[keep:]
+    del state.globals[keep:]
 
 
 def _fmt(v: float) -> str:

@@ -7,9 +7,9 @@ import math
 
 import numpy as np
 
-from irlc.export import run_data, write_trajectory
+from irlc.export import run_data, sample_derivatives, write_trajectory
 
-from .tool_fixtures import make_run
+from .tool_fixtures import AMPL, DT, FREQ, make_run
 
 
 def _load(path):
@@ -45,22 +45,37 @@ def test_positions_are_si_from_the_trace_in_program_units(tmp_path, demo_run):
     )
     got = np.array([p["positions"] for p in doc["points"]])
     assert np.max(np.abs(got - expected)) < 1e-8
-    speeds = np.array([p["velocities"] for p in doc["points"]])
-    assert math.isclose(speeds[0, 2], table[0, cols.index("a3_speed_mm_s")] / 1000.0, rel_tol=1e-9)
 
 
-def test_velocities_are_finite_differences_of_positions(tmp_path, demo_run):
+def test_velocities_are_derivatives_at_the_sample_times(tmp_path, demo_run):
+    """Against the closed form q = A·sin(ωt) of the fixture (not against the trace's speed
+    columns: those are backward differences in real runs, half a cycle late)."""
     doc = _load(write_trajectory(demo_run, tmp_path / "t.json"))
     t = np.array([p["time_from_start"]["sec"] + 1e-9 * p["time_from_start"]["nanosec"]
                   for p in doc["points"]])  # fmt: skip
-    q = np.array([p["positions"] for p in doc["points"]])
     qd = np.array([p["velocities"] for p in doc["points"]])
     qdd = np.array([p["accelerations"] for p in doc["points"]])
-    fd = (q[2:] - q[:-2]) / (t[2:] - t[:-2])[:, None]  # central differences
-    # central-difference error ≤ h²/6·max|q'''| (A ω³ ≤ 0.35 rad/s³ here) + rounding
-    assert np.max(np.abs(fd - qd[1:-1])) < 1e-4
-    fdd = (qd[2:] - qd[:-2]) / (t[2:] - t[:-2])[:, None]
-    assert np.max(np.abs(fdd - qdd[1:-1])) < 1e-3
+    scale = np.array([math.pi / 180, math.pi / 180, 1e-3, math.pi / 180])
+    a, w = AMPL * scale, FREQ
+    arg = np.outer(t, w)
+    h = DT
+    # central differences: error <= h²/6·Aω³; one-sided second order at the ends <= h²/3·Aω³
+    bound_v = h**2 / 3 * np.max(a * w**3) + 2e-9
+    assert np.max(np.abs(qd - a * w * np.cos(arg))) < bound_v
+    # 3-point second difference inside: <= h²/12·Aω⁴; the ends repeat the neighbour: <= h·Aω³
+    true_a = -a * w**2 * np.sin(arg)
+    assert np.max(np.abs(qdd[1:-1] - true_a[1:-1])) < h**2 / 12 * np.max(a * w**4) + 1e-7
+    assert np.max(np.abs(qdd[[0, -1]] - true_a[[0, -1]])) < h * np.max(a * w**3) * 1.01
+
+
+def test_trajectory_starting_and_ending_at_rest_says_so():
+    """Regression (acceptance): a stop was exported with the last cycle's mean speed."""
+    t = np.arange(0.0, 1.0 + 1e-9, 0.01)
+    q = np.where(t < 0.5, 2 * t**2, 1 - 2 * (1 - t) ** 2)[:, None]  # rest → rest, |q̈| = 4
+    qd, qdd = sample_derivatives(q, t)
+    assert abs(qd[0, 0]) < 1e-12 and abs(qd[-1, 0]) < 1e-12
+    assert np.allclose(qd[1:-1, 0], np.where(t < 0.5, 4 * t, 4 * (1 - t))[1:-1], atol=0.02)
+    assert abs(qdd[0, 0] - 4) < 1e-9 and abs(qdd[-1, 0] + 4) < 1e-9
 
 
 def test_derivatives_without_speed_columns_come_from_positions(tmp_path):

@@ -129,3 +129,20 @@ def test_cli_exit_codes_and_diff(tmp_path, monkeypatch, capsys):
         "pass",
         "fail",
     ]
+
+
+def test_failure_table_never_cuts_the_key():
+    """Regression (acceptance): on an 80-column log `obstacles.post.min_distance_mm` was
+    shown as `obstacles.post.…`, hiding which quantity changed."""
+    import io
+    from pathlib import Path
+
+    from rich.console import Console
+
+    from irlc.golden import CaseResult, Mismatch, render_results
+
+    key = "obstacles.a_long_obstacle_name.min_distance_mm"
+    case = CaseResult(Path("cell.irl"), "fail", [Mismatch(key, 146.6, -77.8, "tolerance 0.1")])
+    buf = io.StringIO()
+    render_results([case], Console(file=buf, width=60, highlight=False, color_system=None))
+    assert key in buf.getvalue(), buf.getvalue()

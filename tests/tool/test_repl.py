@@ -155,3 +155,20 @@ def test_unknown_robot_is_a_usage_error():
     )
     assert res.returncode == 3 and "no_such_robot" in res.stderr
     assert "Traceback" not in res.stderr
+
+
+@needs_runtime
+def test_loops_leave_no_temporaries_behind():
+    """Regression (acceptance): after a FOR (or CASE) entry the session state kept the
+    loop's hidden `$for` global, and every later entry failed with "the code declares 2
+    globals but the session state has 3"."""
+    from irlc.repl import Session
+
+    s = Session("planar3")
+    for text in ("INTEGER: i, n;", "n := 0;", "FOR i := 1 TO 4 DO\n  n := n + i;\nENDFOR",
+                 "CASE n OF 10: n := n + 1; ENDCASE", "REAL: v;", "v := 0.5;"):  # fmt: skip
+        entry = s.enter(text)
+        assert entry.failure == 0, (text, entry.lines)
+    out = s.enter("WRITELN(n, ' ', v)")
+    assert out.failure == 0 and out.lines == ["11 0.5"], out.lines
+    assert not any(slot.name.startswith("$") for slot in s.state.global_slots)
