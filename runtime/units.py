@@ -12,7 +12,6 @@ import math
 from collections.abc import Sequence
 
 import numpy as np
-
 from irlc.runtime import spatial
 
 MM = 1e-3  # metres per millimetre

@@ -11,11 +11,10 @@ import sys
 
 import click
 
+# Command modules register themselves on `cli` when imported.
+from irlc.cli import lang_cmds, robot_cmds, run_cmds, tool_cmds  # noqa: F401
 from irlc.cli.app import cli
 from irlc.errors import EXIT_INTERNAL, EXIT_USAGE, UsageError
-
-# Command modules register themselves on `cli` when imported.
-from irlc.cli import lang_cmds, robot_cmds, run_cmds, tool_cmds  # noqa: E402, F401, I001
 
 __all__ = ["cli", "main"]
 
@@ -36,7 +35,7 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_USAGE
     except KeyboardInterrupt:
         return 130
-    except Exception as e:  # noqa: BLE001 - the last line of defence
+    except Exception as e:
         import traceback
 
         click.echo(
