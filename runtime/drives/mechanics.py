@@ -1,0 +1,123 @@
+"""Joint-space mechanics of the drive simulation, with Karnopp stick–slip.
+
+Equations (joint side; ``T`` the drive torques ``i·τ_m``, ``f`` friction ``i·τ_f``)::
+
+    coupled:    M(q) q̈ + C(q,q̇) q̇ + G(q) = T − f       (M includes J_m·i² on the diagonal)
+    decoupled:  D q̈ + G(q) = T − f,  D = diag(M(q₀)) constant (rotor + arm at the start)
+
+Joints without a drive are prescribed (``q̈_P`` given, their torque is computed). Axes
+inside the Karnopp band are first assumed stuck (``q̈_S = 0``); the reduced system is
+solved for the others, the holding torque of each stuck axis is checked against its
+breakaway torque, and axes that break away slide with ``F_tr`` (one re-solve).
+Integration (in the caller): semi-implicit Euler ``q̇ += h q̈; q += h q̇`` (symplectic).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from irlc.robots.model import RobotModel
+from irlc.runtime.drives import friction
+from irlc.runtime.dynamics import Dynamics
+
+
+class NoInertialData(ValueError):
+    pass
+
+
+class Mechanics:
+    def __init__(
+        self,
+        model: RobotModel,
+        level: str,
+        rotor: np.ndarray,
+        q0: np.ndarray,
+        load_inertia: np.ndarray | None,
+        rotor_extra=None,
+    ):
+        """``rotor``: diagonal rotor inertia (joint side); ``rotor_extra(q)``: an extra
+        rotor inertia matrix for coupled or non-linear transmissions (``Kᵀ diag(J_m) K``)."""
+        self.n = model.n
+        self.coupled = level in ("coupled", "pwm")
+        self.rotor_extra = rotor_extra
+        self.dyn = Dynamics(model, rotor_inertia=rotor) if model.inertials else None
+        if self.dyn is None:
+            if self.coupled:
+                raise NoInertialData(
+                    f"robot {model.name} has no inertial data; --drives "
+                    f"{level} needs it ([[inertials]] in the robot file)"
+                )
+            if load_inertia is None:
+                raise NoInertialData(
+                    f"robot {model.name} has no inertial data; --drives "
+                    "decoupled needs it or [drives] load_inertia"
+                )
+            self.diag = rotor + load_inertia
+            if rotor_extra is not None:
+                self.diag = self.diag + np.diag(rotor_extra(q0))
+        else:
+            self.diag = np.diag(self.mass_matrix(q0)).copy()
+        if np.any(self.diag <= 0.0):
+            j = int(np.flatnonzero(self.diag <= 0.0)[0])
+            raise NoInertialData(
+                f"robot {model.name}: joint {model.joints[j].name} has no "
+                "inertia (no link mass and no rotor): cannot simulate it"
+            )
+
+    def mass_matrix(self, q) -> np.ndarray:
+        """Full ``M(q)`` with every rotor (needs inertial data)."""
+        m = self.dyn.mass_matrix(q)
+        return m if self.rotor_extra is None else m + self.rotor_extra(q)
+
+    def terms(self, q, qd):
+        """``(M, h)``: full matrix and ``C q̇ + G`` (coupled) or diagonal and ``G`` (decoupled)."""
+        if self.coupled:
+            m, h = self.dyn.mass_and_bias(q, qd)
+            if self.rotor_extra is not None:
+                m = m + self.rotor_extra(q)
+            return m, h
+        g = self.dyn.gravity_vector(q) if self.dyn is not None else np.zeros(self.n)
+        return self.diag, g
+
+    def accel(self, m, h, drive, slide, stuck, static, running, prescribed, qdd_p):
+        """Joint accelerations, joint-side friction and the final stuck mask.
+
+        ``drive`` T, ``slide`` sliding friction of moving axes, ``stuck`` Karnopp candidates,
+        ``static``/``running`` joint-side breakaway/running torques, ``prescribed`` mask
+        with accelerations ``qdd_p``.
+        """
+        if not stuck.any() and not prescribed.any():  # the common case: one solve
+            rhs = drive - slide - h
+            return (np.linalg.solve(m, rhs) if m.ndim == 2 else rhs / m), slide, stuck
+        fric = np.where(stuck, 0.0, slide)
+        qdd = np.where(prescribed, qdd_p, 0.0)
+        for _ in range(2):
+            known = prescribed | stuck
+            qdd = self._solve(m, h, drive - fric, known, qdd)
+            if not stuck.any():
+                break
+            need = (m @ qdd if m.ndim == 2 else m * qdd) + h
+            holds, held = friction.breakaway(drive - need, static, running)
+            fric = np.where(stuck, held, fric)
+            broke = stuck & ~holds
+            if not broke.any():
+                break
+            stuck = stuck & holds
+            qdd = np.where(broke, 0.0, qdd)
+        return qdd, fric, stuck
+
+    @staticmethod
+    def _solve(m, h, tau, known, qdd):
+        if m.ndim == 1:
+            return np.where(known, qdd, (tau - h) / m)
+        if not known.any():
+            return np.linalg.solve(m, tau - h)
+        free = ~known
+        rhs = tau - h - m[:, known] @ qdd[known]
+        out = qdd.copy()
+        if free.any():
+            out[free] = np.linalg.solve(m[free][:, free], rhs[free])
+        return out
+
+    def required(self, m, h, qdd):
+        """Joint torques ``M q̈ + h`` (the torque a prescribed joint needs)."""
+        return (m @ qdd if m.ndim == 2 else m * qdd) + h

@@ -1,0 +1,289 @@
+"""Typed, validated drive parameters from a robot file's ``[drives]`` tables (schema:
+``docs/drives.md``). All values SI, motor side unless stated.
+
+``[drives]`` keys: ``type`` (``"dc"`` | ``"stepper"``), ``axes`` (1-based joint numbers
+the drives move; default all — the other joints run ideal), ``ratio`` (motor rad per joint
+rad | m; used only when the file has no ``[transmission]``), ``load_inertia`` (joint
+side, for ``decoupled`` without ``[[inertials]]``). Subtables: ``[drives.dc]`` or
+``[drives.stepper]`` (the chain), ``[drives.friction]``, optional ``[drives.slave]``.
+
+A value is a number (all driven axes), a list (one per driven axis) or an inline table
+``{ value = …, assumed = true, reason = "…" }`` for values no source publishes.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from irlc.robots.loader import RobotFileError
+from irlc.robots.model import RobotModel
+
+
+class DriveParamError(RobotFileError, ValueError):
+    """A ``[drives]`` table is malformed: ``FILE: key 'drives.dc.R[2]': expected ...``."""
+
+
+DC_KEYS = {
+    "ke": "tachogenerator constant, V·s/rad",
+    "kp": "velocity PI proportional gain (V/V)",
+    "ki": "velocity PI integral gain, 1/s",
+    "kz": "position P gain, V/rad (motor side)",
+    "R": "armature resistance, Ω",
+    "L": "armature inductance, H",
+    "ks": "motor constant, N·m/A = V·s/rad",
+    "k": "current feedback, V/A",
+    "kiwzm": "current controller integral gain, 1/s",
+    "i_max": "current clamp, A",
+    "u_ref_max": "P and PI output saturation, V",
+    "U": "power stage supply (PWM amplitude), V",
+    "pwm_frequency": "PWM frequency, Hz",
+    "J_m": "rotor inertia (with tacho, brake, gear input), kg·m²",
+}
+STEPPER_KEYS = {
+    "R": "phase resistance, Ω",
+    "L": "phase inductance, H",
+    "L12": "mutual inductance, H",
+    "psi_max": "flux amplitude Ψmax, Wb",
+    "I": "rated phase current, A",
+    "M_max": "holding torque amplitude, N·m",
+    "teeth": "rotor teeth (step = 2π/(4·teeth))",
+    "step_rate": "commanded step rate, rad/s (motor side)",
+    "J_m": "rotor inertia, kg·m²",
+}
+FRICTION_KEYS = {"static": "N·m", "running": "N·m", "viscous": "N·m·s/rad"}
+SLAVE_KEYS = {"T_pr": "s", "v_max": "rad/s", "a_max": "rad/s²"}
+TOP_KEYS = {"type", "axes", "ratio", "load_inertia", "dc", "stepper", "friction", "slave"}
+OPTIONAL_DC = {"u_ref_max": 5.0, "pwm_frequency": 8000.0}
+
+
+@dataclass(frozen=True)
+class DcDrives:
+    """Per-axis arrays (length = number of driven axes) of the cascade of runtime.md §4."""
+
+    ke: np.ndarray
+    kp: np.ndarray
+    ki: np.ndarray
+    kz: np.ndarray
+    R: np.ndarray
+    L: np.ndarray
+    ks: np.ndarray
+    k: np.ndarray
+    kiwzm: np.ndarray
+    i_max: np.ndarray
+    u_ref_max: np.ndarray
+    U: np.ndarray
+    pwm_frequency: float
+    J_m: np.ndarray
+
+
+@dataclass(frozen=True)
+class StepperDrives:
+    R: np.ndarray
+    L: np.ndarray
+    L12: np.ndarray
+    psi_max: np.ndarray
+    I: np.ndarray
+    M_max: np.ndarray
+    teeth: np.ndarray
+    step_rate: np.ndarray
+    J_m: np.ndarray
+
+    @property
+    def step_angle(self) -> np.ndarray:
+        """Full step ``2π / (4·teeth)`` (1.8° for 50 teeth)."""
+        return 2.0 * math.pi / (4.0 * self.teeth)
+
+
+@dataclass(frozen=True)
+class Friction:
+    """Motor-side stick/slip friction: breakaway ``static``, sliding ``running``, viscous."""
+
+    static: np.ndarray
+    running: np.ndarray
+    viscous: np.ndarray
+
+
+@dataclass(frozen=True)
+class Slave:
+    """The slave controller's trapezoid: setpoints every ``T_pr``, motor-side limits."""
+
+    T_pr: float
+    v_max: np.ndarray
+    a_max: np.ndarray
+
+
+@dataclass(frozen=True)
+class DriveParams:
+    type: str  # "dc" | "stepper"
+    axes: tuple[int, ...]  # 0-based joints with drives; the others run ideal
+    chain: DcDrives | StepperDrives
+    friction: Friction
+    ratio: np.ndarray  # fallback plain ratio (motor rad per joint SI unit), per driven axis
+    load_inertia: np.ndarray | None
+    slave: Slave | None
+    assumed: dict[str, str] = field(default_factory=dict)  # key → reason
+
+    @property
+    def count(self) -> int:
+        return len(self.axes)
+
+
+class _Reader:
+    def __init__(self, model: RobotModel, count: int):
+        self.file = model.source or f"robot {model.name}"
+        self.count = count
+        self.assumed: dict[str, str] = {}
+
+    def fail(self, key: str, message: str) -> DriveParamError:
+        return DriveParamError(self.file, key, message)
+
+    def table(self, value: Any, key: str, allowed) -> dict:
+        if not isinstance(value, dict):
+            raise self.fail(key, f"expected a table, got {type(value).__name__}")
+        unknown = sorted(set(value) - set(allowed))
+        if unknown:
+            raise self.fail(
+                f"{key}.{unknown[0]}", f"unknown key; expected one of {', '.join(sorted(allowed))}"
+            )
+        return value
+
+    def values(self, raw: Any, key: str, positive: bool = True, zero_ok: bool = False):
+        """A number, a list (one per driven axis) or ``{value, assumed, reason}``."""
+        if isinstance(raw, dict):
+            self.table(raw, key, {"value", "assumed", "reason"})
+            if "value" not in raw:
+                raise self.fail(f"{key}.value", "missing")
+            assumed = raw.get("assumed", False)
+            if not isinstance(assumed, bool):
+                raise self.fail(f"{key}.assumed", "expected true or false")
+            reason = raw.get("reason", "")
+            if assumed and (not isinstance(reason, str) or not reason.strip()):
+                raise self.fail(f"{key}.reason", "assumed = true needs a reason (a string)")
+            if assumed:
+                self.assumed[key] = reason
+            raw = raw["value"]
+        items = raw if isinstance(raw, list) else [raw] * self.count
+        if len(items) != self.count:
+            raise self.fail(
+                key,
+                f"expected a number or {self.count} numbers (one per driven "
+                f"axis), got {len(items)}",
+            )
+        out = np.empty(self.count)
+        for i, v in enumerate(items):
+            where = f"{key}[{i + 1}]" if isinstance(raw, list) else key
+            if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
+                raise self.fail(where, f"expected a finite number, got {v!r}")
+            if positive and (v < 0.0 or (v == 0.0 and not zero_ok)):
+                raise self.fail(
+                    where,
+                    f"expected a {'non-negative' if zero_ok else 'positive'} number, got {v!r}",
+                )
+            out[i] = float(v)
+        return out
+
+    def group(self, t: dict, key: str, spec: dict, optional: dict, zero_ok=()) -> dict:
+        self.table(t, key, set(spec))
+        out = {}
+        for name in spec:
+            if name not in t:
+                if name in optional:
+                    out[name] = np.full(self.count, optional[name])
+                    continue
+                raise self.fail(f"{key}.{name}", f"missing; expected {spec[name]}")
+            out[name] = self.values(t[name], f"{key}.{name}", zero_ok=name in zero_ok)
+        return out
+
+
+def drive_params(model: RobotModel) -> DriveParams | None:
+    """The robot's validated ``[drives]`` tables, or ``None`` if it has none (all ideal)."""
+    raw = model.extra.get("drives")
+    if raw is None:
+        return None
+    file = model.source or f"robot {model.name}"
+    if not isinstance(raw, dict):
+        raise DriveParamError(file, "drives", "expected a table")
+    axes = _axes(raw, model, file)
+    rd = _Reader(model, len(axes))
+    rd.table(raw, "drives", TOP_KEYS)
+    kind = raw.get("type", "dc")
+    if kind not in ("dc", "stepper"):
+        raise rd.fail("drives.type", f"expected one of dc, stepper, got {kind!r}")
+    if kind not in raw:
+        raise rd.fail(f"drives.{kind}", f"missing; [drives] type = {kind!r} needs [drives.{kind}]")
+    other = "stepper" if kind == "dc" else "dc"
+    if other in raw:
+        raise rd.fail(f"drives.{other}", f"not used with type = {kind!r}")
+    chain = _dc(rd, raw["dc"]) if kind == "dc" else _stepper(rd, raw["stepper"])
+    fr = rd.group(
+        raw.get("friction", {}),
+        "drives.friction",
+        FRICTION_KEYS,
+        dict.fromkeys(FRICTION_KEYS, 0.0),
+        zero_ok=set(FRICTION_KEYS),
+    )
+    friction = Friction(**fr)
+    bad = np.flatnonzero(friction.running > friction.static)
+    if bad.size:
+        raise rd.fail(
+            "drives.friction.running",
+            f"axis {bad[0] + 1}: running friction exceeds static friction (breakaway)",
+        )
+    ratio = rd.values(raw.get("ratio", 1.0), "drives.ratio", positive=False)
+    if np.any(ratio == 0.0):
+        raise rd.fail("drives.ratio", "expected non-zero ratios")
+    load = None
+    if "load_inertia" in raw:
+        load = rd.values(raw["load_inertia"], "drives.load_inertia", zero_ok=True)
+    slave = None
+    if "slave" in raw:
+        if kind != "dc":
+            raise rd.fail("drives.slave", "the slave controller belongs to dc drives")
+        s = rd.table(raw["slave"], "drives.slave", set(SLAVE_KEYS))
+        if "T_pr" not in s:
+            raise rd.fail("drives.slave.T_pr", "missing; expected the setpoint period in s")
+        t_pr = float(rd.values(s["T_pr"], "drives.slave.T_pr")[0])
+        v = rd.values(s.get("v_max", math.inf), "drives.slave.v_max")
+        a = rd.values(s.get("a_max", math.inf), "drives.slave.a_max")
+        slave = Slave(t_pr, v, a)
+    return DriveParams(kind, axes, chain, friction, ratio, load, slave, dict(rd.assumed))
+
+
+def _axes(raw: dict, model: RobotModel, file: str) -> tuple[int, ...]:
+    value = raw.get("axes", "all")
+    if value == "all":
+        return tuple(range(model.n))
+    ok = (
+        isinstance(value, list)
+        and value
+        and all(isinstance(v, int) and not isinstance(v, bool) and 1 <= v <= model.n for v in value)
+    )
+    if not ok or len(set(value)) != len(value):
+        raise DriveParamError(
+            file,
+            "drives.axes",
+            f'expected "all" or distinct joint numbers 1..{model.n}, got {value!r}',
+        )
+    return tuple(sorted(v - 1 for v in value))
+
+
+def _dc(rd: _Reader, t: Any) -> DcDrives:
+    g = rd.group(t, "drives.dc", DC_KEYS, OPTIONAL_DC)
+    freq = g.pop("pwm_frequency")
+    if np.ptp(freq) != 0.0:
+        raise rd.fail("drives.dc.pwm_frequency", "one PWM frequency for all axes")
+    return DcDrives(pwm_frequency=float(freq[0]), **g)
+
+
+def _stepper(rd: _Reader, t: Any) -> StepperDrives:
+    g = rd.group(t, "drives.stepper", STEPPER_KEYS, {})
+    bad = np.flatnonzero(g["L12"] >= g["L"])
+    if bad.size:
+        raise rd.fail(
+            "drives.stepper.L12",
+            f"axis {bad[0] + 1}: mutual inductance must be smaller than the self inductance",
+        )
+    return StepperDrives(**g)
