@@ -7,16 +7,26 @@ per control cycle: forward kinematics + Jacobian at the current configuration, b
 QP, solve it (quadprog for all three), and return the joint displacement.
 
 * irlc: ``InverseTransformation.step`` with ``max_iter = 1`` (one Newton–Raphson
-  iteration = one compact QP), and also a full cycle (iterated to 1e-9 m).
+  iteration = one compact QP; the step also evaluates the task error at the new
+  configuration — a second FK — because the result reports it), the same with the
+  one-variable QP forced through quadprog (``scalar_qp=False``), and a full cycle
+  (iterated to 1e-9 m). From rest (``q_prev = q``); position + velocity limits.
 * pink: ``Configuration.update(q)`` + ``solve_ik(..., limits=[configuration, velocity])``.
 * mink: ``Configuration.update(q)`` + ``solve_ik(..., limits=[configuration, velocity])``.
 
 ``panda_link7`` is used because MuJoCo fuses the fixed links (link8, hand) into link7.
+mink gets the URDF's velocity limits (pink reads them from the URDF itself). The solvers
+take turns in chunks of 50 cases, three passes, so machine noise hits all alike.
+Options: ``--accel A`` gives irlc an acceleration limit (default none, like the peers);
+``--irlc-only-step`` times only the one-iteration irlc step (e.g. against older code);
+``--breakdown`` times the pieces of the irlc step (where the time goes).
 Run: ``pip install -e '.[bench]' && python bench/bench_peers.py`` (needs pin-pink, mink).
 """
 
 from __future__ import annotations
 
+import argparse
+import importlib.metadata
 import statistics
 import sys
 import time
@@ -34,6 +44,7 @@ FRAME = "panda_link7"
 DT = 0.01
 SAMPLES = 2000
 REPEATS = 3
+CHUNK = 50  # cases per runner before switching to the next one
 
 
 def _cases(model, kin, count: int, seed: int = 1):
@@ -62,10 +73,15 @@ def _time_loop(fn, cases) -> list[float]:
     return out
 
 
-def bench_irlc(model, cases, max_iter: int):
+def bench_irlc(model, cases, max_iter: int, scalar_qp: bool = True, accel: float = np.inf):
     kin = Kinematics(model, tool=spatial.inverse(model.flange))
-    ik = InverseTransformation(model, kin, IKParams(max_iter=max_iter))
-    opts = CycleOptions()
+    params = IKParams(max_iter=max_iter)
+    if not scalar_qp:
+        params.scalar_qp = False
+    ik = InverseTransformation(model, kin, params)
+    # position + velocity limits like the peers: no acceleration bound (the robot file's
+    # would make every step from rest infeasible for a 5 mm target and force the relaxed QP)
+    opts = CycleOptions(accel=np.tile([-accel, accel], (model.n, 1)))
     return lambda q, target: ik.step(q, q, target, DT, opts)
 
 
@@ -96,7 +112,8 @@ def bench_mink(cases):
     model = mujoco.MjModel.from_xml_path(str(URDF))
     configuration = mink.Configuration(model)
     task = mink.FrameTask(FRAME, "body", position_cost=1.0, orientation_cost=1.0)
-    vmax = {model.joint(i).name: 2.0 for i in range(model.njnt)}
+    irlc = load_robot("panda")  # the URDF's velocity limits, as pink reads them
+    vmax = {j.name: float(j.limits.speed[1]) for j in irlc.joints}
     limits = [mink.ConfigurationLimit(model), mink.VelocityLimit(model, vmax)]
 
     def step(q, target):
@@ -107,31 +124,117 @@ def bench_mink(cases):
     return step
 
 
+def breakdown(model, cases) -> None:
+    """Median / p99 µs of the pieces of one irlc step (as the step calls them), taken in
+    turn with the whole step and pink on the same cases."""
+    from irlc.runtime.ik.task_error import pose_error_list
+
+    kin = Kinematics(model, tool=spatial.inverse(model.flange))
+    opts = CycleOptions(accel=np.tile([-np.inf, np.inf], (model.n, 1)))
+    ik = InverseTransformation(model, kin, IKParams(max_iter=1))
+    pink = bench_pink(cases)
+    pos, spd = ik._limits[0], ik._limits[1]
+    jac, tcp, w, g = np.empty((6, model.n)), np.empty((4, 4)), model.weights, np.zeros(model.n)
+    names = [
+        "whole step (1 iteration)",
+        "pink step",
+        "joint box (prepare)",
+        "FK chain (×2 per step)",
+        "TCP + task error (×2 per step)",
+        "Jacobian",
+        "compact split (LU of J_m)",
+        "compact QP (scalar), hard steps",
+        "relaxed QP, when the hard one is infeasible",
+    ]
+    t: dict[str, list[int]] = {k: [] for k in names}
+    clock = time.perf_counter_ns
+    for _ in range(REPEATS):
+        for q, target in cases:
+            t0 = clock()
+            ik.step(q, q, target, DT, opts)
+            t1 = clock()
+            pink(q, target)
+            t2 = clock()
+            ik.box.prepare(model, q, q, DT, pos, spd, opts.accel)
+            t3 = clock()
+            frames = kin.chain(q)
+            t4 = clock()
+            rows = target.tolist()
+            rd, pd = (rows[0][:3], rows[1][:3], rows[2][:3]), (rows[0][3], rows[1][3], rows[2][3])
+            t5 = clock()
+            np.dot(frames[-1], kin._end, out=tcp)
+            F = np.array(pose_error_list(tcp, rd, pd, target))
+            t6 = clock()
+            J = kin.tcp_jacobian(frames, tcp[:3, 3], jac)
+            t7 = clock()
+            ik.stepper.basis.blocks(J, F)
+            t8 = clock()
+            out = ik.stepper.hard_diagonal(J, F, w, g, ik.box.bounds)
+            t9 = clock()
+            pieces = (t1 - t0, t2 - t1, t3 - t2, t4 - t3, t6 - t5, t7 - t6)
+            for name, dt in zip(names[:6], pieces, strict=True):
+                t[name].append(dt)
+            t[names[6]].append(t8 - t7)
+            if out is not None:
+                t[names[7]].append(t9 - t8 - (t8 - t7))
+            else:
+                t0 = clock()
+                ik.stepper.relaxed_diagonal(J, F, w, g, ik.box.bounds)
+                t[names[8]].append(clock() - t0)
+    print("| piece | median µs | p99 µs | samples |")
+    print("|---|---:|---:|---:|")
+    for name, samples in t.items():
+        med, p99 = _summary([x * 1e-9 for x in samples])
+        print(f"| {name} | {med:.1f} | {p99:.1f} | {len(samples)} |")
+
+
+def _version(dist: str) -> str:
+    try:
+        return importlib.metadata.version(dist)
+    except importlib.metadata.PackageNotFoundError:
+        return "not installed"
+
+
 def _summary(samples: list[float]) -> tuple[float, float]:
     s = sorted(samples)
     return statistics.median(s) * 1e6, s[int(0.99 * (len(s) - 1))] * 1e6
 
 
 def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--accel", type=float, default=np.inf, help="irlc accel limit rad/s²")
+    parser.add_argument("--irlc-only-step", action="store_true", help="skip the variants")
+    parser.add_argument("--breakdown", action="store_true", help="time the pieces of a step")
+    args = parser.parse_args()
     model = load_robot("panda")
     kin = Kinematics(model, tool=spatial.inverse(model.flange))
     cases = _cases(model, kin, SAMPLES)
-    runners = {
-        "irlc (1 Newton iteration)": bench_irlc(model, cases, 1),
-        "irlc (full cycle, to 1e-9 m)": bench_irlc(model, cases, 10),
-    }
+    if args.breakdown:
+        breakdown(model, cases[:1000])
+        return 0
+    runners = {"irlc (1 Newton iteration)": bench_irlc(model, cases, 1, accel=args.accel)}
+    if not args.irlc_only_step:
+        runners["irlc (1 iteration, quadprog)"] = bench_irlc(
+            model, cases, 1, scalar_qp=False, accel=args.accel
+        )
+        runners["irlc (full cycle, to 1e-9 m)"] = bench_irlc(model, cases, 10, accel=args.accel)
     for name, factory in (("pink", bench_pink), ("mink", bench_mink)):
         try:
             runners[name] = factory(cases)
         except ImportError as e:
             print(f"{name}: not installed ({e}); pip install -e '.[bench]'", file=sys.stderr)
     results: dict[str, list[float]] = {name: [] for name in runners}
-    for _ in range(REPEATS):  # interleaved, so machine noise hits all alike
-        for name, fn in runners.items():
-            _time_loop(fn, cases[:50])  # warm-up
-            results[name] += _time_loop(fn, cases)
+    for fn in runners.values():
+        _time_loop(fn, cases[:50])  # warm-up
+    for _ in range(REPEATS):  # interleaved in chunks, so machine noise hits all alike
+        for start in range(0, SAMPLES, CHUNK):
+            for name, fn in runners.items():
+                results[name] += _time_loop(fn, cases[start : start + CHUNK])
     base = _summary(results["irlc (1 Newton iteration)"])[0]
     print(f"Panda, {SAMPLES}×{REPEATS} steps, position + velocity limits, quadprog")
+    print(f"irlc acceleration limit: {args.accel} rad/s² (inf: none, like the peers)")
+    print(f"pink {_version('pin-pink')}, mink {_version('mink')}, pin {_version('pin')}, ", end="")
+    print(f"mujoco {_version('mujoco')}, quadprog {_version('quadprog')}, numpy {np.__version__}")
     print(f"{'solver':32} {'median µs':>10} {'p99 µs':>10} {'× irlc step':>12}")
     for name, samples in results.items():
         med, p99 = _summary(samples)

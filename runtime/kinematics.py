@@ -80,6 +80,11 @@ class Kinematics:
         self._views = [self._frames[i] for i in range(n + 1)]
         self._local = np.empty((n, 1, 16))
         self._local_views = [self._local[i].reshape(4, 4) for i in range(n)]
+        self._cos = self._coef[:, 0, 1]  # strided views: cos/sin/v written in place
+        self._sin = self._coef[:, 0, 2]
+        self._val = self._coef[:, 0, 3]
+        self._plain = self._all_revolute and not np.any(self._offsets)
+        self._jac_indices()
 
     @property
     def tool(self) -> np.ndarray:
@@ -104,16 +109,23 @@ class Kinematics:
 
     def link_frames(self, q: np.ndarray) -> np.ndarray:
         """World frames of links ``0..n`` (shape ``(n+1, 4, 4)``); index 0 is the base."""
-        v = np.asarray(q, dtype=float) + self._offsets
-        coef = self._coef
-        coef[:, 0, 1] = np.cos(v)
-        coef[:, 0, 2] = np.sin(v)
-        coef[:, 0, 3] = v
-        np.matmul(coef, self._basis, out=self._local)
+        return self.chain(q).copy()
+
+    def chain(self, q: np.ndarray) -> np.ndarray:
+        """:meth:`link_frames` without the copy: the returned buffer is overwritten by the
+        next call (hot loops that use the frames before the next FK)."""
+        v = self._val
+        if self._plain:  # revolute joints without offsets: v (the Trans part) is unused
+            v = q
+        else:
+            np.add(q, self._offsets, out=v)
+        np.cos(v, out=self._cos)
+        np.sin(v, out=self._sin)
+        np.matmul(self._coef, self._basis, out=self._local)
         views, local, dot = self._views, self._local_views, np.dot
         for i in range(self.n):
             dot(views[i], local[i], out=views[i + 1])
-        return self._frames.copy()
+        return self._frames
 
     def tcp_from_frames(self, frames: np.ndarray) -> np.ndarray:
         return frames[-1] @ self._end
@@ -140,6 +152,52 @@ class Kinematics:
         else:
             z = np.matmul(frames[1:, :3, :3], self._axes[:, :, None])[:, :, 0]
         return z, frames[1:, :3, 3]
+
+    def _jac_indices(self) -> None:
+        """Flat indices into the ``(n+1, 4, 4)`` frames for the TCP Jacobian in one
+        ``take`` each: ``[z_next; z_prev]`` and ``[o_prev; o_next]`` (rows x, y, z
+        rotated by one), so ``z × (p − o)`` is one product and one difference."""
+        self._zz_idx = self._oo_idx = None
+        if self._axis_cols is None:
+            return
+        link = self._links[None, :]
+        col = self._axis_cols[None, :]
+        rot = np.concatenate((_NEXT, _PREV))[:, None]
+        pos = np.concatenate((_PREV, _NEXT))[:, None]
+        self._zz_idx = (link * 16 + rot * 4 + col).ravel()
+        self._oo_idx = (link * 16 + pos * 4 + 3).ravel()
+        self._z_idx = (link * 16 + np.arange(3)[:, None] * 4 + col).ravel()
+        self._pp_idx = np.concatenate((_PREV, _NEXT))
+        self._zz_sign = np.tile(self._axis_signs[:, 0], 6).reshape(6, self.n)
+        self._z_sign = self._zz_sign[:3]
+        self._signed_axes = bool(np.any(self._axis_signs < 0.0))  # else skip the products
+        self._prod = np.empty((6, self.n))
+        self._rr = np.empty((6, self.n))
+
+    def tcp_jacobian(self, frames: np.ndarray, point: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """``jacobian_at(frames, point)`` written into ``out`` — the IK hot path.
+        ``frames`` (``(n+1, 4, 4)``) and ``out`` (6×n) must be C-contiguous."""
+        if self._zz_idx is None:
+            out[:] = self.jacobian_at(frames, point)
+            return out
+        flat = frames.reshape(-1)
+        zz, rr = self._prod, self._rr
+        flat.take(self._zz_idx, out=zz.reshape(-1))
+        if self._signed_axes:
+            zz *= self._zz_sign
+        flat.take(self._oo_idx, out=rr.reshape(-1))
+        np.subtract(point.take(self._pp_idx)[:, None], rr, out=rr)
+        zz *= rr
+        lin, ang = out[:3], out[3:]
+        np.subtract(zz[:3], zz[3:], out=lin)
+        flat.take(self._z_idx, out=ang.reshape(-1))
+        if self._signed_axes:
+            ang *= self._z_sign
+        if not self._all_revolute:  # prismatic columns: [z; 0]
+            lin *= self._rev_f[:, 0]
+            lin += ang * self._pri_f[:, 0]
+            ang *= self._rev_f[:, 0]
+        return out
 
     def jacobian_at(self, frames: np.ndarray, point: np.ndarray, upto: int | None = None):
         """6×n Jacobian of a world ``point`` rigidly attached to link ``upto`` (default:

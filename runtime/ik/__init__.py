@@ -9,6 +9,7 @@ Public API::
     reconfiguration_done(q, q_prev, eps_conf)
 """
 
+from irlc.runtime.ik.coupled import CoupledLimitError
 from irlc.runtime.ik.freeze import FreezeError
 from irlc.runtime.ik.limits import LimitViolation, LimitViolationError, intersect_limits
 from irlc.runtime.ik.newton import DeviationError, IKFailure, InverseTransformation
@@ -23,6 +24,7 @@ from irlc.runtime.ik.pose import PoseSolution, solve_pose
 from irlc.runtime.ik.self_motion import reconfiguration_done
 
 __all__ = [
+    "CoupledLimitError",
     "CycleOptions",
     "CycleResult",
     "DeviationError",

@@ -33,6 +33,8 @@ against the box.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import scipy.linalg
 from scipy.linalg.lapack import dgesv as _dgesv
@@ -48,12 +50,14 @@ class CompactBasis:
         self.columns: np.ndarray | None = None  # pivot order: first m basic
         self.shape: tuple[int, int] = (0, 0)
         self.rechosen = 0  # statistics: how often QR pivoting ran
+        self.version = 0  # bumped on every re-choice (callers cache per-basis arrays)
         self.cond = 1.0
 
     def choose(self, J: np.ndarray) -> bool:
         """Re-choose the basic columns by QR with column pivoting; False if rank < m."""
         m, n = J.shape
         self.rechosen += 1
+        self.version += 1
         if m > n:
             self.columns = None
             return False
@@ -64,42 +68,52 @@ class CompactBasis:
         self._N = np.zeros((n, n - m))  # buffers: the identity rows are set once
         self._N[self._free, np.arange(n - m)] = 1.0
         self._dp = np.zeros(n)
+        # J[:, perm] and F side by side: [J_m | J_free | F], solved in one LAPACK call
+        self._aug = np.empty((m, n + 1))
+        self._aug_perm = self._aug[:, :n]
         if m == 0:
             return True
         r00 = abs(r[0, 0])
         return r00 > 0.0 and abs(r[m - 1, m - 1]) > self.rank_tol * r00
 
     def split(self, J: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
-        """``(Δθ_p, N)`` in the original column order, or ``None`` when ``J`` is singular."""
-        _m, _n = J.shape
+        """``(Δθ_p, N)`` in the original column order, or ``None`` when ``J`` is singular.
+        Returns views of reused buffers: valid until the next call."""
+        blocks = self.blocks(J, F)
+        if blocks is None:
+            return None
+        self._dp[self._basic] = blocks[0]
+        self._N[self._basic] = blocks[1]
+        return self._dp, self._N
+
+    def blocks(self, J: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        """``(−J_m⁻¹F, −J_m⁻¹J_free)`` — the basic rows of ``Δθ_p`` and ``N`` — for the
+        current basis (re-chosen if it degrades), or ``None`` when ``J`` is singular."""
         if (self.columns is None or self.shape != J.shape) and not self.choose(J):
             return None
-        out = self._try_split(J, F, self.cond_max)
+        out = self._solve(J, F, self.cond_max)
         if out is None:  # degraded basis: re-choose once
             if not self.choose(J):
                 return None
-            out = self._try_split(J, F, self.singular_cond)
+            out = self._solve(J, F, self.singular_cond)
         return out
 
-    def _try_split(self, J: np.ndarray, F: np.ndarray, cond_limit: float):
-        """Returns views of reused buffers: valid until the next call."""
+    def _solve(self, J: np.ndarray, F: np.ndarray, cond_limit: float):
         m = J.shape[0]
-        basic = self._basic
-        rhs = np.empty((m, J.shape[1] - m + 1))
-        rhs[:, 0] = F
-        rhs[:, 1:] = J[:, self._free]
-        lu, _, x, info = _dgesv(J[:, basic], rhs)
+        aug = self._aug
+        J.take(self.columns, axis=1, out=self._aug_perm)
+        aug[:, -1] = F
+        lu, _, x, info = _dgesv(aug[:, :m], aug[:, m:])
         if info != 0:
             return None
         # cheap degradation test: spread of the LU pivots (a lower bound of cond(J_m))
-        piv = np.abs(lu.diagonal())
-        pmin = piv.min()
-        self.cond = float(piv.max() / pmin) if pmin > 0.0 else np.inf
+        piv = [abs(p) for p in lu.diagonal().tolist()]
+        pmin = min(piv)
+        self.cond = max(piv) / pmin if pmin > 0.0 else math.inf
         if not self.cond <= cond_limit:  # also catches NaN
             return None
-        self._dp[basic] = -x[:, 0]
-        self._N[basic] = -x[:, 1:]
-        return self._dp, self._N
+        np.negative(x, out=x)
+        return x[:, -1], x[:, :-1]
 
 
 def compact_box_qp(

@@ -22,7 +22,13 @@ speed change available for braking (``a = −θ̈min`` towards ``θmax``), a dis
 
 (and symmetrically ``δ ≥ brake_min = ε' − √(ε'² + 2ε'·(θ_s − θmin))``, ``ε' = θ̈max·Δt²``).
 If the previous cycle obeyed this bound, ``d ≤ √(2ε·(θmax − θ_s))`` and the new box
-``[d − ε, brake_max]`` is never empty — recursive feasibility.
+``[d − ε, brake_max]`` is never empty — recursive feasibility. It is evaluated as
+``2R/(1 + √(1 + 2R/ε))`` (``R = θmax − θ_s``), the same number without the cancellation
+of ``−ε + √(…)`` for large ``ε``: an infinite acceleration limit gives ``brake_max = R``,
+the position bound, instead of 0.
+
+Both sides are computed at once in a signed ``(2, n)`` layout (``[−lower; upper]``), so
+the box is one ``min`` over the candidates.
 
 **States the limits exclude.** If ``θ_s`` is outside the position limits, the previous
 speed ``d/Δt`` is outside the speed limits, or the candidates leave an empty box, the
@@ -110,7 +116,10 @@ def intersect_limits(
 
 
 class _BoxConstants:
-    """Everything of the box that depends only on the limits and Δt (cached)."""
+    """Everything of the box that depends only on the limits and Δt (cached).
+
+    Signed layout ``(2, n)``: row 0 is the lower side negated, row 1 the upper side, so
+    both sides are "upper bounds" and one ``min`` over the candidates gives the box."""
 
     def __init__(self, position, speed, accel, dt):
         self.inputs = (position, speed, accel)
@@ -121,28 +130,43 @@ class _BoxConstants:
         self.limits = (pos, spd, acc)
         dt2 = dt * dt
         self.pmin, self.pmax = pos[:, 0].copy(), pos[:, 1].copy()
-        self.smin_dt, self.smax_dt = dt * spd[:, 0], dt * spd[:, 1]
-        self.amin_dt2, self.amax_dt2 = dt2 * acc[:, 0], dt2 * acc[:, 1]
-        self.eps_hi = -dt2 * acc[:, 0]  # braking towards θmax uses the negative accel
-        self.eps_lo = dt2 * acc[:, 1]
-        self.two_eps_hi, self.two_eps_lo = 2.0 * self.eps_hi, 2.0 * self.eps_lo
-        self.eps_hi_sq, self.eps_lo_sq = self.eps_hi**2, self.eps_lo**2
+        self.signed_pos = _SIGN * pos.T  # [−θmin; θmax]
+        self.signed_speed = _SIGN * dt * spd.T  # [−Δt·θ̇min; Δt·θ̇max]
+        self.signed_accel = _SIGN * dt2 * acc.T  # [−Δt²·θ̈min; Δt²·θ̈max]
+        # braking: ε = [Δt²·θ̈max; −Δt²·θ̈min] (the deceleration away from each limit);
+        # the bound is 2R/(1 + √(1 + 2R/ε)) = −ε + √(ε² + 2εR) without cancellation
+        eps = dt2 * np.abs(acc[:, ::-1].T)
+        self.two_over_eps = 2.0 / np.maximum(eps, 1e-300)
+        # no finite acceleration limit: the acceleration and braking candidates never bind
+        # (braking = the position bound), so they are not computed per cycle
+        self.accel_bounded = bool(np.any(np.abs(acc) < _BIG))
         # displacement slack of the speed check (same as _check_state's, in δ units)
         self.dtol = _TOL + 1e-9 * float(np.max(np.abs(spd))) * dt
+
+
+_SIGN = np.array([[-1.0], [1.0]])
 
 
 class BoxSnapshot:
     """One cycle's box, kept for reports (copies: safe to hold after the next cycle)."""
 
-    def __init__(self, lower, upper, cand_lo, cand_hi, limits):
+    def __init__(self, lower, upper, cand, limits):
         self.lower, self.upper = lower, upper  # bounds on the cycle displacement δ
-        self.cand_lo, self.cand_hi = cand_lo, cand_hi  # (4, n) candidates
+        self._cand = cand  # (4, 2, n) signed candidates (see _BoxConstants)
         self.limits = limits  # (position, speed, accel) SI arrays
+
+    @property
+    def cand_lo(self) -> np.ndarray:
+        """(4, n) lower candidates (POSITION, SPEED, ACCEL, BRAKING)."""
+        return -self._cand[:, 0]
+
+    @property
+    def cand_hi(self) -> np.ndarray:
+        return self._cand[:, 1]
 
     def source(self, joint: int, upper_side: bool) -> int:
         """Which candidate (POSITION, SPEED, ACCEL, BRAKING) sets this bound."""
-        col = (self.cand_hi if upper_side else self.cand_lo)[:, joint]
-        return int(np.argmin(col) if upper_side else np.argmax(col))
+        return int(np.argmin(self._cand[:, int(upper_side), joint]))
 
 
 def _limit_value(limits: tuple, joint: int, source: int, upper_side: bool) -> float:
@@ -167,13 +191,23 @@ class JointBox:
 
     def __init__(self, n: int):
         self.n = n
-        self.cand_lo = np.empty((4, n))
-        self.cand_hi = np.empty((4, n))
-        self.lower_d = np.empty(n)  # bounds on the cycle displacement δ
-        self.upper_d = np.empty(n)
-        self._room = np.empty(n)
+        self.cand = np.empty((4, 2, n))  # signed candidates: [−lower; upper] per source
+        self.bounds = np.zeros((2, n))  # [lower; upper] bounds on the cycle displacement δ
+        self.lower_d, self.upper_d = self.bounds
+        self.displacement = np.zeros(n)  # d = θ_s − θ_prev of the last prepare (callers may
+        # overwrite it: it is a fresh array every cycle)
+        self._signed_d = np.empty((2, n))
+        self._room = np.empty((2, n))
         self._limits: tuple = ()
         self._cache: _BoxConstants | None = None
+
+    @property
+    def cand_lo(self) -> np.ndarray:
+        return -self.cand[:, 0]
+
+    @property
+    def cand_hi(self) -> np.ndarray:
+        return self.cand[:, 1]
 
     def prepare(
         self,
@@ -187,35 +221,48 @@ class JointBox:
     ) -> None:
         """Bounds on ``δ`` for this cycle; raises :class:`LimitViolationError`.
         Infinite limits are allowed (they never bind)."""
-        c = self._constants(position, speed, accel, dt)
-        d = q_start - q_prev
-        lo, hi = self.cand_lo, self.cand_hi
-        np.subtract(c.pmin, q_start, out=lo[POSITION])
-        np.subtract(c.pmax, q_start, out=hi[POSITION])
+        c = self._cache
         if (
-            lo[POSITION].max() > _TOL
-            or hi[POSITION].min() < -_TOL
-            or (d - hi[SPEED]).max() > c.dtol
-            or (lo[SPEED] - d).max() > c.dtol
+            c is None
+            or c.inputs[0] is not position
+            or c.inputs[1] is not speed
+            or c.inputs[2] is not accel
+            or c.dt != dt
+        ):
+            c = self._constants(position, speed, accel, dt)
+        cand, sd = self.cand, self._signed_d
+        np.multiply(_SIGN, q_start, out=sd)
+        np.subtract(c.signed_pos, sd, out=cand[POSITION])  # [θ_s − θmin; θmax − θ_s]
+        self.displacement = d = q_start - q_prev
+        np.multiply(_SIGN, d, out=sd)
+        # (builtins on lists: cheaper than numpy reductions for a handful of numbers)
+        if (
+            min(cand[POSITION].ravel().tolist()) < -_TOL
+            or max((sd - cand[SPEED]).ravel().tolist()) > c.dtol
         ):
             self._check_state(model, q_start, d, dt, c.limits[0], c.limits[1])
-        np.add(c.amin_dt2, d, out=lo[ACCEL])
-        np.add(c.amax_dt2, d, out=hi[ACCEL])
-        room = self._room
-        np.maximum(hi[POSITION], 0.0, out=room)  # braking before θmax
-        room *= c.two_eps_hi
-        room += c.eps_hi_sq
-        np.sqrt(room, out=room)
-        np.subtract(room, c.eps_hi, out=hi[BRAKING])
-        np.minimum(lo[POSITION], 0.0, out=room)  # braking before θmin (room ≤ 0 here)
-        room *= -c.two_eps_lo
-        room += c.eps_lo_sq
-        np.sqrt(room, out=room)
-        np.subtract(c.eps_lo, room, out=lo[BRAKING])
-        self.lower_d = lo.max(axis=0)
-        self.upper_d = hi.min(axis=0)
+        if c.accel_bounded:  # (otherwise both candidates stay at "no bound", set once)
+            np.add(c.signed_accel, sd, out=cand[ACCEL])
+            room = self._room
+            np.maximum(cand[POSITION], 0.0, out=room)  # braking: R = room to the limit ≥ 0
+            brake = cand[BRAKING]
+            np.multiply(room, c.two_over_eps, out=brake)
+            brake += 1.0
+            np.sqrt(brake, out=brake)
+            brake += 1.0
+            np.divide(room, brake, out=brake)
+            brake += brake
+        if c.accel_bounded:  # [−lower; upper]
+            bound = np.minimum(cand[POSITION], cand[SPEED])
+            np.minimum(bound, cand[ACCEL], out=bound)
+            np.minimum(bound, cand[BRAKING], out=bound)
+        else:
+            bound = np.minimum(cand[POSITION], cand[SPEED])
+        np.negative(bound[0], out=bound[0])
+        self.bounds = bound  # [lower; upper], a fresh array every cycle
+        self.lower_d, self.upper_d = bound[0], bound[1]
         self._limits = c.limits
-        if (self.lower_d > self.upper_d).any():
+        if min((bound[1] - bound[0]).tolist()) < 0.0:
             self._check_nonempty(model, q_start, d, dt)
 
     def _constants(self, position, speed, accel, dt) -> _BoxConstants:
@@ -229,8 +276,10 @@ class JointBox:
         ):
             c = _BoxConstants(position, speed, accel, dt)
             self._cache = c
-            self.cand_lo[SPEED] = c.smin_dt
-            self.cand_hi[SPEED] = c.smax_dt
+            self.cand[SPEED] = c.signed_speed
+            if not c.accel_bounded:
+                self.cand[ACCEL] = _BIG
+                self.cand[BRAKING] = _BIG
         return c
 
     def at(self, sigma: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> None:
@@ -244,17 +293,14 @@ class JointBox:
 
     def snapshot(self) -> BoxSnapshot:
         """This cycle's box for later reports (candidates copied)."""
-        return BoxSnapshot(
-            self.lower_d, self.upper_d, self.cand_lo.copy(), self.cand_hi.copy(), self._limits
-        )
+        return BoxSnapshot(self.lower_d, self.upper_d, self.cand.copy(), self._limits)
 
     def describe_bound(self, model: RobotModel, joint: int, upper_side: bool) -> str:
         """E.g. ``"a11 position max 60 deg"`` for the candidate that sets this bound."""
         return describe_box_bound(model, self.snapshot(), joint, upper_side)
 
     def source(self, joint: int, upper_side: bool) -> str:
-        col = (self.cand_hi if upper_side else self.cand_lo)[:, joint]
-        return SOURCE_NAMES[int(np.argmin(col) if upper_side else np.argmax(col))]
+        return SOURCE_NAMES[int(np.argmin(self.cand[:, int(upper_side), joint]))]
 
     # --- helpers -----------------------------------------------------------------
     @staticmethod

@@ -31,10 +31,11 @@ import math
 
 import numpy as np
 from irlc.robots.model import RobotModel
-from irlc.runtime import spatial
+from irlc.runtime.coupled_limits import coupled_limits
 from irlc.runtime.distance import critical_points
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik.compact import CompactBasis
+from irlc.runtime.ik.coupled import CoupledRows
 from irlc.runtime.ik.cyclic import CyclicReference
 from irlc.runtime.ik.freeze import FreezeError, FrozenJoints
 from irlc.runtime.ik.limits import JointBox
@@ -43,6 +44,7 @@ from irlc.runtime.ik.obstacle import obstacle_terms
 from irlc.runtime.ik.params import CycleOptions, CycleResult, IKParams
 from irlc.runtime.ik.qp import make_solver
 from irlc.runtime.ik.state import IterationState
+from irlc.runtime.ik.task_error import pose_error_list
 from irlc.runtime.ik.weighted import WeightedDisplacement
 from irlc.runtime.kinematics import Kinematics
 
@@ -66,24 +68,32 @@ class InverseTransformation:
         self.model = model
         self.kin = kinematics
         self.params = params or IKParams.for_robot(model)
-        self.n = model.n
+        self.n = n = model.n
         self.rows = np.array(self.params.task_rows, dtype=int)
         npos = int(np.sum(self.rows < 3))  # rows are sorted: position rows come first
         self.pos_rows, self.ori_rows = slice(0, npos), slice(npos, self.rows.size)
+        self._row_list = [int(r) for r in self.rows]
         self._all_rows = self.rows.size == 6
         self.weights = model.weights
-        self.box = JointBox(self.n)
+        self.box = JointBox(n)
         basis = CompactBasis(self.params.cond_max, self.params.singular_cond)
         self.stepper = NewtonStep(make_solver(self.params.solver), self.params.relax_weight, basis)
-        self._g = np.zeros(self.n)
-        self._H = np.zeros((self.n, self.n))
-        self._lower = np.empty(self.n)
-        self._upper = np.empty(self.n)
+        self.stepper.scalar_qp = self.params.scalar_qp
+        self.coupled = CoupledRows(model) if coupled_limits(model) else None
+        self._g = np.zeros(n)
+        self._H = np.zeros((n, n))
+        self._J6 = np.empty((6, n))
+        self._tcp = np.empty((4, 4))
+        self._bounds = np.empty((2, n))
+        self._lower, self._upper = self._bounds
         self._frozen_cache: tuple[tuple, FrozenJoints] | None = None
+        self._no_frozen = FrozenJoints(n, {})
         self._limits = (model.position_limits, model.speed_limits, model.accel_limits)
         self._default = CycleOptions()
         self._weighted = WeightedDisplacement(self.weights)
         self._conf = WeightedDisplacement(self.weights, self.params.obstacle.a_conf)
+        self._weighted_only = [self._weighted]
+        self._state = IterationState(np.zeros(n), np.zeros(n), np.zeros(n))
 
     # ------------------------------------------------------------------ public
     def step(
@@ -98,63 +108,105 @@ class InverseTransformation:
 
         ``q_start``: configuration at the start of the cycle; ``q_prev``: one cycle
         earlier (equal to ``q_start`` from rest); ``target``: desired TCP pose (4×4,
-        world, m). Raises ``LimitViolationError``, ``FreezeError``, ``DeviationError``
-        (only if ``IKParams.max_deviation`` is set) or :class:`IKFailure`.
+        world, m). Raises ``LimitViolationError``, ``CoupledLimitError``, ``FreezeError``,
+        ``DeviationError`` (only if ``IKParams.max_deviation`` is set) or
+        :class:`IKFailure`.
         """
         opts = options or self._default
-        _require_finite("start configuration", q_start)
-        _require_finite("target pose", target)
-        pos = self._limits[0] if opts.position is None else opts.position
-        spd = self._limits[1] if opts.speed is None else opts.speed
-        acc = self._limits[2] if opts.accel is None else opts.accel
-        self.box.prepare(self.model, q_start, q_prev, dt, pos, spd, acc)
-        frozen = self._frozen(opts.frozen)
-        frozen.check_task(self.model, self.rows.size)
-        free = frozen.free
+        tl = target.tolist()
+        if not (_finite(q_start) and math.isfinite(sum(tl[0]) + sum(tl[1]) + sum(tl[2]))):
+            _require_finite("start configuration", q_start)
+            _require_finite("target pose", target)
+        lim = self._limits
+        acc = lim[2] if opts.accel is None else opts.accel
+        box = self.box
+        box.prepare(
+            self.model,
+            q_start,
+            q_prev,
+            dt,
+            lim[0] if opts.position is None else opts.position,
+            lim[1] if opts.speed is None else opts.speed,
+            acc,
+        )
+        coupled = self.coupled
+        if coupled is not None:
+            coupled.prepare(q_start, dt, acc)
+        if opts.frozen:
+            frozen = self._frozen(opts.frozen)
+            frozen.check_task(self.model, self.rows.size)
+        else:
+            frozen = self._no_frozen
 
         p = self.params
         kin = self.kin
         theta = np.array(q_start, dtype=float)
         if p.warm_start and not opts.self_motion:
             # first iterate: repeat the previous displacement (kept inside this box)
-            d = np.clip(q_start - q_prev, self.box.lower_d, self.box.upper_d)
-            d[frozen.frozen] = 0.0
+            d = box.displacement  # q_start − q_prev (prepare's own array, fresh per cycle)
+            np.maximum(d, box.lower_d, out=d)
+            np.minimum(d, box.upper_d, out=d)
+            if frozen:
+                d[frozen.frozen] = 0.0
             theta += d
-        state = IterationState(theta, q_start, np.zeros(self.n))
+        state = self._state
+        state.theta, state.start = theta, q_start
+        sigma = state.sigma
         criteria: list = []
+        diagonal = None  # (criterion, w) when the cost is one diagonal criterion
         relaxed = singular = False
         outcome: StepOutcome | None = None
         J = None
         iterations = 0
+        rd, pd = (tl[0][:3], tl[1][:3], tl[2][:3]), (tl[0][3], tl[1][3], tl[2][3])
+        tcp, end, J6 = self._tcp, kin._end, self._J6
+        tol_p, tol_o = p.tol_position, p.tol_orientation
         for k in range(p.max_iter + 1):
-            frames = kin.link_frames(theta)
-            tcp = kin.tcp_from_frames(frames)
-            F = spatial.pose_error(tcp, target)
-            if not self._all_rows:
-                F = F[self.rows]
+            frames = kin.chain(theta)
+            np.dot(frames[-1], end, out=tcp)
+            e = pose_error_list(tcp, rd, pd, target)
+            if self._all_rows:
+                e0, e1, e2, e3, e4, e5 = e
+                pe = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+                oe = math.sqrt(e3 * e3 + e4 * e4 + e5 * e5)
+            else:
+                e = [e[r] for r in self._row_list]
+                pe, oe = self._errors(e)
             if k == 0:
-                criteria = self._criteria(opts, frames)
-            elif self._done(F, k, relaxed, outcome, theta):
+                if opts.reference is None and not opts.active_obstacles:
+                    criteria = self._weighted_only
+                    diagonal = None if frozen else self._weighted
+                else:
+                    criteria = self._criteria(opts, frames)
+                    diagonal = _single_diagonal(criteria, frozen)
+            elif (
+                (pe < tol_p and oe < tol_o)
+                or k == p.max_iter
+                or (relaxed and _tiny(outcome.dtheta, theta))
+            ):
                 break
-            if k == 0 and opts.self_motion:
-                F[:] = 0.0
-            J = kin.jacobian_at(frames, tcp[:3, 3])
+            F = np.zeros(len(e)) if (k == 0 and opts.self_motion) else np.array(e)
+            J = kin.tcp_jacobian(frames, tcp[:3, 3], J6)
             if not self._all_rows:
-                J = J[self.rows]
-            np.subtract(theta, q_start, out=state.sigma)
+                J = J.take(self.rows, axis=0)
+            np.subtract(theta, q_start, out=sigma)
             state.iteration = k
-            g, H = self._cost(criteria, state)
-            self.box.at(state.sigma, self._lower, self._upper)
-            outcome, dtheta = self._solve(J, F, g, H, frozen, theta, relaxed)
+            ineq = None if coupled is None else coupled.at(sigma)
+            if diagonal is not None:
+                outcome = self._solve_diagonal(J, F, diagonal, state, relaxed, ineq)
+                dtheta = outcome.dtheta
+            else:
+                g, H = self._cost(criteria, state)
+                box.at(sigma, self._lower, self._upper)
+                outcome, dtheta = self._solve(J, F, g, H, frozen, theta, relaxed, ineq)
             relaxed = relaxed or outcome.relaxed
             singular = singular or outcome.singular
-            if not np.isfinite(dtheta @ dtheta):
+            if not math.isfinite(dtheta.dot(dtheta)):
                 raise IKFailure(f"inverse transformation produced a non-finite step: {dtheta}")
             theta += dtheta
             iterations = k + 1
-        pe, oe = _norm(F, self.pos_rows), _norm(F, self.ori_rows)
-        converged = pe < p.tol_position and oe < p.tol_orientation
-        clearances = self._clearances(frames, opts)
+        converged = pe < tol_p and oe < tol_o
+        clearances = self._clearances(frames, opts) if opts.obstacles else {}
         result = CycleResult(
             theta,
             iterations,
@@ -165,17 +217,24 @@ class InverseTransformation:
             singular,
             clearances,
             delta=theta - q_start,
-            box=self.box.snapshot(),
+            box=box.snapshot(),
             model=self.model,
-            free=free,
+            free=frozen.free,
             qp_active=None if outcome is None else outcome.active,
             qp_multipliers=None if outcome is None else outcome.multipliers,
-            jacobian=None if J is None else J[:, free],
+            jacobian=None if J is None else (J[:, frozen.free] if frozen else J.copy()),
+            coupled=coupled,
         )
-        self._check_deviation(result)
+        if p.max_deviation is not None or p.max_orientation_deviation is not None:
+            self._check_deviation(result)
         return result
 
     # ------------------------------------------------------------------ pieces
+    def _errors(self, e: list) -> tuple[float, float]:
+        """Norms of the position and orientation parts of the task error."""
+        pos, ori = e[self.pos_rows], e[self.ori_rows]
+        return math.sqrt(sum(x * x for x in pos)), math.sqrt(sum(x * x for x in ori))
+
     def _frozen(self, frozen: dict[int, float]) -> FrozenJoints:
         key = tuple(sorted(frozen.items()))
         if self._frozen_cache is None or self._frozen_cache[0] != key:
@@ -184,7 +243,10 @@ class InverseTransformation:
 
     def _criteria(self, opts: CycleOptions, frames: np.ndarray) -> list:
         out: list = []
-        active = [o for o in opts.obstacles if o.name in opts.active_obstacles]
+        if opts.active_obstacles:
+            active = [o for o in opts.obstacles if o.name in opts.active_obstacles]
+        else:
+            active = []
         if opts.reference is not None:
             out.append(CyclicReference(self.weights, opts.reference))
             if active:
@@ -203,11 +265,40 @@ class InverseTransformation:
             c.accumulate(state, g, H)
         return g, H
 
-    def _solve(self, J, F, g, H, frozen: FrozenJoints, theta, relaxed):
+    def _solve_diagonal(self, J, F, criterion, state, relaxed, ineq) -> StepOutcome:
+        """One step for a single criterion with ``H = diag(w)`` (default, CYCLIC,
+        RECONFIGURATION): the compact QP without forming ``H``."""
+        g = criterion.gradient(state, self._g)
+        w = criterion.w
+        bounds = self._bounds
+        np.subtract(self.box.bounds, state.sigma, out=bounds)
+        if not relaxed:
+            out = self.stepper.hard_diagonal(J, F, w, g, bounds, ineq)
+            if out is not None:
+                return out
+        if ineq is None and self.params.solver == "quadprog":
+            return self.stepper.relaxed_diagonal(J, F, w, g, bounds)
+        return self._relaxed(J, F, np.diag(w), g, bounds[0], bounds[1], ineq)
+
+    def _relaxed(self, J, F, H, g, lower, upper, ineq) -> StepOutcome:
+        try:
+            return self.stepper.relaxed(J, F, H, g, lower, upper, ineq)
+        except FloatingPointError:
+            if ineq is None:
+                raise
+            raise IKFailure(
+                "the joint box and the coupled joint limits leave no admissible step "
+                "(the coupled combination moves too fast to stop before its bound)"
+            ) from None
+
+    def _solve(self, J, F, g, H, frozen: FrozenJoints, theta, relaxed, ineq=None):
         lower, upper = self._lower, self._upper
         if not frozen:
-            solve = self.stepper.relaxed if relaxed else self.stepper.solve
-            out = solve(J, F, H, g, lower, upper)
+            if not relaxed:
+                out = self.stepper.hard(J, F, H, g, lower, upper, ineq)
+                if out is not None:
+                    return out, out.dtheta
+            out = self._relaxed(J, F, H, g, lower, upper, ineq)
             return out, out.dtheta
         free, fz = frozen.free, frozen.frozen
         c = frozen.step(theta)
@@ -220,21 +311,18 @@ class InverseTransformation:
         Hf = H[np.ix_(free, free)]
         gf = g[free] + H[np.ix_(free, fz)] @ c
         Jf = J[:, free]
-        if relaxed:
-            out = self.stepper.relaxed(Jf, Ff, Hf, gf, lower[free], upper[free])
-        else:
-            out = self.stepper.solve(Jf, Ff, Hf, gf, lower[free], upper[free])
+        ineq_f = None if ineq is None else (ineq[0][:, free], ineq[1] - ineq[0][:, fz] @ c)
+        out = None
+        if not relaxed:
+            out = self.stepper.hard(Jf, Ff, Hf, gf, lower[free], upper[free], ineq_f)
+        if out is None:
+            out = self._relaxed(Jf, Ff, Hf, gf, lower[free], upper[free], ineq_f)
         if out.singular and self.rows.size <= free.size and _full_rank(J, self.rows.size):
             raise FreezeError(frozen.describe_impossible(self.model, self.rows.size))
         dtheta = np.empty(self.n)
         dtheta[free] = out.dtheta
         dtheta[fz] = c
         return out, dtheta
-
-    def _done(self, F, k: int, relaxed: bool, outcome, theta) -> bool:
-        if self._converged(F) or k == self.params.max_iter:
-            return True
-        return relaxed and _tiny(outcome.dtheta, theta)
 
     def _converged(self, F: np.ndarray) -> bool:
         p = self.params
@@ -264,6 +352,19 @@ class InverseTransformation:
                 f"{np.degrees(r.orientation_error):.3f} deg{what}",
                 r,
             )
+
+
+def _single_diagonal(criteria: list, frozen: FrozenJoints):
+    """The criterion if the cost is exactly one diagonal criterion and nothing is frozen."""
+    if len(criteria) == 1 and not frozen and hasattr(criteria[0], "gradient"):
+        return criteria[0]
+    return None
+
+
+def _finite(x: np.ndarray) -> bool:
+    """All entries finite (one dot product; ‖x‖² overflowing is not a configuration —
+    the caller then runs the exact check)."""
+    return math.isfinite(x.dot(x))
 
 
 def _norm(F: np.ndarray, rows: slice) -> float:

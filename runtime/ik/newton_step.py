@@ -20,26 +20,34 @@ rows are ``[I; −I]`` in both forms, so an active row index ``r`` means joint `
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
+import quadprog
 from irlc.runtime.ik.compact import CompactBasis, compact_box_qp
 from irlc.runtime.ik.qp import QPResult
 
 _BOX_TOL = 1e-12
 
 
-@dataclass
 class StepOutcome:
-    dtheta: np.ndarray
-    relaxed: bool
-    singular: bool
-    active: np.ndarray  # active box rows (see module doc)
-    multipliers: np.ndarray
+    """The step, how it was found, and the active rows with their multipliers."""
+
+    __slots__ = ("active", "dtheta", "multipliers", "relaxed", "singular")
+
+    def __init__(self, dtheta, relaxed: bool, singular: bool, active, multipliers):
+        self.dtheta = dtheta
+        self.relaxed = relaxed
+        self.singular = singular
+        self.active = active  # active box rows (see module doc)
+        self.multipliers = multipliers
 
 
 class NewtonStep:
-    """Solves one step; keeps the compact basis from call to call."""
+    """Solves one step; keeps the compact basis (and per-basis buffers) from call to call.
+
+    ``ineq = (A, b)`` adds rows ``AΔθ ≥ b`` (coupled joint limits) to both forms; in the
+    compact form they become ``(AN)z ≥ b − AΔθ_p``. Active row indices ``≥ 2n`` refer to
+    them (row ``r − 2n`` of ``A``).
+    """
 
     def __init__(self, solver, relax_weight: float = 1e6, basis: CompactBasis | None = None):
         self.solver = solver
@@ -47,8 +55,10 @@ class NewtonStep:
         self.basis = basis or CompactBasis()
         self._eye_cache: dict[int, np.ndarray] = {}
         self.last_singular = False
+        self.scalar_qp = True  # one null-space dimension: closed form (see _scalar_qp)
+        self._version = -1
 
-    def hard(self, J, F, H, g, lower, upper) -> StepOutcome | None:
+    def hard(self, J, F, H, g, lower, upper, ineq=None) -> StepOutcome | None:
         """The compact QP; ``None`` if singular or infeasible (``singular`` noted)."""
         self.last_singular = False
         split = self.basis.split(J, F)
@@ -57,17 +67,127 @@ class NewtonStep:
             return None
         dtheta_p, N = split
         if N.shape[1] == 0:  # n = m: no redundancy, the box is only checked
-            if np.all(dtheta_p >= lower - _BOX_TOL) and np.all(dtheta_p <= upper + _BOX_TOL):
-                rows = _touching(dtheta_p, lower, upper)
-                return StepOutcome(dtheta_p.copy(), False, False, rows, np.zeros(rows.size))
-            return None
+            return _checked(dtheta_p, lower, upper, ineq)
         Ht, gt, Ct, bt = compact_box_qp(H, g, dtheta_p, N, lower, upper)
+        if ineq is not None:
+            Ct, bt = _with_rows(Ct, bt, ineq[0], ineq[1], dtheta_p, N)
         res: QPResult = self.solver.solve_ct(Ht, gt, Ct, bt)
         if not res.ok:
             return None
         return StepOutcome(dtheta_p + N @ res.z, False, False, res.active, res.multipliers)
 
-    def relaxed(self, J, F, H, g, lower, upper) -> StepOutcome:
+    def hard_diagonal(self, J, F, w, g, bounds, ineq=None) -> StepOutcome | None:
+        """:meth:`hard` for a diagonal ``H = diag(w)`` — the IPO-cycle hot path;
+        ``bounds = [lower; upper]`` (2×n) on ``Δθ``.
+
+        With ``−J_m⁻¹[J_free F] = [X y]`` (basic rows of ``N`` and ``Δθ_p``) and
+        ``v = g + w∘Δθ_p``: ``H̃ = XᵀW_bX + W_f``, ``g̃ = Xᵀv_b + v_f``; the box rows
+        ``[N; −N]`` of ``Ãᵀ`` are rebuilt from ``N`` in place."""
+        self.last_singular = False
+        basis = self.basis
+        blocks = basis.blocks(J, F)
+        if blocks is None:
+            self.last_singular = True
+            return None
+        y, X = blocks
+        if self._version != basis.version:
+            self._prepare()
+        dp, N = self._dp, self._N
+        N[self._basic] = X
+        dp[self._basic] = y
+        nz = N.shape[1]
+        if nz == 0:
+            return _checked(dp, bounds[0], bounds[1], ineq)
+        if nz == 1 and ineq is None and self.scalar_qp:
+            out = self._scalar_qp(dp, N[:, 0], w, g, bounds)
+            if out is not False:
+                return out
+        v = w * dp
+        v += g
+        gt = v.take(self._free) + v.take(self._basic) @ X
+        Ht = (X.T * w.take(self._basic)) @ X
+        Ht.flat[:: nz + 1] += w.take(self._free)
+        Ct, bt, n = self._ct, self._bt, dp.shape[0]
+        Ct[:, :n] = N.T
+        np.negative(Ct[:, :n], out=Ct[:, n:])
+        np.subtract(bounds[0], dp, out=bt[:n])
+        np.subtract(dp, bounds[1], out=bt[n:])
+        if ineq is not None:
+            Ct, bt = _with_rows(Ct, bt, ineq[0], ineq[1], dp, N)
+        res: QPResult = self.solver.solve_ct(Ht, gt, Ct, bt)
+        if not res.ok:
+            return None
+        return StepOutcome(dp + N @ res.z, False, False, res.active, res.multipliers)
+
+    def _prepare(self) -> None:
+        """Per-basis buffers of :meth:`hard_diagonal`."""
+        b = self.basis
+        self._version = b.version
+        self._basic, self._free = b._basic, b._free
+        self._N, self._dp = b._N, b._dp
+        n, nz = self._N.shape
+        self._ct = np.empty((nz, 2 * n))
+        self._bt = np.empty(2 * n)
+        self._zb = np.empty((2, n))
+        self._zlo = np.empty(n)
+        self._zhi = np.empty(n)
+
+    def _scalar_qp(self, dp, col, w, g, bounds):
+        """One null-space dimension, ``Δθ = Δθ_p + col·z``: ``min ½hz² + g̃z`` with
+        ``h = colᵀWcol``, ``g̃ = colᵀ(g + WΔθ_p)``, s.t. ``l_j ≤ Δθ_p,j + col_j z ≤ u_j``.
+        The minimiser is ``−g̃/h`` clipped to ``[max_j min(a_j, b_j), min_j max(a_j, b_j)]``,
+        ``a = (l − Δθ_p)/col``, ``b = (u − Δθ_p)/col`` — the Goldfarb–Idnani result for
+        one variable (the active set is the clipping bound, its multiplier
+        ``|hz + g̃|/|col_j|``). Empty interval: ``None`` (infeasible). Returns ``False``
+        when some ``col_j = 0`` (then the general solver decides)."""
+        n = col.shape[0]
+        if np.count_nonzero(col) != n:
+            return False
+        wc = w * col
+        h = float(wc.dot(col))
+        gt = float(g.dot(col)) + float(wc.dot(dp))
+        zb, zlo, zhi = self._zb, self._zlo, self._zhi
+        np.subtract(bounds, dp, out=zb)
+        zb /= col
+        np.minimum(zb[0], zb[1], out=zlo)  # per joint: the bound on z from below …
+        np.maximum(zb[0], zb[1], out=zhi)  # … and from above
+        lo_list, hi_list = zlo.tolist(), zhi.tolist()  # (builtins beat numpy reductions
+        z_lo, z_hi = max(lo_list), min(hi_list)  # on a handful of numbers)
+        if not z_lo <= z_hi:
+            return None
+        z = -gt / h
+        if z_lo <= z <= z_hi:
+            return StepOutcome(dp + col * z, False, False, _EMPTY_INT, _EMPTY)
+        if z < z_lo:
+            z, j = z_lo, lo_list.index(z_lo)
+            row = j if col[j] > 0.0 else j + n  # n_j z ≥ l_j − dp_j, or the upper row
+        else:
+            z, j = z_hi, hi_list.index(z_hi)
+            row = j + n if col[j] > 0.0 else j
+        mult = abs(h * z + gt) / abs(float(col[j]))
+        return StepOutcome(dp + col * z, False, False, np.array([row]), np.array([mult]))
+
+    def relaxed_diagonal(self, J, F, w, g, bounds) -> StepOutcome:
+        """:meth:`relaxed` for ``H = diag(w)``, box only: the QP divided by ``ρ``
+        (``JᵀJ + W/ρ``, ``JᵀF + g/ρ``; entries of order one), quadprog called directly."""
+        n = w.shape[0]
+        rho = self.relax_weight * max(w.tolist())
+        inv_rho = 1.0 / rho
+        Hs = J.T @ J
+        Hs.flat[:: n + 1] += w * inv_rho
+        a = J.T @ F
+        a += g * inv_rho
+        np.negative(a, out=a)
+        bt = np.multiply(bounds, _SIGNS).reshape(-1)  # [lower; −upper]
+        try:
+            z, _, _, _, lagr, iact = quadprog.solve_qp(Hs, a, self._box_columns(n), bt, 0)
+        except ValueError as exc:
+            raise FloatingPointError(f"relaxed QP failed ({exc})") from None
+        rows = iact[iact > 0] - 1
+        mult = lagr[rows] * rho
+        return StepOutcome(z, True, self.last_singular, rows, mult)
+
+    def relaxed(self, J, F, H, g, lower, upper, ineq=None) -> StepOutcome:
         """The relaxed QP (always solvable for a non-empty box)."""
         n = H.shape[0]
         rho = self.relax_weight * float(H.diagonal().max())
@@ -75,13 +195,18 @@ class NewtonStep:
         gr = g + rho * (J.T @ F)
         C = self._box_columns(n)
         b = np.concatenate((lower, -upper))
+        if ineq is not None:
+            C = np.hstack((C, ineq[0].T))
+            b = np.concatenate((b, ineq[1]))
         res = self.solver.solve_ct(Hr, gr, C, b)
         if not res.ok:
             raise FloatingPointError(f"relaxed QP failed ({res.status}: {res.message})")
         return StepOutcome(res.z, True, self.last_singular, res.active, res.multipliers)
 
-    def solve(self, J, F, H, g, lower, upper) -> StepOutcome:
-        return self.hard(J, F, H, g, lower, upper) or self.relaxed(J, F, H, g, lower, upper)
+    def solve(self, J, F, H, g, lower, upper, ineq=None) -> StepOutcome:
+        return self.hard(J, F, H, g, lower, upper, ineq) or self.relaxed(
+            J, F, H, g, lower, upper, ineq
+        )
 
     def _box_columns(self, n: int) -> np.ndarray:
         a = self._eye_cache.get(n)
@@ -89,6 +214,25 @@ class NewtonStep:
             a = np.hstack((np.eye(n), -np.eye(n)))
             self._eye_cache[n] = a
         return a
+
+
+_EMPTY_INT = np.zeros(0, dtype=int)
+_EMPTY = np.zeros(0)
+_SIGNS = np.array([[1.0], [-1.0]])
+
+
+def _with_rows(Ct, bt, A, b, dp, N):
+    """Append the compact form of ``AΔθ ≥ b``: columns ``(AN)ᵀ``, right sides ``b − AΔθ_p``."""
+    return np.hstack((Ct, (A @ N).T)), np.concatenate((bt, b - A @ dp))
+
+
+def _checked(dp, lower, upper, ineq) -> StepOutcome | None:
+    """``n = m``: the only solution ``Δθ_p`` if it satisfies the box (and ``ineq``)."""
+    inside = np.all(dp >= lower - _BOX_TOL) and np.all(dp <= upper + _BOX_TOL)
+    if inside and (ineq is None or np.all(ineq[0] @ dp >= ineq[1] - _BOX_TOL)):
+        rows = _touching(dp, lower, upper)
+        return StepOutcome(dp.copy(), False, False, rows, np.zeros(rows.size))
+    return None
 
 
 def _touching(x, lower, upper) -> np.ndarray:

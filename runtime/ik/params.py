@@ -54,6 +54,7 @@ class IKParams:
     eps_conf: float = 1e-6  # RECONFIGURATION ends when ‖θ(t) − θ(t−Δt)‖ < eps_conf
     solver: str = "quadprog"
     warm_start: bool = True  # first iterate θ_s + d (see newton); not for self-motion
+    scalar_qp: bool = True  # one null-space dimension: closed-form QP (False: always solver)
     obstacle: ObstacleParams = field(default_factory=ObstacleParams)
 
     @classmethod
@@ -119,7 +120,8 @@ class CycleResult:
     Computed on first access (the hot loop does not pay for them): ``active`` (joint →
     ``"position max"``, ``"speed min"``, … for the box bounds the cycle displacement
     touches), ``binding`` (the active bound with the largest QP multiplier, in program
-    units, e.g. ``"J11 position max 60 deg"``; ``""`` if none), ``manipulability``
+    units, e.g. ``"J11 position max 60 deg"`` or ``"coupled limit theta2+theta3 max 25
+    deg"``; ``""`` if none), ``manipulability``
     (``Π σ_i`` of the task Jacobian over the free joints at the last Newton iterate) and
     ``sigma_min`` (its smallest singular value).
     """
@@ -142,6 +144,7 @@ class CycleResult:
         qp_active=None,
         qp_multipliers=None,
         jacobian=None,
+        coupled=None,
     ):
         self.q = q
         self.iterations = iterations
@@ -154,6 +157,7 @@ class CycleResult:
         self.clearances: dict[str, tuple[float, int]] = clearances
         self._delta, self._box, self._model, self._free = delta, box, model, free
         self._qp_active, self._qp_mult, self._jac = qp_active, qp_multipliers, jacobian
+        self._coupled = coupled
 
     def __repr__(self) -> str:
         return (
@@ -182,6 +186,8 @@ class CycleResult:
         if self._qp_active is not None and self._qp_active.size:
             nf = self._free.size
             r = int(self._qp_active[int(np.argmax(self._qp_mult))])
+            if r >= 2 * nf and self._coupled is not None:  # a coupled-limit row
+                return self._coupled.describe_row(r - 2 * nf)
             return describe_box_bound(self._model, self._box, int(self._free[r % nf]), r >= nf)
         if self.active:
             j, what = next(iter(self.active.items()))

@@ -6,7 +6,9 @@ the hard step has no solution) iterated from a seed configuration::
     min  ½(θ_k + Δθ − θ_seed)ᵀW(θ_k + Δθ − θ_seed)
     s.t. JΔθ = −F(θ_k),   max(θmin − θ_k, −s) ≤ Δθ ≤ min(θmax − θ_k, s)
 
-The robot's position limits always hold; the trust box ``s`` (``max_step`` rad for
+The robot's position limits always hold, and so do its coupled limits
+(``[[coupled_limits]]``, rows ``A(θ_k + Δθ) ≥ b`` added to both QPs; a seed violating
+them is reported like a seed outside its box); the trust box ``s`` (``max_step`` rad for
 revolute, ``max_step_prismatic`` m for prismatic joints) keeps steps short for far
 targets, where the hard step is infeasible and the relaxed step (damped Gauss–Newton
 inside the box) walks towards the target. Near the solution the hard step is plain
@@ -25,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime import spatial
+from irlc.runtime.coupled_limits import as_inequalities, coupled_limits, describe, violations
 from irlc.runtime.ik.compact import CompactBasis
 from irlc.runtime.ik.limits import format_joint_value
 from irlc.runtime.ik.newton_step import NewtonStep
@@ -82,6 +85,11 @@ def solve_pose(
             f"{format_joint_value(model, j, limits[j, side], 0)}",
         )
 
+    coupled = coupled_limits(model)
+    if coupled and violations(coupled, q, 1e-9):
+        worst = max(violations(coupled, q, 1e-9), key=lambda v: v.amount)
+        return PoseSolution(q, False, np.inf, np.inf, 0, f"seed: {describe(worst)}")
+    A, b = as_inequalities(coupled, model.n)
     kin = Kinematics(model, tool)
     rows = np.array(task_rows if task_rows is not None else task_rows_for(model), dtype=int)
     pos_rows, ori_rows = np.flatnonzero(rows < 3), np.flatnonzero(rows >= 3)
@@ -106,13 +114,15 @@ def solve_pose(
             break
         history.append(pe + oe)
         if last is not None and last.relaxed and _stalled(last.dtheta, history):
-            return PoseSolution(q, False, pe, oe, it, _unreachable(model, q, pe, oe))
+            text = _unreachable(model, q, pe, oe) + _coupled_reached(coupled, A, b, q)
+            return PoseSolution(q, False, pe, oe, it, text)
         J = kin.jacobian_at(frames, tcp[:3, 3])[rows]
         lower = np.maximum(limits[:, 0] - q, -step)
         upper = np.minimum(limits[:, 1] - q, step)
+        ineq = (A, b - A @ q) if b.size else None  # coupled limits: A(q + Δθ) ≥ b
         try:  # the seed pull acts in the null space only; the relaxed step is pure DLS
-            last = stepper.hard(J, F, H, w * (q - seed), lower, upper) or stepper.relaxed(
-                J, F, H, zero, lower, upper
+            last = stepper.hard(J, F, H, w * (q - seed), lower, upper, ineq) or stepper.relaxed(
+                J, F, H, zero, lower, upper, ineq
             )
         except FloatingPointError as exc:
             return PoseSolution(q, False, pe, oe, it, f"solver failure: {exc}")
@@ -139,6 +149,22 @@ def _stalled(dtheta: np.ndarray, history: list[float], window: int = 10) -> bool
     if float(np.max(np.abs(dtheta))) < 1e-12:
         return True
     return len(history) > window and history[-1] > 0.999 * history[-1 - window]
+
+
+def _coupled_reached(coupled, A, b, q) -> str:
+    """`` (coupled limits reached: theta2+theta3 max 25 deg)`` or ``""``."""
+    if not b.size:
+        return ""
+    at = np.flatnonzero(A @ q - b <= 1e-9)
+    if not at.size:
+        return ""
+    rows = []
+    for c in coupled:
+        if np.isfinite(c.lower):
+            rows.append(f"{c.name} min {np.degrees(c.lower):.6g} deg")
+        if np.isfinite(c.upper):
+            rows.append(f"{c.name} max {np.degrees(c.upper):.6g} deg")
+    return f" (coupled limits reached: {', '.join(rows[i] for i in at)})"
 
 
 def _unreachable(model, q, pe, oe) -> str:

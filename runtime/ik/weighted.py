@@ -26,3 +26,7 @@ class WeightedDisplacement:
     def accumulate(self, state: IterationState, g: np.ndarray, H: np.ndarray) -> None:
         g += self.w * state.sigma
         H.flat[:: H.shape[0] + 1] += self.w
+
+    def gradient(self, state: IterationState, out: np.ndarray) -> np.ndarray:
+        """``g`` alone (``H = diag(w)`` is constant): the diagonal fast path."""
+        return np.multiply(self.w, state.sigma, out=out)

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import pytest
-from .ik_robots import planar_arm
 from irlc.robots.model import RobotModel
+
+from .ik_robots import planar_arm
 
 
 @pytest.fixture

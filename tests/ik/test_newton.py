@@ -6,7 +6,6 @@ import math
 
 import numpy as np
 import pytest
-from .ik_robots import XY, line_poses, planar_arm, run_path, smooth, square_poses
 from irlc.runtime import spatial, units
 from irlc.runtime.ik import (
     CycleOptions,
@@ -18,6 +17,8 @@ from irlc.runtime.ik import (
     solve_pose,
 )
 from irlc.runtime.kinematics import Kinematics
+
+from .ik_robots import XY, line_poses, planar_arm, run_path, smooth, square_poses
 
 
 # ------------------------------------------------------------------ convergence

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from .ik_robots import XY, line_poses, run_path
 from irlc.robots import load_robot
 from irlc.runtime import spatial
 from irlc.runtime.ik import (
@@ -17,6 +16,8 @@ from irlc.runtime.ik import (
 from irlc.runtime.ik.obstacle import activation_weight
 from irlc.runtime.kinematics import Kinematics
 from irlc.runtime.obstacles import BoxObstacle
+
+from .ik_robots import XY, line_poses, run_path
 
 
 def min_clearance(model, q0, start, end, dt, avoid):
