@@ -86,5 +86,12 @@ class Controller(Protocol):
     def wait(self, seconds: float, line: int, settings: Settings, options: ModalOptions) -> None:
         """Stand still for ``seconds`` of simulated time (samples are still recorded)."""
 
+    def check_switch_on(
+        self, option: str, line: int, settings: Settings, options: ModalOptions
+    ) -> None:
+        """Optional: called right after OBSTACLE or FREEZESTART is switched on, so that an
+        impossible option (arm already inside the obstacle, too few free joints) fails at
+        its own statement. Controllers without it are checked at the next motion."""
+
     def log_event(self, kind: str, line: int, **data) -> None:
         """Signals, PAUSE, HALT and other timestamped events for the report."""

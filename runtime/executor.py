@@ -37,6 +37,7 @@ from irlc.robots.model import RobotModel
 from irlc.runtime import spatial, units
 from irlc.runtime.controller import ModalOptions, MotionCommand, Settings
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.ik.freeze import FrozenJoints
 from irlc.runtime.ik.newton import InverseTransformation
 from irlc.runtime.ik.params import CycleOptions, IKParams
 from irlc.runtime.ik.pose import solve_pose
@@ -181,6 +182,36 @@ class SimulatedController:
             self._t = _advance(self._t, dt)
             self._record_still(line, settings)
             self._tick()
+
+    def check_switch_on(
+        self, option: str, line: int, settings: Settings, options: ModalOptions
+    ) -> None:
+        """Checks when OBSTACLE or FREEZESTART is switched on, so that the failure points
+        at that statement (as JOINTLIMIT's "excludes the current state" does), not at the
+        next motion: an avoided obstacle the arm is already inside cannot be avoided, and
+        fewer free joints than task rows cannot follow any path."""
+        if option == "OBSTACLE":
+            self._check_not_inside(options.obstacles, line, settings)
+        elif option == "FREEZE":
+            frozen = FrozenJoints(self.model.n, self.pre.frozen_si(options))
+            try:
+                frozen.check_task(self.model, len(self.ik_params.task_rows))
+            except RunFailure as exc:
+                raise _located(exc, line, self._t) from None
+
+    def _check_not_inside(self, names: tuple[str, ...], line: int, settings: Settings) -> None:
+        solver = self._solver(settings)
+        clearances = self._clearances(solver, solver.kin.link_frames(self.q)) or {}
+        for name in names:
+            distance, link = clearances.get(name, (0.0, 0))
+            if distance < 0.0:
+                raise RunFailure(
+                    f"OBSTACLE {name}: the arm is already inside it ({-distance / units.MM:.4g}"
+                    f" mm deep, link {link}); it cannot be avoided",
+                    line,
+                    self._t,
+                    f"obstacle {name}",
+                )
 
     def log_event(self, kind: str, line: int, **data) -> None:
         event = {"kind": kind, "line": line, "time_s": round(self._t, 9)}

@@ -1064,10 +1064,19 @@ class Interpreter:
             opts.cyclic_reference = tuple(float(x) for x in self._ctl(self.controller.joints))
         elif option == "OBSTACLE":
             self._obstacle_on(rest)
+            self._check_switch_on(option)
         elif option == "FREEZE":
             self._freeze_on(rest)
+            self._check_switch_on(option)
         else:
             raise _malformed(f"unknown modal option {option!r}")
+
+    def _check_switch_on(self, option: str) -> None:
+        """Let the controller reject an option that cannot hold from this very statement
+        (an obstacle the arm is inside, too many frozen joints); optional for controllers."""
+        check = getattr(self.controller, "check_switch_on", None)
+        if check is not None:
+            self._ctl(check, option, self._line(), *self._snapshot())
 
     def _obstacle_on(self, rest: tuple) -> None:
         if len(rest) != 1:

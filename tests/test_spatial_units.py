@@ -6,7 +6,6 @@ import math
 
 import numpy as np
 import pytest
-
 from irlc.runtime import spatial, units
 
 rng = np.random.default_rng(7)

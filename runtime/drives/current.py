@@ -34,15 +34,16 @@ class CurrentLoop:
         self.gamma = np.empty((m, 2, 2))
         self.mean_x = np.empty((m, 2, 2))
         self.mean_w = np.empty((m, 2, 2))
-        for a in range(m):
-            big_a = np.array([[-R[a] / L[a], 1.0 / L[a]], [-kiwzm[a] * k[a], 0.0]])
-            big_b = np.array([[0.0, -ks[a] / L[a]], [kiwzm[a], 0.0]])
-            z = np.zeros((6, 6))
-            z[:2, :2], z[:2, 2:4], z[2:4, 4:6] = big_a, np.eye(2), np.eye(2)
-            e = expm(z * h)
-            phi, psi1, psi2 = e[:2, :2], e[:2, 2:4], e[:2, 4:6]
-            self.phi[a], self.gamma[a] = phi, psi1 @ big_b
-            self.mean_x[a], self.mean_w[a] = psi1 / h, psi2 @ big_b / h
+        big_a = np.zeros((m, 2, 2))
+        big_b = np.zeros((m, 2, 2))
+        big_a[:, 0, 0], big_a[:, 0, 1], big_a[:, 1, 0] = -R / L, 1.0 / L, -kiwzm * k
+        big_b[:, 0, 1], big_b[:, 1, 0] = -ks / L, kiwzm
+        z = np.zeros((m, 6, 6))
+        z[:, :2, :2], z[:, :2, 2:4], z[:, 2:4, 4:6] = big_a, np.eye(2), np.eye(2)
+        e = expm(z * h)  # batched over the axes
+        phi, psi1, psi2 = e[:, :2, :2], e[:, :2, 2:4], e[:, :2, 4:6]
+        self.phi[:], self.gamma[:] = phi, psi1 @ big_b
+        self.mean_x[:], self.mean_w[:] = psi1 / h, psi2 @ big_b / h
         # one (4×4) map per axis: [x_end; x_mean] = big · [x0; w]
         self._big = np.block([[self.phi, self.gamma], [self.mean_x, self.mean_w]])
         self._xw = np.zeros((m, 4))

@@ -78,16 +78,24 @@ class Mechanics:
         g = self.dyn.gravity_vector(q) if self.dyn is not None else np.zeros(self.n)
         return self.diag, g
 
-    def accel(self, m, h, drive, slide, stuck, static, running, prescribed, qdd_p):
+    def inverse(self, m) -> np.ndarray:
+        """``M⁻¹`` (or ``1/D``), computed once per refresh of ``M`` for the common case; also
+        empties the cache of reduced inverses (one per set of free axes)."""
+        self._reduced: dict[bytes, np.ndarray] = {}
+        return np.linalg.inv(m) if m.ndim == 2 else 1.0 / m
+
+    def accel(self, m, h, drive, slide, stuck, static, running, prescribed, qdd_p, m_inv=None):
         """Joint accelerations, joint-side friction and the final stuck mask.
 
         ``drive`` T, ``slide`` sliding friction of moving axes, ``stuck`` Karnopp candidates,
         ``static``/``running`` joint-side breakaway/running torques, ``prescribed`` mask
-        with accelerations ``qdd_p``.
+        with accelerations ``qdd_p``; ``m_inv`` the held :meth:`inverse` of ``m``.
         """
-        if not stuck.any() and not prescribed.any():  # the common case: one solve
+        if not stuck.any() and not prescribed.any():  # the common case: one product
             rhs = drive - slide - h
-            return (np.linalg.solve(m, rhs) if m.ndim == 2 else rhs / m), slide, stuck
+            if m_inv is None:
+                m_inv = self.inverse(m)
+            return (m_inv @ rhs if m.ndim == 2 else rhs * m_inv), slide, stuck
         fric = np.where(stuck, 0.0, slide)
         qdd = np.where(prescribed, qdd_p, 0.0)
         for _ in range(2):
@@ -105,8 +113,7 @@ class Mechanics:
             qdd = np.where(broke, 0.0, qdd)
         return qdd, fric, stuck
 
-    @staticmethod
-    def _solve(m, h, tau, known, qdd):
+    def _solve(self, m, h, tau, known, qdd):
         if m.ndim == 1:
             return np.where(known, qdd, (tau - h) / m)
         if not known.any():
@@ -115,7 +122,15 @@ class Mechanics:
         rhs = tau - h - m[:, known] @ qdd[known]
         out = qdd.copy()
         if free.any():
-            out[free] = np.linalg.solve(m[free][:, free], rhs[free])
+            cache = getattr(self, "_reduced", None)
+            if cache is None:
+                out[free] = np.linalg.solve(m[free][:, free], rhs[free])
+                return out
+            key = free.tobytes()
+            inv = cache.get(key)
+            if inv is None:  # M is held between refreshes: invert each reduced block once
+                inv = cache[key] = np.linalg.inv(m[free][:, free])
+            out[free] = inv @ rhs[free]
         return out
 
     def required(self, m, h, qdd):

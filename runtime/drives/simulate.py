@@ -26,6 +26,7 @@ from irlc.runtime.drives import setpoint, stepsize
 from irlc.runtime.drives.cascade import DcBank
 from irlc.runtime.drives.mechanics import Mechanics
 from irlc.runtime.drives.params import DcDrives, DriveParams, drive_params
+from irlc.runtime.drives.refresh import Refresh
 from irlc.runtime.drives.result import DriveRun, default_tolerance, summarise
 from irlc.runtime.drives.stepper import StepperBank
 from irlc.runtime.drives.transmission import Transmission
@@ -33,7 +34,6 @@ from irlc.runtime.dynamics import Dynamics
 
 LEVELS = ("ideal", "decoupled", "coupled", "pwm")
 STEP_CAP = 1e-3  # the largest default step (s) of the averaged levels
-DYNAMICS_PERIOD = 1e-3  # pwm: M(q), C q̇ + G refreshed this often (s)
 
 
 class DriveInputError(ValueError):
@@ -61,7 +61,8 @@ def simulate_drives(
     ``"linear"`` or ``"trapezoid"`` (default: trapezoid when the file has a
     ``[drives.slave]``); ``hold`` (s) extends the run past the last sample;
     ``record="ipo"`` decimates the arrays to the IPO times; ``dynamics_every`` refreshes
-    ``M(q)``, ``C q̇ + G`` every that many steps (default 1; pwm: every 1 ms).
+    ``M(q)``, ``C q̇ + G`` every that many steps (default ``None``: adaptive, when the
+    configuration or speed has changed by more than :mod:`.refresh`'s bounds).
     """
     times, q_cmd = _check_inputs(model, times, q_cmd, level, record)
     if not (np.isfinite(hold) and hold >= 0.0):
@@ -209,11 +210,11 @@ class _Simulation:
             stepsize.check_generator(step, chain.step_angle / chain.step_rate)
         return float(step)
 
-    def _refresh_interval(self, every: int | None) -> int:
-        """Steps between refreshes of ``M(q)`` and ``C q̇ + G``: 1 (every step) by default,
-        at ``pwm`` every ``DYNAMICS_PERIOD`` (the coupled level's step)."""
+    def _refresh_interval(self, every: int | None) -> int | None:
+        """Steps between refreshes of ``M(q)`` and ``C q̇ + G`` (decoupled: ``G``);
+        ``None``: adaptive (:mod:`.refresh`)."""
         if every is None:
-            return max(1, round(DYNAMICS_PERIOD / self.h)) if self.pwm else 1
+            return None
         if not isinstance(every, int) or isinstance(every, bool) or every < 1:
             raise DriveInputError(f"dynamics_every must be a positive integer, got {every!r}")
         if every * self.h > 10e-3:
@@ -280,7 +281,7 @@ class _Simulation:
         kmat = trans.jacobian(q)
         moving_map = not diagonal and trans.matrix is None  # K(q) changes with q
         mech = self.mech
-        refresh = self.refresh
+        refresh = Refresh(self.refresh, h, n)
         for s in range(k):
             if diagonal:
                 if all_driven:
@@ -304,10 +305,12 @@ class _Simulation:
                     slide = kmat.T @ fr.sliding(omega, frc.running, frc.viscous)
             if sticky:
                 stuck[axes] = np.abs(omega) < self.band
-            if s % refresh == 0:
+            if refresh.due(s, q, qd):
                 m, hb = mech.terms(q, qd)
+                m_inv = mech.inverse(m)
+                refresh.mark(s, q, qd)
             qdd, fric, held = mech.accel(
-                m, hb, drive, slide, stuck, static_j, running_j, prescribed, self.qdd_ref[s]
+                m, hb, drive, slide, stuck, static_j, running_j, prescribed, self.qdd_ref[s], m_inv
             )
             if any_prescribed:
                 rec["tau"][s] = np.where(prescribed, mech.required(m, hb, qdd), drive)

@@ -9,7 +9,10 @@ Three cases, fastest first:
 
 * plain ratios ``i`` (``K`` diagonal): ``θ_m = i·q``, rotor ``J_m·i²`` on the diagonal;
 * linear couplings (``ratio`` rows with ``couple``, the L-1 wrist): ``K`` constant;
-* screw levers (IRb-6 A2/A3): ``f`` non-linear, ``K(q)`` evaluated each step.
+* screw levers (IRb-6 A2/A3): ``f`` non-linear, ``K(q)`` evaluated each step, vectorised
+  over the lever rows (``φ = C q``, ``s = √(a² + b² − 2ab cos(φ + φ0))``,
+  ``θ_m = 2π (s − s(0)) / lead``, ``K = (2π/lead)·ab sin(φ + φ0)/s · C``; the same maps as
+  :class:`irlc.runtime.motor_maps.MotorMap`, tested against it).
 
 Without a ``[transmission]`` table the ratios come from ``[drives] ratio``.
 """
@@ -41,7 +44,47 @@ class Transmission:
         self.map = MotorMap.from_model(model)
         if all(r.get("type") == "ratio" for r in table):
             self.matrix = self.map.motor_jacobian(np.zeros(self.n))[self.axes]
+        else:
+            self._levers(rows)
         self.notes.append("transmission: motor maps with coupled or non-linear joints")
+
+    def _levers(self, rows: list[dict]) -> None:
+        """Constant arrays of the vectorised screw-lever map (driven rows only)."""
+        m = len(rows)
+        self._lin = np.zeros((m, self.n))  # the linear (ratio) rows of K
+        lever = [a for a, r in enumerate(rows) if r["type"] != "ratio"]
+        self._rows = np.array(lever, dtype=int)
+        self._coef = np.zeros((len(lever), self.n))  # φ = C q
+        for a, r in enumerate(rows):
+            if r["type"] == "ratio":
+                j = self.axes[a]
+                self._lin[a, j] = r["ratio"]
+                for i, c in r["couple"]:
+                    self._lin[a, i] -= r["ratio"] * c
+        for row, a in enumerate(lever):
+            for j, c in rows[a]["angle"]:
+                self._coef[row, j] += c
+        pick = [rows[a] for a in lever]
+        self._a = np.array([r["a"] for r in pick])
+        self._b = np.array([r["b"] for r in pick])
+        self._phi0 = np.array([r["phi0"] for r in pick])
+        self._gain = 2.0 * np.pi / np.array([r["lead"] for r in pick])
+        self._ab2 = 2.0 * self._a * self._b
+        self._sq = self._a**2 + self._b**2
+        self._s0 = np.sqrt(self._sq - self._ab2 * np.cos(self._phi0))
+
+    def _lever_motor(self, q: np.ndarray) -> np.ndarray:
+        out = q @ self._lin.T
+        s = np.sqrt(self._sq - self._ab2 * np.cos(q @ self._coef.T + self._phi0))
+        out[..., self._rows] = self._gain * (s - self._s0)
+        return out
+
+    def _lever_jacobian(self, q: np.ndarray) -> np.ndarray:
+        v = self._coef @ q + self._phi0
+        s = np.sqrt(self._sq - self._ab2 * np.cos(v))
+        k = self._lin.copy()
+        k[self._rows] = (self._gain * 0.5 * self._ab2 * np.sin(v) / s)[:, None] * self._coef
+        return k
 
     @property
     def diagonal(self) -> bool:
@@ -54,9 +97,7 @@ class Transmission:
             return q[..., self.axes] * self.ratio
         if self.matrix is not None:
             return q @ self.matrix.T
-        if q.ndim == 1:
-            return self.map.motor_from_joint(q)[self.axes]
-        return np.array([self.map.motor_from_joint(row)[self.axes] for row in q])
+        return self._lever_motor(q)
 
     def jacobian(self, q: np.ndarray) -> np.ndarray:
         """``K(q)``: ``(driven, n)``."""
@@ -66,7 +107,7 @@ class Transmission:
             return out
         if self.matrix is not None:
             return self.matrix
-        return self.map.motor_jacobian(q)[self.axes]
+        return self._lever_jacobian(q)
 
     def local_ratio(self, q: np.ndarray) -> np.ndarray:
         """``∂θ_m,a/∂q_a`` of each driven axis at ``q`` (the plain ratio when diagonal)."""

@@ -173,8 +173,9 @@ def test_freezing_too_many_joints_fails_with_the_line():
     p.move(10, "LIN", p.pose(1200, 900, 0))
     run = run_code(p.code_object(), robot=robot)
     assert run.status == "failed"
-    assert run.error.line == 10
+    assert run.error.line == 5  # the FREEZESTART itself, not the next motion
     assert "FREEZE" in run.error.message
+    assert run.times[-1] == 0.0  # nothing moved
 
 
 def test_reconfiguration_keeps_the_tcp_and_reaches_the_target(planar3):
