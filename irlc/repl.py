@@ -18,13 +18,16 @@ Entries:
 
 A block (IF … ENDIF, WHILE … ENDWHILE, FOR, REPEAT … UNTIL, CASE, PROCEDURE … ENDPROC,
 FUNCTION … ENDFCT, RECORD … ENDRECORD) is read until it closes; a final ``;`` may be left
-out. Diagnostics point into the entry (``<input>:LINE:COL``). On a terminal the line
-editor is prompt_toolkit (history, completion, highlighting); otherwise plain lines.
+out. Diagnostics of a script piped in point at the script (``<stdin>:LINE:COL``, LINE =
+the entry's first line + the line within the entry); interactively they point into the
+entry (``<input>:LINE:COL``). On a terminal the line editor is prompt_toolkit (history,
+completion, highlighting); otherwise plain lines.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import os
 import re
 import sys
@@ -34,15 +37,13 @@ from pathlib import Path
 
 import numpy as np
 
+from irlc.lang import types as T
 from irlc.runtime import units
 
-INPUT_NAME = "<input>"
+INPUT_NAME = "<input>"  # an entry typed at the terminal
+SCRIPT_NAME = "<stdin>"  # a script piped in
 DEFAULT_ROBOT = "koch11"
-TYPE_WORDS = (
-    *("INTEGER", "REAL", "BOOLEAN", "CHAR", "STRING", "POSITION", "ORIENTATION", "POSE"),
-    *("SIGNAL", "MAIN_JOINT", "MAIN_JOINT_MIN", "MAIN_JOINT_MAX", "MAIN_JOINT_SPEED_MIN"),
-    *("MAIN_JOINT_SPEED_MAX", "MAIN_JOINT_ACCEL_MIN", "MAIN_JOINT_ACCEL_MAX"),
-)
+TYPE_WORDS = (*T.SIMPLE, *T.JOINT_TUPLE_TYPES)
 DECL_STARTS = ("VAR", "CONST", "TYPE", "PROCEDURE", "FUNCTION")
 BLOCKS = {  # opener → closer
     "IF": "ENDIF",
@@ -175,17 +176,17 @@ class Session:
         self.names: set[str] = set()
         self.history: list[str] = []  # statements run, for :program
         self.last_code = None
+        self.origin: int | None = None  # script line of the current entry (None: terminal)
         self.q_start = self.model.home_q()
         self._new_machine(self.q_start, {})
 
     # ------------------------------------------------------------------ machine
 
     def _new_machine(self, q0: np.ndarray, obstacles: dict, keep_state: bool = False) -> None:
-        from irlc.runtime.executor import SimulatedController
         from irlc.runtime.interpreter import MachineState
 
         self.obstacles = obstacles
-        self.controller = SimulatedController(self.model, q0, obstacles=obstacles)
+        self.controller = _controller_class()(self.model, q0, obstacles=obstacles)
         if not keep_state:
             self.state = MachineState()
 
@@ -236,21 +237,35 @@ class Session:
         return result.code, messages
 
     def _render(self, diag, chunk: str, chunk_line: int) -> str:
-        from irlc.lang.diagnostics import Span, render
+        """``diag`` (a position in the session program) as a position in the entry."""
+        from irlc.lang.diagnostics import render
 
         span = diag.span
         n_lines = chunk.count("\n") + 1
-        if span is not None and chunk_line <= span.line < chunk_line + n_lines:
-            shift = chunk_line - 1
-            end = span.end_line - shift if span.end_line else 0
-            local = Span(span.line - shift, span.column, max(end, 0), span.end_column)
-            return render(dataclasses.replace(diag, file=INPUT_NAME, span=local), chunk)
-        text = render(dataclasses.replace(diag, span=None), "")
-        return text.replace(str(self.cwd / "repl.irl"), "<session>")
+        if span is None or not chunk_line <= span.line < chunk_line + n_lines:
+            text = render(dataclasses.replace(diag, span=None), "")
+            return text.replace(str(self.cwd / "repl.irl"), "<session>")
+        local = _shifted(span, 1 - chunk_line)  # line 1 = the entry's first line
+        _, _, shown = render(dataclasses.replace(diag, span=local), chunk).partition("\n")
+        file, where = self._entry_file(), local
+        if self.origin is not None:
+            where = _shifted(local, self.origin - 1)
+        header = dataclasses.replace(diag, file=file, span=where).header()
+        return f"{header}\n{shown}" if shown else header
+
+    def _entry_file(self) -> str:
+        return INPUT_NAME if self.origin is None else SCRIPT_NAME
+
+    def _entry_line(self, local_line: int) -> int:
+        """A line of the entry (1 = its first) as the user counts it."""
+        return local_line if self.origin is None else self.origin + local_line - 1
 
     # ------------------------------------------------------------------ entries
 
-    def enter(self, text: str) -> Entry:
+    def enter(self, text: str, line: int | None = None) -> Entry:
+        """Run one entry; ``line``: where it starts in a script (positions are then
+        ``<stdin>:LINE:COL``), None at the terminal (``<input>:LINE:COL`` in the entry)."""
+        self.origin = line
         kind = classify(text)
         if kind == "empty":
             return Entry()
@@ -258,39 +273,60 @@ class Session:
             return self.meta(text.strip())
         if kind == "robot":
             return Entry(["the robot is chosen with --robot or :robot NAME"], 1)
+        # entries keep their leading blanks, so that columns match what was typed
         if kind == "import":
-            return self._declare(imports=[_terminated(text.strip())], decls=[])
+            return self._declare(imports=[_terminated(text)], decls=[])
         if kind == "decl":
-            return self._declare(imports=[], decls=[_terminated(text.strip())])
+            return self._declare(imports=[], decls=[_terminated(text)])
         if kind == "typed":
             return self._typed(text)
-        return self._statement(_terminated(text.strip()))
+        return self._statement(_terminated(text))
 
     def _typed(self, text: str) -> Entry:
+        """``POSE: p, q;`` and ``POSE: p := expr;``: declare (``VAR`` on a line of its own
+        above the text as typed), then assign (the text with its ``POSE:`` blanked out), so
+        that the compiler's columns are the entry's."""
         m = _typed_short_form(text)
-        decl = f"VAR {m.group('type')}: {m.group('names')};"
+        decl = f"VAR\n{text[: m.end('names')]};"
+        kept = f"VAR {m.group('type')}: {m.group('names').strip()};"
         if not m.group("init"):
-            return self._declare(imports=[], decls=[decl], shown=text.strip())
+            return self._declare(imports=[], decls=[decl], shown=text, skip=1, kept=kept)
         names = [n.strip() for n in m.group("names").split(",")]
         if len(names) != 1:
             return Entry(["error: ':=' declares one name at a time"], 1)
-        entry = self._declare(imports=[], decls=[decl], shown=text.strip())
+        entry = self._declare(imports=[], decls=[decl], shown=text, skip=1, kept=kept)
         if entry.failure:
             return entry
-        more = self._statement(f"{names[0]} := {m.group('init').strip().rstrip(';')};")
+        prefix = re.sub(r"[^\n]", " ", text[: m.start("names")])
+        more = self._statement(_terminated(prefix + text[m.start("names") :]), shown=text)
         if more.failure:  # keep the declaration; report the assignment's problem
             return Entry(entry.lines + more.lines, more.failure)
         return Entry(entry.lines + more.lines)
 
-    def _declare(self, imports: list[str], decls: list[str], shown: str | None = None) -> Entry:
+    def _declare(
+        self,
+        imports: list[str],
+        decls: list[str],
+        shown: str | None = None,
+        skip: int = 0,
+        kept: str | None = None,
+    ) -> Entry:
+        """Add an import or a declaration; ``shown`` is the entry as typed, which starts
+        ``skip`` lines into the added text; ``kept`` (default: the text, stripped) is what
+        the session keeps of it once it compiles (what ``:program`` shows)."""
         chunk = (imports or decls)[0]
         new_imports, new_decls = self.imports + imports, self.decls + decls
-        text, _ = self.program_text(new_decls, new_imports, "")
-        chunk_line = text.splitlines().index(chunk.splitlines()[0]) + 1
+        before = self.imports if imports else [*new_imports, *self.decls]
+        chunk_line = 3 + sum(t.count("\n") + 1 for t in before) + skip  # after PROGRAM, ROBOT
         code, messages = self.compile(new_decls, new_imports, "", shown or chunk, chunk_line)
         if code is None:
             return Entry(messages, 1)
-        self.imports, self.decls, self.last_code = new_imports, new_decls, code
+        kept = kept or chunk.strip()
+        if imports:
+            self.imports = [*self.imports, kept]
+        else:
+            self.decls = [*self.decls, kept]
+        self.last_code = code
         self._learn_names(code, chunk)
         notes = self._obstacle_change(code)
         return Entry(messages + notes)
@@ -311,15 +347,16 @@ class Session:
         self._new_machine(self.controller.q.copy(), shapes, keep_state=True)
         return [f"obstacles now known: {', '.join(sorted(shapes))} (the trace restarts here)"]
 
-    def _statement(self, body: str) -> Entry:
+    def _statement(self, body: str, shown: str | None = None) -> Entry:
+        """Run ``body``; ``shown`` (the entry as typed, default ``body``) has its columns."""
         from irlc.runtime.interpreter import Interpreter
 
         _, first = self.program_text(self.decls, self.imports, body)
-        code, messages = self.compile(self.decls, self.imports, body, body, first)
+        code, messages = self.compile(self.decls, self.imports, body, shown or body, first)
         if code is None:
             return Entry(messages, 1)
         out: list[str] = []
-        t0, q0 = self.controller.time, self.controller.q.copy()
+        t0, q0, motions = self.controller.time, self.controller.q.copy(), self.controller.motions
         result = Interpreter(code, self.controller, state=self.state, output=out.append).run(
             check=False
         )
@@ -329,16 +366,18 @@ class Session:
         if result.error is not None:
             lines.append(self._run_error(result.error, first, body))
             return Entry(lines, 2)
-        self.history.append(body)
+        self.history.append(body.strip())
         if self.controller.time > t0 or not np.array_equal(self.controller.q, q0):
             lines += self.where(short=True)
+        elif self.controller.motions > motions:
+            lines.append(f"→ already there (t = {self.controller.time:.3f} s)")
         return Entry(lines)
 
     def _run_error(self, error, first: int, body: str) -> str:
         line = getattr(error, "line", None)
-        where = INPUT_NAME
+        where = self._entry_file()
         if line is not None and first <= line < first + body.count("\n") + 1:
-            where += f":{line - first + 1}"
+            where += f":{self._entry_line(line - first + 1)}"
         t = getattr(error, "time_s", None)
         at = f" (t = {t:.3f} s)" if t is not None else ""
         return f"{where}: run-time error{at}: {getattr(error, 'message', str(error))}"
@@ -484,6 +523,34 @@ class Session:
         return sorted(set(keywords()) | self.names) + metas
 
 
+@functools.cache
+def _controller_class() -> type:
+    """The simulated controller, counting the motion it is asked for (a MOVE to where the
+    robot already is takes no time, yet the session should say that it ran)."""
+    from irlc.runtime.executor import SimulatedController
+
+    class ReplController(SimulatedController):
+        motions = 0
+
+        def move(self, cmd, settings, options) -> None:
+            self.motions += 1
+            super().move(cmd, settings, options)
+
+        def reconfigure(self, target, line, settings, options) -> None:
+            self.motions += 1
+            super().reconfigure(target, line, settings, options)
+
+    return ReplController
+
+
+def _shifted(span, lines: int):
+    """``span`` moved down by ``lines`` lines (up when negative)."""
+    from irlc.lang.diagnostics import Span
+
+    end = max(span.end_line + lines, 0) if span.end_line else 0
+    return Span(span.line + lines, span.column, end, span.end_column)
+
+
 def _drop_temporaries(state) -> None:
     """Forget the entry's compiler temporaries (``$for12``, ``$case3`` globals).
 
@@ -504,26 +571,35 @@ def _fmt(v: float) -> str:
 # --------------------------------------------------------------------------- front ends
 
 
-def read_entries(lines: Iterator[str]) -> Iterator[str]:
-    """Group raw lines into entries (blocks and comments are read until they close)."""
+def numbered_entries(lines: Iterator[str]) -> Iterator[tuple[int, str]]:
+    """Group raw lines into entries (blocks and comments are read until they close);
+    yield ``(line of the entry's first line, entry)``, lines counted from 1."""
     buf: list[str] = []
-    for line in lines:
+    first = 1
+    for number, line in enumerate(lines, start=1):
+        if not buf:
+            first = number
         buf.append(line.rstrip("\n"))
         text = "\n".join(buf)
         if text.strip().startswith(":") or is_complete(text):
-            yield text
+            yield first, text
             buf = []
     if buf and "\n".join(buf).strip():
-        yield "\n".join(buf)
+        yield first, "\n".join(buf)
+
+
+def read_entries(lines: Iterator[str]) -> Iterator[str]:
+    """The entries of :func:`numbered_entries` without their line numbers."""
+    return (text for _, text in numbered_entries(lines))
 
 
 def run_plain(session: Session, stream, echo: Callable[[str], None]) -> int:
     """Scripted session: read entries from ``stream``; status of the first failure."""
     status = 0
-    for entry in read_entries(iter(stream.readline, "")):
+    for line, entry in numbered_entries(iter(stream.readline, "")):
         if entry.strip().lower() in (":quit", ":q", ":exit"):
             break
-        result = session.enter(entry)
+        result = session.enter(entry, line)
         for line in result.lines:
             echo(line)
         if result.failure and not status:

@@ -226,7 +226,8 @@ class Checker:
 
     def find_joint_record(self, decls: ast.Decls) -> None:
         for td in decls.types:
-            if td.name.upper() not in T.JOINT_TUPLES or not isinstance(td.type, ast.RecordTypeRef):
+            is_record = isinstance(td.type, ast.RecordTypeRef)
+            if td.name.upper() not in T.JOINT_TUPLE_TYPES or not is_record:
                 continue
             names: list[str] = []
             for ftype, fnames in td.type.fields:
@@ -290,7 +291,7 @@ class Checker:
         return True
 
     def value_type(self, v: Value) -> T.Type:
-        if v.type in T.JOINT_TUPLES:
+        if v.type in T.JOINT_TUPLE_TYPES:
             return T.JointTuple(v.type, self.n)
         return T.SIMPLE.get(v.type, T.ERROR)
 
@@ -346,7 +347,7 @@ class Checker:
 
     def declare_type(self, d: ast.TypeDecl, scope) -> None:
         upper = d.name.upper()
-        if upper in T.JOINT_TUPLES:
+        if upper in T.JOINT_TUPLE_TYPES:
             if scope is not self.globals:
                 self.error(d.span, f"{upper} can only be declared at program level")
             return  # handled by find_joint_record
@@ -383,7 +384,7 @@ class Checker:
 
     def resolve_type(self, ref: ast.TypeRef, name: str | None = None) -> T.Type:
         if isinstance(ref, ast.SimpleTypeRef):
-            if ref.name in T.JOINT_TUPLES:
+            if ref.name in T.JOINT_TUPLE_TYPES:
                 return T.JointTuple(ref.name, self.n)
             return T.SIMPLE[ref.name]
         if isinstance(ref, ast.NamedTypeRef):
@@ -650,14 +651,31 @@ class Checker:
 
     def e_binary(self, e: ast.Binary, want) -> T.Type:
         op = e.op.upper()
-        lt = self.expr(e.left, None)
-        rt = self.expr(e.right, None)
+        if op == ":":
+            lt, rt = self.compose_operands(e)
+        else:
+            lt, rt = self.expr(e.left, None), self.expr(e.right, None)
         if T.ERROR in (lt, rt):
             return T.ERROR
         ty = self.binary_type(e, op, lt, rt)
         if ty != T.ERROR:
             self.fold_binary(e, op, ty)
         return ty
+
+    def compose_operands(self, e: ast.Binary) -> tuple[T.Type, T.Type]:
+        """Operand types of ``a : b``; a tuple literal operand is a POSE when it can only be.
+
+        ``p : (…)`` and ``(…) : p`` with ``p`` a POSE (or, on the right, a POSITION), and
+        ``(…) : (…)``, type their tuples as POSE (6 values); other tuples have no context."""
+        left, right = e.left, e.right
+        if isinstance(left, ast.Tuple) and isinstance(right, ast.Tuple):
+            return self.expr(left, T.POSE), self.expr(right, T.POSE)
+        if isinstance(left, ast.Tuple):
+            rt = self.expr(right, None)
+            return self.expr(left, _pose_context(rt, (T.POSE, T.POSITION))), rt
+        lt = self.expr(left, None)
+        want = _pose_context(lt, (T.POSE,)) if isinstance(right, ast.Tuple) else None
+        return lt, self.expr(right, want)
 
     def binary_type(self, e: ast.Binary, op: str, lt: T.Type, rt: T.Type) -> T.Type:
         num = lt.is_numeric and rt.is_numeric
@@ -1296,18 +1314,14 @@ class Checker:
     # ------------------------------------------------------------------ redundancy
     def s_modalon(self, s: ast.ModalOn) -> None:
         assert self.state is not None
-        key, display = s.option, _START_WORD[s.option]
         if s.option in _LIMIT_TYPES:
             self.limit_pair(s.option, s.args[0], s.args[1], s.option)
-        elif s.option == "OBSTACLE":
-            assert s.name is not None
-            o = self.obstacles.get(s.name.lower())
-            if o is None:
-                self.unknown_obstacle(s.name, s.name_span or s.span)
-                return
-            key, display = f"OBSTACLE:{o.name.lower()}", f"OBSTACLE {o.name}"
         elif s.option == "FREEZE":
             self.freeze_joints(s)
+        opened = self.modal_key(s)
+        if opened is None:
+            return
+        key, display = opened
         prev = self.state.find_open(key)
         if prev is not None:
             self.error(
@@ -1319,14 +1333,10 @@ class Checker:
 
     def s_modaloff(self, s: ast.ModalOff) -> None:
         assert self.state is not None
-        key, display = s.option, _START_WORD[s.option]
-        if s.option == "OBSTACLE":
-            assert s.name is not None
-            o = self.obstacles.get(s.name.lower())
-            if o is None:
-                self.unknown_obstacle(s.name, s.name_span or s.span)
-                return
-            key, display = f"OBSTACLE:{o.name.lower()}", f"OBSTACLE {o.name}"
+        closed = self.modal_key(s)
+        if closed is None:
+            return
+        key, display = closed
         if key in self.state.open:
             del self.state.open[key]
             return
@@ -1351,6 +1361,17 @@ class Checker:
             )
         else:
             self.error(s.span, f"{end} without an earlier {display} in the same statement list")
+
+    def modal_key(self, s: ast.ModalOn | ast.ModalOff) -> tuple[str, str] | None:
+        """``(key, display)`` of the option a START/END names; None: unknown obstacle."""
+        if s.option != "OBSTACLE":
+            return s.option, _START_WORD[s.option]
+        assert s.name is not None
+        o = self.obstacles.get(s.name.lower())
+        if o is None:
+            self.unknown_obstacle(s.name, s.name_span or s.span)
+            return None
+        return f"OBSTACLE:{o.name.lower()}", f"OBSTACLE {o.name}"
 
     def unknown_obstacle(self, name: str, span: Span) -> None:
         known = sorted(o.name for o in self.obstacles.values())
@@ -1458,6 +1479,13 @@ def _numbers_value(ty: str, consts: list[Value | None]) -> Value | None:
     if all(c is not None and c.type in ("INTEGER", "REAL") for c in consts):
         return Value(ty, tuple(float(c.data[0]) for c in consts))  # type: ignore[union-attr]
     return None
+
+
+def _pose_context(other: T.Type, fits: tuple[T.Type, ...]) -> T.Type | None:
+    """The type of a tuple operand of ':' whose other operand has type ``other``."""
+    if other == T.ERROR:
+        return T.ERROR  # already reported: check the items quietly
+    return T.POSE if other in fits else None
 
 
 def _fmt(x: float) -> str:

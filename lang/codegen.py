@@ -57,7 +57,7 @@ _CONST_TYPES = (
     "POSITION",
     "ORIENTATION",
     "POSE",
-    *T.JOINT_TUPLES,
+    *T.JOINT_TUPLE_TYPES,
 )
 
 

@@ -522,10 +522,7 @@ class _Builder(Transformer):
 
     # ---------------------------------------------------------------- declarations
     def const_section(self, c):
-        d = ast.Decls()
-        d.consts = _nodes(c)
-        d.order = list(d.consts)
-        return d
+        return _section("consts", c)
 
     def const_plain(self, c):
         name, value = c[0], _nodes(c)[-1]
@@ -537,10 +534,7 @@ class _Builder(Transformer):
         return ast.ConstDecl(_span(name), name.value, ty, c[-1])
 
     def type_section(self, c):
-        d = ast.Decls()
-        d.types = _nodes(c)
-        d.order = list(d.types)
-        return d
+        return _section("types", c)
 
     def type_alias(self, c):
         name = c[0]
@@ -554,10 +548,7 @@ class _Builder(Transformer):
         return ast.TypeDecl(rec.span, target.value, rec, _span(target))
 
     def var_section(self, c):
-        d = ast.Decls()
-        d.vars = _nodes(c)
-        d.order = list(d.vars)
-        return d
+        return _section("vars", c)
 
     def var_decl(self, c):
         ty, names = _nodes(c)
@@ -877,6 +868,12 @@ class _Builder(Transformer):
     def tuple(self, c):
         paren, first, rest = c
         return ast.Tuple(_span(paren), [first, *rest])
+
+
+def _section(kind: str, c) -> ast.Decls:
+    """A CONST / TYPE / VAR section: its declarations (``kind`` = the Decls list)."""
+    items = _nodes(c)
+    return ast.Decls(**{kind: items}, order=list(items))
 
 
 def _unquote(text: str) -> str:

@@ -11,15 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-JOINT_TUPLES = (
-    "MAIN_JOINT",
-    "MAIN_JOINT_MIN",
-    "MAIN_JOINT_MAX",
-    "MAIN_JOINT_SPEED_MIN",
-    "MAIN_JOINT_SPEED_MAX",
-    "MAIN_JOINT_ACCEL_MIN",
-    "MAIN_JOINT_ACCEL_MAX",
-)
+from irlc.lang.irdata import JOINT_TUPLE_TYPES as JOINT_TUPLE_TYPES  # re-exported: T.…
 
 
 @dataclass(frozen=True)

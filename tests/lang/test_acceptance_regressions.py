@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 from irlc.lang import SimpleRobot
 
@@ -123,3 +124,117 @@ def test_chained_comparison_hint() -> None:
 def test_reserved_words_stay_reserved(text: str) -> None:
     """Guards a lark quirk: a third lexer callback silently disabled the NAME check."""
     assert "reserved word" in only_error(text).message
+
+
+# --- empty parentheses: PROCEDURE lap(); FUNCTION f(): REAL; lap(); f() ----------------
+
+EMPTY_PARENS = H + (
+    "VAR REAL: x; INTEGER: n;\n"
+    "PROCEDURE lap();\nBEGIN\n  n := n + 1;\nENDPROC;\n"
+    "FUNCTION half(): REAL;\nBEGIN\n  RETURN 0.5;\nENDFCT;\n"
+    "PROCEDURE plain;\nBEGIN\n  n := n + 10;\nENDPROC;\n"
+    "BEGIN\n  lap();  lap;  plain();  plain;\n  x := half() + half;\nENDPROGRAM\n"
+)
+
+
+def test_empty_parentheses_declare_and_call_routines_without_parameters() -> None:
+    result = compile_text(EMPTY_PARENS)
+    assert result.ok, [d.header() for d in result.diagnostics]
+    routines = {r.name: r for r in result.code.routines if r.kind != "MAIN"}
+    assert {name: len(r.params) for name, r in routines.items()} == dict.fromkeys(
+        ("lap", "half", "plain"), 0
+    )
+    calls = [i.args for i in result.code.code if i.op == "CALL"]
+    assert len(calls) == 6 and all(args[1] == 0 for args in calls)  # no argument pushed
+
+
+@pytest.mark.parametrize(
+    ("stmt", "fragment"),
+    [
+        ("lap(1);", "'lap' takes 0 argument(s), got 1"),
+        ("x := half(2);", "'half' takes 0 argument(s), got 1"),
+    ],
+)
+def test_routines_declared_with_empty_parentheses_take_no_arguments(
+    stmt: str, fragment: str
+) -> None:
+    text = EMPTY_PARENS.replace("  lap();  lap;", f"  {stmt}")
+    d = only_error(text)
+    assert fragment in d.message, d.header()
+
+
+def test_empty_parentheses_after_a_function_need_the_result_type() -> None:
+    d = only_error(H + "FUNCTION f();\nBEGIN\n  RETURN 1;\nENDFCT;\nBEGIN\nENDPROGRAM\n")
+    assert d.line == 3 and "':'" in d.message, d.header()
+
+
+# --- tuple operands of ':' are POSEs (language.md §3: typed by their context) ---------
+
+COMPOSE = H + "VAR POSE: p, q; POSITION: v; ORIENTATION: o; REAL: x;\nBEGIN\n  {stmt}\nENDPROGRAM\n"
+
+
+@pytest.mark.parametrize(
+    "stmt",
+    [
+        "q := p : (x, 5, -7, 10, 20, -30);",
+        "q := (1, 2, 3, 4, 5, 6) : p;",
+        "v := (1, 2, 3, 4, 5, 6) : v;",  # POSE : POSITION
+        "q := (1, 2, 3, 4, 5, 6) : (x, 0, 0, 0, 0, 90) : p;",
+    ],
+)
+def test_tuple_operands_of_compose_are_poses(stmt: str) -> None:
+    result = compile_text(COMPOSE.format(stmt=stmt))
+    assert result.ok, [d.header() for d in result.diagnostics]
+    assert [i.args for i in result.code.code if i.op == "MAKE"] in ([], [("POSE", 6)])
+
+
+@pytest.mark.parametrize(
+    ("stmt", "column", "message"),
+    [
+        ("q := p : (0, 0, 100);", 12, "POSE needs 6 values, got 3"),
+        ("q := (1, 2, 3, 4, 5) : p;", 8, "POSE needs 6 values, got 5"),
+        ("q := (1, 2, 3, 4, 5, 6, 7) : (1, 2, 3, 4, 5, 6);", 8, "POSE needs 6 values, got 7"),
+        ("q := (1, 2, 3, 4, 5, 6) : (1, 2);", 29, "POSE needs 6 values, got 2"),
+        ("o := o : (1, 2, 3);", 12, "a tuple of 3 values has no type here"),
+        ("v := v : (1, 2, 3, 4, 5, 6);", 12, "a tuple of 6 values has no type here"),
+    ],
+)
+def test_tuple_operands_of_compose_that_do_not_fit(stmt: str, column: int, message: str) -> None:
+    d = only_error(COMPOSE.format(stmt=stmt))
+    assert (d.line, d.column, d.message) == (5, column, message), d.header()
+
+
+def test_an_unknown_operand_of_compose_gives_one_error() -> None:
+    d = only_error(COMPOSE.format(stmt="q := ghost : (1, 2);"))
+    assert d.message == "unknown name 'ghost'"
+
+
+def _frame(x, y, z, a, b, c):
+    """4x4 frame of a pose (mm, ZYX degrees): R = Rz(a) Ry(b) Rx(c), written out by hand."""
+    a, b, c = np.radians([a, b, c])
+    rz = np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
+    ry = np.array([[np.cos(b), 0, np.sin(b)], [0, 1, 0], [-np.sin(b), 0, np.cos(b)]])
+    rx = np.array([[1, 0, 0], [0, np.cos(c), -np.sin(c)], [0, np.sin(c), np.cos(c)]])
+    t = np.eye(4)
+    t[:3, :3], t[:3, 3] = rz @ ry @ rx, (x, y, z)
+    return t
+
+
+def test_tuple_operands_of_compose_run_as_frame_products(tmp_path: Path) -> None:
+    from irlc.api import run_program
+
+    p, k = (100, -20, 30, 30, -15, 60), (40, 5, -7, 10, 20, -30)
+    program = tmp_path / "compose.irl"
+    program.write_text(
+        "PROGRAM compose;\nROBOT r := planar3;\nVAR POSE: p; REAL: x;\nBEGIN\n"
+        f"  x := {k[0]};\n  p := POSE{p};\n"
+        f"  WRITELN(p : (x, {', '.join(map(str, k[1:]))}));\n"
+        f"  WRITELN({k} : p);\n"
+        f"  WRITELN({p} : {k});\nENDPROGRAM\n"
+    )
+    run = run_program(program)
+    assert run.ok, run.error
+    got = [[float(v) for v in line.strip("()").split(",")] for line in run.output]
+    for printed, (first, second) in zip(got, [(p, k), (k, p), (p, k)], strict=True):
+        want = _frame(*first) @ _frame(*second)
+        assert np.allclose(_frame(*printed), want, atol=1e-5), (printed, want)

@@ -8,7 +8,14 @@ import sys
 
 import pytest
 
-from irlc.repl import block_depth, classify, is_complete, read_entries, token_styles
+from irlc.repl import (
+    block_depth,
+    classify,
+    is_complete,
+    numbered_entries,
+    read_entries,
+    token_styles,
+)
 
 IRLC = [sys.executable, "-c", "from irlc.cli import entry; entry()"]
 
@@ -58,6 +65,13 @@ def test_entries_from_lines():
         ":where",
         "(* a\nENDIF *) z := 1",
     ]
+    assert [n for n, _ in numbered_entries(iter(text.splitlines(keepends=True)))] == [1, 4, 5]
+    assert list(numbered_entries(iter(["\n", "  x := 1\n", "\n", "WHILE a DO\n", "ENDWHILE"]))) == [
+        (1, ""),
+        (2, "  x := 1"),
+        (3, ""),
+        (4, "WHILE a DO\nENDWHILE"),
+    ]
 
 
 def test_highlighting_covers_the_line():
@@ -99,7 +113,7 @@ def test_scripted_session():
     # the straight 500 mm line at R_SPEED 500, R_ACC 1000: t = s/v + v/a = 1.5 s (+ 1 cycle)
     t = float(where.split()[2])
     assert math.isclose(t, 1.5, abs_tol=0.03)
-    err = out.index("<input>:1:12: error: cannot add POSE and INTEGER")
+    err = out.index("<stdin>:4:12: error: cannot add POSE and INTEGER")
     assert out[err + 1].strip() == "MOVE LIN p + 1;" and out[err + 2].strip() == "^"
     assert "big5.0" in out
     assert "no modal options active" in out
@@ -130,7 +144,8 @@ def test_modal_options_persist_and_runtime_errors_continue(tmp_path):
     out = res.stdout.splitlines()
     assert "Traceback" not in res.stdout + res.stderr
     errors = [line for line in out if "run-time error" in line]
-    assert len(errors) == 2 and all(e.startswith("<input>:1:") for e in errors)
+    assert len(errors) == 2
+    assert errors[0].startswith("<stdin>:5: ") and errors[1].startswith("<stdin>:8: ")
     assert "already on" in errors[0]
     assert "a11" in errors[1] and "30" in errors[1]
     assert res.returncode == 2
@@ -172,3 +187,85 @@ def test_loops_leave_no_temporaries_behind():
     out = s.enter("WRITELN(n, ' ', v)")
     assert out.failure == 0 and out.lines == ["11 0.5"], out.lines
     assert not any(slot.name.startswith("$") for slot in s.state.global_slots)
+
+
+def _diagnostics(printed: list[str]) -> dict[str, tuple[str, int]]:
+    """header → (the source line shown under it, the caret's 1-based column)."""
+    lines = "\n".join(printed).splitlines()
+    out = {}
+    for k, line in enumerate(lines):
+        if ": error: " in line and k + 2 < len(lines) and lines[k + 2].strip().startswith("^"):
+            out[line] = (lines[k + 1][2:], lines[k + 2].index("^") - 1)
+    return out
+
+
+@needs_runtime
+def test_script_diagnostics_point_at_script_lines_and_columns():
+    """A piped script's diagnostics say <stdin>:LINE:COL with LINE and COL in the script,
+    and the caret stands under that column of the script's own text (indentation, the
+    short form POSE: q := …, blocks over several lines)."""
+    import io
+
+    from irlc.repl import Session, run_plain
+
+    script = [
+        "REAL: y;",
+        "",
+        "  y := 1 + R_ACT_POSE;",
+        "IF y > 0 THEN",
+        "  y := y + 'a';",
+        "ENDIF",
+        "   POSE: q := 3;",
+        "MAIN_JOINT: k := (1, 2);",
+        "JOINTLIMITEND",
+        "  VAR REAL: z;",
+        "PROCEDURE twice;",
+        "BEGIN",
+        "  y := 'a';",
+        "ENDPROC",
+    ]
+    printed: list[str] = []
+    status = run_plain(Session("planar3"), io.StringIO("\n".join(script) + "\n"), printed.append)
+    assert status == 1
+    where = {
+        "<stdin>:3:10: error: cannot add INTEGER and POSE": "+",
+        "<stdin>:5:10: error: cannot add REAL and STRING": "+",
+        "<stdin>:7:15: error: cannot assign to 'q': expected POSE, got INTEGER": "3",
+        "<stdin>:8:18: error: MAIN_JOINT needs 3 values, got 2": "(",
+        "<stdin>:13:8: error: cannot assign to 'y': expected REAL, got STRING": "'",
+    }
+    shown = _diagnostics(printed)
+    assert set(shown) == set(where), printed
+    for header, token in where.items():
+        line, column = (int(v) for v in header.split(":")[1:3])
+        text, caret = shown[header]
+        assert text == script[line - 1] and caret == column, (header, text, caret)
+        assert text[column - 1] == token
+    failed = [p for p in printed if "run-time error" in p]
+    assert len(failed) == 1 and failed[0].startswith("<stdin>:9: run-time error"), failed
+
+
+@needs_runtime
+def test_terminal_entries_keep_positions_within_the_entry():
+    from irlc.repl import Session
+
+    s = Session("planar3")
+    entry = s.enter("  x := 1 + R_ACT_POSE;")
+    assert entry.failure == 1
+    assert entry.lines[0].splitlines()[0] == "<input>:1:3: error: unknown name 'x'"
+    assert s.enter("JOINTLIMITEND").lines[0].startswith("<input>:1: run-time error")
+
+
+@needs_runtime
+def test_a_move_that_goes_nowhere_says_so():
+    from irlc.repl import Session
+
+    s = Session("planar3")
+    assert s.enter("MOVE LIN R_ACT_POSE").lines == ["→ already there (t = 0.000 s)"]
+    assert s.enter("MOVE_INC PTP (0, 0, 0)").lines == ["→ already there (t = 0.000 s)"]
+    assert s.enter("IF FALSE THEN MOVE LIN R_ACT_POSE; ENDIF").lines == []  # no motion ran
+    moved = s.enter("MOVE_INC PTP (10, 0, 0)").lines
+    assert moved[0].startswith("→ t = ") and "already" not in moved[0]
+    t = float(moved[0].split()[3])
+    assert t > 0
+    assert s.enter("MOVE LIN R_ACT_POSE").lines == [f"→ already there (t = {t:.3f} s)"]
