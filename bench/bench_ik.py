@@ -6,20 +6,22 @@ A straight line of the TCP (−2 m along x from the home pose, smooth profile, �
 400 cycles) is solved cycle by cycle with each option; the per-cycle wall time of
 ``InverseTransformation.step`` (and its thread CPU time, which a loaded machine's
 preemptions do not inflate) is collected over ``repeat`` passes (the first pass is a
-warm-up and not counted). quadprog (Goldfarb–Idnani) and, if installed, daqp side by
-side. Prints a Markdown table (paste into docs/benchmarks.md).
+warm-up and not counted). quadprog (Goldfarb–Idnani) on the numpy path and on the
+compiled path (numba, if installed) and daqp (numpy path), passes alternating. Prints a
+Markdown table (paste into docs/benchmarks.md).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import platform
 import time
 
 import numpy as np
 from irlc.robots import load_robot
 from irlc.runtime.distance import robot_parts
-from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation
+from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation, accel
 from irlc.runtime.ik.qp import daqp_available
 from irlc.runtime.kinematics import Kinematics
 from irlc.runtime.obstacles import PointObstacle
@@ -61,33 +63,39 @@ def options(model, kin, q0):
     }
 
 
-def run(model, kin, q0, targets, opts, solver, repeat):
-    times, cpu, iters, relaxed = [], [], [], 0
+def run(model, kin, q0, targets, opts, variants, repeat):
+    """Per variant ``(solver, jit)``: the statistics; passes of the variants alternate."""
+    acc = {v: ([], [], [], [0]) for v in variants}
     for rep in range(repeat + 1):
-        ik = InverseTransformation(model, kin, IKParams(solver=solver))
-        q_prev, q = q0.copy(), q0.copy()
-        for target in targets:
-            c0 = time.thread_time_ns()
-            t0 = time.perf_counter()
-            r = ik.step(q, q_prev, target, 0.01, opts)
-            dt = time.perf_counter() - t0
-            dc = time.thread_time_ns() - c0
-            q_prev, q = q, r.q
-            if rep:
-                times.append(dt)
-                cpu.append(dc)
-                iters.append(r.iterations)
-                relaxed += r.relaxed
-    t = np.array(times) * 1e6
-    c = np.array(cpu) * 1e-3
-    return (
-        np.median(t),
-        np.percentile(t, 99),
-        np.median(c),
-        np.percentile(c, 99),
-        np.mean(iters),
-        relaxed // repeat,
-    )
+        for solver, jit in variants:
+            times, cpu, iters, relaxed = acc[(solver, jit)]
+            ik = InverseTransformation(model, kin, IKParams(solver=solver, accel=jit))
+            q_prev, q = q0.copy(), q0.copy()
+            for target in targets:
+                c0 = time.thread_time_ns()
+                t0 = time.perf_counter()
+                r = ik.step(q, q_prev, target, 0.01, opts)
+                dt = time.perf_counter() - t0
+                dc = time.thread_time_ns() - c0
+                q_prev, q = q, r.q
+                if rep:
+                    times.append(dt)
+                    cpu.append(dc)
+                    iters.append(r.iterations)
+                    relaxed[0] += r.relaxed
+    out = {}
+    for v, (times, cpu, iters, relaxed) in acc.items():
+        t = np.array(times) * 1e6
+        c = np.array(cpu) * 1e-3
+        out[v] = (
+            np.median(t),
+            np.percentile(t, 99),
+            np.median(c),
+            np.percentile(c, 99),
+            np.mean(iters),
+            relaxed[0] // repeat,
+        )
+    return out
 
 
 def main() -> None:
@@ -99,21 +107,26 @@ def main() -> None:
     kin = Kinematics(model)
     q0 = model.home_q()
     targets = line_targets(kin, q0, args.cycles)
-    solvers = ["quadprog"] + (["daqp"] if daqp_available() else [])
+    variants = [("quadprog", False)] + ([("quadprog", True)] if accel.AVAILABLE else [])
+    variants += [("daqp", False)] if daqp_available() else []
     print(f"python {platform.python_version()}, numpy {np.__version__}, {platform.machine()}")
-    print(f"koch11 (n = 11, m = 6), {args.cycles} cycles × {args.repeat} passes\n")
+    print(f"koch11 (n = 11, m = 6), {args.cycles} cycles × {args.repeat} passes")
+    print(f"load average {' '.join(f'{x:.2f}' for x in os.getloadavg())}\n")
     print(
-        "| option | solver | median µs | p99 µs | CPU median µs | CPU p99 µs "
+        "| option | path | median µs | p99 µs | CPU median µs | CPU p99 µs "
         "| iterations/cycle | relaxed cycles |"
     )
     print("|---|---|---:|---:|---:|---:|---:|---:|")
     for name, opts in options(model, kin, q0).items():
-        for solver in solvers:
-            med, p99, cmed, cp99, it, rel = run(model, kin, q0, targets, opts, solver, args.repeat)
+        stats = run(model, kin, q0, targets, opts, variants, args.repeat)
+        for (solver, jit), (med, p99, cmed, cp99, it, rel) in stats.items():
+            path = f"{solver}, {'compiled' if jit else 'numpy'}"
             print(
-                f"| {name} | {solver} | {med:.0f} | {p99:.0f} | {cmed:.0f} | {cp99:.0f} "
+                f"| {name} | {path} | {med:.0f} | {p99:.0f} | {cmed:.0f} | {cp99:.0f} "
                 f"| {it:.2f} | {rel} |"
             )
+    if accel.compile_seconds is not None:
+        print(f"\ncompiled kernels loaded (or compiled) in {accel.compile_seconds:.2f} s")
 
 
 if __name__ == "__main__":

@@ -20,6 +20,9 @@ take turns in chunks of 50 cases, three passes, so machine noise hits all alike.
 Options: ``--accel A`` gives irlc an acceleration limit (default none, like the peers);
 ``--irlc-only-step`` times only the one-iteration irlc step (e.g. against older code);
 ``--breakdown`` times the pieces of the irlc step (where the time goes).
+Every irlc variant runs twice, numpy path and compiled (``IKParams(accel=True)``, numba;
+skipped when numba is missing); ``--jit`` measures the compile time in fresh processes
+(empty numba cache, then warm cache).
 Run: ``pip install -e '.[bench]' && python bench/bench_peers.py`` (needs pin-pink, mink).
 """
 
@@ -27,15 +30,18 @@ from __future__ import annotations
 
 import argparse
 import importlib.metadata
+import os
 import statistics
+import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 from irlc.robots import load_robot
 from irlc.runtime import spatial
-from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation
+from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation, accel
 from irlc.runtime.kinematics import Kinematics
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -73,12 +79,15 @@ def _time_loop(fn, cases) -> list[float]:
     return out
 
 
-def bench_irlc(model, cases, max_iter: int, scalar_qp: bool = True, accel: float = np.inf):
+def bench_irlc(
+    model, cases, max_iter: int, scalar_qp: bool = True, accel: float = np.inf, jit=False
+):
     kin = Kinematics(model, tool=spatial.inverse(model.flange))
-    params = IKParams(max_iter=max_iter)
+    params = IKParams(max_iter=max_iter, accel=jit)
     if not scalar_qp:
         params.scalar_qp = False
     ik = InverseTransformation(model, kin, params)
+    assert ik.accelerated == jit
     # position + velocity limits like the peers: no acceleration bound (the robot file's
     # would make every step from rest infeasible for a 5 mm target and force the relaxed QP)
     opts = CycleOptions(accel=np.tile([-accel, accel], (model.n, 1)))
@@ -131,7 +140,7 @@ def breakdown(model, cases) -> None:
 
     kin = Kinematics(model, tool=spatial.inverse(model.flange))
     opts = CycleOptions(accel=np.tile([-np.inf, np.inf], (model.n, 1)))
-    ik = InverseTransformation(model, kin, IKParams(max_iter=1))
+    ik = InverseTransformation(model, kin, IKParams(max_iter=1, accel=False))  # numpy pieces
     pink = bench_pink(cases)
     pos, spd = ik._limits[0], ik._limits[1]
     jac, tcp, w, g = np.empty((6, model.n)), np.empty((4, 4)), model.weights, np.zeros(model.n)
@@ -188,6 +197,21 @@ def breakdown(model, cases) -> None:
         print(f"| {name} | {med:.1f} | {p99:.1f} | {len(samples)} |")
 
 
+def jit_times() -> None:
+    """Seconds of ``python -m irlc.runtime.ik.accel`` (compile or load the kernels) and of
+    the whole process, with an empty numba cache and then with the cache it filled."""
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        for label in ("empty cache", "warm cache"):
+            t0 = time.perf_counter()
+            out = subprocess.run(
+                [sys.executable, "-m", "irlc.runtime.ik.accel"],
+                env=env, capture_output=True, text=True, check=True,
+            )  # fmt: skip
+            wall = time.perf_counter() - t0
+            print(f"{label}: {out.stdout.strip()}; whole process {wall:.2f} s")
+
+
 def _version(dist: str) -> str:
     try:
         return importlib.metadata.version(dist)
@@ -205,19 +229,27 @@ def main() -> int:
     parser.add_argument("--accel", type=float, default=np.inf, help="irlc accel limit rad/s²")
     parser.add_argument("--irlc-only-step", action="store_true", help="skip the variants")
     parser.add_argument("--breakdown", action="store_true", help="time the pieces of a step")
+    parser.add_argument("--jit", action="store_true", help="measure the compile time only")
     args = parser.parse_args()
+    if args.jit:
+        jit_times()
+        return 0
     model = load_robot("panda")
     kin = Kinematics(model, tool=spatial.inverse(model.flange))
     cases = _cases(model, kin, SAMPLES)
     if args.breakdown:
         breakdown(model, cases[:1000])
         return 0
-    runners = {"irlc (1 Newton iteration)": bench_irlc(model, cases, 1, accel=args.accel)}
-    if not args.irlc_only_step:
-        runners["irlc (1 iteration, quadprog)"] = bench_irlc(
-            model, cases, 1, scalar_qp=False, accel=args.accel
-        )
-        runners["irlc (full cycle, to 1e-9 m)"] = bench_irlc(model, cases, 10, accel=args.accel)
+    runners = {}
+    for jit in (False, True) if accel.AVAILABLE else (False,):
+        tag = "compiled" if jit else "numpy"
+        a = args.accel
+        runners[f"irlc {tag} (1 iteration)"] = bench_irlc(model, cases, 1, accel=a, jit=jit)
+        if not args.irlc_only_step:
+            runners[f"irlc {tag} (1 it., quadprog)"] = bench_irlc(
+                model, cases, 1, scalar_qp=False, accel=a, jit=jit
+            )
+            runners[f"irlc {tag} (full cycle)"] = bench_irlc(model, cases, 10, accel=a, jit=jit)
     for name, factory in (("pink", bench_pink), ("mink", bench_mink)):
         try:
             runners[name] = factory(cases)
@@ -230,15 +262,26 @@ def main() -> int:
         for start in range(0, SAMPLES, CHUNK):
             for name, fn in runners.items():
                 results[name] += _time_loop(fn, cases[start : start + CHUNK])
-    base = _summary(results["irlc (1 Newton iteration)"])[0]
+    load = os.getloadavg()
     print(f"Panda, {SAMPLES}×{REPEATS} steps, position + velocity limits, quadprog")
+    print(
+        f"load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; kernels loaded/compiled in ",
+        end="",
+    )
+    print(f"{accel.compile_seconds} s" if accel.compile_seconds else "- (numba not used)")
     print(f"irlc acceleration limit: {args.accel} rad/s² (inf: none, like the peers)")
     print(f"pink {_version('pin-pink')}, mink {_version('mink')}, pin {_version('pin')}, ", end="")
     print(f"mujoco {_version('mujoco')}, quadprog {_version('quadprog')}, numpy {np.__version__}")
-    print(f"{'solver':32} {'median µs':>10} {'p99 µs':>10} {'× irlc step':>12}")
-    for name, samples in results.items():
-        med, p99 = _summary(samples)
-        print(f"{name:32} {med:10.1f} {p99:10.1f} {med / base:12.2f}")
+    meds = {name: _summary(samples) for name, samples in results.items()}
+    print(f"{'solver':32} {'median µs':>10} {'p99 µs':>10}")
+    for name, (med, p99) in meds.items():
+        print(f"{name:32} {med:10.1f} {p99:10.1f}")
+    for name in (n for n in meds if n.endswith("(1 iteration)")):
+        for peer in ("pink", "mink"):
+            if peer in meds:
+                ratio = meds[peer][0] / meds[name][0]
+                goal = "meets" if ratio >= 2.0 else "misses"
+                print(f"{peer} / {name}: {ratio:.2f} ({goal} the 2× goal)")
     return 0
 
 

@@ -94,6 +94,18 @@ class InverseTransformation:
         self._conf = WeightedDisplacement(self.weights, self.params.obstacle.a_conf)
         self._weighted_only = [self._weighted]
         self._state = IterationState(np.zeros(n), np.zeros(n), np.zeros(n))
+        self._accel = None
+        p = self.params
+        if p.solver == "quadprog" and p.max_iter >= 1:
+            from irlc.runtime.ik import accel  # (not at import: `python -m …accel` runs it)
+
+            if accel.use_accel(p.accel):
+                self._accel = accel.AcceleratedCycle(self)
+
+    @property
+    def accelerated(self) -> bool:
+        """True when covered cycles run through the compiled kernel (:mod:`accel`)."""
+        return self._accel is not None
 
     # ------------------------------------------------------------------ public
     def step(
@@ -117,6 +129,8 @@ class InverseTransformation:
         if not (_finite(q_start) and math.isfinite(sum(tl[0]) + sum(tl[1]) + sum(tl[2]))):
             _require_finite("start configuration", q_start)
             _require_finite("target pose", target)
+        if self._accel is not None and not opts.frozen and not self._avoids(opts):
+            return self._step_accel(q_start, q_prev, target, dt, opts)
         lim = self._limits
         acc = lim[2] if opts.accel is None else opts.accel
         box = self.box
@@ -205,6 +219,9 @@ class InverseTransformation:
                 raise IKFailure(f"inverse transformation produced a non-finite step: {dtheta}")
             theta += dtheta
             iterations = k + 1
+        else:  # no break: the last step was not followed by FK (max_iter = 0)
+            frames = kin.chain(theta)
+            np.dot(frames[-1], end, out=tcp)
         converged = pe < tol_p and oe < tol_o
         clearances = self._clearances(frames, opts) if opts.obstacles else {}
         result = CycleResult(
@@ -224,12 +241,51 @@ class InverseTransformation:
             qp_multipliers=None if outcome is None else outcome.multipliers,
             jacobian=None if J is None else (J[:, frozen.free] if frozen else J.copy()),
             coupled=coupled,
+            tcp=tcp.copy(),
         )
         if p.max_deviation is not None or p.max_orientation_deviation is not None:
             self._check_deviation(result)
         return result
 
     # ------------------------------------------------------------------ pieces
+    @staticmethod
+    def _avoids(opts: CycleOptions) -> bool:
+        """True when some obstacle is avoided (not just reported) this cycle."""
+        names = opts.active_obstacles
+        return bool(names) and any(o.name in names for o in opts.obstacles)
+
+    def _step_accel(self, q_start, q_prev, target, dt, opts: CycleOptions) -> CycleResult:
+        """:meth:`step` through the compiled kernel (same numbers, see :mod:`accel`)."""
+        acc = self._accel
+        theta, box, active, mult, J = acc.step(q_start, q_prev, target, dt, opts)
+        k, ist, fst = acc.k, acc.ist, acc.fst
+        pe, oe = float(fst[k.PE]), float(fst[k.OE])
+        p = self.params
+        converged = pe < p.tol_position and oe < p.tol_orientation
+        clearances = self._clearances(acc.frames, opts) if opts.obstacles else {}
+        result = CycleResult(
+            theta,
+            int(ist[k.K]),
+            pe,
+            oe,
+            converged,
+            bool(ist[k.RELAXED]),
+            bool(ist[k.SINGULAR]),
+            clearances,
+            delta=theta - q_start,
+            box=box,
+            model=self.model,
+            free=self._no_frozen.free,
+            qp_active=active,
+            qp_multipliers=mult,
+            jacobian=J,
+            coupled=self.coupled,
+            tcp=acc.tcp.copy(),
+        )
+        if p.max_deviation is not None or p.max_orientation_deviation is not None:
+            self._check_deviation(result)
+        return result
+
     def _errors(self, e: list) -> tuple[float, float]:
         """Norms of the position and orientation parts of the task error."""
         pos, ori = e[self.pos_rows], e[self.ori_rows]

@@ -55,6 +55,7 @@ class IKParams:
     solver: str = "quadprog"
     warm_start: bool = True  # first iterate θ_s + d (see newton); not for self-motion
     scalar_qp: bool = True  # one null-space dimension: closed-form QP (False: always solver)
+    accel: bool | None = None  # compiled cycle (numba): None = if available (see ik.accel)
     obstacle: ObstacleParams = field(default_factory=ObstacleParams)
 
     @classmethod
@@ -115,7 +116,8 @@ class CycleResult:
     was moved into the cost), ``deviation`` (m, the position error when not converged,
     else 0), ``singular`` (no well-conditioned m×m block of J was found in some step),
     ``clearances`` (obstacle name → (distance m, link) at the end of the cycle, for every
-    obstacle in ``CycleOptions.obstacles``).
+    obstacle in ``CycleOptions.obstacles``), ``tcp`` (4×4 world TCP pose at ``q``, from
+    the last forward kinematics of the cycle — callers need no second FK).
 
     Computed on first access (the hot loop does not pay for them): ``active`` (joint →
     ``"position max"``, ``"speed min"``, … for the box bounds the cycle displacement
@@ -145,6 +147,7 @@ class CycleResult:
         qp_multipliers=None,
         jacobian=None,
         coupled=None,
+        tcp=None,
     ):
         self.q = q
         self.iterations = iterations
@@ -158,6 +161,7 @@ class CycleResult:
         self._delta, self._box, self._model, self._free = delta, box, model, free
         self._qp_active, self._qp_mult, self._jac = qp_active, qp_multipliers, jacobian
         self._coupled = coupled
+        self.tcp = tcp  # 4×4 world TCP pose at ``q`` (SI)
 
     def __repr__(self) -> str:
         return (

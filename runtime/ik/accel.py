@@ -1,0 +1,316 @@
+"""Optional compiled accelerator of the IPO cycle (``pip install irlc[fast]``: numba).
+
+The numpy path of :mod:`newton` is the reference and the default without numba. With
+numba, :class:`AcceleratedCycle` runs the same cycle through the fused kernel
+:func:`accel_kernels.newton_cycle` — FK, task error, Jacobian, joint box, compact split,
+closed-form 1-D QP, QP data — and calls quadprog from Python only for the general QP
+(``n − m > 1``) and the relaxed QP. Results equal the numpy path to rounding (tested in
+``tests/ik/test_accel.py``).
+
+Covered: the default criterion, CYCLIC / WITH RECONFIGURATION, RECONFIGURATION
+(self-motion), position/speed/acceleration limits with braking, coupled joint limits,
+any task rows, reported (not avoided) obstacles. Not covered (the numpy path runs):
+FREEZE, active OBSTACLE avoidance, ``solver="daqp"``, ``max_iter < 1``.
+
+**When it is used** (:func:`use_accel`): ``IKParams.accel`` ``True`` (always, compiling
+if needed), ``False`` (never) or ``None`` (default: if numba is importable and the
+compiled kernels are in numba's on-disk cache). ``IRLC_NO_ACCEL=1`` disables it whatever
+the parameter says; ``IRLC_ACCEL=1`` / ``0`` overrides ``None``. Compiling takes
+≈ 10–15 s; numba caches the machine code in ``__pycache__`` next to this module (or in
+the user cache dir when that is read-only), and a process with a warm cache loads it in
+≈ 0.3 s. So a short run never pays the compile: with a cold cache ``None`` means numpy;
+``python -m irlc.runtime.ik.accel`` (or any run with ``IRLC_ACCEL=1``) fills the cache
+once per install.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import time
+
+import numpy as np
+import quadprog
+
+_DISABLED = os.environ.get("IRLC_NO_ACCEL", "") == "1"
+
+
+AVAILABLE = not _DISABLED and importlib.util.find_spec("numba") is not None  # (not imported yet)
+_kernels = None  # the module, imported on first use (numba import ≈ 0.2 s)
+compile_seconds: float | None = None  # first kernel call of this process (compile or load)
+
+
+def _module():
+    global _kernels
+    if _kernels is None:
+        from irlc.runtime.ik import accel_kernels
+
+        _kernels = accel_kernels
+    return _kernels
+
+
+def cache_warm() -> bool:
+    """True when numba's on-disk cache holds the main kernel for the current source
+    (numba's index is keyed by the source file's time stamp and size)."""
+    if not AVAILABLE:
+        return False
+    try:
+        return bool(_module().newton_cycle._cache._cache_file._load_index())
+    except Exception:  # numba's internal cache API changed, or unreadable: assume cold
+        return False
+
+
+def use_accel(requested: bool | None) -> bool:
+    """Decide whether a solver uses the accelerator (see the module docstring)."""
+    if not AVAILABLE or requested is False:
+        return False
+    if requested is True:
+        return True
+    env = os.environ.get("IRLC_ACCEL", "")
+    if env in ("0", "1"):
+        return env == "1"
+    return cache_warm()
+
+
+def warm_up() -> float:
+    """Compile (or load from the cache) every kernel by running one tiny cycle; returns
+    the seconds it took. Called on the first accelerated cycle of a process."""
+    global compile_seconds
+    if compile_seconds is not None:
+        return compile_seconds
+    t0 = time.perf_counter()
+    from irlc.robots.model import Joint, Limits, RobotModel
+    from irlc.runtime.ik.newton import InverseTransformation
+    from irlc.runtime.ik.params import IKParams
+    from irlc.runtime.kinematics import Kinematics
+
+    link = np.eye(4)
+    link[0, 3] = 1.0
+    limits = Limits((-3.0, 3.0), (-3.0, 3.0), (-20.0, 20.0))
+    axis = np.array([0.0, 0.0, 1.0])
+    joints = tuple(
+        Joint(f"J{i}", "revolute", link if i else np.eye(4), axis, limits) for i in range(3)
+    )
+    model = RobotModel(name="warmup", joints=joints, flange=link)
+    ik = InverseTransformation(model, Kinematics(model), IKParams(task_rows=(0, 1), accel=False))
+    ik._accel = AcceleratedCycle(ik)
+    compile_seconds = -1.0  # (the cycle below must not recurse into warm_up)
+    q = np.array([0.1, 0.2, 0.3])
+    target = ik.kin.tcp(q)
+    target[0, 3] += 1e-3
+    ik._accel.step(q, q, target, 0.01, ik._default)
+    compile_seconds = time.perf_counter() - t0
+    return compile_seconds
+
+
+class AcceleratedCycle:
+    """Buffers of one :class:`InverseTransformation` for the compiled cycle."""
+
+    def __init__(self, ik):
+        k = _module()
+        self.k = k
+        self.ik = ik
+        kin = ik.kin
+        n, m = ik.n, ik.rows.size
+        nz = max(n - m, 0)
+        self.kb = np.ascontiguousarray(kin._basis)  # (n, 4, 16)
+        self.kj = np.empty((n, 5))
+        self.kj[:, 0] = kin._offsets
+        self.kj[:, 1:4] = kin._axes
+        self.kj[:, 4] = kin._revolute
+        self.ends = np.empty((2, 4, 4))
+        self.rows = np.ascontiguousarray(ik.rows, dtype=np.int64)
+        coupled = ik.coupled
+        self.A = np.zeros((0, n)) if coupled is None else np.ascontiguousarray(coupled.A)
+        self.bound_d = np.zeros(0)
+        r = self.A.shape[0]
+        self.V = np.zeros((k.NV, n))
+        self.V[k.W] = ik.weights
+        self.frames = np.empty((n + 1, 4, 4))
+        self.tcp = np.empty((4, 4))
+        self.J6 = np.empty((6, n))
+        self.Jt = np.empty((m, n))
+        self.F = np.empty(m)
+        self.perm = np.zeros(n, dtype=np.int64)
+        self.aug = np.empty((m, n + 1))
+        self.N = np.zeros((n, nz))
+        self.Ht = np.empty((nz, nz))
+        self.gt = np.empty(nz)
+        self.Ct = np.empty((nz, 2 * n + r))
+        self.bt = np.empty(2 * n + r)
+        self.Hr = np.empty((n, n))
+        self.gr = np.empty(n)
+        self.Cr = np.ascontiguousarray(np.hstack((np.eye(n), -np.eye(n), self.A.T)))
+        self.active = np.zeros(2 * n + r, dtype=np.int64)
+        self.mult = np.zeros(2 * n + r)
+        self.ist = np.zeros(k.N_IST, dtype=np.int64)
+        self.fst = np.zeros(k.N_FST)
+        self.cand = np.empty((4, 2, n))
+        self.boxc = np.empty((4, 2, n))
+        self._box_key = None
+        p = ik.params
+        ist, fst = self.ist, self.fst
+        ist[k.MAX_ITER] = p.max_iter
+        ist[k.SCALAR] = int(p.scalar_qp)
+        ist[k.WARM] = int(p.warm_start)
+        ist[k.NPOS] = int(np.sum(ik.rows < 3))
+        fst[k.TOL_P], fst[k.TOL_O] = p.tol_position, p.tol_orientation
+        fst[k.COND_MAX], fst[k.SINGULAR_COND] = p.cond_max, p.singular_cond
+        fst[k.RELAX_W] = p.relax_weight
+
+    # ------------------------------------------------------------------ setup
+    def _box_constants(self, position, speed, accel, dt):
+        c = self.ik.box._constants(position, speed, accel, dt)
+        if self._box_key is not c:
+            self._box_key = c
+            self.boxc[0] = c.signed_pos
+            self.boxc[1] = c.signed_speed
+            self.boxc[2] = c.signed_accel
+            self.boxc[3] = c.two_over_eps
+            self.ist[self.k.ACCEL_BOUNDED] = int(c.accel_bounded)
+            self.fst[self.k.DTOL] = c.dtol
+        return c
+
+    def _sync_basis(self) -> None:
+        b = self.ik.stepper.basis
+        valid = b.columns is not None and b.shape == self.Jt.shape
+        self.ist[self.k.BASIS_VALID] = int(valid)
+        if valid:
+            self.perm[:] = b.columns
+
+    # ------------------------------------------------------------------ the cycle
+    def step(self, q_start, q_prev, target, dt, opts):
+        """The numbers of ``InverseTransformation.step`` for the covered options; returns
+        ``(theta, box_snapshot_parts, outcome_active, outcome_mult, J)``."""
+        if compile_seconds is None:
+            warm_up()
+        from irlc.runtime.ik.limits import BoxSnapshot
+        from irlc.runtime.ik.newton import IKFailure
+
+        k, ik = self.k, self.ik
+        lim = ik._limits
+        position = lim[0] if opts.position is None else opts.position
+        speed = lim[1] if opts.speed is None else opts.speed
+        accel = lim[2] if opts.accel is None else opts.accel
+        c = self._box_constants(position, speed, accel, dt)
+        if ik.coupled is not None:
+            ik.coupled.prepare(q_start, dt, accel)
+            self.bound_d = ik.coupled.bound_d
+        V, ist, fst = self.V, self.ist, self.fst
+        V[k.Q_START] = q_start
+        V[k.Q_PREV] = q_prev
+        if opts.reference is not None:
+            V[k.REF] = opts.reference
+        ist[k.HAS_REF] = opts.reference is not None
+        ist[k.SELF_MOTION] = bool(opts.self_motion)
+        ist[k.BOX_READY] = 0
+        ist[k.PHASE] = k.P_START
+        self.ends[0] = ik.kin._base
+        self.ends[1] = ik.kin._end
+        self._sync_basis()
+        bounds = np.empty((2, ik.n))
+        cand = self.cand
+        target = np.ascontiguousarray(target, dtype=float)
+        args = (
+            self.kb, self.kj, self.ends, target, self.boxc, cand, bounds, V, self.frames,
+            self.tcp, self.J6, self.Jt, self.F, self.rows, self.perm, self.aug, self.N,
+            self.Ht, self.gt, self.Ct, self.bt, self.Hr, self.gr, self.A, self.bound_d,
+            self.active, self.mult, ist, fst,
+        )  # fmt: skip
+        run = k.newton_cycle
+        while True:
+            status = run(*args)
+            if status == k.S_DONE:
+                break
+            if status == k.S_NEED_QP:
+                self._hard_qp()
+            elif status == k.S_NEED_RELAXED:
+                self._relaxed_qp()
+            elif status == k.S_NEED_BASIS:
+                self._choose_basis()
+            elif status == k.S_BOX_CHECK:
+                box = ik.box
+                box.prepare(ik.model, q_start, q_prev, dt, position, speed, accel)  # raises
+                bounds = box.bounds.copy()
+                cand[:] = box.cand
+                ist[k.BOX_READY] = 1
+                ist[k.PHASE] = k.P_START
+                args = (*args[:6], bounds, *args[7:])
+            else:  # S_BAD_STEP
+                raise IKFailure(
+                    f"inverse transformation produced a non-finite step: {V[k.DTHETA].copy()}"
+                )
+        nact = int(ist[k.N_ACTIVE])
+        snapshot = BoxSnapshot(bounds[0], bounds[1], cand.copy(), c.limits)
+        return (
+            V[k.THETA].copy(),
+            snapshot,
+            self.active[:nact].copy(),
+            self.mult[:nact].copy(),
+            self.Jt.copy() if ist[k.HAVE_J] else None,
+        )
+
+    # ------------------------------------------------------------------ Python parts
+    def _hard_qp(self) -> None:
+        """General compact QP: quadprog on the kernel's data; infeasible → relaxed."""
+        k, ist = self.k, self.ist
+        try:
+            z, _, _, _, lagr, iact = quadprog.solve_qp(self.Ht, self.gt, self.Ct, self.bt, 0)
+        except ValueError:
+            ist[k.PHASE] = k.P_RELAX
+            return
+        rows = iact[iact > 0] - 1
+        self._set_active(rows, lagr[rows] / self.fst[k.SCALE])
+        self.V[k.Z, : z.shape[0]] = z
+        ist[k.PHASE] = k.P_APPLY_Z
+
+    def _relaxed_qp(self) -> None:
+        k, ist = self.k, self.ist
+        from irlc.runtime.ik.newton import IKFailure
+
+        C = self.Cr
+        try:
+            z, _, _, _, lagr, iact = quadprog.solve_qp(self.Hr, self.gr, C, self.bt, 0)
+        except ValueError as exc:
+            if self.A.shape[0] == 0:
+                raise FloatingPointError(f"relaxed QP failed ({exc})") from None
+            raise IKFailure(
+                "the joint box and the coupled joint limits leave no admissible step "
+                "(the coupled combination moves too fast to stop before its bound)"
+            ) from None
+        rows = iact[iact > 0] - 1
+        factor = self.fst[k.SCALE]
+        self._set_active(rows, lagr[rows] * factor)
+        self.V[k.DTHETA] = z
+        ist[k.RELAXED] = 1
+        ist[k.SINGULAR] |= ist[k.LAST_SINGULAR]
+        ist[k.PHASE] = k.P_APPLY
+
+    def _set_active(self, rows, mult) -> None:
+        cnt = rows.shape[0]
+        self.active[:cnt] = rows
+        self.mult[:cnt] = mult
+        self.ist[self.k.N_ACTIVE] = cnt
+
+    def _choose_basis(self) -> None:
+        """QR with column pivoting of the current J (``CompactBasis.choose``)."""
+        k, ist, fst = self.k, self.ist, self.fst
+        basis = self.ik.stepper.basis
+        ok = basis.choose(self.Jt)
+        self._sync_basis()
+        if not ok:
+            ist[k.LAST_SINGULAR] = 1
+            ist[k.PHASE] = k.P_RELAX
+            return
+        stage = 0 if ist[k.BASIS_REASON] == 0 else 1
+        ist[k.BASIS_STAGE] = stage
+        fst[k.COND_LIMIT] = fst[k.COND_MAX] if stage == 0 else fst[k.SINGULAR_COND]
+        ist[k.PHASE] = k.P_SPLIT
+
+
+if __name__ == "__main__":  # python -m irlc.runtime.ik.accel: fill numba's cache once
+    if not AVAILABLE:
+        raise SystemExit("numba is not installed (pip install 'irlc[fast]') or IRLC_NO_ACCEL=1")
+    warm = cache_warm()
+    seconds = warm_up()
+    print(f"irlc IK accelerator: {'loaded' if warm else 'compiled'} in {seconds:.2f} s")

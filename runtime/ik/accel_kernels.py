@@ -1,0 +1,593 @@
+"""Compiled kernels (numba) of one IPO cycle — the numbers of :mod:`newton`, fused.
+
+Imported only through :mod:`accel` when numba is available. Each function here is the
+same arithmetic as its numpy reference (named in its docstring), written as loops:
+
+* ``_chain``: ``Kinematics.chain`` — ``L_i = A0 + cos v·A1 + sin v·A2 + v·A3``,
+  ``T_i = T_{i−1}·L_i``; ``_jacobian``: ``Kinematics.tcp_jacobian`` —
+  ``[z_i × (p − o_i); z_i]`` (revolute), ``[z_i; 0]`` (prismatic), ``z_i = R_i·k_i``;
+* ``_pose_error``: ``task_error.pose_error_list`` / ``spatial.pose_error`` (near-π branch
+  included);
+* ``_box``: ``JointBox.prepare`` (signed candidates, braking bound ``2R/(1 + √(1 + 2R/ε))``);
+* ``_split``: ``CompactBasis._solve`` — ``−J_m⁻¹[J_free F]`` by LU with partial pivoting,
+  the pivot spread as the degradation test;
+* ``_scalar_qp`` / ``_checked`` / ``_hard_data``: ``NewtonStep.hard_diagonal``;
+  ``_relaxed_data``: ``NewtonStep.relaxed_diagonal`` / ``relaxed`` (the QP data only —
+  quadprog is called from Python).
+
+:func:`newton_cycle` is a resumable state machine: it runs Newton iterations until the
+cycle is done or it needs Python (a quadprog call, a new basis by QR pivoting, the
+error path of the joint box); the caller does that and resumes it with a phase code.
+State lives in the integer / float arrays ``ist`` / ``fst`` (indices below).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+# phases (ist[PHASE]) the caller resumes with
+P_START, P_APPLY, P_APPLY_Z, P_SPLIT, P_RELAX = 0, 1, 2, 3, 4
+# statuses returned
+S_DONE, S_BOX_CHECK, S_NEED_BASIS, S_NEED_QP, S_NEED_RELAXED, S_BAD_STEP = 0, 1, 2, 3, 4, 5
+# ist indices
+(
+    PHASE,
+    K,
+    RELAXED,
+    SINGULAR,
+    LAST_SINGULAR,
+    BASIS_VALID,
+    BASIS_STAGE,
+    BASIS_REASON,
+    N_ACTIVE,
+    MAX_ITER,
+    SELF_MOTION,
+    WARM,
+    SCALAR,
+    HAS_REF,
+    ACCEL_BOUNDED,
+    BOX_READY,
+    NPOS,
+    HAVE_J,
+    N_IST,
+) = range(19)
+# fst indices
+TOL_P, TOL_O, COND_MAX, SINGULAR_COND, COND_LIMIT, RELAX_W, PE, OE, SCALE, DTOL, COND, N_FST = (
+    range(12)
+)
+# rows of the (NV, n) vector workspace V
+Q_START, Q_PREV, THETA, DTHETA, SIGMA, G, W, REF, DP, LOWER, UPPER, Z, NV = range(13)
+
+_BIG = 1e30
+_TOL = 1e-9
+_BOX_TOL = 1e-12
+
+
+@njit(cache=True)
+def _chain(basis, joint, base, q, frames, local):
+    """FK into ``frames`` (n+1, 4, 4); ``joint[i] = (offset, kx, ky, kz, revolute)``."""
+    n = q.shape[0]
+    frames[0, :, :] = base
+    for i in range(n):
+        v = q[i] + joint[i, 0]
+        c = math.cos(v)
+        s = math.sin(v)
+        for e in range(16):
+            local[e // 4, e % 4] = (
+                basis[i, 0, e] + c * basis[i, 1, e] + s * basis[i, 2, e] + v * basis[i, 3, e]
+            )
+        for r in range(4):
+            f0 = frames[i, r, 0]
+            f1 = frames[i, r, 1]
+            f2 = frames[i, r, 2]
+            f3 = frames[i, r, 3]
+            for col in range(4):
+                frames[i + 1, r, col] = (
+                    f0 * local[0, col]
+                    + f1 * local[1, col]
+                    + f2 * local[2, col]
+                    + f3 * local[3, col]
+                )
+
+
+@njit(cache=True)
+def _matmul44(a, b, out):
+    for r in range(4):
+        for col in range(4):
+            out[r, col] = (
+                a[r, 0] * b[0, col]
+                + a[r, 1] * b[1, col]
+                + a[r, 2] * b[2, col]
+                + a[r, 3] * b[3, col]
+            )
+
+
+@njit(cache=True)
+def _jacobian(frames, joint, p, out):
+    """6×n TCP Jacobian at the world point ``p`` (``Kinematics.tcp_jacobian``)."""
+    n = joint.shape[0]
+    for i in range(n):
+        f = frames[i + 1]
+        kx, ky, kz = joint[i, 1], joint[i, 2], joint[i, 3]
+        zx = f[0, 0] * kx + f[0, 1] * ky + f[0, 2] * kz
+        zy = f[1, 0] * kx + f[1, 1] * ky + f[1, 2] * kz
+        zz = f[2, 0] * kx + f[2, 1] * ky + f[2, 2] * kz
+        if joint[i, 4] != 0.0:
+            rx = p[0] - f[0, 3]
+            ry = p[1] - f[1, 3]
+            rz = p[2] - f[2, 3]
+            out[0, i] = zy * rz - zz * ry
+            out[1, i] = zz * rx - zx * rz
+            out[2, i] = zx * ry - zy * rx
+            out[3, i] = zx
+            out[4, i] = zy
+            out[5, i] = zz
+        else:
+            out[0, i] = zx
+            out[1, i] = zy
+            out[2, i] = zz
+            out[3, i] = 0.0
+            out[4, i] = 0.0
+            out[5, i] = 0.0
+
+
+@njit(cache=True)
+def _pose_error(t, d, e):
+    """``spatial.pose_error(t, d)`` into ``e`` (6): position, rotation vector of R·R_dᵀ."""
+    e[0] = t[0, 3] - d[0, 3]
+    e[1] = t[1, 3] - d[1, 3]
+    e[2] = t[2, 3] - d[2, 3]
+    m = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            m[i, j] = t[i, 0] * d[j, 0] + t[i, 1] * d[j, 1] + t[i, 2] * d[j, 2]
+    w0 = m[2, 1] - m[1, 2]
+    w1 = m[0, 2] - m[2, 0]
+    w2 = m[1, 0] - m[0, 1]
+    cos_t = max(-1.0, min(1.0, (m[0, 0] + m[1, 1] + m[2, 2] - 1.0) / 2.0))
+    theta = math.acos(cos_t)
+    if theta < 1e-6:
+        k = 0.5
+    elif math.pi - theta > 1e-4:
+        k = theta / (2.0 * math.sin(theta))
+    else:  # near a half turn: the axis from the symmetric part (spatial.rotation_vector)
+        best, kk = -1.0, 0
+        for i in range(3):
+            a = math.sqrt(max((m[i, i] + 1.0) / 2.0, 0.0))
+            if a > best:
+                best, kk = a, i
+        s = math.sqrt((m[kk, kk] + 1.0) / 2.0)
+        a0 = (m[0, kk] + (1.0 if kk == 0 else 0.0)) / 2.0 / s
+        a1 = (m[1, kk] + (1.0 if kk == 1 else 0.0)) / 2.0 / s
+        a2 = (m[2, kk] + (1.0 if kk == 2 else 0.0)) / 2.0 / s
+        if a0 * w0 + a1 * w1 + a2 * w2 < 0.0:
+            a0, a1, a2 = -a0, -a1, -a2
+        norm = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+        e[3] = theta * a0 / norm
+        e[4] = theta * a1 / norm
+        e[5] = theta * a2 / norm
+        return
+    e[3] = k * w0
+    e[4] = k * w1
+    e[5] = k * w2
+
+
+@njit(cache=True)
+def _box(boxc, accel_bounded, dtol, q_start, q_prev, cand, bounds):
+    """``JointBox.prepare`` without the error path: False when the state needs the
+    Python check (outside the limits, or an empty box)."""
+    n = q_start.shape[0]
+    ok = True
+    for j in range(n):
+        lo_pos = boxc[0, 0, j] + q_start[j]  # θ_s − θmin
+        hi_pos = boxc[0, 1, j] - q_start[j]  # θmax − θ_s
+        cand[0, 0, j] = lo_pos
+        cand[0, 1, j] = hi_pos
+        cand[1, 0, j] = boxc[1, 0, j]
+        cand[1, 1, j] = boxc[1, 1, j]
+        d = q_start[j] - q_prev[j]
+        if lo_pos < -_TOL or hi_pos < -_TOL:
+            ok = False
+        if -d - boxc[1, 0, j] > dtol or d - boxc[1, 1, j] > dtol:
+            ok = False
+        if accel_bounded:
+            cand[2, 0, j] = boxc[2, 0, j] - d
+            cand[2, 1, j] = boxc[2, 1, j] + d
+            for side in range(2):
+                room = max(cand[0, side, j], 0.0)
+                b = math.sqrt(room * boxc[3, side, j] + 1.0) + 1.0
+                b = room / b
+                cand[3, side, j] = b + b
+        else:
+            for s in range(2, 4):
+                cand[s, 0, j] = _BIG
+                cand[s, 1, j] = _BIG
+        lo = min(cand[0, 0, j], cand[1, 0, j])
+        hi = min(cand[0, 1, j], cand[1, 1, j])
+        if accel_bounded:
+            lo = min(min(lo, cand[2, 0, j]), cand[3, 0, j])
+            hi = min(min(hi, cand[2, 1, j]), cand[3, 1, j])
+        bounds[0, j] = -lo
+        bounds[1, j] = hi
+        if hi + lo < 0.0:
+            ok = False
+    return ok
+
+
+@njit(cache=True)
+def _split(Jt, F, perm, aug, N, dp, fst):
+    """``CompactBasis._solve`` + ``split``: ``Δθ_p`` and ``N`` in joint order; False when
+    ``J_m`` is singular or its pivot spread exceeds ``fst[COND_LIMIT]``."""
+    m, n = Jt.shape
+    for i in range(m):
+        for j in range(n):
+            aug[i, j] = Jt[i, perm[j]]
+    for i in range(m):
+        aug[i, n] = F[i]
+    umax, umin = 0.0, math.inf
+    for c in range(m):  # LU with partial pivoting (first largest, as LAPACK)
+        p, best = c, abs(aug[c, c])
+        for i in range(c + 1, m):
+            if abs(aug[i, c]) > best:
+                p, best = i, abs(aug[i, c])
+        if best == 0.0:
+            return False
+        if p != c:
+            for j in range(n + 1):
+                aug[c, j], aug[p, j] = aug[p, j], aug[c, j]
+        piv = aug[c, c]
+        umax = max(umax, best)
+        umin = min(umin, best)
+        for i in range(c + 1, m):
+            f = aug[i, c] / piv
+            aug[i, c] = f
+            for j in range(c + 1, n + 1):
+                aug[i, j] -= f * aug[c, j]
+    cond = umax / umin if umin > 0.0 else math.inf
+    fst[COND] = cond
+    if not cond <= fst[COND_LIMIT]:
+        return False
+    for c in range(n + 1 - 1, m - 1, -1):  # back substitution, right-hand columns m..n
+        for i in range(m - 1, -1, -1):
+            s = aug[i, c]
+            for j in range(i + 1, m):
+                s -= aug[i, j] * aug[j, c]
+            aug[i, c] = s / aug[i, i]
+    nz = n - m
+    N[:, :] = 0.0
+    for i in range(m):
+        b = perm[i]
+        dp[b] = -aug[i, n]
+        for j in range(nz):
+            N[b, j] = -aug[i, m + j]
+    for j in range(nz):
+        N[perm[m + j], j] = 1.0
+        dp[perm[m + j]] = 0.0
+    return True
+
+
+@njit(cache=True)
+def _checked(V, A, bound_d, active, mult, ist):
+    """``n = m``: ``Δθ_p`` if inside the box (and the coupled rows)."""
+    n = V.shape[1]
+    dp, lower, upper = V[DP], V[LOWER], V[UPPER]
+    for j in range(n):
+        if not (dp[j] >= lower[j] - _BOX_TOL and dp[j] <= upper[j] + _BOX_TOL):
+            return False
+    for r in range(A.shape[0]):
+        s_dp = 0.0
+        s_sig = 0.0
+        for j in range(n):
+            s_dp += A[r, j] * dp[j]
+            s_sig += A[r, j] * V[SIGMA, j]
+        if not s_dp >= (bound_d[r] - s_sig) - _BOX_TOL:  # AΔθ_p ≥ b_k
+            return False
+    cnt = 0
+    for j in range(n):
+        if dp[j] <= lower[j] + _BOX_TOL:
+            active[cnt] = j
+            mult[cnt] = 0.0
+            cnt += 1
+    for j in range(n):
+        if dp[j] >= upper[j] - _BOX_TOL:
+            active[cnt] = j + n
+            mult[cnt] = 0.0
+            cnt += 1
+    ist[N_ACTIVE] = cnt
+    V[DTHETA, :] = dp
+    return True
+
+
+@njit(cache=True)
+def _scalar_qp(V, N, active, mult, ist):
+    """``NewtonStep._scalar_qp``: 1 step found, 0 infeasible, −1 a zero entry of N."""
+    n = V.shape[1]
+    dp, w, g, lower, upper = V[DP], V[W], V[G], V[LOWER], V[UPPER]
+    for j in range(n):
+        if N[j, 0] == 0.0:
+            return -1
+    h = 0.0
+    gc = 0.0
+    wd = 0.0
+    for j in range(n):
+        c = N[j, 0]
+        wc = w[j] * c
+        h += wc * c
+        gc += g[j] * c
+        wd += wc * dp[j]
+    gt = gc + wd
+    z_lo, z_hi = -math.inf, math.inf
+    j_lo, j_hi = 0, 0
+    for j in range(n):
+        c = N[j, 0]
+        a = (lower[j] - dp[j]) / c
+        b = (upper[j] - dp[j]) / c
+        lo = min(a, b)
+        hi = max(a, b)
+        if j == 0 or lo > z_lo:  # first index of the maximum (list.index)
+            z_lo, j_lo = lo, j
+        if j == 0 or hi < z_hi:
+            z_hi, j_hi = hi, j
+    if not z_lo <= z_hi:
+        return 0
+    z = -gt / h
+    cnt = 0
+    if z < z_lo:
+        z, j = z_lo, j_lo
+        row = j if N[j, 0] > 0.0 else j + n
+        cnt = 1
+    elif z > z_hi:
+        z, j = z_hi, j_hi
+        row = j + n if N[j, 0] > 0.0 else j
+        cnt = 1
+    if cnt:
+        active[0] = row
+        mult[0] = abs(h * z + gt) / abs(N[j, 0])
+    ist[N_ACTIVE] = cnt
+    for j in range(n):
+        V[DTHETA, j] = dp[j] + N[j, 0] * z
+    return 1
+
+
+@njit(cache=True)
+def _hard_data(V, N, perm, m, A, bound_d, Ht, gt, Ct, bt, fst):
+    """The compact QP for quadprog (``hard_diagonal``), cost scaled to max diag H̃ = 1:
+    ``H̃ = NᵀWN``, ``g̃ = Nᵀ(g + WΔθ_p)``, columns ``[N, −N, (AN)ᵀ]``."""
+    n = V.shape[1]
+    nz = n - m
+    dp, w, g = V[DP], V[W], V[G]
+    v = np.empty(n)
+    for j in range(n):
+        v[j] = w[j] * dp[j] + g[j]
+    for a in range(nz):
+        s = 0.0
+        for j in range(n):
+            s += N[j, a] * v[j]
+        gt[a] = s
+        for b in range(a, nz):
+            s = 0.0
+            for j in range(n):
+                s += N[j, a] * w[j] * N[j, b]
+            Ht[a, b] = s
+            Ht[b, a] = s
+    hmax = 0.0
+    for a in range(nz):
+        hmax = max(hmax, Ht[a, a])
+    scale = 1.0 / hmax
+    fst[SCALE] = scale
+    for a in range(nz):
+        gt[a] *= -scale
+        for b in range(nz):
+            Ht[a, b] *= scale
+        for j in range(n):
+            Ct[a, j] = N[j, a]
+            Ct[a, n + j] = -N[j, a]
+    for j in range(n):
+        bt[j] = V[LOWER, j] - dp[j]
+        bt[n + j] = dp[j] - V[UPPER, j]
+    for r in range(A.shape[0]):
+        s_dp = 0.0
+        s_sig = 0.0
+        for j in range(n):
+            s_dp += A[r, j] * dp[j]
+            s_sig += A[r, j] * V[SIGMA, j]
+        bt[2 * n + r] = bound_d[r] - s_sig - s_dp
+        for a in range(nz):
+            s = 0.0
+            for j in range(n):
+                s += A[r, j] * N[j, a]
+            Ct[a, 2 * n + r] = s
+
+
+@njit(cache=True)
+def _relaxed_data(V, Jt, F, A, bound_d, Hr, gr, bt, fst):
+    """Relaxed QP data. Box only (``relaxed_diagonal``): ``JᵀJ + W/ρ``, ``−(JᵀF + g/ρ)``,
+    multipliers ×ρ. With coupled rows (``relaxed``): ``(W + ρJᵀJ)·s``, ``−(g + ρJᵀF)·s``,
+    ``s = 1/max diag``, multipliers ÷s. ``fst[SCALE]`` is the multiplier factor."""
+    m, n = Jt.shape
+    w, g = V[W], V[G]
+    wmax = 0.0
+    for j in range(n):
+        wmax = max(wmax, w[j])
+    rho = fst[RELAX_W] * wmax
+    coupled = A.shape[0] > 0
+    for a in range(n):
+        for b in range(a, n):
+            s = 0.0
+            for i in range(m):
+                s += Jt[i, a] * Jt[i, b]
+            Hr[a, b] = s
+            Hr[b, a] = s
+        s = 0.0
+        for i in range(m):
+            s += Jt[i, a] * F[i]
+        gr[a] = s
+    if not coupled:
+        inv = 1.0 / rho
+        for a in range(n):
+            Hr[a, a] += w[a] * inv
+            gr[a] = -(gr[a] + g[a] * inv)
+        fst[SCALE] = rho
+    else:
+        for a in range(n):
+            for b in range(n):
+                Hr[a, b] *= rho
+            Hr[a, a] += w[a]
+            gr[a] = g[a] + rho * gr[a]
+        hmax = 0.0
+        for a in range(n):
+            hmax = max(hmax, Hr[a, a])
+        scale = 1.0 / hmax
+        for a in range(n):
+            gr[a] *= -scale
+            for b in range(n):
+                Hr[a, b] *= scale
+        fst[SCALE] = 1.0 / scale
+    for j in range(n):
+        bt[j] = V[LOWER, j]
+        bt[n + j] = -V[UPPER, j]
+    for r in range(A.shape[0]):
+        s = 0.0
+        for j in range(n):
+            s += A[r, j] * V[SIGMA, j]
+        bt[2 * n + r] = bound_d[r] - s
+
+
+@njit(cache=True)
+def _evaluate(kb, kj, ends, target, frames, local, tcp, e6, rows, V, ist, fst):
+    """FK, TCP, task error norms at ``θ``."""
+    _chain(kb, kj, ends[0], V[THETA], frames, local)
+    _matmul44(frames[frames.shape[0] - 1], ends[1], tcp)
+    _pose_error(tcp, target, e6)
+    npos = ist[NPOS]
+    pe = 0.0
+    oe = 0.0
+    for i in range(rows.shape[0]):
+        x = e6[rows[i]]
+        if i < npos:
+            pe += x * x
+        else:
+            oe += x * x
+    fst[PE] = math.sqrt(pe)
+    fst[OE] = math.sqrt(oe)
+
+
+@njit(cache=True)
+def newton_cycle(
+    kb, kj, ends, target, boxc, cand, bounds, V, frames, tcp, J6, Jt, F, rows, perm,
+    aug, N, Ht, gt, Ct, bt, Hr, gr, A, bound_d, active, mult, ist, fst,
+):  # fmt: skip
+    """Run Newton iterations of one cycle from ``ist[PHASE]`` until done or Python is
+    needed (returns the status; see the module docstring)."""
+    n = V.shape[1]
+    m = rows.shape[0]
+    nz = n - m
+    local = np.empty((4, 4))
+    e6 = np.empty(6)
+    phase = ist[PHASE]
+    stage = 0  # 0 evaluate, 1 split, 2 relax, 3 apply
+    if phase == P_START:
+        if ist[BOX_READY] == 0 and not _box(
+            boxc, ist[ACCEL_BOUNDED] != 0, fst[DTOL], V[Q_START], V[Q_PREV], cand, bounds
+        ):
+            return S_BOX_CHECK
+        for j in range(n):
+            t = V[Q_START, j]
+            if ist[WARM] != 0 and ist[SELF_MOTION] == 0:
+                d = t - V[Q_PREV, j]
+                d = max(d, bounds[0, j])
+                d = min(d, bounds[1, j])
+                t += d
+            V[THETA, j] = t
+        ist[K] = 0
+        ist[RELAXED] = 0
+        ist[SINGULAR] = 0
+        ist[HAVE_J] = 0
+        ist[N_ACTIVE] = 0
+    elif phase == P_APPLY_Z:
+        for j in range(n):
+            s = V[DP, j]
+            for a in range(nz):
+                s += N[j, a] * V[Z, a]
+            V[DTHETA, j] = s
+        stage = 3
+    elif phase == P_APPLY:
+        stage = 3
+    elif phase == P_SPLIT:
+        stage = 1
+    else:
+        stage = 2
+    while True:
+        if stage == 0:
+            k = ist[K]
+            _evaluate(kb, kj, ends, target, frames, local, tcp, e6, rows, V, ist, fst)
+            if k >= 1:
+                if (fst[PE] < fst[TOL_P] and fst[OE] < fst[TOL_O]) or k >= ist[MAX_ITER]:
+                    return S_DONE
+                if ist[RELAXED] != 0:
+                    dmax = 0.0
+                    tmax = 0.0
+                    for j in range(n):
+                        dmax = max(dmax, abs(V[DTHETA, j]))
+                        tmax = max(tmax, abs(V[THETA, j]))
+                    if dmax <= 1e-13 * (1.0 + tmax):
+                        return S_DONE
+            zero_f = k == 0 and ist[SELF_MOTION] != 0
+            for i in range(m):
+                F[i] = 0.0 if zero_f else e6[rows[i]]
+            _jacobian(frames, kj, tcp[:3, 3], J6)
+            for i in range(m):
+                for j in range(n):
+                    Jt[i, j] = J6[rows[i], j]
+            ist[HAVE_J] = 1
+            for j in range(n):
+                sig = V[THETA, j] - V[Q_START, j]
+                V[SIGMA, j] = sig
+                if ist[HAS_REF] != 0:
+                    V[G, j] = V[W, j] * (V[THETA, j] - V[REF, j])
+                else:
+                    V[G, j] = V[W, j] * sig
+                V[LOWER, j] = bounds[0, j] - sig
+                V[UPPER, j] = bounds[1, j] - sig
+            ist[BASIS_STAGE] = 0
+            fst[COND_LIMIT] = fst[COND_MAX]
+            stage = 2 if ist[RELAXED] != 0 else 1
+        elif stage == 1:
+            ist[LAST_SINGULAR] = 0
+            if ist[BASIS_VALID] == 0:
+                ist[BASIS_REASON] = 0
+                return S_NEED_BASIS
+            if not _split(Jt, F, perm, aug, N, V[DP], fst):
+                if ist[BASIS_STAGE] == 0:
+                    ist[BASIS_REASON] = 1
+                    return S_NEED_BASIS
+                ist[LAST_SINGULAR] = 1
+                stage = 2
+                continue
+            res = 2
+            if nz == 0:
+                res = 1 if _checked(V, A, bound_d, active, mult, ist) else 0
+            elif nz == 1 and A.shape[0] == 0 and ist[SCALAR] != 0:
+                res = _scalar_qp(V, N, active, mult, ist)
+                if res < 0:
+                    res = 2
+            if res == 2:
+                _hard_data(V, N, perm, m, A, bound_d, Ht, gt, Ct, bt, fst)
+                return S_NEED_QP
+            stage = 3 if res == 1 else 2
+        elif stage == 2:
+            _relaxed_data(V, Jt, F, A, bound_d, Hr, gr, bt, fst)
+            return S_NEED_RELAXED
+        else:  # apply the step in V[DTHETA]
+            s = 0.0
+            for j in range(n):
+                s += V[DTHETA, j] * V[DTHETA, j]
+            if not math.isfinite(s):
+                return S_BAD_STEP
+            for j in range(n):
+                V[THETA, j] += V[DTHETA, j]
+            ist[K] += 1
+            stage = 0
