@@ -3,14 +3,22 @@
 Setpoints come from the real pipeline run kinematically (``--drives ideal``): the koch11
 square of chapter 6 (``programs/square.irl``) and a straight line of the irb6_track (a
 small program written here: PTP to home, LIN 300 mm along the track's direction and
-back). The drive simulation alone is timed, best of ``--repeat``. Usage::
+back). The drive simulation alone is timed. The cases run interleaved (round-robin over
+the whole plan, ``--repeat`` rounds) so that a change in the machine's load hits every case
+alike; the table gives the median and the best round, and the load average before and
+after. ``--plan core`` times only the 1 ms coupled/decoupled and the pwm runs (what the
+before/after comparison in docs/benchmarks.md uses). Usage::
 
-    python bench/bench_drives.py [--repeat 2] [--pwm-koch11]
+    python bench/bench_drives.py [--repeat 3] [--plan full|core] [--pwm-koch11]
+
+``M refresh``: ``adaptive`` is the default (``runtime/drives/refresh.py``), ``every step``
+forces ``dynamics_every=1``, ``k steps`` a fixed interval.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import platform
 import tempfile
 import time
@@ -48,68 +56,79 @@ def setpoints(name: str):
     return run.model, run.times, run.q
 
 
-def timed(model, times, q, level, step, repeat, every=None):
-    best = None
-    for _ in range(repeat):
-        w0, c0 = time.perf_counter(), time.process_time()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            run = simulate_drives(
-                model, times, q, level=level, step=step, hold=0.0, dynamics_every=every
-            )
-        wall, cpu = time.perf_counter() - w0, time.process_time() - c0
-        if best is None or wall < best[0]:
-            best = (wall, cpu, run)
-    return best
+def timed(model, times, q, level, step, every):
+    w0, c0 = time.perf_counter(), time.process_time()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        run = simulate_drives(
+            model, times, q, level=level, step=step, hold=0.0, dynamics_every=every
+        )
+    return time.perf_counter() - w0, time.process_time() - c0, run
+
+
+FULL = [
+    ("decoupled", None, None),
+    ("decoupled", 1e-3, None),
+    ("coupled", None, None),
+    ("coupled", 1e-3, 1),
+    ("coupled", 1e-3, None),
+    ("pwm", None, None),
+]
+CORE = [("decoupled", 1e-3, None), ("coupled", 1e-3, None), ("pwm", None, None)]
 
 
 def main() -> None:
     ap = argparse.ArgumentParser()
-    ap.add_argument("--repeat", type=int, default=2)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--plan", choices=("full", "core"), default="full")
     ap.add_argument("--pwm-koch11", action="store_true", help="also time pwm on koch11 (slow)")
     args = ap.parse_args()
     print(f"python {platform.python_version()}, numpy {np.__version__}, {platform.machine()}")
+    load0 = os.getloadavg()
+    plan = []
+    data = {}
+    for case in ("irb6_track line", "koch11 square"):
+        data[case] = setpoints(case)
+        for level, step, every in FULL if args.plan == "full" else CORE:
+            if level != "pwm" or case == "irb6_track line" or args.pwm_koch11:
+                plan.append((case, level, step, every))
+    times_of = {item: [] for item in plan}
+    runs = {}
+    for _ in range(args.repeat):  # interleaved rounds
+        for item in plan:
+            case, level, step, every = item
+            wall, cpu, run = timed(*data[case], level, step, every)
+            times_of[item].append((wall, cpu))
+            runs[item] = run
+    load1 = os.getloadavg()
+    print(f"load average (1, 5, 15 min) before {load0}, after {load1}")
     print(
-        "| case | level | step | M refresh | steps | simulated s | wall s "
-        "| × real time (wall) | × real time (CPU) | max dev. vs rule step, % range "
-        "| could follow |"
+        "| case | level | step | M refresh | steps | simulated s | wall s (median) "
+        "| × real time, wall (median / best) | × real time, CPU (median) "
+        "| max dev. vs rule step, % range | could follow |"
     )
     print("|---|---|---|---|---|---|---|---|---|---|---|")
-    for case in ("irb6_track line", "koch11 square"):
-        model, times, q = setpoints(case)
-        plan = [
-            ("decoupled", None, None),
-            ("decoupled", 1e-3, None),
-            ("coupled", None, None),
-            ("coupled", 1e-3, None),
-            ("coupled", 1e-3, 2),
-            ("coupled", 1e-3, 4),
-        ]
-        if case == "irb6_track line" or args.pwm_koch11:
-            plan.append(("pwm", None, None))
-        reference = {}
-        for level, step, every in plan:
-            wall, cpu, run = timed(model, times, q, level, step, args.repeat, every)
-            sim = run.t[-1] - run.t[0]
-            label = "rule" if step is None else "forced"
-            if step is None:
-                reference[level] = run
-            dev = _deviation(reference.get(level), run)
-            follow = (
-                "yes"
-                if run.could_follow
-                else "no: " + ", ".join(a.name for a in run.axes if not a.could_follow)
-            )
-            refresh = (
-                "every step"
-                if level != "pwm" and every is None
-                else ("1 ms" if every is None else f"{every} steps")
-            )
-            print(
-                f"| {case} | {level} | {run.step * 1e3:.4g} ms ({label}) | {refresh} "
-                f"| {len(run.t)} | {sim:.2f} | {wall:.2f} | {sim / wall:.2f} | {sim / cpu:.2f} "
-                f"| {dev} | {follow} |"
-            )
+    for item in plan:
+        case, level, step, every = item
+        run = runs[item]
+        sim = run.t[-1] - run.t[0]
+        wall = np.median([w for w, _ in times_of[item]])
+        best = min(w for w, _ in times_of[item])
+        cpu = np.median([c for _, c in times_of[item]])
+        rule = (case, level, None, None)
+        dev = _deviation(runs.get(rule), run)
+        follow = (
+            "yes"
+            if run.could_follow
+            else "no: " + ", ".join(a.name for a in run.axes if not a.could_follow)
+        )
+        refresh = "adaptive" if every is None else ("every step" if every == 1 else f"{every}")
+        label = "rule" if step is None else "forced"
+        print(
+            f"| {case} | {level} | {run.step * 1e3:.4g} ms ({label}) | {refresh} "
+            f"| {len(run.t)} | {sim:.2f} | {wall:.2f} | {sim / wall:.2f} / {sim / best:.2f} "
+            f"| {sim / cpu:.2f} | {dev} | {follow} |"
+        )
 
 
 def _deviation(reference, run) -> str:

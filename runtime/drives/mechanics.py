@@ -5,6 +5,11 @@ Equations (joint side; ``T`` the drive torques ``i·τ_m``, ``f`` friction ``i·
     coupled:    M(q) q̈ + C(q,q̇) q̇ + G(q) = T − f       (M includes J_m·i² on the diagonal)
     decoupled:  D q̈ + G(q) = T − f,  D = diag(M(q₀)) constant (rotor + arm at the start)
 
+Decoupled means one independent inertia per *motor*: with a coupled or non-linear
+transmission (``θ_m = f(q)``, ``K = ∂f/∂q`` square at ``q₀``) the axes are decoupled in
+motor coordinates, ``J = diag(K⁻ᵀ M(q₀) K⁻¹)``, i.e. ``D = Kᵀ J K`` in joint space (not
+diagonal: the IRb-6's A3 screw turns θ2 + θ3, so its rotor couples A2 and A3).
+
 Joints without a drive are prescribed (``q̈_P`` given, their torque is computed). Axes
 inside the Karnopp band are first assumed stuck (``q̈_S = 0``); the reduced system is
 solved for the others, the holding torque of each stuck axis is checked against its
@@ -33,9 +38,11 @@ class Mechanics:
         q0: np.ndarray,
         load_inertia: np.ndarray | None,
         rotor_extra=None,
+        kmat: np.ndarray | None = None,
     ):
         """``rotor``: diagonal rotor inertia (joint side); ``rotor_extra(q)``: an extra
-        rotor inertia matrix for coupled or non-linear transmissions (``Kᵀ diag(J_m) K``)."""
+        rotor inertia matrix for coupled or non-linear transmissions (``Kᵀ diag(J_m) K``);
+        ``kmat``: that transmission's Jacobian ``K(q₀)`` (decoupled in motor coordinates)."""
         self.n = model.n
         self.coupled = level in ("coupled", "pwm")
         self.rotor_extra = rotor_extra
@@ -56,6 +63,12 @@ class Mechanics:
                 self.diag = self.diag + np.diag(rotor_extra(q0))
         else:
             self.diag = np.diag(self.mass_matrix(q0)).copy()
+        self.decoupled = self.diag
+        if not self.coupled and kmat is not None and kmat.shape == (self.n, self.n):
+            full = self.mass_matrix(q0) if self.dyn is not None else np.diag(self.diag)
+            k_inv = np.linalg.inv(kmat)
+            motor = np.diag(k_inv.T @ full @ k_inv)
+            self.decoupled = kmat.T @ (motor[:, None] * kmat)
         if np.any(self.diag <= 0.0):
             j = int(np.flatnonzero(self.diag <= 0.0)[0])
             raise NoInertialData(
@@ -76,7 +89,7 @@ class Mechanics:
                 m = m + self.rotor_extra(q)
             return m, h
         g = self.dyn.gravity_vector(q) if self.dyn is not None else np.zeros(self.n)
-        return self.diag, g
+        return self.decoupled, g
 
     def inverse(self, m) -> np.ndarray:
         """``M⁻¹`` (or ``1/D``), computed once per refresh of ``M`` for the common case; also
@@ -91,42 +104,77 @@ class Mechanics:
         ``static``/``running`` joint-side breakaway/running torques, ``prescribed`` mask
         with accelerations ``qdd_p``; ``m_inv`` the held :meth:`inverse` of ``m``.
         """
-        if not stuck.any() and not prescribed.any():  # the common case: one product
+        any_ = np.count_nonzero  # cheaper than ndarray.any on small masks
+        if not any_(stuck) and not any_(prescribed):  # the common case: one product
             rhs = drive - slide - h
             if m_inv is None:
                 m_inv = self.inverse(m)
             return (m_inv @ rhs if m.ndim == 2 else rhs * m_inv), slide, stuck
+        if m.ndim == 2 and not any_(prescribed) and hasattr(self, "_reduced"):
+            return self._karnopp(m, h, drive, slide, stuck, static, running)
         fric = np.where(stuck, 0.0, slide)
         qdd = np.where(prescribed, qdd_p, 0.0)
         for _ in range(2):
             known = prescribed | stuck
             qdd = self._solve(m, h, drive - fric, known, qdd)
-            if not stuck.any():
+            if not any_(stuck):
                 break
             need = (m @ qdd if m.ndim == 2 else m * qdd) + h
             holds, held = friction.breakaway(drive - need, static, running)
             fric = np.where(stuck, held, fric)
             broke = stuck & ~holds
-            if not broke.any():
+            if not any_(broke):
                 break
             stuck = stuck & holds
             qdd = np.where(broke, 0.0, qdd)
         return qdd, fric, stuck
 
+    def _karnopp(self, m, h, drive, slide, stuck, static, running):
+        """The Karnopp step without prescribed joints, on the blocks of the held ``M``
+        cached per stuck mask: solve the free axes with the stuck ones at rest; stuck axes
+        whose holding torque exceeds ``static`` break away (sliding with ``running``) and
+        the free axes are solved once more — the same two passes as the general loop."""
+        fric = slide.copy()
+        qdd = np.zeros(self.n)
+        for _ in range(2):
+            free, held, inv, m_hf = self._blocks(m, stuck)
+            qdd[:] = 0.0
+            qdd[free] = inv @ (drive[free] - fric[free] - h[free])
+            if not len(held):
+                break
+            need = drive[held] - m_hf @ qdd[free] - h[held]
+            holds = np.abs(need) <= static[held]
+            fric[held] = np.where(holds, need, running[held] * np.sign(need))
+            if holds.all():
+                break
+            stuck = stuck.copy()
+            stuck[held[~holds]] = False
+        return qdd, fric, stuck
+
+    def _blocks(self, m, stuck):
+        """``(free, held, M_ff⁻¹, M_hf)`` of a stuck mask, once per refresh of ``M``."""
+        key = stuck.tobytes()
+        blocks = self._reduced.get(key)
+        if blocks is None:
+            free, held = np.flatnonzero(~stuck), np.flatnonzero(stuck)
+            inv = np.linalg.inv(m[np.ix_(free, free)]) if len(free) else np.zeros((0, 0))
+            blocks = self._reduced[key] = (free, held, inv, m[np.ix_(held, free)])
+        return blocks
+
     def _solve(self, m, h, tau, known, qdd):
         if m.ndim == 1:
             return np.where(known, qdd, (tau - h) / m)
-        if not known.any():
+        if not np.count_nonzero(known):
             return np.linalg.solve(m, tau - h)
         free = ~known
-        rhs = tau - h - m[:, known] @ qdd[known]
+        rhs = tau - h - m @ (qdd * known)
         out = qdd.copy()
-        if free.any():
+        if np.count_nonzero(free):
             cache = getattr(self, "_reduced", None)
             if cache is None:
                 out[free] = np.linalg.solve(m[free][:, free], rhs[free])
                 return out
-            key = free.tobytes()
+            key = b"free" + free.tobytes()
             inv = cache.get(key)
             if inv is None:  # M is held between refreshes: invert each reduced block once
                 inv = cache[key] = np.linalg.inv(m[free][:, free])

@@ -14,5 +14,5 @@ import numpy as np
 def position_p(kz, theta_ref, theta, limit) -> tuple[np.ndarray, np.ndarray]:
     """Velocity reference (V) and the per-axis saturation flag."""
     raw = kz * (theta_ref - theta)
-    out = np.clip(raw, -limit, limit)
+    out = np.minimum(np.maximum(raw, -limit), limit)  # np.clip, cheaper on small arrays
     return out, out != raw

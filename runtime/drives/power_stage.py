@@ -32,6 +32,9 @@ def averaged(loop, u_i, omega, c, h: float):
     i_mean, u_mean = loop.step(u_i, omega)
     x = loop.x
     over = np.abs(x[:, 1]) > c.U
+    limit = (np.abs(x[:, 0]) > c.i_max) | (np.abs(i_mean) > c.i_max)
+    if not (np.count_nonzero(over) or np.count_nonzero(limit)):  # the common case
+        return i_mean, u_mean, u_mean * i_mean * h, c.R * i_mean * i_mean * h, over
     if over.any():
         volts = np.sign(x[:, 1]) * c.U
         end, area, square, work, _ = motor.first_order(i0, volts, omega, c.R, c.L, c.ks, h, c.i_max)

@@ -169,7 +169,8 @@ class _Simulation:
                 if self.trans.matrix is not None
                 else (lambda q: self.trans.rotor_matrix(chain.J_m, q))
             )
-        self.mech = Mechanics(model, level, rotor, q_cmd[0], load, extra)
+        kmat = None if self.trans.diagonal else self.trans.jacobian(q_cmd[0])
+        self.mech = Mechanics(model, level, rotor, q_cmd[0], load, extra, kmat)
         motor_inertia = self.mech.diag[self.axes] / self.ratio**2
         self.tau = stepsize.fastest_time_constant(chain, motor_inertia)
         names = [model.joints[j].name for j in self.axes]
@@ -290,8 +291,10 @@ class _Simulation:
                     theta, omega = q[axes] * ratio, qd[axes] * ratio
             else:
                 if moving_map:
-                    kmat = trans.jacobian(q)
-                theta, omega = trans.to_motor(q), kmat @ qd
+                    theta, kmat = trans.motor_and_jacobian(q)
+                else:
+                    theta = trans.to_motor(q)
+                omega = kmat @ qd
             tau_m, i_m, u_m, sat, e_in, loss = bank.step(theta_ref[s], theta, omega, self.t[s])
             energy += e_in
             copper += loss

@@ -79,6 +79,18 @@ class Transmission:
         out[..., self._rows] = self._gain * (s - self._s0)
         return out
 
+    def motor_and_jacobian(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(θ_m, K(q))`` in one pass (the screw levers share ``cos``, ``sin`` and ``s``)."""
+        if self.map is None or self.matrix is not None:
+            return self.to_motor(q), self.jacobian(q)
+        v = self._coef @ q + self._phi0
+        s = np.sqrt(self._sq - self._ab2 * np.cos(v))
+        theta = self._lin @ q
+        theta[self._rows] = self._gain * (s - self._s0)
+        k = self._lin.copy()
+        k[self._rows] = (self._gain * 0.5 * self._ab2 * np.sin(v) / s)[:, None] * self._coef
+        return theta, k
+
     def _lever_jacobian(self, q: np.ndarray) -> np.ndarray:
         v = self._coef @ q + self._phi0
         s = np.sqrt(self._sq - self._ab2 * np.cos(v))

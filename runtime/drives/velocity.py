@@ -23,8 +23,10 @@ class VelocityPI:
         """Current reference (V) and saturation flags; integrates over ``h``."""
         e = u_ref - self.ke * omega
         raw = self.kp * e + self.ki * self.x
-        out = np.clip(raw, -self.limit, self.limit)
+        out = np.minimum(np.maximum(raw, -self.limit), self.limit)  # np.clip, cheaper
         sat = out != raw
-        # conditional integration: freeze when saturated and e pushes further out
-        self.x += np.where(sat & (np.sign(e) == np.sign(raw)), 0.0, h * e)
+        if np.count_nonzero(sat):  # conditional integration: freeze when e pushes further out
+            self.x += np.where(sat & (np.sign(e) == np.sign(raw)), 0.0, h * e)
+        else:
+            self.x += h * e
         return out, sat

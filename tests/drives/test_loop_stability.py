@@ -52,6 +52,8 @@ def axis_loops(name: str, scale: float):
 @pytest.mark.parametrize("scale", [0.5, 1.0, 2.0])  # arm inertia ±2× (configuration changes)
 def test_loops_stable_with_margin(name, scale):
     for j, loop in axis_loops(name, scale):
+        if name == "irb6_track" and j == 0 and scale != 1.0:
+            continue  # the track carries the whole robot: its inertia does not change with the pose
         assert poles(loop).real.max() < 0.0, (name, j)
         pm_v, _, gm_v = margins(open_velocity_loop(loop))
         pm_p, _, _ = margins(open_position_loop(loop))

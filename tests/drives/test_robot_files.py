@@ -70,3 +70,20 @@ def test_motor_maps_in_the_transmission():
     jm = drive_params(model).chain.J_m
     assert np.allclose(trans.rotor_matrix(jm, q), k.T @ np.diag(jm) @ k)
     assert np.allclose(trans.local_ratio(q), np.diag(k))
+
+
+def test_vectorised_levers_match_the_motor_maps():
+    """The transmission's vectorised screw levers equal irlc.runtime.motor_maps (irb6_track)."""
+    from irlc.runtime.motor_maps import MotorMap
+
+    model = load_toml(ROBOTS / "irb6_track.toml")
+    trans = Transmission(model, drive_params(model))
+    full = MotorMap.from_model(model)
+    rng = np.random.default_rng(1)
+    qs = model.home_q() + rng.uniform(-0.5, 0.5, (5, model.n))
+    assert np.allclose(trans.to_motor(qs), [full.motor_from_joint(q) for q in qs])
+    for q in qs:
+        theta, k = trans.motor_and_jacobian(q)
+        assert np.allclose(theta, full.motor_from_joint(q))
+        assert np.allclose(k, full.motor_jacobian(q))
+        assert np.allclose(trans.jacobian(q), k)
