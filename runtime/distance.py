@@ -33,6 +33,7 @@ link-frame origins, the last one ending at the TCP.
 from __future__ import annotations
 
 import itertools
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -94,10 +95,16 @@ def closest_segment_box(a, b, center, rotation, half):
     point, the box point and the unit escape direction (all world frame)."""
     pa = rotation.T @ (a - center)
     u = rotation.T @ (b - a)
-    t, d2 = _segment_box_outside(pa, u, half)
+    t, d2 = _segment_box_outside(pa.tolist(), u.tolist(), half.tolist())
+    return _box_pair(pa, u, t, d2, center, rotation, half)
+
+
+def _box_pair(pa, u, t: float, d2: float, center, rotation, half):
+    """The closest pair of one segment (box frame: ``p(t) = pa + t·u``) and the box, from
+    the outside minimiser ``t`` and ``min φ = d2``; the deepest point when it enters."""
     if d2 > 1e-24:
         p = pa + t * u
-        q = np.clip(p, -half, half)
+        q = np.minimum(np.maximum(p, -half), half)  # np.clip, without its overhead
         dist = float(np.sqrt(d2))
         normal = (p - q) / dist
     else:  # touching or entering (rounding may leave ~1e-32): signed depth, nearest face
@@ -111,25 +118,34 @@ def closest_segment_box(a, b, center, rotation, half):
     return dist, center + rotation @ p, center + rotation @ q, rotation @ normal
 
 
-def _segment_box_outside(pa, u, half) -> tuple[float, float]:
-    """Exact ``argmin_t φ(t)`` and ``min φ`` of the squared outside distance."""
+def _segment_box_outside(pa: list, u: list, half: list) -> tuple[float, float]:
+    """Exact ``argmin_t φ(t)`` and ``min φ`` of the squared outside distance of
+    ``p(t) = pa + t·u`` (box frame; Python floats: a few hundred float operations are
+    cheaper than numpy calls on 3-vectors).
+
+    The breakpoints ``p_i(t) = ±h_i`` inside ``(0, 1)`` and the ends 0, 1 cut ``[0, 1]``
+    into at most 7 pieces; on each piece (identified by its midpoint) ``φ`` is the
+    quadratic ``αt² + 2βt + γ``, minimised exactly on the piece; the best piece wins
+    (the first one on ties) and ``φ`` is evaluated directly at its minimiser."""
     cuts = [0.0, 1.0]
     for i in range(3):
-        if u[i] != 0.0:
+        ui = u[i]
+        if ui != 0.0:
             for bound in (half[i], -half[i]):
-                t = (bound - pa[i]) / u[i]
+                t = (bound - pa[i]) / ui
                 if 0.0 < t < 1.0:
                     cuts.append(t)
     cuts.sort()
-    best_t, best = 0.0, np.inf
+    best_t, best = 0.0, math.inf
     for t0, t1 in itertools.pairwise(cuts):
-        mid = pa + 0.5 * (t0 + t1) * u
+        m = 0.5 * (t0 + t1)
         alpha = beta = gamma = 0.0
         for i in range(3):
-            if mid[i] > half[i]:
-                c, d = pa[i] - half[i], u[i]
-            elif mid[i] < -half[i]:
-                c, d = -half[i] - pa[i], -u[i]
+            mid, h = pa[i] + m * u[i], half[i]
+            if mid > h:
+                c, d = pa[i] - h, u[i]
+            elif mid < -h:
+                c, d = -h - pa[i], -u[i]
             else:
                 continue
             alpha += d * d
@@ -140,9 +156,27 @@ def _segment_box_outside(pa, u, half) -> tuple[float, float]:
         if value < best:
             best_t, best = t, value
     # the piecewise form above is exact; evaluate the clamp directly at the minimiser
-    p = pa + best_t * u
-    exact = float(np.sum((p - np.clip(p, -half, half)) ** 2))
+    exact = 0.0
+    for i in range(3):
+        p, h = pa[i] + best_t * u[i], half[i]
+        e = p - h if p > h else (p + h if p < -h else 0.0)
+        exact += e * e
     return best_t, exact
+
+
+def _box_lower_bounds(pa: np.ndarray, u: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """Lower bounds of the signed core distances of ``k`` segments (rows, box frame) to
+    a box: the gap between the segment's bounding box and the box; a segment whose
+    bounding box meets the box may enter it, at most as deep as the box centre (minus
+    the smallest half edge)."""
+    pb = pa + u
+    gap = np.minimum(pa, pb)
+    np.maximum(gap, -np.maximum(pa, pb), out=gap)  # per axis: max(lo, −hi)
+    gap -= half
+    np.maximum(gap, 0.0, out=gap)
+    lower = np.sqrt(np.einsum("ij,ij->i", gap, gap))
+    lower[lower == 0.0] = -float(half.min())
+    return lower
 
 
 def _segment_box_deepest(pa, u, half) -> tuple[float, float, int]:
@@ -200,7 +234,11 @@ def segment_obstacle(a: np.ndarray, b: np.ndarray, radius: float, obstacle) -> P
         diff = p - q
         core = float(np.sqrt(diff @ diff))
         v = diff / core if core > _EPS else _fallback_direction(b - a, q1 - q0)
-    r_obst = obstacle.radius
+    return _swept(core, p, q, v, radius, obstacle.radius)
+
+
+def _swept(core: float, p, q, v, radius: float, r_obst: float) -> Proximity:
+    """The pair of two swept shapes from their cores' pair (``v``: unit, core → robot)."""
     return Proximity(core - radius - r_obst, p - radius * v, q + r_obst * v, v)
 
 
@@ -284,10 +322,13 @@ def _points_to_segments(a: np.ndarray, b: np.ndarray, p: np.ndarray):
 def critical_points(kin: Kinematics, frames: np.ndarray, obstacles) -> list[CriticalPoint]:
     """One record per obstacle: the robot part closest to it and the closest pair.
 
-    Point and sphere obstacles are measured against all parts at once (vectorised); for
-    the others, parts are visited in order of a lower bound of their distance (centre
-    distance minus the obstacle's bounding radius) and the search stops when the bound
-    exceeds the best exact distance found — the result is still exact."""
+    Point, sphere, box and plane obstacles are measured against all parts at once
+    (vectorised core distances; the closest pair is then built for the closest part
+    only). For capsules, parts are visited in order of a lower bound of their distance
+    (centre distance minus the obstacle's bounding radius) and the search stops when the
+    bound exceeds the best exact distance found — the result is still exact. Exact ties
+    (equal distances, e.g. a sphere at a joint and the capsule starting there) go to the
+    lowest part index, except for capsules (the first part visited)."""
     seg = robot_segments(kin)
     a_all, b_all = seg.world(kin, frames)
     radius = seg.radius
@@ -298,6 +339,11 @@ def critical_points(kin: Kinematics, frames: np.ndarray, obstacles) -> list[Crit
             p = obstacle.position if kind == "point" else obstacle.center
             _, dist = _points_to_segments(a_all, b_all, p)
             i = int(np.argmin(dist - radius))
+            best = segment_obstacle(a_all[i], b_all[i], float(radius[i]), obstacle)
+        elif kind == "box":
+            best, i = _closest_part_box(a_all, b_all, radius, obstacle)
+        elif kind == "plane":
+            i = _closest_part_plane(a_all, b_all, radius, obstacle)
             best = segment_obstacle(a_all[i], b_all[i], float(radius[i]), obstacle)
         else:
             best, i = _search_parts(a_all, b_all, radius, obstacle)
@@ -314,20 +360,56 @@ def critical_points(kin: Kinematics, frames: np.ndarray, obstacles) -> list[Crit
     return out
 
 
-def _search_parts(a_all, b_all, radius, obstacle) -> tuple[Proximity, int]:
+def _closest_part_box(a_all, b_all, radius, box) -> tuple[Proximity, int]:
+    """The part closest to a box: a cheap lower bound (:func:`_box_lower_bounds`) for all
+    parts, then exact distances in increasing order of the bound until the bound
+    exceeds the best distance found (+1 nm, so that exact ties are all seen); ties go
+    to the lowest part index."""
+    center, rotation, half = box.center, box.rotation, box.half
+    pa = (a_all - center) @ rotation  # rows: Rᵀ(a − c)
+    u = (b_all - a_all) @ rotation
+    lower = _box_lower_bounds(pa, u, half)
+    lower -= radius
+    h, r_obst = half.tolist(), box.radius
+    best = (math.inf, 0, 0.0, 0.0)  # distance, part, t, φ(t)
+    for i in np.argsort(lower).tolist():
+        if lower[i] > best[0] + 1e-9:
+            break
+        t, d2 = _segment_box_outside(pa[i].tolist(), u[i].tolist(), h)
+        core = math.sqrt(d2) if d2 > 1e-24 else _segment_box_deepest(pa[i], u[i], half)[1]
+        candidate = (core - float(radius[i]) - r_obst, i, t, d2)
+        if candidate[:2] < best[:2]:
+            best = candidate
+    _, i, t, d2 = best
+    pair = _box_pair(pa[i], u[i], t, d2, center, rotation, half)
+    return _swept(*pair, float(radius[i]), r_obst), i
+
+
+def _closest_part_plane(a_all, b_all, radius, plane) -> int:
+    """Index of the part closest to a plane (the signed distance is linear along a part:
+    its minimum is at an end, the midpoint when both are equal)."""
+    sa = (a_all - plane.point) @ plane.normal
+    sb = (b_all - plane.point) @ plane.normal
+    core = np.where(np.abs(sa - sb) <= 1e-15, 0.5 * (sa + sb), np.minimum(sa, sb))
+    return int(np.argmin(core - radius))
+
+
+def _visit_order(a_all, b_all, radius, obstacle):
+    """Parts in increasing order of a lower bound of their distance, and the bounds."""
     if obstacle.kind == "box":
         center, reach = obstacle.center, float(np.linalg.norm(obstacle.half))
     elif obstacle.kind == "capsule":
         center = 0.5 * (obstacle.a + obstacle.b)
         reach = 0.5 * float(np.linalg.norm(obstacle.b - obstacle.a)) + obstacle.radius
     else:  # plane: no useful bound, visit all
-        center, reach = None, np.inf
-    if center is None:
-        order, bound = range(a_all.shape[0]), np.full(a_all.shape[0], -np.inf)
-    else:
-        _, dist = _points_to_segments(a_all, b_all, center)
-        bound = dist - reach - radius
-        order = np.argsort(bound)
+        return range(a_all.shape[0]), np.full(a_all.shape[0], -np.inf)
+    _, dist = _points_to_segments(a_all, b_all, center)
+    bound = dist - reach - radius
+    return np.argsort(bound), bound
+
+
+def _search_parts(a_all, b_all, radius, obstacle) -> tuple[Proximity, int]:
+    order, bound = _visit_order(a_all, b_all, radius, obstacle)
     best, best_i = None, 0
     for i in order:
         if best is not None and bound[i] >= best.distance:

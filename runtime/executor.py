@@ -278,27 +278,31 @@ class SimulatedController:
             raise RunFailure(f"inverse transformation failed: {exc}", seg.line, t) from None
         self.q_prev, self.q = self.q, res.q
         self._t = t
-        tcp = solver.kin.tcp(self.q)
-        self.recorder.ik_cycles += 1
-        self.recorder.add(
+        tcp = getattr(res, "tcp", None)  # the IK's last FK is at q: no second FK
+        if tcp is None:
+            tcp = solver.kin.tcp(self.q)
+        # the path error is the IK's own task error at q (f(θ) ⊖ x_d, controlled rows)
+        pos_err, ori_err = res.position_error, res.orientation_error
+        rec = self.recorder
+        rec.ik_cycles += 1
+        rec.add(
             t,
             seg.line,
             self.q,
             tcp,
             target,
+            errors=(pos_err, ori_err),
             iterations=res.iterations,
             relaxed=res.relaxed,
             active=res.active,
             clearances=res.clearances,
             dt=dt,
-            manipulability=res.manipulability
-            if self._cycles % self._manip_every == 0
-            else float("nan"),
+            manipulability=res.manipulability if self._cycles % self._manip_every == 0 else _NAN,
         )
-        self._check_collisions(res.clearances, opts.active_obstacles, seg.line, t)
-        pos_err, ori_err = self.recorder.pos_error[-1], self.recorder.ori_error[-1]
+        if res.clearances:
+            self._check_collisions(res.clearances, opts.active_obstacles, seg.line, t)
         if res.relaxed or not res.converged:
-            self.recorder.note_relaxed(seg.line, t, dt, pos_err, ori_err, res.binding)
+            rec.note_relaxed(seg.line, t, dt, pos_err, ori_err, res.binding)
         if pos_err > self.opts.tol_position or ori_err > self.opts.tol_orientation:
             raise self._deviation_failure(seg, t, pos_err, ori_err, res)
         self._tick()
@@ -436,6 +440,9 @@ def _with_position_limits(model: RobotModel, position: np.ndarray) -> RobotModel
         for i, j in enumerate(model.joints)
     )
     return dataclasses.replace(model, joints=joints)
+
+
+_NAN = float("nan")
 
 
 def _advance(t: float, dt: float) -> float:

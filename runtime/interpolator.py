@@ -20,13 +20,13 @@ piecewise linear in ``s`` between configurations given at knots (start, via/poin
 
 from __future__ import annotations
 
+import bisect
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 from irlc.runtime import spatial
 from irlc.runtime.profiles import Trapezoid
-
-_EYE4 = np.eye(4)
 
 
 @dataclass(frozen=True)
@@ -46,6 +46,10 @@ class CartesianLine:
     def __post_init__(self) -> None:
         object.__setattr__(self, "_q0", spatial.matrix_to_quat(self.start[:3, :3]))
         object.__setattr__(self, "_q1", spatial.matrix_to_quat(self.end[:3, :3]))
+        object.__setattr__(self, "_slerp", Slerp(self._q0, self._q1))
+        p0 = self.start[:3, 3]
+        object.__setattr__(self, "_p0", p0.tolist())
+        object.__setattr__(self, "_dp", (self.end[:3, 3] - p0).tolist())
 
     @property
     def length(self) -> float:
@@ -56,11 +60,72 @@ class CartesianLine:
         return spatial.quat_angle(self._q0, self._q1)
 
     def at(self, s: float) -> np.ndarray:
-        t = np.empty((4, 4))
-        t[3] = _EYE4[3]
-        t[:3, 3] = self.start[:3, 3] + s * (self.end[:3, 3] - self.start[:3, 3])
-        t[:3, :3] = spatial.quat_to_matrix(spatial.slerp(self._q0, self._q1, s))
-        return t
+        (x0, y0, z0), (dx, dy, dz) = self._p0, self._dp
+        return _pose(self._slerp.rows(s), x0 + s * dx, y0 + s * dy, z0 + s * dz)
+
+
+class Slerp:
+    """``quat_to_matrix(slerp(q0, q1, s))`` of :mod:`spatial` for one segment, with the
+    per-segment constants (shorter-arc sign, angle, ``sin θ``) computed once and the
+    per-cycle part on Python floats — the same operations in the same order, so the
+    result equals the :mod:`spatial` composition bit for bit (tested)."""
+
+    def __init__(self, q0: np.ndarray, q1: np.ndarray):
+        q0 = np.asarray(q0, dtype=float)
+        q1 = np.asarray(q1, dtype=float)
+        d = float(np.dot(q0, q1))
+        if d < 0.0:
+            q1, d = -q1, -d
+        self.linear = d > 1.0 - 1e-12  # nearly equal: normalised linear interpolation
+        self.q0, self.q1 = q0.tolist(), q1.tolist()
+        self.dq = (q1 - q0).tolist()
+        self.theta = 0.0 if self.linear else math.acos(min(1.0, d))
+        self.sin_theta = math.sin(self.theta)
+
+    def quat(self, s: float) -> list[float]:
+        """``spatial.slerp(q0, q1, s)`` as four floats."""
+        q0 = self.q0
+        if self.linear:
+            dq = self.dq
+            q = [q0[0] + s * dq[0], q0[1] + s * dq[1], q0[2] + s * dq[2], q0[3] + s * dq[3]]
+            return _normalised(q)
+        q1, st = self.q1, self.sin_theta
+        a, b = math.sin((1.0 - s) * self.theta), math.sin(s * self.theta)
+        return [
+            (a * q0[0] + b * q1[0]) / st,
+            (a * q0[1] + b * q1[1]) / st,
+            (a * q0[2] + b * q1[2]) / st,
+            (a * q0[3] + b * q1[3]) / st,
+        ]
+
+    def rows(self, s: float) -> tuple[list[float], list[float], list[float]]:
+        """Rows of ``spatial.quat_to_matrix(self.quat(s))``."""
+        w, x, y, z = _normalised(self.quat(s))
+        return (
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        )
+
+
+def _normalised(q: list[float]) -> list[float]:
+    """``q / np.linalg.norm(q)`` (the same norm: ``sqrt(q·q)`` by numpy's dot)."""
+    v = np.array(q)
+    n = math.sqrt(v.dot(v))
+    return [q[0] / n, q[1] / n, q[2] / n, q[3] / n]
+
+
+def _pose(rows, x: float, y: float, z: float) -> np.ndarray:
+    """4×4 pose from rotation rows and a position, in one array construction."""
+    r0, r1, r2 = rows
+    return np.array(
+        [
+            [r0[0], r0[1], r0[2], x],
+            [r1[0], r1[1], r1[2], y],
+            [r2[0], r2[1], r2[2], z],
+            [0.0, 0.0, 0.0, 1.0],
+        ]
+    )
 
 
 class CircleError(ValueError):
@@ -87,6 +152,9 @@ class CartesianArc:
             object.__setattr__(self, "_" + k, val)
         object.__setattr__(self, "_q0", spatial.matrix_to_quat(self.start[:3, :3]))
         object.__setattr__(self, "_q1", spatial.matrix_to_quat(self.end[:3, :3]))
+        object.__setattr__(self, "_slerp", Slerp(self._q0, self._q1))
+        basis = (centre.tolist(), u.tolist(), v.tolist())
+        object.__setattr__(self, "_basis", basis)
 
     @property
     def length(self) -> float:
@@ -106,11 +174,15 @@ class CartesianArc:
         return self._centre + self._radius * (np.cos(a) * self._u + np.sin(a) * self._v)
 
     def at(self, s: float) -> np.ndarray:
-        t = np.empty((4, 4))
-        t[3] = _EYE4[3]
-        t[:3, 3] = self.position(s)
-        t[:3, :3] = spatial.quat_to_matrix(spatial.slerp(self._q0, self._q1, s))
-        return t
+        a = s * self._phi
+        (cx, cy, cz), u, v = self._basis
+        ca, sa, r = math.cos(a), math.sin(a), self._radius
+        return _pose(
+            self._slerp.rows(s),
+            cx + r * (ca * u[0] + sa * v[0]),
+            cy + r * (ca * u[1] + sa * v[1]),
+            cz + r * (ca * u[2] + sa * v[2]),
+        )
 
 
 def _circle(p0: np.ndarray, p1: np.ndarray, p2: np.ndarray):
@@ -154,14 +226,18 @@ class ReferencePath:
     knots: np.ndarray
     configs: np.ndarray  # (len(knots), n)
 
+    def __post_init__(self) -> None:  # per-piece constants for the per-cycle lookup
+        object.__setattr__(self, "_knots", [float(k) for k in self.knots])
+        object.__setattr__(self, "_steps", np.diff(self.configs, axis=0))
+
     def at(self, s: float) -> np.ndarray:
-        k = self.knots
-        i = int(np.searchsorted(k, s, side="right")) - 1
+        k = self._knots
+        i = bisect.bisect_right(k, s) - 1
         if i >= len(k) - 1:
             return self.configs[-1]
         i = max(i, 0)
         w = (s - k[i]) / (k[i + 1] - k[i]) if k[i + 1] > k[i] else 1.0
-        return self.configs[i] + w * (self.configs[i + 1] - self.configs[i])
+        return self.configs[i] + w * self._steps[i]
 
 
 @dataclass

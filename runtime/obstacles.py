@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 from irlc.runtime import spatial, units
@@ -59,8 +60,9 @@ class BoxObstacle:
     kind: str = field(default="box", init=False)
     radius: float = field(default=0.0, init=False)
 
-    @property
+    @cached_property
     def half(self) -> np.ndarray:
+        """Half edge lengths (computed once: the distance queries read it every cycle)."""
         return 0.5 * np.asarray(self.size, dtype=float)
 
 

@@ -7,7 +7,11 @@ only: a planar arm's task is ``x, y``), Newton iterations, whether the
 cycle was relaxed, which joint limits were active, the clearance to every obstacle and
 the manipulability of the task Jacobian.
 
-Derivatives are **backward finite differences** on the sample grid,
+Samples go into preallocated arrays that double their capacity when full (no Python
+object per sample); :meth:`Recorder.arrays` returns copies of the filled rows.
+
+Derivatives are **backward finite differences** on the sample grid, computed once after
+the run (vectorised),
 
     θ̇_k = (θ_k − θ_{k−1}) / (t_k − t_{k−1}),   θ̈_k = (θ̇_k − θ̇_{k−1}) / (t_k − t_{k−1}),
 
@@ -19,7 +23,7 @@ limits is a check of the controller.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from irlc.runtime import spatial
@@ -38,37 +42,66 @@ class RelaxedSpan:
     binding: str
 
 
-@dataclass
 class Recorder:
-    n: int
-    obstacle_names: tuple[str, ...] = ()
-    task_rows: tuple[int, ...] = (0, 1, 2, 3, 4, 5)  # controlled pose-error components
-    times: list[float] = field(default_factory=list)
-    lines: list[int] = field(default_factory=list)
-    q: list[np.ndarray] = field(default_factory=list)
-    tcp: list[np.ndarray] = field(default_factory=list)
-    pos_error: list[float] = field(default_factory=list)
-    ori_error: list[float] = field(default_factory=list)
-    iterations: list[int] = field(default_factory=list)
-    relaxed: list[bool] = field(default_factory=list)
-    manipulability: list[float] = field(default_factory=list)
-    active: list[np.ndarray] = field(default_factory=list)  # bool (n,) per sample
-    clearance: dict[str, list[float]] = field(default_factory=dict)
-    active_time: dict[tuple[int, str], float] = field(default_factory=dict)
-    relaxed_spans: list[RelaxedSpan] = field(default_factory=list)
-    events: list[dict] = field(default_factory=list)
-    warnings: list[str] = field(default_factory=list)
-    ik_cycles: int = 0
+    """Samples of a run in growing arrays (see the module doc)."""
 
-    def __post_init__(self) -> None:
-        self.clearance = {name: [] for name in self.obstacle_names}
-        self._no_active = np.zeros(self.n, dtype=bool)
+    def __init__(
+        self,
+        n: int,
+        obstacle_names: tuple[str, ...] = (),
+        task_rows: tuple[int, ...] = (0, 1, 2, 3, 4, 5),  # controlled pose-error components
+        capacity: int = 1024,
+    ):
+        self.n = n
+        self.obstacle_names = tuple(obstacle_names)
+        self.task_rows = tuple(task_rows)
         rows = np.array(self.task_rows, dtype=int)
         self._pos_rows = rows[rows < 3]
         self._ori_rows = rows[rows >= 3]
+        self.active_time: dict[tuple[int, str], float] = {}
+        self.relaxed_spans: list[RelaxedSpan] = []
+        self.events: list[dict] = []
+        self.warnings: list[str] = []
+        self.ik_cycles = 0
+        self._k = 0
+        self._alloc(max(1, capacity))
+        self._last_clearance = [float("inf")] * len(self.obstacle_names)
+
+    def _alloc(self, cap: int) -> None:
+        """(Re)allocate the sample arrays with room for ``cap`` samples, keeping the
+        filled rows."""
+        k, n, m = self._k, self.n, len(self.obstacle_names)
+        new = {
+            "times": np.empty(cap),
+            "lines": np.empty(cap, dtype=int),
+            "q": np.empty((cap, n)),
+            "tcp": np.empty((cap, 4, 4)),
+            "pos_error": np.empty(cap),
+            "ori_error": np.empty(cap),
+            "iterations": np.empty(cap, dtype=int),
+            "relaxed": np.empty(cap, dtype=bool),
+            "manipulability": np.empty(cap),
+            "active": np.zeros((cap, n), dtype=bool),
+            "clearance": np.empty((cap, m)),
+        }
+        for name, arr in new.items():
+            if k:
+                arr[:k] = getattr(self, "_" + name)[:k]
+            setattr(self, "_" + name, arr)
+        self._cap = cap
 
     def __len__(self) -> int:
-        return len(self.times)
+        return self._k
+
+    @property
+    def pos_error(self) -> np.ndarray:
+        """Path position errors of the samples so far (m; a view)."""
+        return self._pos_error[: self._k]
+
+    @property
+    def ori_error(self) -> np.ndarray:
+        """Path orientation errors of the samples so far (rad; a view)."""
+        return self._ori_error[: self._k]
 
     def add(
         self,
@@ -78,6 +111,7 @@ class Recorder:
         tcp: np.ndarray,
         desired: np.ndarray | None,
         *,
+        errors: tuple[float, float] | None = None,
         iterations: int = 0,
         relaxed: bool = False,
         active: dict[int, str] | None = None,
@@ -85,36 +119,49 @@ class Recorder:
         manipulability: float = float("nan"),
         dt: float = 0.0,
     ) -> None:
-        """Append one sample; ``desired`` is the desired TCP pose (``None``: the actual
-        pose, i.e. no path error, e.g. standing still or PTP)."""
-        self.times.append(float(t))
-        self.lines.append(int(line))
-        self.q.append(np.array(q, dtype=float))
-        self.tcp.append(tcp)
-        if desired is None:
-            self.pos_error.append(0.0)
-            self.ori_error.append(0.0)
-        else:
-            err = spatial.pose_error(tcp, desired)
-            self.pos_error.append(float(np.linalg.norm(err[self._pos_rows])))
-            self.ori_error.append(float(np.linalg.norm(err[self._ori_rows])))
-        self.iterations.append(int(iterations))
-        self.relaxed.append(bool(relaxed))
-        self.manipulability.append(float(manipulability))
-        flags = self._no_active
+        """Append one sample. The path error is ``errors`` (position m, orientation rad)
+        when given (the inverse transformation's own, at ``q``), else computed against
+        ``desired``, the desired TCP pose (``None``: the actual pose, i.e. no path error,
+        e.g. standing still or PTP)."""
+        k = self._k
+        if k == self._cap:
+            self._alloc(2 * self._cap)
+        self._times[k] = t
+        self._lines[k] = line
+        self._q[k] = q
+        self._tcp[k] = tcp
+        if errors is None:
+            errors = (0.0, 0.0) if desired is None else self.path_error(tcp, desired)
+        self._pos_error[k], self._ori_error[k] = errors
+        self._iterations[k] = iterations
+        self._relaxed[k] = relaxed
+        self._manipulability[k] = manipulability
         if active:
-            flags = np.zeros(self.n, dtype=bool)
+            flags = self._active[k]
             for j, label in active.items():
                 flags[j] = True
                 key = (int(j), label)
                 self.active_time[key] = self.active_time.get(key, 0.0) + dt
-        self.active.append(flags)
-        for name in self.obstacle_names:
-            values = self.clearance[name]
-            if clearances and name in clearances:
-                values.append(float(clearances[name][0]))
-            else:  # not measured this cycle (robot standing): repeat the last value
-                values.append(values[-1] if values else float("inf"))
+        if self.obstacle_names:
+            self._add_clearances(k, clearances)
+        self._k = k + 1
+
+    def _add_clearances(self, k: int, clearances: dict[str, tuple[float, int]] | None) -> None:
+        last = self._last_clearance
+        if clearances:
+            for i, name in enumerate(self.obstacle_names):
+                if name in clearances:
+                    last[i] = float(clearances[name][0])
+        # not measured this cycle (robot standing): the last value is repeated
+        self._clearance[k] = last
+
+    def path_error(self, tcp: np.ndarray, desired: np.ndarray) -> tuple[float, float]:
+        """Norms of the position and orientation parts of ``tcp ⊖ desired`` on the
+        controlled task components (m, rad)."""
+        err = spatial.pose_error(tcp, desired)
+        return float(np.linalg.norm(err[self._pos_rows])), float(
+            np.linalg.norm(err[self._ori_rows])
+        )
 
     def note_relaxed(
         self, line: int, t: float, dt: float, deviation: float, ori: float, binding: str
@@ -132,24 +179,26 @@ class Recorder:
 
     # ------------------------------------------------------------------ arrays
     def arrays(self) -> RecordedRun:
-        k = len(self.times)
-        q = np.array(self.q) if k else np.zeros((0, self.n))
-        times = np.array(self.times)
+        k = self._k
+        times = self._times[:k].copy()
+        q = self._q[:k].copy()
         speed, accel = finite_differences(times, q)
         return RecordedRun(
             times=times,
-            lines=np.array(self.lines, dtype=int),
+            lines=self._lines[:k].copy(),
             q=q,
             speed=speed,
             accel=accel,
-            tcp=np.array(self.tcp) if k else np.zeros((0, 4, 4)),
-            pos_error=np.array(self.pos_error),
-            ori_error=np.array(self.ori_error),
-            iterations=np.array(self.iterations, dtype=int),
-            relaxed=np.array(self.relaxed, dtype=bool),
-            manipulability=np.array(self.manipulability),
-            active=np.array(self.active) if k else np.zeros((0, self.n), dtype=bool),
-            clearance={name: np.array(v) for name, v in self.clearance.items()},
+            tcp=self._tcp[:k].copy(),
+            pos_error=self._pos_error[:k].copy(),
+            ori_error=self._ori_error[:k].copy(),
+            iterations=self._iterations[:k].copy(),
+            relaxed=self._relaxed[:k].copy(),
+            manipulability=self._manipulability[:k].copy(),
+            active=self._active[:k].copy(),
+            clearance={
+                name: self._clearance[:k, i].copy() for i, name in enumerate(self.obstacle_names)
+            },
         )
 
 
