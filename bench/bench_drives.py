@@ -6,10 +6,13 @@ small program written here: PTP to home, LIN 300 mm along the track's direction 
 back). The drive simulation alone is timed. The cases run interleaved (round-robin over
 the whole plan, ``--repeat`` rounds) so that a change in the machine's load hits every case
 alike; the table gives the median and the best round, and the load average before and
-after. ``--plan core`` times only the 1 ms coupled/decoupled and the pwm runs (what the
-before/after comparison in docs/benchmarks.md uses). Usage::
+after. ``--plan core`` times only the 1 ms coupled/decoupled and the pwm runs. Every case
+runs the numpy loop (``accel=False``, the reference); with numba installed the cases the
+compiled loop covers (``runtime/drives/accel.py``) run a second time with ``accel=True``
+(the kernel is compiled or loaded from numba's cache before timing; ``--no-accel`` skips
+them). Usage::
 
-    python bench/bench_drives.py [--repeat 3] [--plan full|core] [--pwm-koch11]
+    python bench/bench_drives.py [--repeat 3] [--plan full|core] [--pwm-koch11] [--no-accel]
 
 ``M refresh``: ``adaptive`` is the default (``runtime/drives/refresh.py``), ``every step``
 forces ``dynamics_every=1``, ``k steps`` a fixed interval.
@@ -26,7 +29,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from irlc.runtime.drives import simulate_drives
+from irlc.runtime.drives import accel, simulate_drives
 from irlc.runtime.run import run_file
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -56,12 +59,12 @@ def setpoints(name: str):
     return run.model, run.times, run.q
 
 
-def timed(model, times, q, level, step, every):
+def timed(model, times, q, level, step, every, fast):
     w0, c0 = time.perf_counter(), time.process_time()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         run = simulate_drives(
-            model, times, q, level=level, step=step, hold=0.0, dynamics_every=every
+            model, times, q, level=level, step=step, hold=0.0, dynamics_every=every, accel=fast
         )
     return time.perf_counter() - w0, time.process_time() - c0, run
 
@@ -82,8 +85,17 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--plan", choices=("full", "core"), default="full")
     ap.add_argument("--pwm-koch11", action="store_true", help="also time pwm on koch11 (slow)")
+    ap.add_argument("--no-accel", action="store_true", help="numpy loop only")
     args = ap.parse_args()
     print(f"python {platform.python_version()}, numpy {np.__version__}, {platform.machine()}")
+    use_fast = accel.AVAILABLE and not args.no_accel
+    if use_fast:
+        import numba
+
+        warm = accel.cache_warm()
+        seconds = accel.warm_up()
+        state = "loaded from cache" if warm else "compiled"
+        print(f"numba {numba.__version__}: drive kernel {state} in {seconds:.2f} s")
     load0 = os.getloadavg()
     plan = []
     data = {}
@@ -91,31 +103,33 @@ def main() -> None:
         data[case] = setpoints(case)
         for level, step, every in FULL if args.plan == "full" else CORE:
             if level != "pwm" or case == "irb6_track line" or args.pwm_koch11:
-                plan.append((case, level, step, every))
+                plan.append((case, level, step, every, False))
+                if use_fast and level != "pwm":
+                    plan.append((case, level, step, every, True))
     times_of = {item: [] for item in plan}
     runs = {}
     for _ in range(args.repeat):  # interleaved rounds
         for item in plan:
-            case, level, step, every = item
-            wall, cpu, run = timed(*data[case], level, step, every)
+            case, level, step, every, fast = item
+            wall, cpu, run = timed(*data[case], level, step, every, fast)
             times_of[item].append((wall, cpu))
             runs[item] = run
     load1 = os.getloadavg()
     print(f"load average (1, 5, 15 min) before {load0}, after {load1}")
     print(
-        "| case | level | step | M refresh | steps | simulated s | wall s (median) "
+        "| case | level | step | M refresh | loop | steps | simulated s | wall s (median) "
         "| × real time, wall (median / best) | × real time, CPU (median) "
         "| max dev. vs rule step, % range | could follow |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for item in plan:
-        case, level, step, every = item
+        case, level, step, every, fast = item
         run = runs[item]
         sim = run.t[-1] - run.t[0]
         wall = np.median([w for w, _ in times_of[item]])
         best = min(w for w, _ in times_of[item])
         cpu = np.median([c for _, c in times_of[item]])
-        rule = (case, level, None, None)
+        rule = (case, level, None, None, False)
         dev = _deviation(runs.get(rule), run)
         follow = (
             "yes"
@@ -126,6 +140,7 @@ def main() -> None:
         label = "rule" if step is None else "forced"
         print(
             f"| {case} | {level} | {run.step * 1e3:.4g} ms ({label}) | {refresh} "
+            f"| {'numba' if fast else 'numpy'} "
             f"| {len(run.t)} | {sim:.2f} | {wall:.2f} | {sim / wall:.2f} / {sim / best:.2f} "
             f"| {sim / cpu:.2f} | {dev} | {follow} |"
         )

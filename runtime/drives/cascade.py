@@ -1,6 +1,21 @@
 """The DC axis cascade as one bank of axes: position P → velocity PI → current controller
 with armature → power stage (averaged or PWM). One call advances every DC axis one step.
 
+Averaged stage, fused: between saturations the whole cascade is linear. With the state
+``s = [x_v, i, u]`` (PI integral, armature current, controller output) and the inputs
+``d = θ_ref − θ``, ``ω`` held over the step, one per-axis matrix ``G`` (built once from
+the gains and the exact current-loop map ``[Φ Γ; Ψ̄ₓ Ψ̄_w]`` of :class:`.current.CurrentLoop`)
+gives every quantity of the step at once::
+
+    [u_ω, u_i^raw, u_end, i_end, ī, x_v', ū] = G · [d, ω, x_v, i, u]
+    u_ω = kz d,   e = u_ω − ke ω,   u_i = kp e + ki x_v,   x_v' = x_v + h e,
+    [i, u]_end, [ī, ū] = [Φ Γ; Ψ̄ₓ Ψ̄_w] · [i, u, u_i, ω]
+
+If no limit is reached (``|u_ω|, |u_i| ≤ u_ref_max``, ``|u_end| ≤ U``,
+``|i_end|, |ī| ≤ i_max``) this *is* the step; otherwise the step is redone element by
+element (:func:`.position.position_p`, :class:`.velocity.VelocityPI`,
+:func:`.power_stage.averaged`), which handles every saturation exactly.
+
 Start: at rest with the current (and PI integral, controller output) that holds the
 given motor torque, so a run does not begin with the arm sagging.
 """
@@ -29,10 +44,23 @@ class DcBank:
         else:
             self.loop = CurrentLoop(c.R, c.L, c.ks, c.k, c.kiwzm, h)
             self.loop.x[:, 0], self.loop.x[:, 1] = i0, c.R * i0
+            self.fused = fused_matrix(c, h, self.loop.big)
+            self.limits = np.stack([c.u_ref_max, c.u_ref_max, c.U, c.i_max, c.i_max], axis=1)
+            self._z = np.zeros((len(i0), 5))
+            self._no_sat = np.zeros(len(i0), dtype=bool)
+            self._try_fused = True
 
     def step(self, theta_ref, theta, omega, t: float):
         """Motor torque, mean current, mean voltage, saturation flags, electrical energy in
         and copper loss over the step."""
+        if not self.pwm:
+            if self._try_fused:
+                fast = self._fused_step(theta_ref, theta, omega)
+                if fast is not None:
+                    return fast
+                self._try_fused = False  # a limited step: the next one mostly is too
+            else:
+                self._try_fused = True
         c = self.c
         u_w, sat_p = position_p(c.kz, theta_ref, theta, c.u_ref_max)
         u_i, sat_v = self.pi.step(u_w, omega, self.h)
@@ -43,3 +71,44 @@ class DcBank:
                 self.loop, u_i, omega, c, self.h
             )
         return motor.torque(c.ks, i_mean), i_mean, u_mean, sat_p | sat_v | sat_s, energy, copper
+
+    def _fused_step(self, theta_ref, theta, omega):
+        """The step as one linear map when no limit is reached, else ``None`` (state kept)."""
+        z = self._z
+        np.subtract(theta_ref, theta, out=z[:, 0])
+        z[:, 1] = omega
+        z[:, 2] = self.pi.x
+        z[:, 3:] = self.loop.x
+        out = np.einsum("aij,aj->ai", self.fused, z)
+        if np.count_nonzero(np.abs(out[:, :5]) > self.limits):
+            return None
+        self.pi.x = out[:, 5]
+        self.loop.x = out[:, 2:4][:, ::-1]
+        c, h = self.c, self.h
+        i_mean, u_mean = out[:, 4], out[:, 6]
+        return (
+            c.ks * i_mean,
+            i_mean,
+            u_mean,
+            self._no_sat,
+            u_mean * i_mean * h,
+            c.R * i_mean * i_mean * h,
+        )
+
+
+def fused_matrix(c: DcDrives, h: float, big: np.ndarray) -> np.ndarray:
+    """``G`` (axes, 7, 5): rows ``[u_ω, u_i^raw, u_end, i_end, ī, x_v', ū]``, columns
+    ``[d, ω, x_v, i, u]``; ``big`` the current loop's ``[Φ Γ; Ψ̄ₓ Ψ̄_w]`` (axes, 4, 4) on
+    ``[i, u, u_i, ω]`` with rows ``[i_end, u_end, ī, ū]``."""
+    m = len(c.kz)
+    g = np.zeros((m, 7, 5))
+    g[:, 0, 0] = c.kz
+    raw = np.stack([c.kp * c.kz, -c.kp * c.ke, c.ki, np.zeros(m), np.zeros(m)], axis=1)
+    g[:, 1] = raw
+    g[:, 5] = np.stack([h * c.kz, -h * c.ke, np.ones(m), np.zeros(m), np.zeros(m)], axis=1)
+    for row, b in ((2, 1), (3, 0), (4, 2), (6, 3)):  # current-loop rows through u_i = raw
+        g[:, row] = big[:, b, 2, None] * raw
+        g[:, row, 1] += big[:, b, 3]
+        g[:, row, 3] += big[:, b, 0]
+        g[:, row, 4] += big[:, b, 1]
+    return g

@@ -45,7 +45,7 @@ class CurrentLoop:
         self.phi[:], self.gamma[:] = phi, psi1 @ big_b
         self.mean_x[:], self.mean_w[:] = psi1 / h, psi2 @ big_b / h
         # one (4×4) map per axis: [x_end; x_mean] = big · [x0; w]
-        self._big = np.block([[self.phi, self.gamma], [self.mean_x, self.mean_w]])
+        self.big = np.block([[self.phi, self.gamma], [self.mean_x, self.mean_w]])
         self._xw = np.zeros((m, 4))
 
     @property
@@ -61,6 +61,6 @@ class CurrentLoop:
         """Advance one step; returns the mean state over the step ``(ī, ū)``."""
         xw = self._xw
         xw[:, 2], xw[:, 3] = u_i, omega
-        out = np.einsum("aij,aj->ai", self._big, xw)
+        out = np.einsum("aij,aj->ai", self.big, xw)
         xw[:, :2] = out[:, :2]
         return out[:, 2], out[:, 3]

@@ -130,36 +130,41 @@ class Mechanics:
         return qdd, fric, stuck
 
     def _karnopp(self, m, h, drive, slide, stuck, static, running):
-        """The Karnopp step without prescribed joints, on the blocks of the held ``M``
-        cached per stuck mask: solve the free axes with the stuck ones at rest; stuck axes
-        whose holding torque exceeds ``static`` break away (sliding with ``running``) and
-        the free axes are solved once more — the same two passes as the general loop."""
-        fric = slide.copy()
-        qdd = np.zeros(self.n)
+        """The Karnopp step without prescribed joints, on the held ``M``: solve the free axes
+        with the stuck ones at rest (``q̈ = P_S (T − f − h)``, ``P_S`` the inverse of the free
+        block ``M_ff`` embedded in an n×n zero matrix, cached with ``M P_S`` per stuck mask
+        ``S`` until the next refresh); the holding torque of the stuck axes is
+        ``T − h − M q̈``; stuck axes whose holding torque exceeds ``static`` break away
+        (sliding with ``running``) and the free axes are solved once more — the same two
+        passes as the general loop."""
+        fric = slide
+        base = drive - h
+        n = self.n
         for _ in range(2):
-            free, held, inv, m_hf = self._blocks(m, stuck)
-            qdd[:] = 0.0
-            qdd[free] = inv @ (drive[free] - fric[free] - h[free])
-            if not len(held):
+            both = self._embedded_inverse(m, stuck) @ (base - fric)  # [q̈; M q̈]
+            qdd = both[:n]
+            need = base - both[n:]
+            kept = stuck & (np.abs(need) <= static)
+            broke = stuck ^ kept
+            if not np.count_nonzero(broke):
+                fric = np.where(kept, need, fric)
                 break
-            need = drive[held] - m_hf @ qdd[free] - h[held]
-            holds = np.abs(need) <= static[held]
-            fric[held] = np.where(holds, need, running[held] * np.sign(need))
-            if holds.all():
-                break
-            stuck = stuck.copy()
-            stuck[held[~holds]] = False
+            fric = np.where(kept, need, np.where(broke, running * np.sign(need), fric))
+            stuck = kept
         return qdd, fric, stuck
 
-    def _blocks(self, m, stuck):
-        """``(free, held, M_ff⁻¹, M_hf)`` of a stuck mask, once per refresh of ``M``."""
+    def _embedded_inverse(self, m, stuck) -> np.ndarray:
+        """``[P_S; M P_S]`` (2n × n), ``P_S`` = ``M_ff⁻¹`` on the free rows and columns, zero
+        elsewhere; once per stuck mask and refresh of ``M``."""
         key = stuck.tobytes()
-        blocks = self._reduced.get(key)
-        if blocks is None:
-            free, held = np.flatnonzero(~stuck), np.flatnonzero(stuck)
-            inv = np.linalg.inv(m[np.ix_(free, free)]) if len(free) else np.zeros((0, 0))
-            blocks = self._reduced[key] = (free, held, inv, m[np.ix_(held, free)])
-        return blocks
+        both = self._reduced.get(key)
+        if both is None:
+            free = np.flatnonzero(~stuck)
+            inv = np.zeros_like(m)
+            if len(free):
+                inv[np.ix_(free, free)] = np.linalg.inv(m[np.ix_(free, free)])
+            both = self._reduced[key] = np.vstack([inv, m @ inv])
+        return both
 
     def _solve(self, m, h, tau, known, qdd):
         if m.ndim == 1:

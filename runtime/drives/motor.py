@@ -41,7 +41,8 @@ def first_order(i0, voltage, omega, R, L, ks, tau, i_max):
         return end, area, square, voltage * area, np.zeros(end.shape, dtype=bool)
     limited = np.abs(a) > i_max
     side = np.sign(a)
-    ratio = np.where(limited & (d != 0.0), (side * i_max - a) / np.where(d != 0.0, d, 1.0), 1.0)
+    # e^{−t*/T} = (s·i_max − a)/d ∈ (0, 1] on limited axes; 0 (t* = ∞: never) on the others
+    ratio = np.where(limited & (d != 0.0), (side * i_max - a) / np.where(d != 0.0, d, 1.0), 0.0)
     t1 = np.minimum(tau, -big_t * np.log(np.clip(ratio, 1e-300, 1.0)))
     t2 = tau - t1
     decay = np.exp(-t1 / big_t)

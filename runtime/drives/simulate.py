@@ -53,6 +53,7 @@ def simulate_drives(
     hold: float = 0.5,
     record: str = "step",
     dynamics_every: int | None = None,
+    accel: bool | None = None,
 ) -> DriveRun:
     """Simulate the robot's drives following ``q_cmd`` (``(k, n)`` SI at ``times``).
 
@@ -62,7 +63,9 @@ def simulate_drives(
     ``[drives.slave]``); ``hold`` (s) extends the run past the last sample;
     ``record="ipo"`` decimates the arrays to the IPO times; ``dynamics_every`` refreshes
     ``M(q)``, ``C q̇ + G`` every that many steps (default ``None``: adaptive, when the
-    configuration or speed has changed by more than :mod:`.refresh`'s bounds).
+    configuration or speed has changed by more than :mod:`.refresh`'s bounds);
+    ``accel`` runs the loop through the optional compiled kernel (:mod:`.accel`: ``True``
+    always, ``False`` never, ``None`` when numba's cache holds it; numpy is the reference).
     """
     times, q_cmd = _check_inputs(model, times, q_cmd, level, record)
     if not (np.isfinite(hold) and hold >= 0.0):
@@ -82,7 +85,7 @@ def simulate_drives(
             run.notes.append(f"robot {model.name} has no [drives]: all axes run ideal")
         return run
     sim = _Simulation(model, params, level, times, q_cmd, step, interpolation, hold, dynamics_every)
-    run = sim.run(tol)
+    run = sim.run(tol, accel)
     return _decimate(run, times) if record == "ipo" else run
 
 
@@ -255,7 +258,7 @@ class _Simulation:
         self.qdd_ref = np.gradient(self.qd_ref, self.h, axis=0)
 
     # ------------------------------------------------------------------ loop
-    def run(self, tol) -> DriveRun:
+    def run(self, tol, accel: bool | None = None) -> DriveRun:
         n, h, axes, ratio, k = self.n, self.h, self.axes, self.ratio, len(self.t)
         frc = self.p.friction
         q = self.q_ref[0].copy()
@@ -283,6 +286,12 @@ class _Simulation:
         moving_map = not diagonal and trans.matrix is None  # K(q) changes with q
         mech = self.mech
         refresh = Refresh(self.refresh, h, n)
+        if accel is not False and self._accelerated(accel):
+            from irlc.runtime.drives.accel import AcceleratedLoop
+
+            loop = AcceleratedLoop(self, bank, static_j, running_j, sticky, sliding)
+            loop.run(q, qd, theta_ref, refresh, rec, rec_i, rec_u, sat_rec, energy, copper)
+            return self._result(tol, rec, rec_i, rec_u, sat_rec, energy, copper, bank, q)
         for s in range(k):
             if diagonal:
                 if all_driven:
@@ -307,7 +316,10 @@ class _Simulation:
                 if sliding:
                     slide = kmat.T @ fr.sliding(omega, frc.running, frc.viscous)
             if sticky:
-                stuck[axes] = np.abs(omega) < self.band
+                if all_driven:
+                    np.less(np.abs(omega), self.band, out=stuck)
+                else:
+                    stuck[axes] = np.abs(omega) < self.band
             if refresh.due(s, q, qd):
                 m, hb = mech.terms(q, qd)
                 m_inv = mech.inverse(m)
@@ -329,6 +341,12 @@ class _Simulation:
                 q[prescribed] = self.q_ref[s + 1, prescribed]
                 qd[prescribed] = self.qd_ref[s + 1, prescribed]
         return self._result(tol, rec, rec_i, rec_u, sat_rec, energy, copper, bank, q)
+
+    def _accelerated(self, requested: bool | None) -> bool:
+        """Run the compiled loop? (not imported at module level: ``python -m …accel``)"""
+        from irlc.runtime.drives import accel
+
+        return accel.AcceleratedLoop.covers(self) and accel.use_accel(requested)
 
     def _bank(self, q0):
         """The drives of the driven axes, at rest at ``q0`` holding the arm against gravity."""

@@ -72,6 +72,12 @@ class Transmission:
         self._ab2 = 2.0 * self._a * self._b
         self._sq = self._a**2 + self._b**2
         self._s0 = np.sqrt(self._sq - self._ab2 * np.cos(self._phi0))
+        # scatter of the lever rows into θ_m (m × levers) and into K, flattened (levers × m·n)
+        self._scatter = np.zeros((m, len(lever)))
+        self._scatter[self._rows, np.arange(len(lever))] = 1.0
+        self._k_rows = np.einsum("ar,rj->raj", self._scatter, self._coef).reshape(len(lever), -1)
+        self._lin_flat = self._lin.ravel()
+        self._dk_gain = self._gain * 0.5 * self._ab2
 
     def _lever_motor(self, q: np.ndarray) -> np.ndarray:
         out = q @ self._lin.T
@@ -85,10 +91,10 @@ class Transmission:
             return self.to_motor(q), self.jacobian(q)
         v = self._coef @ q + self._phi0
         s = np.sqrt(self._sq - self._ab2 * np.cos(v))
-        theta = self._lin @ q
-        theta[self._rows] = self._gain * (s - self._s0)
-        k = self._lin.copy()
-        k[self._rows] = (self._gain * 0.5 * self._ab2 * np.sin(v) / s)[:, None] * self._coef
+        theta = self._lin @ q + self._scatter @ (self._gain * (s - self._s0))
+        k = (self._lin_flat + (self._dk_gain * np.sin(v) / s) @ self._k_rows).reshape(
+            self._lin.shape
+        )
         return theta, k
 
     def _lever_jacobian(self, q: np.ndarray) -> np.ndarray:

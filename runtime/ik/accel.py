@@ -25,17 +25,13 @@ once per install.
 
 from __future__ import annotations
 
-import importlib.util
-import os
 import time
 
 import numpy as np
 import quadprog
+from irlc.runtime import accel_support
 
-_DISABLED = os.environ.get("IRLC_NO_ACCEL", "") == "1"
-
-
-AVAILABLE = not _DISABLED and importlib.util.find_spec("numba") is not None  # (not imported yet)
+AVAILABLE = accel_support.AVAILABLE  # numba importable and not IRLC_NO_ACCEL=1
 _kernels = None  # the module, imported on first use (numba import ≈ 0.2 s)
 compile_seconds: float | None = None  # first kernel call of this process (compile or load)
 
@@ -50,26 +46,13 @@ def _module():
 
 
 def cache_warm() -> bool:
-    """True when numba's on-disk cache holds the main kernel for the current source
-    (numba's index is keyed by the source file's time stamp and size)."""
-    if not AVAILABLE:
-        return False
-    try:
-        return bool(_module().newton_cycle._cache._cache_file._load_index())
-    except Exception:  # numba's internal cache API changed, or unreadable: assume cold
-        return False
+    """True when numba's on-disk cache holds the main kernel for the current source."""
+    return AVAILABLE and accel_support.kernel_cached(_module().newton_cycle)
 
 
 def use_accel(requested: bool | None) -> bool:
-    """Decide whether a solver uses the accelerator (see the module docstring)."""
-    if not AVAILABLE or requested is False:
-        return False
-    if requested is True:
-        return True
-    env = os.environ.get("IRLC_ACCEL", "")
-    if env in ("0", "1"):
-        return env == "1"
-    return cache_warm()
+    """Decide whether a solver uses the accelerator (:func:`accel_support.decide`)."""
+    return accel_support.decide(requested, cache_warm)
 
 
 def warm_up() -> float:

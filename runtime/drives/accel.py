@@ -1,0 +1,160 @@
+"""Optional compiled drive loop (``pip install irlc[fast]``: numba).
+
+The numpy loop of :mod:`.simulate` is the reference and the default without numba. With
+numba, :class:`AcceleratedLoop` runs the same steps through the kernel
+:func:`.accel_kernels.run_segment` and returns to numpy only to refresh ``M(q)`` and
+``C q̇ + G`` (:mod:`.refresh`). Results equal the numpy path to rounding (tested in
+``tests/drives/test_accel.py``).
+
+Covered: DC drives with the averaged power stage (``decoupled``, ``coupled``) on robots
+whose joints are all driven, any transmission (plain ratios, linear couplings, screw
+levers), friction, both refresh policies. Not covered (the numpy loop runs): ``pwm``,
+stepper drives, joints without drive data (prescribed motion).
+
+When it is used: :func:`irlc.runtime.accel_support.decide` — ``simulate_drives(...,
+accel=True)`` always (compiling if needed, ≈ 5 s once per install; numba caches the
+machine code), ``False`` never, ``None`` (default) when the kernel is in numba's on-disk
+cache; ``IRLC_NO_ACCEL=1`` / ``IRLC_ACCEL=0|1`` as for the IK accelerator.
+``python -m irlc.runtime.drives.accel`` fills the cache.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from irlc.runtime import accel_support
+
+AVAILABLE = accel_support.AVAILABLE
+_kernels = None
+compile_seconds: float | None = None  # first kernel call of this process (compile or load)
+
+
+def _module():
+    global _kernels
+    if _kernels is None:
+        from irlc.runtime.drives import accel_kernels
+
+        _kernels = accel_kernels
+    return _kernels
+
+
+def cache_warm() -> bool:
+    """True when numba's on-disk cache holds the drive kernel for the current source."""
+    return AVAILABLE and accel_support.kernel_cached(_module().run_segment)
+
+
+def use_accel(requested: bool | None) -> bool:
+    """Decide whether a run uses the compiled loop (:func:`accel_support.decide`)."""
+    return accel_support.decide(requested, cache_warm)
+
+
+class AcceleratedLoop:
+    """The constant arrays of one :class:`~.simulate._Simulation` for the kernel."""
+
+    def __init__(self, sim, bank, static_j, running_j, sticky: bool, sliding: bool):
+        k = _module()
+        self.k, self.sim, self.bank = k, sim, bank
+        c, frc, trans = sim.p.chain, sim.p.friction, sim.trans
+        n, m = sim.n, len(sim.axes)
+        par = np.zeros((m, k.N_PAR))
+        for idx, value in (
+            (k.KZ, c.kz), (k.KE, c.ke), (k.KP, c.kp), (k.KI, c.ki), (k.ULIM, c.u_ref_max),
+            (k.R, c.R), (k.L, c.L), (k.KS, c.ks), (k.U, c.U), (k.IMAX, c.i_max),
+            (k.RUN_M, frc.running), (k.VISC_M, frc.viscous), (k.BAND, sim.band),
+        ):  # fmt: skip
+            par[:, idx] = value
+        self.par = par
+        self.lin, self.rows = np.zeros((m, n)), np.zeros(0, dtype=np.int64)
+        self.coef, self.lev = np.zeros((0, n)), np.zeros((0, k.N_LEV))
+        if trans.diagonal:
+            self.lin[np.arange(m), sim.axes] = trans.ratio
+        elif trans.matrix is not None:
+            self.lin[:] = trans.matrix
+        else:
+            self.lin[:] = trans._lin
+            self.rows = trans._rows.astype(np.int64)
+            self.coef = np.ascontiguousarray(trans._coef)
+            self.lev = np.stack([trans._sq, trans._ab2, trans._phi0, trans._gain, trans._s0], 1)
+        self.static_j, self.running_j = static_j, running_j
+        self.ist = np.zeros(k.N_IST, dtype=np.int64)
+        self.fst = np.array([sim.h, 0.0, 0.0])
+        self.ist[k.STICKY], self.ist[k.SLIDING] = int(sticky), int(sliding)
+
+    @staticmethod
+    def covers(sim) -> bool:
+        """Is this simulation inside the kernel's scope (module docstring)?"""
+        return (
+            sim.is_dc
+            and not sim.pwm
+            and sim.driven.all()
+            and np.array_equal(sim.axes, np.arange(sim.n))
+        )
+
+    def run(self, q, qd, theta_ref, refresh, rec, rec_i, rec_u, sat_rec, energy, copper):
+        """All steps; ``q``, ``qd``, the records and the bank's state are updated in place."""
+        if compile_seconds is None:
+            warm_up()
+        k, sim, bank = self.k, self.sim, self.bank
+        ist, fst = self.ist, self.fst
+        steps = len(sim.t)
+        ist[k.STEPS] = steps
+        ist[k.EVERY] = 0 if refresh.every is None else refresh.every
+        ist[k.MAX_STEPS] = refresh.max_steps
+        fst[k.DQ], fst[k.DV] = refresh.dq, refresh.dv
+        n = sim.n
+        mm, hb, m_inv = np.zeros((n, n)), np.zeros(n), np.zeros((n, n))
+        xv = np.ascontiguousarray(bank.pi.x, dtype=float).copy()
+        xiu = bank.loop.x.copy()
+        xi, xu = np.ascontiguousarray(xiu[:, 0]), np.ascontiguousarray(xiu[:, 1])
+        theta_ref = np.ascontiguousarray(theta_ref)
+        s, fresh = 0, 0
+        while True:
+            ist[k.START], ist[k.FRESH], ist[k.S0] = s, fresh, refresh.s0
+            s = k.run_segment(
+                ist, fst, self.par, bank.fused, bank.limits, bank.loop.big, theta_ref,
+                self.lin, self.rows, self.coef, self.lev, self.static_j, self.running_j,
+                q, qd, xv, xi, xu, mm, hb, m_inv, refresh.q0, refresh.qd0,
+                rec["q"], rec["qd"], rec["tau"], rec["f"], rec_i, rec_u, sat_rec,
+                energy, copper,
+            )  # fmt: skip
+            if s >= steps:
+                break
+            m_new, hb[:] = sim.mech.terms(q, qd)
+            if m_new.ndim == 1:  # decoupled, plain ratios: D diagonal
+                mm[:] = np.diag(m_new)
+                m_inv[:] = np.diag(1.0 / m_new)
+            else:
+                mm[:] = m_new
+                m_inv[:] = np.linalg.inv(m_new)
+            refresh.mark(s, q, qd)
+            fresh = 1
+        bank.loop.x[:, 0], bank.loop.x[:, 1] = xi, xu
+        bank.pi.x = xv
+
+
+def warm_up() -> float:
+    """Compile (or load from the cache) the kernel by running a tiny simulation; returns
+    the seconds it took. Called on the first accelerated run of a process."""
+    global compile_seconds
+    if compile_seconds is not None:
+        return compile_seconds
+    t0 = time.perf_counter()
+    compile_seconds = -1.0  # (the run below must not recurse into warm_up)
+    from irlc.robots import load_robot
+    from irlc.runtime.drives.simulate import simulate_drives
+
+    model = load_robot("irb6_track")  # screw levers, friction: every branch's types
+    q0 = np.asarray(model.home_q(), dtype=float)
+    times = np.array([0.0, 0.01])
+    simulate_drives(model, times, np.stack([q0, q0]), level="coupled", hold=0.0, accel=True)
+    compile_seconds = time.perf_counter() - t0
+    return compile_seconds
+
+
+if __name__ == "__main__":  # python -m irlc.runtime.drives.accel: fill numba's cache once
+    if not AVAILABLE:
+        raise SystemExit("numba is not installed (pip install 'irlc[fast]') or IRLC_NO_ACCEL=1")
+    warm = cache_warm()
+    seconds = warm_up()
+    print(f"irlc drive accelerator: {'loaded' if warm else 'compiled'} in {seconds:.2f} s")

@@ -1,0 +1,326 @@
+"""Compiled kernel (numba) of the averaged DC drive loop — the numbers of the numpy path,
+fused.
+
+Imported only through :mod:`.accel` when numba is available. :func:`run_segment` runs the
+steps of :meth:`irlc.runtime.drives.simulate._Simulation.run` from ``start`` until the
+held ``M``, ``C q̇ + G`` are due for a refresh (:mod:`.refresh`) or the run ends, and
+returns that step; the caller refreshes them in numpy and resumes. Per step, the same
+arithmetic as its numpy reference (named in each docstring), written as loops over the
+axes:
+
+* transmission (:meth:`.transmission.Transmission.motor_and_jacobian`): ``θ_m = L q`` plus
+  the screw-lever rows, ``K`` likewise, ``ω_m = K q̇``;
+* the cascade (:class:`.cascade.DcBank`): the fused linear map ``G`` when no limit is
+  reached, else P → PI (conditional integration) → current loop → averaged stage with
+  the closed-form armature at ``±U`` (:func:`.motor.first_order`) and the current clamp
+  (:func:`.power_stage.averaged`), per axis;
+* friction and mechanics (:meth:`.mechanics.Mechanics.accel`): ``q̈ = M⁻¹ (T − f − h)``,
+  or Karnopp's two passes with the reduced system ``M_ff q̈_f = T_f − f_f − h_f`` solved by
+  Gaussian elimination with partial pivoting (numpy: the cached inverse of ``M_ff``);
+* semi-implicit Euler ``q̇ += h q̈`` (stuck axes ``q̇ := 0``), ``q += h q̇``.
+
+Packed arguments (indices below): ``ist`` integers, ``fst`` floats, ``par`` per-axis
+constants ``(m, N_PAR)``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+# ist
+START, STEPS, EVERY, MAX_STEPS, S0, FRESH, STICKY, SLIDING = range(8)
+N_IST = 8
+# fst
+H, DQ, DV = range(3)
+N_FST = 3
+# par (per axis)
+KZ, KE, KP, KI, ULIM, R, L, KS, U, IMAX, RUN_M, VISC_M, BAND = range(13)
+N_PAR = 13
+# lev (per screw-lever row)
+LEV_SQ, LEV_AB2, LEV_PHI0, LEV_GAIN, LEV_S0 = range(5)
+N_LEV = 5
+
+
+@njit(cache=True)
+def _sign(x):
+    return (x > 0.0) - (x < 0.0)
+
+
+@njit(cache=True)
+def _clip(x, lo, hi):
+    return min(max(x, lo), hi)
+
+
+@njit(cache=True)
+def _first_order(i0, volts, omega, r, ell, ks, tau, i_max, res):
+    """``motor.first_order`` for one axis: ``res = [i(τ), ∫i, ∫i², ∫u i]``."""
+    a = (volts - ks * omega) / r
+    big_t = ell / r
+    d = i0 - a
+    decay = math.exp(-tau / big_t)
+    end = a + d * decay
+    if abs(end) <= i_max:
+        one = big_t * (1.0 - decay)
+        area = a * tau + d * one
+        res[0] = end
+        res[1] = area
+        res[2] = a * a * tau + 2.0 * a * d * one + d * d * 0.5 * big_t * (1.0 - decay * decay)
+        res[3] = volts * area
+        return
+    side = _sign(a)
+    ratio = 0.0
+    if abs(a) > i_max and d != 0.0:
+        ratio = (side * i_max - a) / d
+    t1 = min(tau, -big_t * math.log(_clip(ratio, 1e-300, 1.0)))
+    t2 = tau - t1
+    decay = math.exp(-t1 / big_t)
+    one = big_t * (1.0 - decay)
+    area1 = a * t1 + d * one
+    square1 = a * a * t1 + 2.0 * a * d * one + d * d * 0.5 * big_t * (1.0 - decay * decay)
+    held = side * i_max
+    res[0] = held if t2 > 0.0 else a + d * decay
+    res[1] = area1 + held * t2
+    res[2] = square1 + i_max * i_max * t2
+    res[3] = volts * area1 + (r * held + ks * omega) * held * t2
+
+
+@njit(cache=True)
+def _axis_step(a, d, omega, p, fused, lim5, big, xv, xi, xu, h, out, res):
+    """One DC axis: ``out = [τ_m, ī, ū, saturated, ∫u i, ∫R i²]``; updates ``xv, xi, xu``."""
+    z0, z1, z2, z3, z4 = d, omega, xv[a], xi[a], xu[a]
+    g = fused[a]
+    ok = True
+    vals = np.empty(7)
+    for r in range(7):
+        v = g[r, 0] * z0 + g[r, 1] * z1 + g[r, 2] * z2 + g[r, 3] * z3 + g[r, 4] * z4
+        vals[r] = v
+        if r < 5 and abs(v) > lim5[a, r]:
+            ok = False
+    if ok:  # cascade.fused_matrix rows [u_ω, u_i, u_end, i_end, ī, x_v', ū]
+        xv[a], xu[a], xi[a] = vals[5], vals[2], vals[3]
+        i_mean, u_mean = vals[4], vals[6]
+        out[0], out[1], out[2], out[3] = p[a, KS] * i_mean, i_mean, u_mean, 0.0
+        out[4], out[5] = u_mean * i_mean * h, p[a, R] * i_mean * i_mean * h
+        return
+    lim = p[a, ULIM]
+    raw = p[a, KZ] * d  # position.position_p
+    u_w = _clip(raw, -lim, lim)
+    sat = u_w != raw
+    e = u_w - p[a, KE] * omega  # velocity.VelocityPI.step
+    raw = p[a, KP] * e + p[a, KI] * xv[a]
+    u_i = _clip(raw, -lim, lim)
+    if u_i != raw:
+        sat = True
+        if _sign(e) != _sign(raw):
+            xv[a] += h * e
+    else:
+        xv[a] += h * e
+    i0 = xi[a]  # power_stage.averaged
+    bg = big[a]
+    x_i = bg[0, 0] * i0 + bg[0, 1] * xu[a] + bg[0, 2] * u_i + bg[0, 3] * omega
+    x_u = bg[1, 0] * i0 + bg[1, 1] * xu[a] + bg[1, 2] * u_i + bg[1, 3] * omega
+    i_mean = bg[2, 0] * i0 + bg[2, 1] * xu[a] + bg[2, 2] * u_i + bg[2, 3] * omega
+    u_mean = bg[3, 0] * i0 + bg[3, 1] * xu[a] + bg[3, 2] * u_i + bg[3, 3] * omega
+    i_max, r_a = p[a, IMAX], p[a, R]
+    over = abs(x_u) > p[a, U]
+    if over:
+        volts = _sign(x_u) * p[a, U]
+        _first_order(i0, volts, omega, r_a, p[a, L], p[a, KS], h, i_max, res)
+        x_i, x_u, i_mean, u_mean = res[0], volts, res[1] / h, volts
+    limit = abs(x_i) > i_max or abs(i_mean) > i_max
+    if limit:
+        x_i = _clip(x_i, -i_max, i_max)
+        i_mean = _clip(i_mean, -i_max, i_max)
+        u_mean = r_a * i_mean + p[a, KS] * omega + p[a, L] * (x_i - i0) / h
+    xi[a], xu[a] = x_i, x_u
+    energy = u_mean * i_mean * h
+    copper = r_a * i_mean * i_mean * h
+    if over and not limit:
+        energy, copper = res[3], r_a * res[2]
+    out[0], out[1], out[2] = p[a, KS] * i_mean, i_mean, u_mean
+    out[3] = 1.0 if (sat or over or limit) else 0.0
+    out[4], out[5] = energy, copper
+
+
+@njit(cache=True)
+def _solve_free(mm, free, nf, rhs, qdd, work):
+    """``q̈_f = M_ff⁻¹ rhs_f`` (Gaussian elimination, partial pivoting), ``q̈`` 0 elsewhere."""
+    n = mm.shape[0]
+    for i in range(n):
+        qdd[i] = 0.0
+    for i in range(nf):
+        for j in range(nf):
+            work[i, j] = mm[free[i], free[j]]
+        work[i, nf] = rhs[free[i]]
+    for c in range(nf):
+        piv = c
+        for r in range(c + 1, nf):
+            if abs(work[r, c]) > abs(work[piv, c]):
+                piv = r
+        if piv != c:
+            for j in range(c, nf + 1):
+                work[c, j], work[piv, j] = work[piv, j], work[c, j]
+        for r in range(c + 1, nf):
+            f = work[r, c] / work[c, c]
+            for j in range(c, nf + 1):
+                work[r, j] -= f * work[c, j]
+    for i in range(nf - 1, -1, -1):
+        acc = work[i, nf]
+        for j in range(i + 1, nf):
+            acc -= work[i, j] * qdd[free[j]]
+        qdd[free[i]] = acc / work[i, i]
+
+
+@njit(cache=True)
+def _karnopp(mm, hb, drive, slide, stuck, static, running, qdd, fric, free, work, base, rhs):
+    """``Mechanics._karnopp``: two passes; ``stuck`` becomes the final held set."""
+    n = mm.shape[0]
+    for i in range(n):
+        fric[i] = slide[i]
+        base[i] = drive[i] - hb[i]
+    for _ in range(2):
+        nf = 0
+        for i in range(n):
+            rhs[i] = base[i] - fric[i]
+            if not stuck[i]:
+                free[nf] = i
+                nf += 1
+        _solve_free(mm, free, nf, rhs, qdd, work)
+        broke = False
+        for i in range(n):
+            if stuck[i]:
+                need = base[i]
+                for j in range(n):
+                    need -= mm[i, j] * qdd[j]
+                if abs(need) <= static[i]:
+                    fric[i] = need
+                else:
+                    fric[i] = running[i] * _sign(need)
+                    rhs[i] = 1.0  # (marks a break-away)
+                    broke = True
+                    continue
+            rhs[i] = 0.0
+        if not broke:
+            return
+        for i in range(n):  # the broken ones leave the stuck set
+            if rhs[i] == 1.0:
+                stuck[i] = False
+
+
+@njit(cache=True)
+def _due(s, q, qd, q0, qd0, ist, fst):
+    """``Refresh.due``."""
+    if ist[EVERY] > 0:
+        return s % ist[EVERY] == 0
+    if s - ist[S0] >= ist[MAX_STEPS]:
+        return True
+    dq = 0.0
+    dv = 0.0
+    for j in range(q.shape[0]):
+        dq = max(dq, abs(q[j] - q0[j]))
+        dv = max(dv, abs(qd[j] - qd0[j]))
+    return dq > fst[DQ] or dv > fst[DV]
+
+
+@njit(cache=True)
+def run_segment(
+    ist, fst, par, fused, lim5, big, theta_ref, lin, rows, coef, lev, static_j, running_j,
+    q, qd, xv, xi, xu, mm, hb, m_inv, q0, qd0,
+    rec_q, rec_qd, rec_tau, rec_f, rec_i, rec_u, rec_sat, energy, copper,
+):  # fmt: skip
+    """Run steps from ``ist[START]`` until a refresh is due (returns that step) or the end
+    (returns ``ist[STEPS]``). ``ist[FRESH] = 1``: the terms were just refreshed at START."""
+    n = q.shape[0]
+    m = xv.shape[0]
+    h = fst[H]
+    nl = rows.shape[0]
+    sticky = ist[STICKY] != 0
+    sliding = ist[SLIDING] != 0
+    theta = np.empty(m)
+    kmat = np.empty((m, n))
+    omega = np.empty(m)
+    tau_m = np.empty(m)
+    f_m = np.zeros(m)
+    drive = np.empty(n)
+    slide = np.zeros(n)
+    stuck = np.zeros(n, dtype=np.bool_)
+    qdd = np.empty(n)
+    fric = np.empty(n)
+    free = np.empty(n, dtype=np.int64)
+    work = np.empty((n, n + 1))
+    base = np.empty(n)
+    rhs = np.empty(n)
+    out = np.empty(6)
+    res = np.empty(4)
+    for s in range(ist[START], ist[STEPS]):
+        if not (s == ist[START] and ist[FRESH] != 0) and _due(s, q, qd, q0, qd0, ist, fst):
+            return s
+        # transmission: θ_m, K(q), ω_m
+        for a in range(m):
+            acc = 0.0
+            for j in range(n):
+                kmat[a, j] = lin[a, j]
+                acc += q[j] * lin[a, j]
+            theta[a] = acc
+        for r in range(nl):
+            a = rows[r]
+            v = lev[r, LEV_PHI0]
+            for j in range(n):
+                v += coef[r, j] * q[j]
+            sq = math.sqrt(lev[r, LEV_SQ] - lev[r, LEV_AB2] * math.cos(v))
+            theta[a] = lev[r, LEV_GAIN] * (sq - lev[r, LEV_S0])
+            dk = lev[r, LEV_GAIN] * 0.5 * lev[r, LEV_AB2] * math.sin(v) / sq
+            for j in range(n):
+                kmat[a, j] = dk * coef[r, j]
+        any_stuck = False
+        for a in range(m):
+            acc = 0.0
+            for j in range(n):
+                acc += kmat[a, j] * qd[j]
+            omega[a] = acc
+            _axis_step(
+                a, theta_ref[s, a] - theta[a], acc, par, fused, lim5, big, xv, xi, xu, h,
+                out, res,
+            )  # fmt: skip
+            tau_m[a] = out[0]
+            rec_i[s, a], rec_u[s, a], rec_sat[s, a] = out[1], out[2], out[3] != 0.0
+            energy[a] += out[4]
+            copper[a] += out[5]
+            if sliding:
+                f_m[a] = par[a, RUN_M] * _sign(acc) + par[a, VISC_M] * acc
+            if sticky:
+                stuck[a] = abs(acc) < par[a, BAND]
+                any_stuck = any_stuck or stuck[a]
+        for j in range(n):  # joint side: Kᵀ τ_m, Kᵀ f_m
+            acc = 0.0
+            acc_f = 0.0
+            for a in range(m):
+                acc += kmat[a, j] * tau_m[a]
+                acc_f += kmat[a, j] * f_m[a]
+            drive[j] = acc
+            if sliding:
+                slide[j] = acc_f
+        if any_stuck:
+            _karnopp(
+                mm, hb, drive, slide, stuck, static_j, running_j, qdd, fric, free, work, base, rhs
+            )
+        else:
+            for i in range(n):
+                base[i] = drive[i] - slide[i] - hb[i]
+                fric[i] = slide[i]
+            for i in range(n):
+                acc = 0.0
+                for j in range(n):
+                    acc += m_inv[i, j] * base[j]
+                qdd[i] = acc
+        for j in range(n):
+            rec_tau[s, j], rec_q[s, j], rec_qd[s, j], rec_f[s, j] = drive[j], q[j], qd[j], fric[j]
+        for j in range(n):
+            qd[j] += h * qdd[j]
+            if stuck[j]:
+                qd[j] = 0.0
+            q[j] += h * qd[j]
+    return ist[STEPS]

@@ -1,0 +1,138 @@
+"""The optional compiled drive loop (runtime/drives/accel.py) against the numpy reference:
+same trajectories, currents, voltages, friction, energies and flags to rounding, on every
+transmission kind it covers, both refresh policies, friction sticking and the saturation
+branches; the numpy loop where it does not cover; the use/skip decision."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+from irlc.robots.loader import load_toml
+from irlc.runtime.drives import accel, motor, simulate_drives
+
+ROBOTS = Path(__file__).resolve().parents[2] / "robots"
+needs_numba = pytest.mark.skipif(not accel.AVAILABLE, reason="numba not installed / disabled")
+FIELDS = ("q_actual", "qd_actual", "current", "voltage", "torque", "friction")
+
+
+def move(model, delta, duration):
+    times = np.linspace(0.0, duration, 41)
+    s = times / duration
+    return times, model.home_q() + np.outer(s * s * (3 - 2 * s), delta)
+
+
+def both(model, times, q, **kw):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ref = simulate_drives(model, times, q, hold=0.15, accel=False, **kw)
+        fast = simulate_drives(model, times, q, hold=0.15, accel=True, **kw)
+    return ref, fast
+
+
+def assert_same(ref, fast):
+    for name in FIELDS:
+        a, b = getattr(ref, name), getattr(fast, name)
+        assert np.allclose(a, b, rtol=0.0, atol=1e-9 * max(1.0, np.abs(a).max())), name
+    for name in ("electrical_energy", "copper_energy"):
+        assert np.allclose(getattr(ref, name), getattr(fast, name), rtol=1e-9, atol=1e-12)
+    for x, y in zip(ref.axes, fast.axes, strict=True):
+        assert x.could_follow == y.could_follow
+        assert abs(x.saturation_time - y.saturation_time) <= 1.5 * ref.step  # borderline ties
+
+
+IRB6_MOVE = np.array([0.03, 0.4, 0.25, -0.2, 0.3, 0.6])  # fast: current clamp on A3–A5
+
+
+@needs_numba
+@pytest.mark.parametrize("level, every", [("coupled", None), ("coupled", 3), ("decoupled", None)])
+def test_screw_levers_friction_and_limits(level, every):
+    """irb6_track: screw levers (K(q) every step), Karnopp sticking of the slow axes,
+    current clamp and velocity-PI saturation on the fast ones."""
+    model = load_toml(ROBOTS / "irb6_track.toml")
+    times, q = move(model, IRB6_MOVE, 0.5)
+    ref, fast = both(model, times, q, level=level, step=1e-3, dynamics_every=every)
+    assert_same(ref, fast)
+    assert max(a.saturation_time for a in ref.axes) > 0.0  # the limit branches ran
+    assert np.count_nonzero(ref.qd_actual[10:] == 0.0) > 20  # axes held by friction (Karnopp)
+
+
+@needs_numba
+def test_plain_ratios_and_rule_step():
+    """koch11: diagonal transmission, no friction, the step-size rule's step."""
+    model = load_toml(ROBOTS / "koch11.toml")
+    times, q = move(
+        model, np.linspace(0.05, 0.3, model.n) * np.where(np.arange(11) == 9, 0.2, 1), 0.6
+    )
+    ref, fast = both(model, times, q, level="coupled")
+    assert_same(ref, fast)
+
+
+@needs_numba
+def test_dry_friction_robot_decoupled():
+    model = load_toml(ROBOTS / "as6.toml")
+    times, q = move(model, np.full(model.n, 0.2), 0.8)
+    ref, fast = both(model, times, q, level="decoupled", step=1e-3)
+    assert_same(ref, fast)
+
+
+@needs_numba
+def test_pwm_and_steppers_run_the_numpy_loop():
+    """Outside the kernel's scope ``accel=True`` is the numpy loop: identical results."""
+    irb6 = load_toml(ROBOTS / "irb6_track.toml")
+    times, q = move(irb6, IRB6_MOVE / 4, 0.05)
+    ref, fast = both(irb6, times, q, level="pwm")
+    for name in FIELDS:
+        assert np.array_equal(getattr(ref, name), getattr(fast, name))
+    l1 = load_toml(ROBOTS / "l1.toml")
+    times, q = move(l1, np.full(l1.n, 0.05), 0.3)
+    ref, fast = both(l1, times, q, level="coupled")
+    for name in FIELDS:
+        assert np.array_equal(getattr(ref, name), getattr(fast, name))
+
+
+def test_use_decision(monkeypatch):
+    assert accel.use_accel(False) is False
+    assert accel.use_accel(True) is accel.AVAILABLE
+    monkeypatch.setenv("IRLC_ACCEL", "0")
+    assert accel.use_accel(None) is False
+    monkeypatch.setenv("IRLC_ACCEL", "1")
+    assert accel.use_accel(None) is accel.AVAILABLE
+
+
+def test_irlc_no_accel_runs_numpy():
+    code = (
+        "import numpy as np\n"
+        "from irlc.robots import load_robot\n"
+        "from irlc.runtime.drives import accel, simulate_drives\n"
+        "m = load_robot('koch11')\n"
+        "q = np.tile(m.home_q(), (2, 1))\n"
+        "r = simulate_drives(m, np.array([0.0, 0.01]), q, level='coupled', accel=True)\n"
+        "print(accel.AVAILABLE, accel.compile_seconds, r.could_follow)\n"
+    )
+    env = dict(os.environ, IRLC_NO_ACCEL="1")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["False", "None", "True"]
+
+
+def test_first_order_mixed_axes_equal_single_axes():
+    """The closed-form armature with some axes reaching the current limit and others not:
+    each axis as if alone (the unlimited ones never jump to the limit)."""
+    r, ell, ks, i_max, tau = np.full(3, 1.0), np.full(3, 1e-3), np.full(3, 0.1), 10.0, 5e-4
+    i0, volts, omega = np.array([9.0, 0.0, -2.0]), np.array([50.0, 5.0, -50.0]), np.zeros(3)
+    mixed = motor.first_order(i0, volts, omega, r, ell, ks, tau, i_max)
+    assert mixed[0][0] == i_max and mixed[0][2] == -i_max  # clamped
+    for a in range(3):
+        alone = motor.first_order(
+            i0[a : a + 1], volts[a], omega[a], r[a], ell[a], ks[a], tau, i_max
+        )
+        for x, y in zip(mixed, alone, strict=True):
+            assert np.isclose(x[a], y[0], rtol=1e-12, atol=1e-15)
+    # the unlimited axis: i(τ) = a + (i0 − a) e^{−τR/L}, a = u/R
+    assert np.isclose(mixed[0][1], 5.0 + (0.0 - 5.0) * np.exp(-tau / 1e-3))
