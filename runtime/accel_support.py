@@ -2,11 +2,15 @@
 
 Shared by the IK accelerator (:mod:`irlc.runtime.ik.accel`) and the drive accelerator
 (:mod:`irlc.runtime.drives.accel`). The numpy paths are the reference; a kernel is used
-(:func:`decide`) when the caller's ``requested`` flag is ``True`` (always, compiling if
-needed), never when it is ``False``, and by default (``None``) when numba is importable
-and the kernel is already in numba's on-disk cache — so a short run never pays the
-compile. ``IRLC_NO_ACCEL=1`` disables every kernel whatever the flag says;
-``IRLC_ACCEL=1`` / ``0`` overrides the default ``None``.
+(:func:`decide`) when the caller's ``requested`` flag is ``True``, never when it is
+``False``, and by default (``None``) whenever numba is importable. The default depends
+on the installation only — not on whether numba's on-disk cache is already warm — so the
+same program gives the same output bytes on every run of one installation (the two
+paths agree to round-off, not bit for bit). The first run after installing compiles the
+kernels once (about 15 s) and caches them; ``python -m irlc.runtime.ik.accel`` and
+``python -m irlc.runtime.drives.accel`` do that ahead of time. ``IRLC_NO_ACCEL=1``
+disables every kernel whatever the flag says; ``IRLC_ACCEL=1`` / ``0`` overrides the
+default ``None``.
 """
 
 from __future__ import annotations
@@ -31,8 +35,9 @@ def kernel_cached(kernel) -> bool:
         return False
 
 
-def decide(requested: bool | None, cache_warm: Callable[[], bool]) -> bool:
-    """Use a kernel? ``cache_warm`` is asked only for the default ``None``."""
+def decide(requested: bool | None, cache_warm: Callable[[], bool] | None = None) -> bool:
+    """Use a kernel? ``cache_warm`` is not consulted: it only tells callers (benchmarks,
+    warm-up commands) whether the next use will compile."""
     if not AVAILABLE or requested is False:
         return False
     if requested is True:
@@ -40,4 +45,4 @@ def decide(requested: bool | None, cache_warm: Callable[[], bool]) -> bool:
     env = os.environ.get("IRLC_ACCEL", "")
     if env in ("0", "1"):
         return env == "1"
-    return cache_warm()
+    return True

@@ -13,9 +13,9 @@ stepper drives, joints without drive data (prescribed motion).
 
 When it is used: :func:`irlc.runtime.accel_support.decide` — ``simulate_drives(...,
 accel=True)`` always (compiling if needed, ≈ 5 s once per install; numba caches the
-machine code), ``False`` never, ``None`` (default) when the kernel is in numba's on-disk
-cache; ``IRLC_NO_ACCEL=1`` / ``IRLC_ACCEL=0|1`` as for the IK accelerator.
-``python -m irlc.runtime.drives.accel`` fills the cache.
+machine code), ``False`` never, ``None`` (default) whenever numba is importable;
+``IRLC_NO_ACCEL=1`` / ``IRLC_ACCEL=0|1`` as for the IK accelerator.
+``python -m irlc.runtime.drives.accel`` compiles ahead of the first run.
 """
 
 from __future__ import annotations

@@ -13,14 +13,13 @@ any task rows, reported (not avoided) obstacles. Not covered (the numpy path run
 FREEZE, active OBSTACLE avoidance, ``solver="daqp"``, ``max_iter < 1``.
 
 **When it is used** (:func:`use_accel`): ``IKParams.accel`` ``True`` (always, compiling
-if needed), ``False`` (never) or ``None`` (default: if numba is importable and the
-compiled kernels are in numba's on-disk cache). ``IRLC_NO_ACCEL=1`` disables it whatever
+if needed), ``False`` (never) or ``None`` (default: whenever numba is importable — the
+choice depends on the installation only, so one installation always gives the same
+bytes; see :mod:`irlc.runtime.accel_support`). ``IRLC_NO_ACCEL=1`` disables it whatever
 the parameter says; ``IRLC_ACCEL=1`` / ``0`` overrides ``None``. Compiling takes
-≈ 10–15 s; numba caches the machine code in ``__pycache__`` next to this module (or in
-the user cache dir when that is read-only), and a process with a warm cache loads it in
-≈ 0.3 s. So a short run never pays the compile: with a cold cache ``None`` means numpy;
-``python -m irlc.runtime.ik.accel`` (or any run with ``IRLC_ACCEL=1``) fills the cache
-once per install.
+≈ 10–15 s, once: numba caches the machine code in ``__pycache__`` next to this module (or
+in the user cache dir when that is read-only), and later processes load it in ≈ 0.3 s.
+``python -m irlc.runtime.ik.accel`` compiles ahead of the first run.
 """
 
 from __future__ import annotations

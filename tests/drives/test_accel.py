@@ -99,6 +99,9 @@ def test_pwm_and_steppers_run_the_numpy_loop():
 def test_use_decision(monkeypatch):
     assert accel.use_accel(False) is False
     assert accel.use_accel(True) is accel.AVAILABLE
+    monkeypatch.delenv("IRLC_ACCEL", raising=False)
+    # the default depends on the installation only (same bytes on every run), not the cache
+    assert accel.use_accel(None) is accel.AVAILABLE
     monkeypatch.setenv("IRLC_ACCEL", "0")
     assert accel.use_accel(None) is False
     monkeypatch.setenv("IRLC_ACCEL", "1")

@@ -152,6 +152,9 @@ def test_frozen_and_avoided_obstacles_fall_back_reported_obstacles_do_not(robots
 def test_use_accel_decision(monkeypatch):
     assert accel_mod.use_accel(False) is False
     assert accel_mod.use_accel(True) is True
+    monkeypatch.delenv("IRLC_ACCEL", raising=False)
+    # the default depends on the installation only (same bytes on every run), not the cache
+    assert accel_mod.use_accel(None) is accel_mod.AVAILABLE
     monkeypatch.setenv("IRLC_ACCEL", "0")
     assert accel_mod.use_accel(None) is False
     monkeypatch.setenv("IRLC_ACCEL", "1")
