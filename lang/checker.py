@@ -640,7 +640,11 @@ class Checker:
             return T.BOOLEAN
         if t.is_numeric:
             if c is not None:
-                e.const = Value(c.type, ((-1 if e.op == "-" else 1) * c.data[0],))
+                v = (-1 if e.op == "-" else 1) * c.data[0]
+                if t == T.INTEGER and (overflow := T.integer_overflow(v)):
+                    self.error(e.span, f"negation: {overflow}")
+                    return T.ERROR
+                e.const = Value(c.type, (v,))
             return t
         if e.op == "-" and (t == T.POSITION or isinstance(t, T.JointTuple)):
             if c is not None and c.type == t.ird():
@@ -761,6 +765,9 @@ class Checker:
                     return
                 if isinstance(v, float) and not math.isfinite(v):
                     self.error(e.span, "the constant expression overflows")
+                    return
+                if ty == T.INTEGER and (overflow := _integer_overflow(op, a, b, v)):
+                    self.error(e.span, overflow)
                     return
                 e.const = Value(ty.name, (int(v) if ty == T.INTEGER else float(v),))
             elif ty == T.BOOLEAN:
@@ -1461,6 +1468,17 @@ def _arith(op: str, a, b):
         q = q if (a >= 0) == (b > 0) else -q
         return a - q * b
     return None
+
+
+_RUNTIME_OP_NAMES = {"+": "addition", "-": "subtraction", "*": "multiplication", "DIV": "DIV"}
+
+
+def _integer_overflow(op: str, a: int, b: int, v: int) -> str | None:
+    """The runtime's message if folding ``a op b = v`` overflows (MOD overflows in its DIV)."""
+    if op == "MOD":
+        op, v = "DIV", _arith("DIV", a, b)
+    overflow = T.integer_overflow(v)
+    return f"{_RUNTIME_OP_NAMES.get(op, op)}: {overflow}" if overflow else None
 
 
 def _logic(op: str, x, y):

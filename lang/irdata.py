@@ -41,6 +41,16 @@ MOVE_KINDS = ("PTP", "LIN", "CIRCLE", "LINPATH", "PTPINC", "LININC")
 MODAL_OPTIONS = ("JOINTLIMIT", "JOINTSPEEDLIMIT", "JOINTACCELLIMIT", "CYCLIC", "OBSTACLE", "FREEZE")
 OBSTACLE_KINDS = ("point", "sphere", "box", "capsule", "plane")
 
+INT_MIN, INT_MAX = -(2**63), 2**63 - 1  # INTEGER is signed 64-bit, as in the runtime
+
+
+def integer_overflow(x: int) -> str | None:
+    """The runtime's words for an INTEGER outside ``[INT_MIN, INT_MAX]``; ``None`` if inside."""
+    if INT_MIN <= x <= INT_MAX:
+        return None
+    return f"INTEGER overflow ({x} is outside the 64-bit range)"
+
+
 # Operand signatures: i = integer, w = word, t = jump target, * = any number of int/word.
 OPCODES: dict[str, str] = {
     "PUSHC": "i", "PUSHG": "i", "POPG": "i", "PUSHL": "i", "POPL": "i",
@@ -280,9 +290,17 @@ class _Reader:
         self.text = text
         self.file = filename
         self.diags: list[Diagnostic] = []
+        self.bad_routine = False  # a malformed ROUTINE record: "no MAIN routine" would be noise
 
     def error(self, line: int, col: int, msg: str, hint: str | None = None) -> None:
         self.diags.append(Diagnostic("error", msg, self.file, Span(line, col), hint))
+
+    def index(self, word: str, col: int, lineno: int, op: str) -> int | None:
+        """A table index operand (a non-negative integer), or ``None`` after an error."""
+        if re.fullmatch(r"\d+", word):
+            return int(word)
+        self.error(lineno, col, f"{op}: expected an index, got {word!r}")
+        return None
 
     def tokens(self, line_text: str) -> list[tuple[str, int]]:
         out = []
@@ -358,8 +376,7 @@ def read_code(text: str, filename: str = "<irdata>") -> Code:
     jump_fixups: list[tuple[int, int, int, int, int]] = []
     for idx, (lineno, toks) in enumerate(records[k:]):
         ins = _read_instruction(r, toks, lineno, idx, jump_fixups)
-        if ins is not None:
-            code.code.append(ins)
+        code.code.append(ins if ins is not None else _BAD_INSTRUCTION)  # keeps indices = records
     ncode = len(code.code)
     for ins_idx, arg_idx, rec, lineno, col in jump_fixups:
         target = rec - first_code_recno
@@ -411,10 +428,9 @@ def _read_header_record(r: _Reader, code: Code, op, toks, lineno, pending) -> No
             r.error(lineno, col_of[0], "UNITS: only 'mm deg s' is supported")
     elif op == "DATALIST" and need(3):
         code.datalists.append((words[1], _unquote(words[2]) or words[2]))
-    elif op == "CONST" and need(3):
-        v = _read_value(r, words[2:], col_of[2:], lineno)
-        if v is not None:
-            code.consts.append(v)
+    elif op == "CONST":
+        v = _read_const(r, len(code.consts), words, col_of, lineno) if need(3) else None
+        code.consts.append(v if v is not None else _BAD_VALUE)  # later indices stay right
     elif op == "OBSTACLE" and need(3):
         fields: list[tuple[str, tuple[float, ...]]] = []
         key, vals = None, []
@@ -444,14 +460,25 @@ def _read_header_record(r: _Reader, code: Code, op, toks, lineno, pending) -> No
                 r.error(lineno, col_of[0], f"INPUT: bad event {t} {v}")
                 continue
             events.append((float(tv), bv))
-        code.inputs[int(words[1])] = events
+        signal = r.index(words[1], col_of[1], lineno, op)
+        if signal is not None:
+            code.inputs[signal] = events
     elif op == "TYPE" and need(3):
         fields_t = tuple(tuple(w.split(":", 1)) for w in words[3:])
-        code.types.append(RecordType(int(words[1]), fields_t))  # type: ignore[arg-type]
-    elif op == "GLOBAL" and need(4):
-        code.globals.append(Slot(int(words[1]), words[2], words[3]))
-    elif op == "ROUTINE" and need(7):
-        routine = Routine(int(words[1]), words[2], words[3], -1)
+        index = r.index(words[1], col_of[1], lineno, op)
+        index = len(code.types) if index is None else index
+        code.types.append(RecordType(index, fields_t))  # type: ignore[arg-type]
+    elif op == "GLOBAL":
+        index = r.index(words[1], col_of[1], lineno, op) if need(4) else None
+        slot = Slot(index, words[2], words[3]) if index is not None else _BAD_SLOT
+        code.globals.append(slot)  # a placeholder keeps later indices right
+    elif op == "ROUTINE":
+        index = r.index(words[1], col_of[1], lineno, op) if need(7) else None
+        if index is None:
+            r.bad_routine = True
+            code.routines.append(Routine(len(code.routines), "?", "?", -1))
+            return
+        routine = Routine(index, words[2], words[3], -1)
         code.routines.append(routine)
         rec = words[6]
         if not rec.startswith("@") or _parse_number(rec[1:]) is None:
@@ -465,11 +492,27 @@ def _read_header_record(r: _Reader, code: Code, op, toks, lineno, pending) -> No
             return
         by_ref = words[3] == "VAR"
         rest = words[4:] if by_ref else words[3:]
-        slot = Slot(int(words[2]), rest[0], rest[1] if len(rest) > 1 else "?", by_ref)
+        index = r.index(words[2], col_of[2], lineno, op)
+        if index is None:
+            return
+        slot = Slot(index, rest[0], rest[1] if len(rest) > 1 else "?", by_ref)
         (routine.params if op == "PARAM" else routine.locals).append(slot)
     elif op not in ("PROGRAM", "SOURCE", "ROBOT", "DATALIST", "CONST", "OBSTACLE", "INPUT",
                     "TYPE", "GLOBAL", "ROUTINE", "PARAM", "LOCAL"):  # fmt: skip
         r.error(lineno, col_of[0], f"unknown header record {op!r}")
+
+
+_BAD_VALUE = Value("<bad>", ())  # placeholders of malformed records (the read fails anyway)
+_BAD_SLOT = Slot(-1, "<bad>", "<bad>")
+_BAD_INSTRUCTION = Instruction("<bad>", (), 0)
+
+
+def _read_const(r: _Reader, expected: int, words, cols, lineno) -> Value | None:
+    """``CONST k <value>``: ``k`` must be the next index."""
+    index = r.index(words[1], cols[1], lineno, "CONST")
+    if index is not None and index != expected:
+        r.error(lineno, cols[1], f"CONST: expected index {expected}, got {index}")
+    return _read_value(r, words[2:], cols[2:], lineno)
 
 
 def _read_value(r: _Reader, words, cols, lineno) -> Value | None:
@@ -491,7 +534,16 @@ def _read_value(r: _Reader, words, cols, lineno) -> Value | None:
         r.error(lineno, cols[0], f"{ty}: expected numbers")
         return None
     if ty == "INTEGER":
-        return Value(ty, (int(nums[0]),))  # type: ignore[arg-type]
+        if len(nums) != 1 or not isinstance(nums[0], int):
+            r.error(lineno, cols[0], "INTEGER: expected one integer")
+            return None
+        if overflow := integer_overflow(nums[0]):
+            r.error(lineno, cols[1], f"INTEGER: {overflow}")
+            return None
+        return Value(ty, (nums[0],))
+    if not nums:
+        r.error(lineno, cols[0], f"{ty}: expected numbers")
+        return None
     return Value(ty, tuple(float(n) for n in nums))  # type: ignore[arg-type]
 
 
@@ -540,7 +592,7 @@ def _check_references(r: _Reader, code: Code, code_records) -> None:
         "SIGOUT": len(code.globals),
         "CALL": len(code.routines),
     }
-    for ins, (lineno, toks) in zip(code.code, code_records, strict=False):
+    for ins, (lineno, toks) in zip(code.code, code_records, strict=True):
         limit = tables.get(ins.op)
         if limit is not None and not 0 <= int(ins.args[0]) < limit:
             r.error(
@@ -552,5 +604,5 @@ def _check_references(r: _Reader, code: Code, code_records) -> None:
             r.error(lineno, toks[2][1], f"unknown motion kind {ins.args[0]!r}")
         if ins.op in ("OPTON", "OPTOFF") and ins.args[0] not in MODAL_OPTIONS:
             r.error(lineno, toks[2][1], f"unknown modal option {ins.args[0]!r}")
-    if not any(rt.kind == "MAIN" for rt in code.routines):
+    if not r.bad_routine and not any(rt.kind == "MAIN" for rt in code.routines):
         r.error(1, 1, "no MAIN routine")

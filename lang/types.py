@@ -11,7 +11,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from irlc.lang.irdata import JOINT_TUPLE_TYPES as JOINT_TUPLE_TYPES  # re-exported: T.…
+from irlc.lang.irdata import INT_MAX as INT_MAX  # re-exported: T.…
+from irlc.lang.irdata import INT_MIN as INT_MIN
+from irlc.lang.irdata import JOINT_TUPLE_TYPES as JOINT_TUPLE_TYPES
+from irlc.lang.irdata import integer_overflow as integer_overflow
 
 
 @dataclass(frozen=True)
@@ -83,14 +86,6 @@ VOID = Type("<no value>")
 SIMPLE = {
     t.name: t for t in (INTEGER, REAL, BOOLEAN, CHAR, STRING, POSITION, ORIENTATION, POSE, SIGNAL)
 }
-
-
-def joint_tuple(name: str, n: int) -> JointTuple:
-    return JointTuple(name, n)
-
-
-def is_joint(t: Type) -> bool:
-    return isinstance(t, JointTuple)
 
 
 def value_type(t: Type) -> Type:
