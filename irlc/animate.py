@@ -27,7 +27,8 @@ from typing import Any
 
 import numpy as np
 
-from irlc.export import RunData, atomic_write_text, run_data
+from irlc.export import RunData, run_data
+from irlc.files import atomic_write_text
 from irlc.runtime import units
 from irlc.runtime.kinematics import Kinematics
 

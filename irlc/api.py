@@ -14,23 +14,12 @@ from pathlib import Path
 
 from irlc.lang.diagnostics import CompileError
 from irlc.lang.irdata import Code
-from irlc.robots import RobotModel
-from irlc.robots import load_robot as _load_robot
+from irlc.robots import RobotModel, resolve_robot, resolver
 
 
 def load_robot(name_or_path: str | Path) -> RobotModel:
     """A robot of the library by name (``"koch11"``) or a ``.toml`` / ``.urdf`` file."""
-    return _load_robot(str(name_or_path))
-
-
-def _resolver(base_dir: Path):
-    def resolve(name: str) -> RobotModel:
-        candidate = base_dir / name
-        if name.endswith((".toml", ".urdf")) and candidate.is_file():
-            return _load_robot(str(candidate))
-        return _load_robot(name)
-
-    return resolve
+    return resolve_robot(name_or_path)
 
 
 def compile_program(
@@ -50,7 +39,7 @@ def compile_program(
 
     path = Path(path)
     options = {
-        "resolve_robot": _resolver(path.parent),
+        "resolve_robot": resolver(path.parent),
         "datalist_path": tuple(str(d) for d in datalist_path),
         "robot_override": robot,
     }

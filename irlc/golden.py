@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from irlc.export import atomic_write_text
+from irlc.files import atomic_write_text, read_user_text
 
 GOLDEN_FORMAT = "irlc-golden 1"
 USER_KEYS = ("options", "tolerances")  # kept as written by the user on --update
@@ -198,16 +198,61 @@ def _dump(doc: dict) -> str:
     return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
 
 
+class ExpectationError(ValueError):
+    """An expected file cannot be used: ``FILE: key 'K': reason``."""
+
+
+RUN_OPTIONS = ("ipo", "drives", "seed_config", "robot", "datalist_path")  # docs/golden.md
+
+
+def load_expectation(path: Path) -> dict:
+    """Read and validate ``NAME.expected.json``: an object whose ``options`` is an object of
+    run options and whose ``tolerances`` maps keys to non-negative numbers."""
+    text = read_user_text(path, lambda file, reason: ExpectationError(f"{file}: {reason}"))
+    try:
+        doc = json.loads(text)
+    except json.JSONDecodeError as e:
+        raise ExpectationError(f"{path}:{e.lineno}:{e.colno}: not valid JSON: {e.msg}") from None
+    if not isinstance(doc, dict):
+        raise ExpectationError(f"{path}: expected a JSON object, got {_json_type(doc)}")
+    options = doc.get("options", {})
+    if not isinstance(options, dict):
+        raise ExpectationError(
+            f"{path}: key 'options': expected an object, got {_json_type(options)}"
+        )
+    for key in options:
+        if key not in RUN_OPTIONS:
+            raise ExpectationError(
+                f"{path}: key 'options.{key}': unknown run option (known: {', '.join(RUN_OPTIONS)})"
+            )
+    tolerances = doc.get("tolerances", {})
+    if not isinstance(tolerances, dict):
+        raise ExpectationError(
+            f"{path}: key 'tolerances': expected an object, got {_json_type(tolerances)}"
+        )
+    for key, tol in tolerances.items():
+        if not _is_num(tol) or not math.isfinite(tol) or tol < 0:
+            raise ExpectationError(
+                f"{path}: key 'tolerances.{key}': expected a number ≥ 0, got {json.dumps(tol)}"
+            )
+    return doc
+
+
+def _json_type(value: Any) -> str:
+    names = {dict: "an object", list: "an array", str: "a string", bool: "a boolean"}
+    if value is None:
+        return "null"
+    return names.get(type(value), "a number")
+
+
 def run_case(program: Path, update: bool = False, runner: Runner | None = None) -> CaseResult:
     """Run one program and check (or, with ``update``, rewrite) its expectations."""
     runner = runner or default_runner
     json_path, txt_path = expected_paths(program)
     try:
-        expected = (
-            json.loads(json_path.read_text(encoding="utf-8")) if json_path.is_file() else None
-        )
-    except (OSError, json.JSONDecodeError) as e:
-        return CaseResult(program, "error", message=f"{json_path.name}: not valid JSON ({e})")
+        expected = load_expectation(json_path) if json_path.is_file() else None
+    except ExpectationError as e:
+        return CaseResult(program, "error", message=str(e))
     user = {k: expected[k] for k in USER_KEYS if expected and k in expected}
     try:
         report = runner(program, dict(user.get("options", {})))
@@ -225,7 +270,10 @@ def run_case(program: Path, update: bool = False, runner: Runner | None = None) 
     mismatches = compare(expected, actual, user.get("tolerances"))
     diff: list[str] = []
     if txt_path.is_file():
-        want = txt_path.read_text(encoding="utf-8")
+        try:
+            want = read_user_text(txt_path, lambda f, r: ExpectationError(f"{f}: {r}"))
+        except ExpectationError as e:
+            return CaseResult(program, "error", mismatches, message=str(e))
         if want != text:
             diff = list(
                 difflib.unified_diff(

@@ -2,8 +2,7 @@
 
 Both writers are
 
-* **atomic**: the text goes to a temporary file in the target's directory, which is then
-  renamed over the target (``os.replace``), so a reader never sees half a file;
+* **atomic**: :func:`irlc.files.atomic_write_text` (temporary file, fsync, rename);
 * **deterministic**: same run → same bytes. JSON: two-space indent, keys in the order of
   ``interfaces.md`` (the report dict's insertion order), UTF-8, a final newline. CSV:
   numbers with ``%.10g`` (no negative zero), ``line`` as an integer, ``\\n`` line ends;
@@ -17,18 +16,17 @@ Both writers are
 
 from __future__ import annotations
 
-import contextlib
 import csv
 import io
 import json
 import math
-import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from irlc.files import atomic_write_text, read_user_text
 
 FLOAT_FORMAT = "%.10g"
 
@@ -42,24 +40,6 @@ class RunFileError(ValueError):
 
 
 # --------------------------------------------------------------------------- writing
-
-
-def atomic_write_text(path: str | Path, text: str) -> Path:
-    """Write ``text`` (UTF-8, ``\\n`` line ends) atomically to ``path``."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as f:
-            f.write(text)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
-    return path
 
 
 def report_json(report: dict) -> str:
@@ -133,10 +113,7 @@ class LoadedRun:
 def load_run(path: str | Path) -> LoadedRun:
     """Read a report (``.json``) or a trace (``.csv``); raises :class:`RunFileError`."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise RunFileError(f"{path}: {exc.strerror or exc}") from None
+    text = read_user_text(path, lambda file, reason: RunFileError(f"{file}: {reason}"))
     if path.suffix.lower() == ".json" or text.lstrip().startswith("{"):
         try:
             report = json.loads(text)

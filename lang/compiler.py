@@ -61,11 +61,13 @@ def compile_source(
     if program is None:
         return result
     robot, robot_text, robot_var = _robot(program, filename, resolve_robot, robot_override, result)
+    if robot is None:  # every joint check depends on the robot: report only its diagnostic
+        return result
     datalists = _datalists(program, filename, tuple(datalist_path), robot, result)
     checker = Checker(program, filename, robot, datalists, repl=repl)
     checked = checker.check()
     result.diagnostics += checker.diags
-    if robot is None or any(d.is_error for d in result.diagnostics):
+    if any(d.is_error for d in result.diagnostics):
         return result
     result.code = generate(checked, robot, robot_text, robot_var, filename)
     return result
@@ -115,43 +117,36 @@ def _robot(
             )
         )
     robot_var = clause.var if clause else "r"
-    if override is None:
-        wanted = _program_relative(wanted, filename)
+    where = "" if span is not None else " (given with --robot)"
     try:
         robot = _resolve_any_case(resolve, wanted)
-        letters = kind_letters(robot)
-        if robot.joint_count != len(letters) or robot.joint_count < 1:
-            raise ValueError(f"robot {wanted}: inconsistent joint count")
-    except Exception as e:
-        where = "" if span is not None else " (given with --robot)"
+    except LookupError as e:
         msg = str(e.args[0]) if isinstance(e, KeyError) and e.args else str(e)
+        msg = f"cannot use robot '{wanted}'{where}: {msg}"
+        result.diagnostics.append(Diagnostic("error", msg, filename, span))
+        return None, "", robot_var
+    try:
+        letters = kind_letters(robot)
+    except ValueError as e:
+        letters, problem = "", str(e)
+    else:
+        problem = "" if robot.joint_count == len(letters) >= 1 else "inconsistent joint count"
+    if problem:
         result.diagnostics.append(
-            Diagnostic(
-                "error",
-                f"cannot use robot '{wanted}'{where}: {msg}",
-                filename,
-                span,
-            )
+            Diagnostic("error", f"cannot use robot '{wanted}'{where}: {problem}", filename, span)
         )
         return None, "", robot_var
     return robot, wanted, robot_var
 
 
-def _program_relative(robot: str, filename: str) -> str:
-    """A relative robot file named in the program is looked up next to the program first."""
-    if not (robot.endswith((".toml", ".urdf")) or "/" in robot or "\\" in robot):
-        return robot
-    candidate = Path(filename).parent / robot
-    if not Path(robot).is_absolute() and candidate.is_file():
-        return str(candidate)
-    return robot
-
-
 def _resolve_any_case(resolve: RobotResolver, wanted: str) -> RobotSignature:
-    """Robot names are identifiers, so case-insensitive: retry a library name in lower case."""
+    """Robot names are identifiers, so case-insensitive: retry a library name in lower case.
+
+    Only ``LookupError`` (the resolver protocol's "no such robot") is a diagnostic; any
+    other exception is a bug of the resolver and propagates."""
     try:
         return resolve(wanted)
-    except Exception:
+    except LookupError:
         if wanted.lower() == wanted or "/" in wanted or "." in wanted:
             raise
         return resolve(wanted.lower())

@@ -2,8 +2,9 @@
 
 ``irlc.lang`` never imports the runtime or the robot library; the caller passes a resolver
 ``resolve_robot(name_or_path) -> RobotSignature`` (the CLI wires ``irlc.robots.load_robot``,
-whose ``RobotModel`` satisfies this protocol). A resolver raises ``LookupError`` or
-``ValueError`` (any exception is accepted) with a message for an unknown robot.
+whose ``RobotModel`` satisfies this protocol). A resolver raises ``LookupError``
+(e.g. ``irlc.robots.RobotFileError``) with a message for an unknown or broken robot; that
+becomes a diagnostic. Any other exception is a bug and propagates.
 """
 
 from __future__ import annotations

@@ -1,11 +1,20 @@
 """The robot library: description files (TOML, URDF) loaded into :class:`RobotModel`.
 
-``load_robot("koch11")`` reads ``robots/koch11.toml``; a path ending in ``.toml`` or
-``.urdf`` loads that file. ``list_robots()`` names the shipped robots.
+``resolve_robot(name_or_path, base_dir)`` is THE rule for naming a robot (programs'
+``ROBOT`` clauses, ``--robot``, the API):
+
+* a *path* (ends in ``.toml`` / ``.urdf``, or contains a path separator) is looked up
+  relative to ``base_dir`` (the program's folder) first, then as given;
+* anything else is a *library name*, case-insensitive: ``KOCH11`` → ``robots/koch11.toml``.
+
+Loaded models are cached by resolved file path and modification time, so one run
+(compile + simulate) reads the robot file once and an edited file is read again.
+``load_robot(x)`` is ``resolve_robot(x)``; ``list_robots()`` names the shipped robots.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 from irlc.robots.loader import RobotFileError, load_toml
@@ -13,6 +22,8 @@ from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphe
 
 ROBOTS_DIR = Path(__file__).resolve().parent
 DATALISTS_DIR = ROBOTS_DIR / "datalists"
+ROBOT_SUFFIXES = (".toml", ".urdf")
+_CACHE_SIZE = 16
 
 __all__ = [
     "DATALISTS_DIR",
@@ -24,9 +35,23 @@ __all__ = [
     "RobotFileError",
     "RobotModel",
     "Sphere",
+    "UnknownRobotError",
     "list_robots",
     "load_robot",
+    "resolve_robot",
+    "resolver",
 ]
+
+_cache: dict[tuple[str, int, int], RobotModel] = {}
+
+
+class UnknownRobotError(RobotFileError):
+    """A library name that names no shipped robot."""
+
+    def __init__(self, name: str):
+        known = ", ".join(list_robots())
+        super().__init__(name, "", f"unknown robot (known: {known})")
+        self.args = (f"unknown robot '{name}' (known: {known})",)  # str(): the whole sentence
 
 
 def list_robots() -> list[str]:
@@ -34,23 +59,72 @@ def list_robots() -> list[str]:
     return sorted(p.stem for p in ROBOTS_DIR.glob("*.toml"))
 
 
-def load_robot(name_or_path: str | Path) -> RobotModel:
-    """Load a robot by library name or from a ``.toml`` / ``.urdf`` file.
-
-    Raises :class:`RobotFileError` for a malformed file, an unknown name or a missing file.
-    """
+def is_robot_path(name_or_path: str | Path) -> bool:
+    """True when ``name_or_path`` names a file rather than a library robot."""
     text = str(name_or_path)
-    if text.endswith((".toml", ".urdf")) or "/" in text or "\\" in text:
-        path = Path(text)
-        if not path.is_file():
-            raise RobotFileError(text, "", "file not found")
-        if path.suffix == ".urdf":
-            from irlc.robots.urdf_import import load_urdf
+    return text.lower().endswith(ROBOT_SUFFIXES) or "/" in text or "\\" in text
 
-            return load_urdf(path)
-        return load_toml(path)
-    path = ROBOTS_DIR / f"{text}.toml"
-    if not path.is_file():
-        known = ", ".join(list_robots())
-        raise RobotFileError(text, "", f"unknown robot; known robots: {known}")
+
+def robot_file(name_or_path: str | Path, base_dir: str | Path | None = None) -> Path:
+    """The description file ``name_or_path`` resolves to (see the module doc).
+
+    Raises :class:`UnknownRobotError` for an unknown library name and
+    :class:`RobotFileError` for a missing file."""
+    text = str(name_or_path)
+    if is_robot_path(text):
+        given = Path(text)
+        if base_dir is not None and not given.is_absolute():
+            candidate = Path(base_dir) / given
+            if candidate.is_file():
+                return candidate
+        if given.is_file():
+            return given
+        raise RobotFileError(text, "", "file not found")
+    path = ROBOTS_DIR / f"{text.lower()}.toml"
+    if not text or not path.is_file():
+        raise UnknownRobotError(text)
+    return path
+
+
+def resolve_robot(name_or_path: str | Path, base_dir: str | Path | None = None) -> RobotModel:
+    """Load a robot by library name or description file (cached; see the module doc).
+
+    Raises :class:`RobotFileError` (or its :class:`UnknownRobotError`) for an unknown name,
+    a missing file or a malformed one."""
+    path = robot_file(name_or_path, base_dir)
+    try:
+        stat = path.stat()
+    except OSError as e:
+        raise RobotFileError(str(path), "", f"cannot read the file ({e.strerror or e})") from None
+    key = (str(path.resolve()), stat.st_mtime_ns, stat.st_size)
+    model = _cache.get(key)
+    if model is None:
+        model = _load_file(path)
+        if len(_cache) >= _CACHE_SIZE:
+            _cache.pop(next(iter(_cache)))
+        _cache[key] = model
+    return model
+
+
+def resolver(base_dir: str | Path | None = None) -> Callable[[str], RobotModel]:
+    """``name → RobotModel`` by :func:`resolve_robot` relative to ``base_dir``: the robot
+    resolver the compiler takes (its errors are LookupErrors)."""
+
+    def resolve(name: str) -> RobotModel:
+        return resolve_robot(name, base_dir)
+
+    return resolve
+
+
+def _load_file(path: Path) -> RobotModel:
+    if path.suffix.lower() == ".urdf":
+        from irlc.robots.urdf_import import load_urdf
+
+        return load_urdf(path)
     return load_toml(path)
+
+
+def load_robot(name_or_path: str | Path) -> RobotModel:
+    """Load a robot by library name or from a ``.toml`` / ``.urdf`` file (relative to the
+    working directory); see :func:`resolve_robot`."""
+    return resolve_robot(name_or_path)

@@ -27,6 +27,8 @@ from typing import Any
 import numpy as np
 from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
 
+from irlc.files import read_user_text
+
 ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 LENGTH_UNITS = {"m": 1.0, "mm": 1e-3}
 AXIS_NAMES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
@@ -81,8 +83,11 @@ JOINT_KEYS = {
 TRANSFORM_KEYS = {"xyz", "zyx", "matrix", "assumed", "reason"}
 
 
-class RobotFileError(Exception):
-    """A robot description file is malformed: ``FILE: key 'K': expected ..., got ...``."""
+class RobotFileError(LookupError):
+    """A robot description file is malformed: ``FILE: key 'K': expected ..., got ...``.
+
+    A ``LookupError``: the robot cannot be had, which is what the compiler's robot
+    resolvers raise (``irlc.lang.signature``)."""
 
     def __init__(self, file: str, key: str, message: str):
         self.file, self.key, self.message = file, key, message
@@ -236,10 +241,7 @@ def load_toml(path: str | Path) -> RobotModel:
     """Parse and validate one TOML robot file (raises :class:`RobotFileError`)."""
     path = Path(path)
     file = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as e:
-        raise RobotFileError(file, "", f"cannot read the file ({e.strerror})") from None
+    text = read_user_text(path, lambda f, reason: RobotFileError(f, "", reason))
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
@@ -522,7 +524,8 @@ def _read_limit_sets(rd: Reader, table: Any, joints: list[Joint]) -> dict[str, t
 def _read_coupled(rd: Reader, value: Any, joints: list[Joint]) -> list[dict]:
     """``[[coupled_limits]]``: ``min ≤ Σ c_j q_j ≤ max`` over joints of one kind (file units).
 
-    Stored in SI: ``{name, coeffs (n,), lower, upper, text}``; ``lower``/``upper`` may be
+    Stored in SI: ``{name, kind, coeffs (n,), lower, upper, text}`` (``kind``: the joints'
+    kind, which gives the bounds' unit); ``lower``/``upper`` may be
     ``-inf``/``inf`` when ``min``/``max`` is absent."""
     rows = rd.array_of_tables(value, "coupled_limits")
     out = []
@@ -545,7 +548,16 @@ def _read_coupled(rd: Reader, value: Any, joints: list[Joint]) -> list[dict]:
             raise rd.fail(key, f"expected min ≤ max, got [{lo / s:g}, {hi / s:g}]")
         name = rd.string(row.get("name", f"coupled_{i + 1}"), f"{key}.name")
         text = rd.string(row.get("text", ""), f"{key}.text")
-        out.append({"name": name, "coeffs": coeffs, "lower": lo, "upper": hi, "text": text})
+        out.append(
+            {
+                "name": name,
+                "kind": used[0],
+                "coeffs": coeffs,
+                "lower": lo,
+                "upper": hi,
+                "text": text,
+            }
+        )
     return out
 
 

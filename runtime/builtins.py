@@ -1,10 +1,11 @@
 """Operators and built-in functions of the IRDATA machine (everything except FK).
 
-Numbers follow Pascal: INTEGER op INTEGER stays INTEGER for ``+ − *``, ``DIV`` (the
-``/`` of IRL) is always REAL, ``IDIV`` truncates toward zero and ``MOD`` is
-``a − (a IDIV b)·b`` (the sign of the dividend). INTEGER is 64-bit signed; results outside
-that range, and REAL results that are not finite, are run-time errors, so no NaN or
-infinity is ever stored. Angles are in degrees. Functions raise
+Numbers follow Pascal: INTEGER op INTEGER stays INTEGER for ``+ − *``. Division has two
+IRDATA operations (docs/irdata.md): ``DIV`` is IRL's ``/`` and always REAL; ``IDIV`` is
+IRL's ``DIV``, the integer quotient truncated toward zero (its messages use the IRL name
+``DIV``); ``MOD`` is ``a − (a IDIV b)·b`` (the sign of the dividend). INTEGER is 64-bit
+signed; results outside that range, and REAL results that are not finite, are run-time
+errors, so no NaN or infinity is ever stored. Angles are in degrees. Functions raise
 :class:`~irlc.runtime.errors.RunFailure` without a line; the interpreter adds line and time.
 """
 
@@ -122,7 +123,8 @@ def mul(a: object, b: object) -> object:
 
 
 def div(a: object, b: object) -> object:
-    """``/``: REAL division (also POSITION / number, joint tuple / number)."""
+    """IRDATA ``DIV`` (IRL's ``/``): REAL division (also POSITION / number, joint tuple /
+    number)."""
     if not is_number(b):
         raise _type_error("divide", a, b)
     if b == 0:
@@ -145,14 +147,14 @@ def _int_operands(op: str, a: object, b: object) -> tuple[int, int]:
 
 
 def idiv(a: object, b: object) -> int:
-    """``DIV`` of IRL: integer quotient truncated toward zero."""
+    """IRDATA ``IDIV`` (IRL's ``DIV``): integer quotient truncated toward zero."""
     x, y = _int_operands("DIV", a, b)
     q = abs(x) // abs(y)
     return checked(q if (x < 0) == (y < 0) else -q, "DIV")
 
 
 def mod(a: object, b: object) -> int:
-    """``MOD``: ``a − (a DIV b)·b``, the sign of the dividend."""
+    """``MOD``: ``a − (a IDIV b)·b``, the sign of the dividend."""
     x, y = _int_operands("MOD", a, b)
     return x - idiv(x, y) * y
 

@@ -7,6 +7,10 @@ with ``−90 ≤ θ2+θ3+θ4 ≤ 90`` the set is convex, so all of it is ``A q �
     A = [ C ; −C ],  b = [ lower ; −upper ]     (rows with an infinite bound dropped)
 
 For an increment ``Δq`` from ``q``: ``A Δq ≥ b − A q`` — the form the IK's QP takes.
+
+A row couples joints of one kind (the loader checks it), so its bounds are angles or
+lengths; :func:`row_label` / :func:`describe` print them in program units (deg | mm)
+through :mod:`irlc.runtime.units` — the one place messages about a row are built.
 """
 
 from __future__ import annotations
@@ -16,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from irlc.robots.model import RobotModel
+from irlc.runtime import units
 
 
 @dataclass(frozen=True)
@@ -25,6 +30,7 @@ class CoupledLimit:
     lower: float  # SI; -inf when absent
     upper: float  # SI; +inf when absent
     text: str = ""
+    kind: str = units.REVOLUTE  # the kind of the row's joints: the bounds' unit
 
 
 @dataclass(frozen=True)
@@ -37,6 +43,7 @@ class Violation:
     bound: float
     amount: float
     text: str = ""
+    kind: str = units.REVOLUTE
 
 
 def coupled_limits(model: RobotModel) -> tuple[CoupledLimit, ...]:
@@ -48,6 +55,7 @@ def coupled_limits(model: RobotModel) -> tuple[CoupledLimit, ...]:
             r["lower"],
             r["upper"],
             r.get("text", ""),
+            r.get("kind", units.REVOLUTE),
         )
         for r in rows
     )
@@ -61,9 +69,9 @@ def violations(
     for c in limits:
         v = float(c.coeffs @ q)
         if v < c.lower - tol:
-            out.append(Violation(c.name, "lower", v, c.lower, c.lower - v, c.text))
+            out.append(Violation(c.name, "lower", v, c.lower, c.lower - v, c.text, c.kind))
         if v > c.upper + tol:
-            out.append(Violation(c.name, "upper", v, c.upper, v - c.upper, c.text))
+            out.append(Violation(c.name, "upper", v, c.upper, v - c.upper, c.text, c.kind))
     return out
 
 
@@ -82,9 +90,20 @@ def as_inequalities(limits: tuple[CoupledLimit, ...], n: int) -> tuple[np.ndarra
     return np.array(rows), np.array(rhs)
 
 
+def _program_units(value: float, kind: str) -> float:
+    return float(units.joints_from_si([value], [kind])[0])
+
+
+def row_label(c: CoupledLimit, side: str) -> str:
+    """``"theta2+theta3 max 25 deg"``: one bound (``side`` ``"min"`` | ``"max"``) of a row."""
+    value = c.lower if side == "min" else c.upper
+    return f"{c.name} {side} {_program_units(value, c.kind):.6g} {units.joint_unit(c.kind)}"
+
+
 def describe(v: Violation) -> str:
-    """One line for a report: which inequality, by how much (degrees for angles)."""
+    """One line for a report: which inequality, by how much (program units: deg | mm)."""
+    value, bound, amount = (_program_units(x, v.kind) for x in (v.value, v.bound, v.amount))
     return (
-        f"coupled limit {v.name} ({v.text or v.side}) violated: value {math.degrees(v.value):.3f}"
-        f" beyond {v.side} bound {math.degrees(v.bound):.3f} by {math.degrees(v.amount):.3f} deg"
+        f"coupled limit {v.name} ({v.text or v.side}) violated: value {value:.3f} beyond "
+        f"{v.side} bound {bound:.3f} by {amount:.3f} {units.joint_unit(v.kind)}"
     )

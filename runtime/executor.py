@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime import spatial, units
-from irlc.runtime.controller import ModalOptions, MotionCommand, Settings
+from irlc.runtime.controller import ModalOptions, MotionCommand, Settings, setting_error
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik.freeze import FrozenJoints
 from irlc.runtime.ik.newton import InverseTransformation
@@ -105,7 +105,7 @@ class SimulatedController:
         self._last_reference: np.ndarray | None = None  # θ⁰ of the last IK cycle
         self._active_obstacles: frozenset[str] = frozenset()
         self.dt_used = self.opts.ipo if self.opts.ipo is not None else Settings().ipo
-        self._record_still(0, Settings(), initial=True)
+        self._record_initial()
 
     # ------------------------------------------------------------------ protocol
     @property
@@ -177,10 +177,14 @@ class SimulatedController:
         n = round(seconds / dt)
         if abs(n * dt - seconds) > 1e-9 * max(1.0, seconds):
             n = math.ceil(seconds / dt)
+        if n == 0:
+            return
+        self.q_prev = self.q.copy()  # standing still: q, and so the sample, do not change
+        tcp = self._solver(settings).kin.tcp(self.q)
+        rec = self.recorder
         for _ in range(n):
-            self.q_prev = self.q.copy()
             self._t = _advance(self._t, dt)
-            self._record_still(line, settings)
+            rec.add(self._t, line, self.q, tcp, None)
             self._tick()
 
     def check_switch_on(
@@ -270,6 +274,8 @@ class SimulatedController:
 
     def _ik_cycle(self, seg: Segment, target, dt, opts: CycleOptions, solver: _Solver) -> None:
         t = _advance(self._t, dt)
+        sample_manip = self._cycles % self._manip_every == 0
+        opts.jacobian = sample_manip
         try:
             res = solver.ik.step(self.q, self.q_prev, target, dt, opts)
         except RunFailure as exc:
@@ -278,9 +284,7 @@ class SimulatedController:
             raise RunFailure(f"inverse transformation failed: {exc}", seg.line, t) from None
         self.q_prev, self.q = self.q, res.q
         self._t = t
-        tcp = getattr(res, "tcp", None)  # the IK's last FK is at q: no second FK
-        if tcp is None:
-            tcp = solver.kin.tcp(self.q)
+        # the IK's last FK is at q: no second FK;
         # the path error is the IK's own task error at q (f(θ) ⊖ x_d, controlled rows)
         pos_err, ori_err = res.position_error, res.orientation_error
         rec = self.recorder
@@ -289,15 +293,15 @@ class SimulatedController:
             t,
             seg.line,
             self.q,
-            tcp,
+            res.tcp,
             target,
             errors=(pos_err, ori_err),
             iterations=res.iterations,
             relaxed=res.relaxed,
-            active=res.active,
+            active_codes=res.active_codes,
             clearances=res.clearances,
             dt=dt,
-            manipulability=res.manipulability if self._cycles % self._manip_every == 0 else _NAN,
+            manipulability=res.manipulability if sample_manip else _NAN,
         )
         if res.clearances:
             self._check_collisions(res.clearances, opts.active_obstacles, seg.line, t)
@@ -354,12 +358,13 @@ class SimulatedController:
             return {j: "speed max"}
         return None
 
-    def _record_still(self, line: int, settings: Settings, initial: bool = False) -> None:
-        solver = self._solver(settings)
+    def _record_initial(self) -> None:
+        """The sample at t = 0 (with the clearances of the start configuration)."""
+        solver = self._solver(Settings())
         frames = solver.kin.link_frames(self.q)
         tcp = solver.kin.tcp_from_frames(frames)
-        clear = self._clearances(solver, frames) if initial else None
-        self.recorder.add(self._t, line, self.q, tcp, None, clearances=clear)
+        clear = self._clearances(solver, frames)
+        self.recorder.add(self._t, 0, self.q, tcp, None, clearances=clear)
 
     def _clearances(self, solver: _Solver, frames) -> dict[str, tuple[float, int]] | None:
         if not self.obstacles:
@@ -389,10 +394,9 @@ class SimulatedController:
     # ------------------------------------------------------------------ helpers
     def _dt(self, settings: Settings) -> float:
         dt = self.opts.ipo if self.opts.ipo is not None else settings.ipo
-        if not (isinstance(dt, float | int) and 1e-5 <= dt <= 1.0):
-            raise RunFailure(
-                f"the IPO cycle must be between 1e-5 and 1 s, got {dt!r}", self._line, self._t
-            )
+        error = setting_error("ipo", dt)
+        if error is not None:
+            raise RunFailure(f"the IPO cycle {dt!r} s: {error}", self._line, self._t)
         self.dt_used = float(dt)
         return self.dt_used
 

@@ -48,8 +48,15 @@ from dataclasses import dataclass, field
 
 from irlc.lang.irdata import JOINT_TUPLE_TYPES, Code, Routine, Slot, Target, Value
 from irlc.runtime import builtins as B
+from irlc.runtime import units
 from irlc.runtime import values as V
-from irlc.runtime.controller import Controller, ModalOptions, MotionCommand, Settings
+from irlc.runtime.controller import (
+    Controller,
+    ModalOptions,
+    MotionCommand,
+    Settings,
+    check_setting,
+)
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.values import ArrayValue, JointTuple, Orientation, Pose, Position, RecordValue
 
@@ -116,10 +123,6 @@ class ExecutionResult:
     def ok(self) -> bool:
         return self.error is None
 
-    def raise_on_failure(self) -> None:
-        if self.error is not None:
-            raise self.error
-
 
 class _Finished(Exception):
     def __init__(self, status: str):
@@ -153,7 +156,6 @@ _SETTINGS_FIELDS = {
     "R_BASE": "base",
     "R_IPO": "ipo",
 }
-_PERCENT = ("R_SPEED_PTP", "R_ACC_PTP")
 _MOVE_NUMBERS = {
     "SPEED": "speed",
     "ACC": "acc",
@@ -601,12 +603,7 @@ class Interpreter:
             if not isinstance(v, Pose):
                 raise _malformed(f"{name} needs a POSE, got {V.type_name(v)}")
         else:
-            v = self._number(v, name)
-            high = 100.0 if name in _PERCENT else (1.0 if name == "R_IPO" else math.inf)
-            if not 0.0 < v <= high:
-                unit = {"R_IPO": " s"}.get(name, " %" if name in _PERCENT else "")
-                bound = f"(0, {V.format_real(high)}{unit}]" if high < math.inf else "positive"
-                raise RunFailure(f"{name} := {V.format_real(v)}: the value must be {bound}")
+            v = check_setting(_SETTINGS_FIELDS[name], self._number(v, name), name)
         setattr(self.state.settings, _SETTINGS_FIELDS[name], v)
 
     def _op_pop(self, args) -> None:
@@ -986,12 +983,8 @@ class Interpreter:
 
     def _move_clause(self, word: str, operands: list, npts: int) -> object:
         if word in _MOVE_NUMBERS:
-            v = self._number(operands[0], f"WITH {word}")
-            high = 100.0 if word in ("SPEED_PTP", "ACC_PTP") else math.inf
-            if not 0.0 < v <= high:
-                bound = "in (0, 100] %" if high < math.inf else "positive"
-                raise RunFailure(f"WITH {word} := {V.format_real(v)}: the value must be {bound}")
-            return v
+            what = f"WITH {word}"
+            return check_setting(_MOVE_NUMBERS[word], self._number(operands[0], what), what)
         if word in _LIMIT_OPTIONS:
             return self._checked_limits(word, operands[0], operands[1])
         if len(operands) not in (1, npts):
@@ -1006,8 +999,8 @@ class Interpreter:
     # ------------------------------------------------------------------ modal options
 
     def _joint_unit(self, i: int, derivative: int) -> str:
-        base = "deg" if self.code.joint_kinds[i] == "R" else "mm"
-        return base + ("", "/s", "/s²")[derivative]
+        kind = units.REVOLUTE if self.code.joint_kinds[i] == "R" else units.PRISMATIC
+        return units.joint_unit_label(kind, derivative)
 
     def _checked_limits(self, option: str, lo: object, hi: object) -> tuple[JointTuple, JointTuple]:
         lo = self._joint_tuple(lo, f"{option} lower bounds")

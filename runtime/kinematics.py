@@ -97,16 +97,6 @@ class Kinematics:
 
     # ------------------------------------------------------------------ frames
 
-    def local_transforms(self, q: np.ndarray) -> np.ndarray:
-        """``L_i = origin_i · M_i(q_i + offset_i)`` for all joints, shape ``(n, 4, 4)``."""
-        v = np.asarray(q, dtype=float) + self._offsets
-        coef = self._coef
-        coef[:, 0, 1] = np.cos(v)
-        coef[:, 0, 2] = np.sin(v)
-        coef[:, 0, 3] = v
-        np.matmul(coef, self._basis, out=self._local)
-        return self._local.reshape(self.n, 4, 4).copy()
-
     def link_frames(self, q: np.ndarray) -> np.ndarray:
         """World frames of links ``0..n`` (shape ``(n+1, 4, 4)``); index 0 is the base."""
         return self.chain(q).copy()

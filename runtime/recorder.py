@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from irlc.runtime import spatial
+from irlc.runtime.ik.limits import SOURCE_NAMES, active_label, encode_active
 
 
 @dataclass
@@ -58,7 +59,6 @@ class Recorder:
         rows = np.array(self.task_rows, dtype=int)
         self._pos_rows = rows[rows < 3]
         self._ori_rows = rows[rows >= 3]
-        self.active_time: dict[tuple[int, str], float] = {}
         self.relaxed_spans: list[RelaxedSpan] = []
         self.events: list[dict] = []
         self.warnings: list[str] = []
@@ -81,7 +81,8 @@ class Recorder:
             "iterations": np.empty(cap, dtype=int),
             "relaxed": np.empty(cap, dtype=bool),
             "manipulability": np.empty(cap),
-            "active": np.zeros((cap, n), dtype=bool),
+            "dt": np.zeros(cap),
+            "active": np.zeros((cap, n), dtype=np.int8),  # codes of ik.limits.active_codes
             "clearance": np.empty((cap, m)),
         }
         for name, arr in new.items():
@@ -115,6 +116,7 @@ class Recorder:
         iterations: int = 0,
         relaxed: bool = False,
         active: dict[int, str] | None = None,
+        active_codes: np.ndarray | None = None,
         clearances: dict[str, tuple[float, int]] | None = None,
         manipulability: float = float("nan"),
         dt: float = 0.0,
@@ -122,7 +124,9 @@ class Recorder:
         """Append one sample. The path error is ``errors`` (position m, orientation rad)
         when given (the inverse transformation's own, at ``q``), else computed against
         ``desired``, the desired TCP pose (``None``: the actual pose, i.e. no path error,
-        e.g. standing still or PTP)."""
+        e.g. standing still or PTP). Active limits: ``active_codes`` (per joint, coded by
+        :func:`~irlc.runtime.ik.limits.active_codes`) or ``active`` (joint → label); they
+        count ``dt`` towards :attr:`active_time`."""
         k = self._k
         if k == self._cap:
             self._alloc(2 * self._cap)
@@ -136,15 +140,26 @@ class Recorder:
         self._iterations[k] = iterations
         self._relaxed[k] = relaxed
         self._manipulability[k] = manipulability
-        if active:
-            flags = self._active[k]
+        self._dt[k] = dt
+        if active_codes is not None:
+            self._active[k] = active_codes
+        elif active:
             for j, label in active.items():
-                flags[j] = True
-                key = (int(j), label)
-                self.active_time[key] = self.active_time.get(key, 0.0) + dt
+                self._active[k, j] = encode_label(label)
         if self.obstacle_names:
             self._add_clearances(k, clearances)
         self._k = k + 1
+
+    @property
+    def active_time(self) -> dict[tuple[int, str], float]:
+        """(joint, ``"speed max"``-style label) → seconds the limit was active (the
+        ``dt`` of the samples it was active in, summed in time order)."""
+        out: dict[tuple[int, str], float] = {}
+        codes, dts = self._active[: self._k], self._dt
+        for k, j in zip(*np.nonzero(codes), strict=True):
+            key = (int(j), active_label(codes[k, j]))
+            out[key] = out.get(key, 0.0) + float(dts[k])
+        return out
 
     def _add_clearances(self, k: int, clearances: dict[str, tuple[float, int]] | None) -> None:
         last = self._last_clearance
@@ -195,7 +210,7 @@ class Recorder:
             iterations=self._iterations[:k].copy(),
             relaxed=self._relaxed[:k].copy(),
             manipulability=self._manipulability[:k].copy(),
-            active=self._active[:k].copy(),
+            active=self._active[:k] != 0,
             clearance={
                 name: self._clearance[:k, i].copy() for i, name in enumerate(self.obstacle_names)
             },
@@ -219,6 +234,12 @@ class RecordedRun:
     manipulability: np.ndarray
     active: np.ndarray  # (k, n) bool
     clearance: dict[str, np.ndarray]
+
+
+def encode_label(label: str) -> int:
+    """The active-limit code of a ``"speed max"``-style label."""
+    source, side = label.split()
+    return encode_active(SOURCE_NAMES.index(source), side == "max")
 
 
 def finite_differences(times: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

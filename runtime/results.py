@@ -200,7 +200,8 @@ def build_report(
         q = q_act / scale
         sp, ac = finite_differences(rec.times, q_act)
         speed, accel = sp / scale, ac / scale
-    active_time = _active_time(controller.recorder.active_time, model.n)
+    activity = controller.recorder.active_time  # (joint, label) → s, built once here
+    active_time = _active_time(activity, model.n)
     following = _following(drive, model)
     joints = []
     for j, name in enumerate(names):
@@ -214,9 +215,7 @@ def build_report(
                 "max_abs_speed": rnd(float(np.abs(speed[:, j]).max()) if k else 0.0),
                 "max_abs_accel": rnd(float(np.abs(accel[:, j]).max()) if k else 0.0),
                 "limit_active_s": rnd(active_time[j]),
-                "limit_activity": {
-                    lab: rnd(t) for lab, t in sorted(_labels(controller, j).items())
-                },
+                "limit_activity": {lab: rnd(t) for lab, t in sorted(_labels(activity, j).items())},
                 "max_following_error": following[j],
             }
         )
@@ -281,9 +280,9 @@ def _interp_rows(t_src, rows, t_dst) -> np.ndarray:
     return np.column_stack([np.interp(t_dst, t_src, rows[:, j]) for j in range(rows.shape[1])])
 
 
-def _labels(controller, j: int) -> dict[str, float]:
+def _labels(activity: dict, j: int) -> dict[str, float]:
     out: dict[str, float] = {}
-    for (jj, label), t in controller.recorder.active_time.items():
+    for (jj, label), t in activity.items():
         if jj == j:
             out[label] = out.get(label, 0.0) + t
     return out

@@ -28,10 +28,12 @@ import numpy as np
 from irlc.lang.irdata import Code
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
-from irlc.runtime.controller import Settings
+from irlc.runtime.controller import Settings, setting_error
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.executor import ExecutionOptions, SimulatedController
 from irlc.runtime.recorder import RecordedRun
+
+from irlc.files import read_user_text
 
 DRIVE_LEVELS = ("ideal", "decoupled", "coupled", "pwm")
 
@@ -72,22 +74,9 @@ class RunResult:
 
 
 def resolve_model(code: Code, robot: str | Path | RobotModel | None, base_dir: Path | None):
-    """The robot to run on: ``robot`` (override) or the code's robot (a library name or a
-    path relative to the program)."""
-    from irlc.robots import RobotFileError, load_robot
-
-    if isinstance(robot, RobotModel):
-        model = robot
-    else:
-        name = str(robot) if robot is not None else code.robot
-        if robot is None and base_dir is not None and name.endswith((".toml", ".urdf")):
-            candidate = base_dir / name
-            if candidate.is_file():
-                name = str(candidate)
-        try:
-            model = load_robot(name)
-        except RobotFileError as exc:
-            raise RunSetupError(str(exc)) from None
+    """The robot to run on: ``robot`` (override) or the code's robot, by
+    :func:`irlc.robots.resolve_robot` (a library name or a path relative to the program)."""
+    model = robot if isinstance(robot, RobotModel) else load_model(robot or code.robot, base_dir)
     kinds = "".join("P" if k == units.PRISMATIC else "R" for k in model.joint_kinds)
     if code.joint_kinds and kinds != code.joint_kinds:
         raise RunSetupError(
@@ -95,6 +84,16 @@ def resolve_model(code: Code, robot: str | Path | RobotModel | None, base_dir: P
             f"{model.name} has {model.n} ({kinds})"
         )
     return model
+
+
+def load_model(name_or_path: str | Path, base_dir: Path | None) -> RobotModel:
+    """:func:`irlc.robots.resolve_robot`; its errors become :class:`RunSetupError` (exit 3)."""
+    from irlc.robots import RobotFileError, resolve_robot
+
+    try:
+        return resolve_robot(name_or_path, base_dir)
+    except RobotFileError as exc:
+        raise RunSetupError(str(exc)) from None
 
 
 def obstacle_shapes(code: Code) -> dict[str, Any]:
@@ -174,7 +173,7 @@ def run_code(
     """Execute compiled ``code`` (see the module doc)."""
     if drives not in DRIVE_LEVELS:
         raise RunSetupError(f"unknown drive level {drives!r} (known: {', '.join(DRIVE_LEVELS)})")
-    if ipo is not None and not (1e-5 <= ipo <= 1.0):
+    if ipo is not None and setting_error("ipo", ipo):
         raise RunSetupError(f"--ipo must be between 1e-5 and 1 s, got {ipo!r}")
     base = Path(base_dir) if base_dir is not None else None
     model = resolve_model(code, robot, base)
@@ -219,15 +218,18 @@ def run_file(
     path = Path(path)
     if not path.is_file():
         raise RunSetupError(f"{path}: no such file")
+    override = None if robot is None or isinstance(robot, RobotModel) else str(robot)
+    if override is not None:
+        robot = load_model(override, path.parent)  # a bad --robot is a usage error, up front
     diagnostics: list = []
     if path.suffix.lower() == ".ird":
         from irlc.lang.irdata import read_code
 
-        code = read_code(path.read_text(encoding="utf-8"), str(path))
+        text = read_user_text(path, lambda file, reason: RunSetupError(f"{file}: {reason}"))
+        code = read_code(text, str(path))
     else:
         from irlc.lang.compiler import compile_file
 
-        override = None if robot is None or isinstance(robot, RobotModel) else str(robot)
         result = compile_file(
             path,
             resolve_robot=_robot_resolver(path.parent, robot),
@@ -243,18 +245,11 @@ def run_file(
     return run
 
 
-def _robot_resolver(base_dir: Path, override):
-    """``name → RobotModel`` for the compiler (library names, paths relative to the program)."""
-    from irlc.robots import load_robot
+def _robot_resolver(base_dir: Path, override: RobotModel | None = None):
+    """``name → RobotModel`` for the compiler: the override model, or
+    :func:`irlc.robots.resolve_robot` relative to the program's folder."""
+    from irlc.robots import resolver
 
-    def resolve(name: str):
-        if isinstance(override, RobotModel):
-            return override
-        text = str(name)
-        if text.endswith((".toml", ".urdf")) and not Path(text).is_absolute():
-            candidate = base_dir / text
-            if candidate.is_file():
-                text = str(candidate)
-        return load_robot(text)
-
-    return resolve
+    if isinstance(override, RobotModel):
+        return lambda name: override
+    return resolver(base_dir)

@@ -40,6 +40,12 @@ def joint_unit(kind: str, derivative: int = 0) -> str:
     return base + ("", "_s", "_s2")[derivative]
 
 
+def joint_unit_label(kind: str, derivative: int = 0) -> str:
+    """Display form of :func:`joint_unit` for messages: ``deg``, ``deg/s``, ``mm/s²``."""
+    base = "deg" if kind == REVOLUTE else "mm"
+    return base + ("", "/s", "/s²")[derivative]
+
+
 def pose_to_si(x: float, y: float, z: float, a: float, b: float, c: float) -> np.ndarray:
     """Program pose (mm, deg, ZYX) → 4×4 transform in metres."""
     return spatial.transform(

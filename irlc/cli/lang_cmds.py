@@ -6,8 +6,6 @@ hint. Exit codes: 0 ok, 1 compile errors, 3 usage errors (missing file, unknown 
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import click
@@ -17,33 +15,32 @@ from irlc.errors import EXIT_COMPILE, EXIT_OK, UsageError
 
 
 def library_resolver(name_or_path: str):
-    """Resolve a robot through the robot library; its errors become LookupError."""
-    from irlc.robots import RobotFileError, load_robot
+    """Resolve a robot by :func:`irlc.robots.resolve_robot` (its errors are LookupErrors)."""
+    from irlc.robots import resolve_robot
 
-    try:
-        return load_robot(name_or_path)
-    except RobotFileError as e:
-        raise LookupError(e.message if not e.key else str(e)) from None
-    except OSError as e:
-        raise LookupError(str(e)) from None
+    return resolve_robot(name_or_path)
 
 
 def _compile(program: Path, robot: str | None, datalist_path: tuple[Path, ...]):
     from irlc.lang import compile_file
+    from irlc.robots import RobotFileError, resolve_robot, resolver
 
     if not program.is_file():
         raise UsageError(f"{program}: no such file")
     for d in datalist_path:
         if not d.is_dir():
             raise UsageError(f"--datalist-path {d}: no such folder")
+    resolve = resolver(program.parent)
     if robot is not None:
         try:
-            library_resolver(robot)
-        except LookupError as e:
-            raise UsageError(f"--robot {robot}: {e}") from None
+            model = resolve_robot(robot, program.parent)
+        except RobotFileError as e:
+            raise UsageError(str(e)) from None
+        resolve = lambda name: model  # noqa: E731 - the --robot model for any name
+
     return compile_file(
         str(program),
-        resolve_robot=library_resolver,
+        resolve_robot=resolve,
         datalist_path=tuple(str(d) for d in datalist_path),
         robot_override=robot,
     )
@@ -60,19 +57,6 @@ def print_diagnostics(result) -> None:
 def _summary(result) -> str:
     n_err, n_warn = len(result.errors), len(result.warnings)
     return f"{n_err} error{'s' if n_err != 1 else ''}, {n_warn} warning{'s' if n_warn != 1 else ''}"
-
-
-def write_atomic(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file in the same folder + os.replace."""
-    folder = path.parent if str(path.parent) else Path(".")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as f:
-            f.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 _robot_option = click.option("--robot", default=None, help="Robot name or file (overrides ROBOT).")
@@ -115,6 +99,7 @@ def compile_cmd(
     program: Path, output: Path | None, robot: str | None, datalist_path: tuple[Path, ...]
 ) -> int:
     """Compile PROGRAM.irl to IRDATA code (PROGRAM.ird)."""
+    from irlc.files import atomic_write_text
     from irlc.lang import write_code
 
     result = _compile(program, robot, datalist_path)
@@ -126,7 +111,7 @@ def compile_cmd(
     if not out.parent.is_dir() and str(out.parent):
         raise UsageError(f"-o {out}: folder {out.parent} does not exist")
     try:
-        write_atomic(out, write_code(result.code))
+        atomic_write_text(out, write_code(result.code))
     except OSError as e:
         raise UsageError(f"cannot write {out}: {e.strerror or e}") from None
     click.echo(f"wrote {out}")

@@ -24,6 +24,7 @@ from irlc.runtime.errors import RunFailure
 from irlc.runtime.reachability import check_vertical_plane
 
 RAW = {"ignore_unknown_options": True}
+MAX_POSITION_MM = 1e9  # 1000 km: beyond it a target is a typo, and squares overflow
 
 
 def _robot(name: str) -> RobotModel:
@@ -175,6 +176,16 @@ def _pose_table(model: RobotModel, joints, pose, title: str) -> None:
     Console().print(table)
 
 
+def _error_value(value: float) -> float | None:
+    """An IK error for the output: rounded like the other fields; ``None`` (JSON ``null``)
+    when the solver could not evaluate it (never ``Infinity`` / ``NaN`` in JSON)."""
+    return _fmt([value])[0] if math.isfinite(value) else None
+
+
+def _show(value: float | None) -> str:
+    return "unknown" if value is None else f"{value:.3g}"
+
+
 def _split_seed(args: list[str]) -> tuple[list[str], list[str] | None]:
     if "--seed" not in args:
         return args, None
@@ -196,13 +207,14 @@ def ik_cmd(robot: str, args: tuple[str, ...], as_json: bool) -> None:
         raise UsageError(f"expected a pose x y z a b c (6 numbers), got {len(pose_args)} values")
     pose = _numbers(pose_args, "pose value")
     seed = model.home_q() if seed_args is None else _joint_values(model, seed_args, "seed value")
-    try:
-        from irlc.runtime.ik import solve_pose
-    except ImportError:
-        raise UsageError(
-            "inverse kinematics is not available (irlc.runtime.ik.solve_pose "
-            "is missing in this build)"
-        ) from None
+    from irlc.runtime.ik.pose import seed_problem, solve_pose
+
+    problem = seed_problem(model, seed) if seed_args is not None else None
+    if problem is not None:
+        raise UsageError(problem)
+    for label, v in zip("xyz", pose[:3], strict=False):
+        if abs(v) > MAX_POSITION_MM:
+            raise UsageError(f"pose {label} = {v:g} mm is out of range (|{label}| ≤ 1e9 mm)")
     target = units.pose_to_si(*pose)
     try:
         sol = solve_pose(model, target, seed)
@@ -215,8 +227,8 @@ def ik_cmd(robot: str, args: tuple[str, ...], as_json: bool) -> None:
         if not check.reachable:
             message = f"{message}; {check.message}"
     joints = units.joints_from_si(sol.q, model.joint_kinds)
-    pos_mm = float(sol.position_error) / units.MM
-    ori_deg = float(sol.orientation_error) / units.DEG
+    pos_mm = _error_value(float(sol.position_error) / units.MM)
+    ori_deg = _error_value(float(sol.orientation_error) / units.DEG)
     if not np.all(np.isfinite(joints)):
         raise click.ClickException("the IK solver returned non-finite joint values (a bug)")
     if as_json:
@@ -237,8 +249,8 @@ def ik_cmd(robot: str, args: tuple[str, ...], as_json: bool) -> None:
         state = "converged" if sol.converged else "NOT converged"
         detail = "" if sol.converged else f" {message}"  # the solver's diagnosis
         click.echo(
-            f"{state} after {sol.iterations} iterations: position error {pos_mm:.3g} mm, "
-            f"orientation error {ori_deg:.3g} deg.{detail}"
+            f"{state} after {sol.iterations} iterations: position error {_show(pos_mm)} mm, "
+            f"orientation error {_show(ori_deg)} deg.{detail}"
         )
     if not sol.converged:
         raise click.exceptions.Exit(EXIT_RUN)

@@ -165,7 +165,7 @@ def run_cmd(
         if compare is not None:
             render_comparison(run.report, compare, out)
     if run.error is not None:
-        err.print(_render_failure(program, run.error), markup=False)
+        err.print(_render_failure(program, run.code, run.error), markup=False)
         return EXIT_RUN
     return code
 
@@ -208,30 +208,24 @@ def _render_diag(d) -> str:
     return render(d)
 
 
-def _render_failure(program: Path, error) -> str:
+def _render_failure(program: Path, code, error) -> str:
     """``FILE:LINE:1: error: run-time failure at t = … s: message`` with the source line."""
     from irlc.lang.diagnostics import Diagnostic, Span, render
 
     when = f" at t = {error.time_s:.3f} s" if error.time_s is not None else ""
     span = Span(error.line, 1) if error.line else None
-    source = _source_file(program)
+    source = _source_file(program, code)
     hint = f"binding constraint: {error.constraint}" if error.constraint else None
     diag = Diagnostic("error", f"run-time failure{when}: {error.message}", str(source), span, hint)
     return render(diag)
 
 
-def _source_file(program: Path) -> Path:
-    """The .irl source of a program (an .ird's SOURCE record when it exists)."""
-    if program.suffix.lower() != ".ird":
-        return program
-    try:
-        from irlc.lang.irdata import read_code
-
-        src = read_code(program.read_text(encoding="utf-8"), str(program)).source
-    except Exception:
-        return program
-    cand = program.parent / src
-    return cand if src and cand.is_file() else program
+def _source_file(program: Path, code) -> Path:
+    """The .irl source of a program: an .ird's SOURCE record (``code.source``, from the code
+    the run already read) when that file exists next to it, else the program itself."""
+    src = getattr(code, "source", "") if program.suffix.lower() == ".ird" else ""
+    cand = program.parent / src if src else program
+    return cand if cand.is_file() else program
 
 
 def _write_outputs(run, report_path, trace_path) -> None:

@@ -12,7 +12,7 @@ Public API::
 from irlc.runtime.ik.coupled import CoupledLimitError
 from irlc.runtime.ik.freeze import FreezeError
 from irlc.runtime.ik.limits import LimitViolation, LimitViolationError, intersect_limits
-from irlc.runtime.ik.newton import DeviationError, IKFailure, InverseTransformation
+from irlc.runtime.ik.newton import IKFailure, InverseTransformation
 from irlc.runtime.ik.params import (
     CycleOptions,
     CycleResult,
@@ -27,7 +27,6 @@ __all__ = [
     "CoupledLimitError",
     "CycleOptions",
     "CycleResult",
-    "DeviationError",
     "FreezeError",
     "IKFailure",
     "IKParams",

@@ -79,9 +79,9 @@ class CoupledRows:
         return self.A, self.bound_d - self.A @ sigma
 
     def describe_row(self, row: int) -> str:
-        """``"coupled limit theta2+theta3 max 25 deg"`` (angles in degrees)."""
-        c, side, value = self.labels[row]
-        return f"coupled limit {c.name} {side} {math.degrees(value):.6g} deg"
+        """``"coupled limit theta2+theta3 max 25 deg"`` (program units: deg | mm)."""
+        c, side, _ = self.labels[row]
+        return f"coupled limit {cl.row_label(c, side)}"
 
     def _two_over_eps(self, accel: np.ndarray, dt: float) -> np.ndarray:
         key = self._accel

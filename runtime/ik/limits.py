@@ -56,8 +56,7 @@ def format_joint_value(model: RobotModel, joint: int, value_si: float, derivativ
     """``"60 deg"``, ``"25 deg/s"``, ``"500 mm"`` — program units via :mod:`units`."""
     kind = model.joints[joint].kind
     value = float(units.joints_from_si([value_si], [kind])[0])
-    label = units.joint_unit(kind, derivative).replace("_s2", "/s²").replace("_s", "/s")
-    return f"{value:.6g} {label}"
+    return f"{value:.6g} {units.joint_unit_label(kind, derivative)}"
 
 
 @dataclass(frozen=True)
@@ -155,18 +154,39 @@ class BoxSnapshot:
         self._cand = cand  # (4, 2, n) signed candidates (see _BoxConstants)
         self.limits = limits  # (position, speed, accel) SI arrays
 
-    @property
-    def cand_lo(self) -> np.ndarray:
-        """(4, n) lower candidates (POSITION, SPEED, ACCEL, BRAKING)."""
-        return -self._cand[:, 0]
-
-    @property
-    def cand_hi(self) -> np.ndarray:
-        return self._cand[:, 1]
-
     def source(self, joint: int, upper_side: bool) -> int:
         """Which candidate (POSITION, SPEED, ACCEL, BRAKING) sets this bound."""
         return int(np.argmin(self._cand[:, int(upper_side), joint]))
+
+
+def active_codes(
+    delta: np.ndarray, lower: np.ndarray, upper: np.ndarray, cand: np.ndarray
+) -> np.ndarray | None:
+    """Which box bound each joint's cycle displacement ``δ`` touches, as one small int
+    per joint: 0 inside, else ``1 + 2·source + side`` (source POSITION…BRAKING, side 0 =
+    min, 1 = max; a joint at both bounds counts as max). ``None`` when no joint is at a
+    bound (the common cycle: two vectorised comparisons, no allocation of labels)."""
+    tol = 1e-10 + 1e-9 * np.abs(delta)
+    lo = delta <= lower + tol
+    hi = delta >= upper - tol
+    if not (lo.any() or hi.any()):
+        return None
+    src = np.argmin(cand, axis=0)  # (2, n): the candidate that sets each bound
+    codes = np.zeros(delta.size, dtype=np.int8)
+    codes[lo] = 1 + 2 * src[0][lo]
+    codes[hi] = 2 + 2 * src[1][hi]
+    return codes
+
+
+def active_label(code: int) -> str:
+    """``"speed max"`` for an :func:`active_codes` entry (≥ 1)."""
+    source, side = divmod(int(code) - 1, 2)
+    return f"{SOURCE_NAMES[source]} {('min', 'max')[side]}"
+
+
+def encode_active(source: int, upper_side: bool) -> int:
+    """The :func:`active_codes` entry of one bound."""
+    return 1 + 2 * source + int(upper_side)
 
 
 def _limit_value(limits: tuple, joint: int, source: int, upper_side: bool) -> float:
@@ -200,14 +220,6 @@ class JointBox:
         self._room = np.empty((2, n))
         self._limits: tuple = ()
         self._cache: _BoxConstants | None = None
-
-    @property
-    def cand_lo(self) -> np.ndarray:
-        return -self.cand[:, 0]
-
-    @property
-    def cand_hi(self) -> np.ndarray:
-        return self.cand[:, 1]
 
     def prepare(
         self,
@@ -294,13 +306,6 @@ class JointBox:
     def snapshot(self) -> BoxSnapshot:
         """This cycle's box for later reports (candidates copied)."""
         return BoxSnapshot(self.lower_d, self.upper_d, self.cand.copy(), self._limits)
-
-    def describe_bound(self, model: RobotModel, joint: int, upper_side: bool) -> str:
-        """E.g. ``"a11 position max 60 deg"`` for the candidate that sets this bound."""
-        return describe_box_bound(model, self.snapshot(), joint, upper_side)
-
-    def source(self, joint: int, upper_side: bool) -> str:
-        return SOURCE_NAMES[int(np.argmin(self.cand[:, int(upper_side), joint]))]
 
     # --- helpers -----------------------------------------------------------------
     @staticmethod

@@ -38,7 +38,7 @@ from irlc.runtime.ik.compact import CompactBasis
 from irlc.runtime.ik.coupled import CoupledRows
 from irlc.runtime.ik.cyclic import CyclicReference
 from irlc.runtime.ik.freeze import FreezeError, FrozenJoints
-from irlc.runtime.ik.limits import JointBox
+from irlc.runtime.ik.limits import JointBox, active_codes
 from irlc.runtime.ik.newton_step import NewtonStep, StepOutcome
 from irlc.runtime.ik.obstacle import obstacle_terms
 from irlc.runtime.ik.params import CycleOptions, CycleResult, IKParams
@@ -51,14 +51,6 @@ from irlc.runtime.kinematics import Kinematics
 
 class IKFailure(RunFailure):
     """The inverse transformation cannot produce a valid configuration."""
-
-
-class DeviationError(IKFailure):
-    """A relaxed cycle left the path by more than the tolerance; ``result`` has details."""
-
-    def __init__(self, message: str, result: CycleResult):
-        super().__init__(message, constraint=result.binding or None)
-        self.result = result
 
 
 class InverseTransformation:
@@ -93,6 +85,7 @@ class InverseTransformation:
         self._weighted = WeightedDisplacement(self.weights)
         self._conf = WeightedDisplacement(self.weights, self.params.obstacle.a_conf)
         self._weighted_only = [self._weighted]
+        self._cyclic = CyclicReference(self.weights, np.zeros(n))
         self._state = IterationState(np.zeros(n), np.zeros(n), np.zeros(n))
         self._accel = None
         p = self.params
@@ -120,9 +113,9 @@ class InverseTransformation:
 
         ``q_start``: configuration at the start of the cycle; ``q_prev``: one cycle
         earlier (equal to ``q_start`` from rest); ``target``: desired TCP pose (4×4,
-        world, m). Raises ``LimitViolationError``, ``CoupledLimitError``, ``FreezeError``,
-        ``DeviationError`` (only if ``IKParams.max_deviation`` is set) or
-        :class:`IKFailure`.
+        world, m). Raises ``LimitViolationError``, ``CoupledLimitError``, ``FreezeError``
+        or :class:`IKFailure`; a relaxed cycle's path deviation is the caller's to judge
+        (the executor fails the run beyond its tolerance).
         """
         opts = options or self._default
         tl = target.tolist()
@@ -224,7 +217,17 @@ class InverseTransformation:
             np.dot(frames[-1], end, out=tcp)
         converged = pe < tol_p and oe < tol_o
         clearances = self._clearances(frames, opts) if opts.obstacles else {}
-        result = CycleResult(
+        codes = active_codes(theta - q_start, box.lower_d, box.upper_d, box.cand)
+        qp_active = None if outcome is None else outcome.active
+        # the box (for ``binding``) and J (for manipulability) are copied only when a
+        # report can ask for them: otherwise ``binding`` is "" and nobody reads σ
+        bound = codes is not None or relaxed or not converged
+        bound = bound or (qp_active is not None and qp_active.size > 0)
+        if J is not None and (opts.jacobian or not converged):
+            J = J[:, frozen.free] if frozen else (J if J is not J6 else J.copy())
+        else:
+            J = None
+        return CycleResult(
             theta,
             iterations,
             pe,
@@ -233,19 +236,16 @@ class InverseTransformation:
             relaxed,
             singular,
             clearances,
-            delta=theta - q_start,
-            box=box.snapshot(),
+            active_codes=codes,
+            box=box.snapshot() if bound else None,
             model=self.model,
             free=frozen.free,
-            qp_active=None if outcome is None else outcome.active,
+            qp_active=qp_active,
             qp_multipliers=None if outcome is None else outcome.multipliers,
-            jacobian=None if J is None else (J[:, frozen.free] if frozen else J.copy()),
+            jacobian=J,
             coupled=coupled,
             tcp=tcp.copy(),
         )
-        if p.max_deviation is not None or p.max_orientation_deviation is not None:
-            self._check_deviation(result)
-        return result
 
     # ------------------------------------------------------------------ pieces
     @staticmethod
@@ -263,7 +263,7 @@ class InverseTransformation:
         p = self.params
         converged = pe < p.tol_position and oe < p.tol_orientation
         clearances = self._clearances(acc.frames, opts) if opts.obstacles else {}
-        result = CycleResult(
+        return CycleResult(
             theta,
             int(ist[k.K]),
             pe,
@@ -272,7 +272,7 @@ class InverseTransformation:
             bool(ist[k.RELAXED]),
             bool(ist[k.SINGULAR]),
             clearances,
-            delta=theta - q_start,
+            active_codes=active_codes(theta - q_start, box.lower, box.upper, box._cand),
             box=box,
             model=self.model,
             free=self._no_frozen.free,
@@ -282,9 +282,6 @@ class InverseTransformation:
             coupled=self.coupled,
             tcp=acc.tcp.copy(),
         )
-        if p.max_deviation is not None or p.max_orientation_deviation is not None:
-            self._check_deviation(result)
-        return result
 
     def _errors(self, e: list) -> tuple[float, float]:
         """Norms of the position and orientation parts of the task error."""
@@ -304,7 +301,9 @@ class InverseTransformation:
         else:
             active = []
         if opts.reference is not None:
-            out.append(CyclicReference(self.weights, opts.reference))
+            cyclic = self._cyclic  # reused: only the reference changes per cycle
+            cyclic.reference = np.asarray(opts.reference, dtype=float)
+            out.append(cyclic)
             if active:
                 out.append(self._conf)
         else:
@@ -380,12 +379,6 @@ class InverseTransformation:
         dtheta[fz] = c
         return out, dtheta
 
-    def _converged(self, F: np.ndarray) -> bool:
-        p = self.params
-        return (
-            _norm(F, self.pos_rows) < p.tol_position and _norm(F, self.ori_rows) < p.tol_orientation
-        )
-
     def _clearances(self, frames, opts: CycleOptions) -> dict[str, tuple[float, int]]:
         if not opts.obstacles:
             return {}
@@ -393,21 +386,6 @@ class InverseTransformation:
             cp.name: (cp.distance, cp.link)
             for cp in critical_points(self.kin, frames, opts.obstacles)
         }
-
-    def _check_deviation(self, r: CycleResult) -> None:
-        p = self.params
-        too_far = p.max_deviation is not None and r.position_error > p.max_deviation
-        too_far |= (
-            p.max_orientation_deviation is not None
-            and r.orientation_error > p.max_orientation_deviation
-        )
-        if too_far:
-            what = f" (bound by {r.binding})" if r.binding else ""
-            raise DeviationError(
-                f"the path cannot be followed: TCP deviation {r.position_error * 1e3:.3f} mm, "
-                f"{np.degrees(r.orientation_error):.3f} deg{what}",
-                r,
-            )
 
 
 def _single_diagonal(criteria: list, frozen: FrozenJoints):
@@ -421,11 +399,6 @@ def _finite(x: np.ndarray) -> bool:
     """All entries finite (one dot product; ‖x‖² overflowing is not a configuration —
     the caller then runs the exact check)."""
     return math.isfinite(x.dot(x))
-
-
-def _norm(F: np.ndarray, rows: slice) -> float:
-    part = F[rows]
-    return math.sqrt(part @ part)
 
 
 def _tiny(dtheta: np.ndarray, theta: np.ndarray) -> bool:

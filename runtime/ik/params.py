@@ -25,7 +25,7 @@ from functools import cached_property
 
 import numpy as np
 from irlc.robots.model import RobotModel
-from irlc.runtime.ik.limits import SOURCE_NAMES, describe_box_bound
+from irlc.runtime.ik.limits import active_label, describe_box_bound
 
 TASK_COMPONENTS = ("x", "y", "z", "rx", "ry", "rz")
 
@@ -49,8 +49,6 @@ class IKParams:
     relax_weight: float = 1e6
     cond_max: float = 1e4
     singular_cond: float = 1e10
-    max_deviation: float | None = None  # m; a relaxed cycle beyond it raises DeviationError
-    max_orientation_deviation: float | None = None  # rad
     eps_conf: float = 1e-6  # RECONFIGURATION ends when ‖θ(t) − θ(t−Δt)‖ < eps_conf
     solver: str = "quadprog"
     warm_start: bool = True  # first iterate θ_s + d (see newton); not for self-motion
@@ -94,7 +92,9 @@ class CycleOptions:
     RECONFIGURATION (``None``: default criterion). ``self_motion``: RECONFIGURATION k
     (``reference = k``, the TCP is held at ``target``). ``frozen``: joint → held value.
     ``obstacles``: every obstacle whose clearance is reported; ``active_obstacles``: the
-    names avoided (OBSTACLE … OBSTACLEEND).
+    names avoided (OBSTACLE … OBSTACLEEND). ``jacobian``: keep the cycle's Jacobian in
+    the result for ``manipulability``/``sigma_min`` (a copy; the executor asks only on
+    the cycles it samples them — an unconverged cycle keeps it anyway).
     """
 
     position: np.ndarray | None = None
@@ -105,6 +105,7 @@ class CycleOptions:
     frozen: dict[int, float] = field(default_factory=dict)
     obstacles: Sequence = ()
     active_obstacles: frozenset[str] = frozenset()
+    jacobian: bool = True
 
 
 class CycleResult:
@@ -113,19 +114,21 @@ class CycleResult:
     Fields: ``q`` (configuration at the end of the cycle), ``iterations`` (Newton steps
     taken), ``position_error`` (m) / ``orientation_error`` (rad) left on the controlled
     task components, ``converged``, ``relaxed`` (the hard QP had no solution: the task
-    was moved into the cost), ``deviation`` (m, the position error when not converged,
-    else 0), ``singular`` (no well-conditioned m×m block of J was found in some step),
-    ``clearances`` (obstacle name → (distance m, link) at the end of the cycle, for every
-    obstacle in ``CycleOptions.obstacles``), ``tcp`` (4×4 world TCP pose at ``q``, from
-    the last forward kinematics of the cycle — callers need no second FK).
+    was moved into the cost), ``singular`` (no well-conditioned m×m block of J was found
+    in some step), ``clearances`` (obstacle name → (distance m, link) at the end of the
+    cycle, for every obstacle in ``CycleOptions.obstacles``), ``tcp`` (4×4 world TCP pose
+    at ``q``, from the last forward kinematics of the cycle — callers need no second FK),
+    ``active_codes`` (per joint the box bound the cycle displacement touches, coded by
+    :func:`~irlc.runtime.ik.limits.active_codes`; ``None`` when none: the recorder keeps
+    the codes and labels them only for the report).
 
-    Computed on first access (the hot loop does not pay for them): ``active`` (joint →
-    ``"position max"``, ``"speed min"``, … for the box bounds the cycle displacement
-    touches), ``binding`` (the active bound with the largest QP multiplier, in program
-    units, e.g. ``"J11 position max 60 deg"`` or ``"coupled limit theta2+theta3 max 25
-    deg"``; ``""`` if none), ``manipulability``
-    (``Π σ_i`` of the task Jacobian over the free joints at the last Newton iterate) and
-    ``sigma_min`` (its smallest singular value).
+    Computed on first access: ``active`` (joint → ``"position max"``, ``"speed min"``, …
+    decoded from ``active_codes``), ``binding`` (the active bound with the largest QP
+    multiplier, in program units, e.g. ``"J11 position max 60 deg"`` or ``"coupled limit
+    theta2+theta3 max 25 deg"``; ``""`` if none), ``manipulability`` (``Π σ_i`` of the
+    task Jacobian over the free joints at the last Newton iterate; NaN when the cycle was
+    run with ``CycleOptions.jacobian = False`` and converged) and ``sigma_min`` (its
+    smallest singular value).
     """
 
     def __init__(
@@ -139,7 +142,7 @@ class CycleResult:
         singular,
         clearances,
         *,
-        delta=None,
+        active_codes=None,
         box=None,
         model=None,
         free=None,
@@ -155,10 +158,10 @@ class CycleResult:
         self.orientation_error = orientation_error
         self.converged = converged
         self.relaxed = relaxed
-        self.deviation = 0.0 if converged else position_error
         self.singular = singular
         self.clearances: dict[str, tuple[float, int]] = clearances
-        self._delta, self._box, self._model, self._free = delta, box, model, free
+        self.active_codes: np.ndarray | None = active_codes
+        self._box, self._model, self._free = box, model, free
         self._qp_active, self._qp_mult, self._jac = qp_active, qp_multipliers, jacobian
         self._coupled = coupled
         self.tcp = tcp  # 4×4 world TCP pose at ``q`` (SI)
@@ -172,16 +175,12 @@ class CycleResult:
 
     @cached_property
     def active(self) -> dict[int, str]:
-        box, delta = self._box, self._delta
-        if box is None:
+        codes = self.active_codes
+        if codes is None:
             return {}
-        tol = 1e-10 + 1e-9 * np.abs(delta)
-        out: dict[int, str] = {}
-        for j in np.flatnonzero(delta <= box.lower + tol):
-            out[int(j)] = f"{SOURCE_NAMES[box.source(int(j), False)]} min"
-        for j in np.flatnonzero(delta >= box.upper - tol):
-            out[int(j)] = f"{SOURCE_NAMES[box.source(int(j), True)]} max"
-        return out
+        # min bounds first, then max (the order ``binding`` falls back on)
+        order = sorted(np.flatnonzero(codes).tolist(), key=lambda j: (codes[j] % 2 == 0, j))
+        return {j: active_label(codes[j]) for j in order}
 
     @cached_property
     def binding(self) -> str:

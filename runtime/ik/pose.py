@@ -22,12 +22,19 @@ damped least squares), so it cannot bias where the iteration stops.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime import spatial
-from irlc.runtime.coupled_limits import as_inequalities, coupled_limits, describe, violations
+from irlc.runtime.coupled_limits import (
+    as_inequalities,
+    coupled_limits,
+    describe,
+    row_label,
+    violations,
+)
 from irlc.runtime.ik.compact import CompactBasis
 from irlc.runtime.ik.limits import format_joint_value
 from irlc.runtime.ik.newton_step import NewtonStep
@@ -68,31 +75,16 @@ def solve_pose(
         return PoseSolution(
             q, False, np.inf, np.inf, 0, f"seed must be {model.n} finite joint values"
         )
-    limits = model.position_limits
-    outside = np.flatnonzero((q < limits[:, 0]) | (q > limits[:, 1]))
-    if outside.size:
-        j = int(outside[0])
-        side = 0 if q[j] < limits[j, 0] else 1
-        return PoseSolution(
-            q,
-            False,
-            np.inf,
-            np.inf,
-            0,
-            f"seed joint {model.joints[j].name} = "
-            f"{format_joint_value(model, j, q[j], 0)} is outside its "
-            f"position {'min' if side == 0 else 'max'} "
-            f"{format_joint_value(model, j, limits[j, side], 0)}",
-        )
-
-    coupled = coupled_limits(model)
-    if coupled and violations(coupled, q, 1e-9):
-        worst = max(violations(coupled, q, 1e-9), key=lambda v: v.amount)
-        return PoseSolution(q, False, np.inf, np.inf, 0, f"seed: {describe(worst)}")
-    A, b = as_inequalities(coupled, model.n)
     kin = Kinematics(model, tool)
     rows = np.array(task_rows if task_rows is not None else task_rows_for(model), dtype=int)
     pos_rows, ori_rows = np.flatnonzero(rows < 3), np.flatnonzero(rows >= 3)
+    problem = seed_problem(model, q)
+    if problem is not None:  # the errors are those of the seed
+        F = spatial.pose_error(kin.tcp(q), target)[rows]
+        return PoseSolution(q, False, _norm(F[pos_rows]), _norm(F[ori_rows]), 0, problem)
+    limits = model.position_limits
+    coupled = coupled_limits(model)
+    A, b = as_inequalities(coupled, model.n)
     step = np.array(
         [max_step if j.kind == "revolute" else max_step_prismatic for j in model.joints]
     )
@@ -140,8 +132,28 @@ def solve_pose(
     )
 
 
+def seed_problem(model: RobotModel, q: np.ndarray) -> str | None:
+    """Why ``q`` (SI) cannot seed the solver — outside a position limit (joint, value,
+    limit) or violating a coupled limit — or ``None``."""
+    limits = model.position_limits
+    outside = np.flatnonzero((q < limits[:, 0]) | (q > limits[:, 1]))
+    if outside.size:
+        j = int(outside[0])
+        side = 0 if q[j] < limits[j, 0] else 1
+        return (
+            f"seed joint {model.joints[j].name} = {format_joint_value(model, j, q[j], 0)} is "
+            f"outside its position {('min', 'max')[side]} "
+            f"{format_joint_value(model, j, limits[j, side], 0)}"
+        )
+    found = violations(coupled_limits(model), q, 1e-9)
+    if found:
+        return f"seed: {describe(max(found, key=lambda v: v.amount))}"
+    return None
+
+
 def _norm(v: np.ndarray) -> float:
-    return float(np.sqrt(v @ v)) if v.size else 0.0
+    """‖v‖ without overflow for huge targets (``hypot`` scales; ``sqrt(v·v)`` overflows)."""
+    return math.hypot(*v)
 
 
 def _stalled(dtheta: np.ndarray, history: list[float], window: int = 10) -> bool:
@@ -158,12 +170,12 @@ def _coupled_reached(coupled, A, b, q) -> str:
     at = np.flatnonzero(A @ q - b <= 1e-9)
     if not at.size:
         return ""
-    rows = []
+    rows = []  # in the order of as_inequalities' rows
     for c in coupled:
         if np.isfinite(c.lower):
-            rows.append(f"{c.name} min {np.degrees(c.lower):.6g} deg")
+            rows.append(row_label(c, "min"))
         if np.isfinite(c.upper):
-            rows.append(f"{c.name} max {np.degrees(c.upper):.6g} deg")
+            rows.append(row_label(c, "max"))
     return f" (coupled limits reached: {', '.join(rows[i] for i in at)})"
 
 

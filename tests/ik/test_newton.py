@@ -265,22 +265,36 @@ def test_abrupt_target_gives_relaxed_cycle_with_deviation(koch11):
     target[:3, 3] += (0.5, 0.0, 0.0)  # 0.5 m in one 10 ms cycle from rest
     r = ik.step(q0, q0, target, 0.01)
     assert r.relaxed and not r.converged
-    assert 0.0 < r.deviation <= 0.5
+    assert 0.0 < r.position_error <= 0.5
     assert r.binding  # names the limit that stopped it, e.g. "J… accel max …"
     assert np.all(np.isfinite(r.q))
 
 
-def test_max_deviation_turns_relaxed_cycle_into_error(koch11):
-    from irlc.runtime.ik import DeviationError
+def test_executor_turns_a_relaxed_cycle_beyond_tolerance_into_a_run_failure(koch11):
+    """The path deviation is judged by the executor (one mechanism): the same cycle as
+    above fails the run with the IK's own deviation, the line and the binding limit."""
+    from types import SimpleNamespace
+
+    from irlc.runtime.controller import Settings
+    from irlc.runtime.errors import RunFailure
+    from irlc.runtime.executor import SimulatedController
+    from irlc.runtime.ik.params import CycleOptions
 
     kin = Kinematics(koch11)
-    ik = InverseTransformation(koch11, kin, IKParams(max_deviation=1e-3))
     q0 = koch11.home_q()
     target = kin.tcp(q0)
     target[:3, 3] += (0.5, 0.0, 0.0)
-    with pytest.raises(DeviationError) as info:
-        ik.step(q0, q0, target, 0.01)
-    assert info.value.result.relaxed and "mm" in info.value.message
+    expected = InverseTransformation(koch11, kin).step(q0, q0, target, 0.01)
+    ctl = SimulatedController(koch11, q0)
+    solver = ctl._solver(Settings())
+    with pytest.raises(RunFailure) as info:
+        ctl._ik_cycle(SimpleNamespace(line=7), target, 0.01, CycleOptions(), solver)
+    err = info.value
+    assert err.line == 7 and err.time_s == pytest.approx(0.01)
+    assert f"TCP deviation {expected.position_error / units.MM:.4g} mm" in err.message
+    assert err.constraint == expected.binding != ""
+    span = ctl.recorder.relaxed_spans[-1]
+    assert span.line == 7 and span.max_deviation == expected.position_error
 
 
 def test_unreachable_far_target_never_nan(koch11):
@@ -291,7 +305,7 @@ def test_unreachable_far_target_never_nan(koch11):
     for _ in range(50):
         r = ik.step(q, q_prev, target, 0.01)
         q_prev, q = q, r.q
-        assert np.all(np.isfinite(q)) and np.isfinite(r.deviation)
+        assert np.all(np.isfinite(q)) and np.isfinite(r.position_error)
         assert r.relaxed
     assert np.all(q >= koch11.position_limits[:, 0] - 1e-9)
     assert np.all(q <= koch11.position_limits[:, 1] + 1e-9)

@@ -44,21 +44,18 @@ def test_robot_names_are_case_insensitive() -> None:
     assert compile_text(text, resolve_robot=exact).ok
 
 
-def test_relative_robot_file_is_found_next_to_the_program(tmp_path: Path) -> None:
+def test_relative_robot_file_is_found_next_to_the_program(tmp_path: Path, monkeypatch) -> None:
+    # the compiler passes the name as written; the resolver (irlc.robots.resolver, built on
+    # resolve_robot with the program's folder) finds the file next to the program first
+    from irlc.robots import ROBOTS_DIR, resolver
+
     (tmp_path / "cell").mkdir()
-    (tmp_path / "cell" / "arm.toml").write_text("")
-    seen: list[str] = []
-
-    def by_path(name: str) -> SimpleRobot:
-        seen.append(name)
-        if not Path(name).is_file():
-            raise LookupError("file not found")
-        return ROBOTS["planar3"]
-
+    (tmp_path / "cell" / "arm.toml").write_text((ROBOTS_DIR / "planar3.toml").read_text())
+    monkeypatch.chdir(ROBOTS_DIR)  # not where the file is
     text = "PROGRAM t;\nROBOT r := 'cell/arm.toml';\nBEGIN\nENDPROGRAM\n"
-    result = compile_text(text, str(tmp_path / "prog.irl"), resolve_robot=by_path)
+    result = compile_text(text, str(tmp_path / "prog.irl"), resolve_robot=resolver(tmp_path))
     assert result.ok, [d.header() for d in result.diagnostics]
-    assert seen == [str(tmp_path / "cell" / "arm.toml")]
+    assert result.code.joint_kinds == "RRR"
 
 
 def test_tuple_errors_point_at_the_opening_parenthesis() -> None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from irlc.lang import SimpleRobot, compile_source
 from irlc.lang.parser import keywords, parse
 
@@ -44,14 +45,20 @@ def test_robot_override_wins_with_warning() -> None:
     assert [d.severity for d in result.diagnostics] == ["warning"]
 
 
-def test_resolver_errors_of_any_type_become_diagnostics() -> None:
-    def broken(name: str):
-        raise RuntimeError("robot file is corrupt")
+def test_resolver_lookup_errors_become_diagnostics_and_bugs_propagate() -> None:
+    src = "PROGRAM t;\nROBOT r := x;\nBEGIN\nENDPROGRAM\n"
 
-    result = compile_source(
-        "PROGRAM t;\nROBOT r := x;\nBEGIN\nENDPROGRAM\n", "t.irl", resolve_robot=broken
-    )
+    def missing(name: str):
+        raise LookupError("robot file is corrupt")
+
+    result = compile_source(src, "t.irl", resolve_robot=missing)
     assert not result.ok and "robot file is corrupt" in result.errors[0].message
+
+    def broken(name: str):  # a bug in a resolver must not masquerade as a diagnostic
+        raise RuntimeError("bug")
+
+    with pytest.raises(RuntimeError, match="bug"):
+        compile_source(src, "t.irl", resolve_robot=broken)
 
 
 def test_names_are_case_insensitive_and_echo_declared_spelling() -> None:

@@ -145,7 +145,7 @@ def test_not_toml_and_missing_robot_table(tmp_path):
 
 
 def test_unknown_name_and_missing_file():
-    with pytest.raises(RobotFileError, match=r"unknown robot; known robots: .*koch11"):
+    with pytest.raises(RobotFileError, match=r"unknown robot 'no_such_robot' \(known: .*koch11"):
         load_robot("no_such_robot")
     with pytest.raises(RobotFileError, match="file not found"):
         load_robot("/nonexistent/robot.toml")

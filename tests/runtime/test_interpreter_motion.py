@@ -147,8 +147,8 @@ def test_system_variables_reach_the_controller_as_a_snapshot():
 @pytest.mark.parametrize(
     ("var", "const", "message"),
     [
-        ("R_SPEED_PTP", 10, "R_SPEED_PTP := 150.0: the value must be (0, 100.0 %]"),
-        ("R_IPO", 5, "R_IPO := 250.0: the value must be (0, 1.0 s]"),
+        ("R_SPEED_PTP", 10, "R_SPEED_PTP := 150.0: the value must be in (0, 100] %"),
+        ("R_IPO", 5, "R_IPO := 250.0: the value must be in [1e-05, 1] s"),
     ],
 )
 def test_bad_system_variable_values(var, const, message):

@@ -1,0 +1,107 @@
+"""Bad expectation files in ``irlc test`` and the one atomic writer (mode, content)."""
+
+from __future__ import annotations
+
+import os
+import stat
+
+import pytest
+
+from irlc.cli import main
+from irlc.files import atomic_write_text, read_user_text
+from irlc.golden import ExpectationError, load_expectation, run_case
+
+PROGRAM = "PROGRAM p;\nROBOT r := planar3;\nBEGIN\nENDPROGRAM\n"
+
+
+def _case(tmp_path, expected: bytes):
+    prog = tmp_path / "p.irl"
+    prog.write_text(PROGRAM, encoding="utf-8")
+    (tmp_path / "p.expected.json").write_bytes(expected)
+    return prog
+
+
+def _no_run(program, options):
+    raise AssertionError("a bad expectation must be reported before running")
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        (b"\x89PNG\r\n\x1a\n\x00", "p.expected.json: not a UTF-8 text file (byte 0x89 on line 1)"),
+        (b'"just a string"', "p.expected.json: expected a JSON object, got a string"),
+        (b"[1, 2]", "p.expected.json: expected a JSON object, got an array"),
+        (b'{"status": "ok",\n "x": }', "p.expected.json:2:7: not valid JSON"),
+        (b'{"tolerances": {"x": "abc"}}', "key 'tolerances.x': expected a number ≥ 0, got \"abc\""),
+        (b'{"tolerances": {"x": -1}}', "key 'tolerances.x': expected a number ≥ 0, got -1"),
+        (b'{"tolerances": [1]}', "key 'tolerances': expected an object, got an array"),
+        (b'{"options": "fast"}', "key 'options': expected an object, got a string"),
+        (b'{"options": {"speed": 2}}', "key 'options.speed': unknown run option"),
+    ],
+)
+def test_bad_expectation_is_an_error_case_naming_file_and_key(tmp_path, content, message):
+    result = run_case(_case(tmp_path, content), runner=_no_run)
+    assert result.status == "error" and message in result.message
+
+
+def test_valid_user_keys_load(tmp_path):
+    path = tmp_path / "e.json"
+    path.write_text('{"options": {"ipo": 0.01}, "tolerances": {"duration_s": 0.5}}')
+    assert load_expectation(path)["tolerances"] == {"duration_s": 0.5}
+
+
+def test_cli_reports_a_bad_expectation_without_traceback(tmp_path, capsys):
+    _case(tmp_path, b'{"tolerances": {"x": "abc"}}')
+    assert main(["test", str(tmp_path)]) == 1
+    out = capsys.readouterr()
+    text = " ".join((out.out + out.err).split())
+    assert "ERROR p.irl" in text and "tolerances.x" in text and "Traceback" not in text
+
+
+def test_read_user_text_raises_the_callers_error(tmp_path):
+    bad = tmp_path / "b.txt"
+    bad.write_bytes(b"ok\nok\n\xc3(")
+    with pytest.raises(
+        ExpectationError, match=r"b\.txt: not a UTF-8 text file \(byte 0xc3 on line 3\)"
+    ):
+        read_user_text(bad, lambda f, r: ExpectationError(f"{f}: {r}"))
+    with pytest.raises(ExpectationError, match=r"missing\.txt: cannot read the file"):
+        read_user_text(tmp_path / "missing.txt", lambda f, r: ExpectationError(f"{f}: {r}"))
+
+
+@pytest.fixture
+def umask_022():
+    old = os.umask(0o022)
+    yield
+    os.umask(old)
+
+
+def _mode(path) -> int:
+    return stat.S_IMODE(path.stat().st_mode)
+
+
+def test_atomic_writer_mode_follows_umask_and_leaves_no_temp(tmp_path, umask_022):
+    target = tmp_path / "sub" / "out.json"
+    atomic_write_text(target, "é\n")
+    assert target.read_bytes() == "é\n".encode() and _mode(target) == 0o644
+    os.umask(0o077)
+    atomic_write_text(target, "second\n")
+    assert target.read_text() == "second\n" and _mode(target) == 0o600
+    assert sorted(p.name for p in target.parent.iterdir()) == ["out.json"]
+
+
+def test_every_writer_gives_0644(tmp_path, umask_022, capsys):
+    from irlc.report import write_report, write_trace
+
+    write_report({"status": "ok"}, tmp_path / "r.json")
+    write_trace(["t_s", "line"], [[0.0, 1.0]], tmp_path / "t.csv")
+    prog = tmp_path / "p.irl"
+    prog.write_text(PROGRAM, encoding="utf-8")
+    assert main(["compile", str(prog), "-o", str(tmp_path / "p.ird")]) == 0
+    assert main(["run", str(prog), "-q", "--export-trajectory", str(tmp_path / "traj.json"),
+                 "--animate", str(tmp_path / "a.html")]) == 0  # fmt: skip
+    (tmp_path / "p.expected.json").unlink(missing_ok=True)
+    assert main(["test", str(tmp_path), "--update"]) == 0
+    capsys.readouterr()
+    for name in ("r.json", "t.csv", "p.ird", "traj.json", "a.html", "p.expected.json"):
+        assert _mode(tmp_path / name) == 0o644, name
