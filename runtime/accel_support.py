@@ -15,9 +15,9 @@ default ``None``.
 
 from __future__ import annotations
 
+import importlib
 import importlib.util
 import os
-from collections.abc import Callable
 
 DISABLED = os.environ.get("IRLC_NO_ACCEL", "") == "1"
 AVAILABLE = not DISABLED and importlib.util.find_spec("numba") is not None  # (not imported)
@@ -35,9 +35,9 @@ def kernel_cached(kernel) -> bool:
         return False
 
 
-def decide(requested: bool | None, cache_warm: Callable[[], bool] | None = None) -> bool:
-    """Use a kernel? ``cache_warm`` is not consulted: it only tells callers (benchmarks,
-    warm-up commands) whether the next use will compile."""
+def decide(requested: bool | None) -> bool:
+    """Use a kernel? (:meth:`Kernels.cache_warm` only tells benchmarks and warm-up
+    commands whether the next use will compile; it does not enter the decision.)"""
     if not AVAILABLE or requested is False:
         return False
     if requested is True:
@@ -46,3 +46,21 @@ def decide(requested: bool | None, cache_warm: Callable[[], bool] | None = None)
     if env in ("0", "1"):
         return env == "1"
     return True
+
+
+class Kernels:
+    """The kernel module of one accelerator, imported on first use (importing numba costs
+    ≈ 0.2 s, which a run on the numpy path should not pay). ``probe`` names the kernel whose
+    cache entry tells whether the next use compiles."""
+
+    def __init__(self, module: str, probe: str):
+        self._name, self._probe, self._module = module, probe, None
+
+    def load(self):
+        if self._module is None:
+            self._module = importlib.import_module(self._name)
+        return self._module
+
+    def cache_warm(self) -> bool:
+        """True when numba's on-disk cache holds the probe kernel for the current source."""
+        return AVAILABLE and kernel_cached(getattr(self.load(), self._probe))

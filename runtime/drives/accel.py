@@ -26,27 +26,16 @@ import numpy as np
 from irlc.runtime import accel_support
 
 AVAILABLE = accel_support.AVAILABLE
-_kernels = None
 compile_seconds: float | None = None  # first kernel call of this process (compile or load)
 
-
-def _module():
-    global _kernels
-    if _kernels is None:
-        from irlc.runtime.drives import accel_kernels
-
-        _kernels = accel_kernels
-    return _kernels
-
-
-def cache_warm() -> bool:
-    """True when numba's on-disk cache holds the drive kernel for the current source."""
-    return AVAILABLE and accel_support.kernel_cached(_module().run_segment)
+_KERNELS = accel_support.Kernels("irlc.runtime.drives.accel_kernels", "run_segment")
+_module = _KERNELS.load
+cache_warm = _KERNELS.cache_warm
 
 
 def use_accel(requested: bool | None) -> bool:
     """Decide whether a run uses the compiled loop (:func:`accel_support.decide`)."""
-    return accel_support.decide(requested, cache_warm)
+    return accel_support.decide(requested)
 
 
 class AcceleratedLoop:

@@ -31,27 +31,16 @@ import quadprog
 from irlc.runtime import accel_support
 
 AVAILABLE = accel_support.AVAILABLE  # numba importable and not IRLC_NO_ACCEL=1
-_kernels = None  # the module, imported on first use (numba import ≈ 0.2 s)
 compile_seconds: float | None = None  # first kernel call of this process (compile or load)
 
-
-def _module():
-    global _kernels
-    if _kernels is None:
-        from irlc.runtime.ik import accel_kernels
-
-        _kernels = accel_kernels
-    return _kernels
-
-
-def cache_warm() -> bool:
-    """True when numba's on-disk cache holds the main kernel for the current source."""
-    return AVAILABLE and accel_support.kernel_cached(_module().newton_cycle)
+_KERNELS = accel_support.Kernels("irlc.runtime.ik.accel_kernels", "newton_cycle")
+_module = _KERNELS.load
+cache_warm = _KERNELS.cache_warm
 
 
 def use_accel(requested: bool | None) -> bool:
     """Decide whether a solver uses the accelerator (:func:`accel_support.decide`)."""
-    return accel_support.decide(requested, cache_warm)
+    return accel_support.decide(requested)
 
 
 def warm_up() -> float:
