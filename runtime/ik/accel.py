@@ -131,7 +131,7 @@ class AcceleratedCycle:
 
     # ------------------------------------------------------------------ setup
     def _box_constants(self, position, speed, accel, dt):
-        c = self.ik.box._constants(position, speed, accel, dt)
+        c = self.ik.box.constants(position, speed, accel, dt)
         if self._box_key is not c:
             self._box_key = c
             self.boxc[0] = c.signed_pos

@@ -233,15 +233,7 @@ class JointBox:
     ) -> None:
         """Bounds on ``δ`` for this cycle; raises :class:`LimitViolationError`.
         Infinite limits are allowed (they never bind)."""
-        c = self._cache
-        if (
-            c is None
-            or c.inputs[0] is not position
-            or c.inputs[1] is not speed
-            or c.inputs[2] is not accel
-            or c.dt != dt
-        ):
-            c = self._constants(position, speed, accel, dt)
+        c = self.constants(position, speed, accel, dt)
         cand, sd = self.cand, self._signed_d
         np.multiply(_SIGN, q_start, out=sd)
         np.subtract(c.signed_pos, sd, out=cand[POSITION])  # [θ_s − θmin; θmax − θ_s]
@@ -264,12 +256,10 @@ class JointBox:
             brake += 1.0
             np.divide(room, brake, out=brake)
             brake += brake
-        if c.accel_bounded:  # [−lower; upper]
-            bound = np.minimum(cand[POSITION], cand[SPEED])
+        bound = np.minimum(cand[POSITION], cand[SPEED])  # [−lower; upper]
+        if c.accel_bounded:
             np.minimum(bound, cand[ACCEL], out=bound)
             np.minimum(bound, cand[BRAKING], out=bound)
-        else:
-            bound = np.minimum(cand[POSITION], cand[SPEED])
         np.negative(bound[0], out=bound[0])
         self.bounds = bound  # [lower; upper], a fresh array every cycle
         self.lower_d, self.upper_d = bound[0], bound[1]
@@ -277,21 +267,23 @@ class JointBox:
         if min((bound[1] - bound[0]).tolist()) < 0.0:
             self._check_nonempty(model, q_start, d, dt)
 
-    def _constants(self, position, speed, accel, dt) -> _BoxConstants:
+    def constants(self, position, speed, accel, dt) -> _BoxConstants:
+        """The per-limits constants, rebuilt only when the limit arrays or Δt change
+        (the same arrays are passed cycle after cycle while an option is on)."""
         c = self._cache
         if (
-            c is None
-            or c.inputs[0] is not position
-            or c.inputs[1] is not speed
-            or c.inputs[2] is not accel
-            or c.dt != dt
+            c is not None
+            and c.inputs[0] is position
+            and c.inputs[1] is speed
+            and c.inputs[2] is accel
+            and c.dt == dt
         ):
-            c = _BoxConstants(position, speed, accel, dt)
-            self._cache = c
-            self.cand[SPEED] = c.signed_speed
-            if not c.accel_bounded:
-                self.cand[ACCEL] = _BIG
-                self.cand[BRAKING] = _BIG
+            return c
+        c = self._cache = _BoxConstants(position, speed, accel, dt)
+        self.cand[SPEED] = c.signed_speed
+        if not c.accel_bounded:
+            self.cand[ACCEL] = _BIG
+            self.cand[BRAKING] = _BIG
         return c
 
     def at(self, sigma: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> None:
