@@ -270,6 +270,17 @@ def _split(Jt, F, perm, aug, N, dp, fst):
 
 
 @njit(cache=True)
+def _row_terms(A, r, dp, sigma):
+    """Coupled row ``r``: ``(A_r·Δθ_p, A_r·Σ)``."""
+    s_dp = 0.0
+    s_sig = 0.0
+    for j in range(dp.shape[0]):
+        s_dp += A[r, j] * dp[j]
+        s_sig += A[r, j] * sigma[j]
+    return s_dp, s_sig
+
+
+@njit(cache=True)
 def _checked(V, A, bound_d, active, mult, ist):
     """``n = m``: ``Δθ_p`` if inside the box (and the coupled rows)."""
     n = V.shape[1]
@@ -278,11 +289,7 @@ def _checked(V, A, bound_d, active, mult, ist):
         if not (dp[j] >= lower[j] - _BOX_TOL and dp[j] <= upper[j] + _BOX_TOL):
             return False
     for r in range(A.shape[0]):
-        s_dp = 0.0
-        s_sig = 0.0
-        for j in range(n):
-            s_dp += A[r, j] * dp[j]
-            s_sig += A[r, j] * V[SIGMA, j]
+        s_dp, s_sig = _row_terms(A, r, dp, V[SIGMA])
         if not s_dp >= (bound_d[r] - s_sig) - _BOX_TOL:  # AΔθ_p ≥ b_k
             return False
     cnt = 0
@@ -389,11 +396,7 @@ def _hard_data(V, N, perm, m, A, bound_d, Ht, gt, Ct, bt, fst):
         bt[j] = V[LOWER, j] - dp[j]
         bt[n + j] = dp[j] - V[UPPER, j]
     for r in range(A.shape[0]):
-        s_dp = 0.0
-        s_sig = 0.0
-        for j in range(n):
-            s_dp += A[r, j] * dp[j]
-            s_sig += A[r, j] * V[SIGMA, j]
+        s_dp, s_sig = _row_terms(A, r, dp, V[SIGMA])
         bt[2 * n + r] = bound_d[r] - s_sig - s_dp
         for a in range(nz):
             s = 0.0

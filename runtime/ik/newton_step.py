@@ -69,12 +69,7 @@ class NewtonStep:
         if N.shape[1] == 0:  # n = m: no redundancy, the box is only checked
             return _checked(dtheta_p, lower, upper, ineq)
         Ht, gt, Ct, bt = compact_box_qp(H, g, dtheta_p, N, lower, upper)
-        if ineq is not None:
-            Ct, bt = _with_rows(Ct, bt, ineq[0], ineq[1], dtheta_p, N)
-        res: QPResult = self.solver.solve_ct(Ht, gt, Ct, bt)
-        if not res.ok:
-            return None
-        return StepOutcome(dtheta_p + N @ res.z, False, False, res.active, res.multipliers)
+        return self._solve_reduced(Ht, gt, Ct, bt, dtheta_p, N, ineq)
 
     def hard_diagonal(self, J, F, w, g, bounds, ineq=None) -> StepOutcome | None:
         """:meth:`hard` for a diagonal ``H = diag(w)`` — the IPO-cycle hot path;
@@ -112,6 +107,10 @@ class NewtonStep:
         np.negative(Ct[:, :n], out=Ct[:, n:])
         np.subtract(bounds[0], dp, out=bt[:n])
         np.subtract(dp, bounds[1], out=bt[n:])
+        return self._solve_reduced(Ht, gt, Ct, bt, dp, N, ineq)
+
+    def _solve_reduced(self, Ht, gt, Ct, bt, dp, N, ineq) -> StepOutcome | None:
+        """Solve the compact QP in ``z`` (plus any coupled rows); ``Δθ = Δθ_p + N z``."""
         if ineq is not None:
             Ct, bt = _with_rows(Ct, bt, ineq[0], ineq[1], dp, N)
         res: QPResult = self.solver.solve_ct(Ht, gt, Ct, bt)
