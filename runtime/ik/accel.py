@@ -152,10 +152,10 @@ class AcceleratedCycle:
     # ------------------------------------------------------------------ the cycle
     def step(self, q_start, q_prev, target, dt, opts):
         """The numbers of ``InverseTransformation.step`` for the covered options; returns
-        ``(theta, box_snapshot_parts, outcome_active, outcome_mult, J)``."""
+        ``(theta, bounds, limits, outcome_active, outcome_mult)``; :meth:`snapshot` and
+        :meth:`jacobian` copy the reused buffers only when the caller keeps them."""
         if compile_seconds is None:
             warm_up()
-        from irlc.runtime.ik.limits import BoxSnapshot
         from irlc.runtime.ik.newton import IKFailure
 
         k, ik = self.k, self.ik
@@ -212,14 +212,24 @@ class AcceleratedCycle:
                     f"inverse transformation produced a non-finite step: {V[k.DTHETA].copy()}"
                 )
         nact = int(ist[k.N_ACTIVE])
-        snapshot = BoxSnapshot(bounds[0], bounds[1], cand.copy(), c.limits)
+        self.bounds = bounds  # the last cycle's box on Δθ (with ``cand``: for observers)
         return (
             V[k.THETA].copy(),
-            snapshot,
+            bounds,  # fresh this cycle
+            c.limits,
             self.active[:nact].copy(),
             self.mult[:nact].copy(),
-            self.Jt.copy() if ist[k.HAVE_J] else None,
         )
+
+    def snapshot(self, bounds, limits):
+        """The cycle's box for reports (copies the reused candidate buffer)."""
+        from irlc.runtime.ik.limits import BoxSnapshot
+
+        return BoxSnapshot(bounds[0], bounds[1], self.cand.copy(), limits)
+
+    def jacobian(self):
+        """A copy of the last Jacobian, or None when the cycle computed none."""
+        return self.Jt.copy() if self.ist[self.k.HAVE_J] else None
 
     # ------------------------------------------------------------------ Python parts
     def _hard_qp(self) -> None:

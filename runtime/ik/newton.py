@@ -257,12 +257,16 @@ class InverseTransformation:
     def _step_accel(self, q_start, q_prev, target, dt, opts: CycleOptions) -> CycleResult:
         """:meth:`step` through the compiled kernel (same numbers, see :mod:`accel`)."""
         acc = self._accel
-        theta, box, active, mult, J = acc.step(q_start, q_prev, target, dt, opts)
+        theta, bounds, limits, active, mult = acc.step(q_start, q_prev, target, dt, opts)
         k, ist, fst = acc.k, acc.ist, acc.fst
         pe, oe = float(fst[k.PE]), float(fst[k.OE])
         p = self.params
         converged = pe < p.tol_position and oe < p.tol_orientation
         clearances = self._clearances(acc.frames, opts) if opts.obstacles else {}
+        codes = active_codes(theta - q_start, bounds[0], bounds[1], acc.cand)
+        # as in the numpy path: keep the box and J only when a report can need them
+        box = acc.snapshot(bounds, limits) if codes is not None or active.size else None
+        J = acc.jacobian() if opts.jacobian or not converged else None
         return CycleResult(
             theta,
             int(ist[k.K]),
@@ -272,7 +276,7 @@ class InverseTransformation:
             bool(ist[k.RELAXED]),
             bool(ist[k.SINGULAR]),
             clearances,
-            active_codes=active_codes(theta - q_start, box.lower, box.upper, box._cand),
+            active_codes=codes,
             box=box,
             model=self.model,
             free=self._no_frozen.free,

@@ -42,9 +42,11 @@ def test_report_limit_activity_matches_the_box_of_every_cycle(program, monkeypat
 
     def observed_step(self, q_start, q_prev, target, dt, options=None):
         res = step(self, q_start, q_prev, target, dt, options)
-        snap = res._box  # the kernel path always keeps it; else the live box of this cycle
+        snap = res._box  # kept when a bound may bind; else the live box of this cycle
         if snap is not None:
             box = (snap.lower, snap.upper, snap._cand)
+        elif self.accelerated:  # the compiled path's own buffers
+            box = (self._accel.bounds[0], self._accel.bounds[1], self._accel.cand)
         else:
             box = (self.box.lower_d, self.box.upper_d, self.box.cand)
         count(_box_activity(res.q - q_start, *box), dt)
