@@ -24,16 +24,8 @@ from importlib import resources
 from pathlib import Path
 
 from irlc.lang.diagnostics import Diagnostic, Span
-from irlc.lang.irdata import JOINT_TUPLE_TYPES, ObstacleDef, Value
+from irlc.lang.irdata import JOINT_TUPLE_TYPES, OBSTACLE_KEYS, ObstacleDef, Value
 
-OBSTACLE_KEYS: dict[str, tuple[tuple[str, int, bool], ...]] = {
-    # kind: ((key, size, required), ...) in the order of the IRDATA OBSTACLE record
-    "point": (("center", 3, True),),
-    "sphere": (("center", 3, True), ("radius", 1, True)),
-    "box": (("center", 3, True), ("size", 3, True), ("rotation", 3, False)),
-    "capsule": (("a", 3, True), ("b", 3, True), ("radius", 1, True)),
-    "plane": (("point", 3, True), ("normal", 3, True)),
-}
 SECTIONS = ("poses", "joints", "limits", "obstacles", "inputs")
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 

@@ -39,7 +39,16 @@ SYSTEM_VARIABLES = (
 )
 MOVE_KINDS = ("PTP", "LIN", "CIRCLE", "LINPATH", "PTPINC", "LININC")
 MODAL_OPTIONS = ("JOINTLIMIT", "JOINTSPEEDLIMIT", "JOINTACCELLIMIT", "CYCLIC", "OBSTACLE", "FREEZE")
-OBSTACLE_KINDS = ("point", "sphere", "box", "capsule", "plane")
+# The OBSTACLE record's keys per kind, in record order: (key, number count, required).
+# The data-list loader and the runtime both validate against this one table.
+OBSTACLE_KEYS: dict[str, tuple[tuple[str, int, bool], ...]] = {
+    "point": (("center", 3, True),),
+    "sphere": (("center", 3, True), ("radius", 1, True)),
+    "box": (("center", 3, True), ("size", 3, True), ("rotation", 3, False)),
+    "capsule": (("a", 3, True), ("b", 3, True), ("radius", 1, True)),
+    "plane": (("point", 3, True), ("normal", 3, True)),
+}
+OBSTACLE_KINDS = tuple(OBSTACLE_KEYS)
 
 INT_MIN, INT_MAX = -(2**63), 2**63 - 1  # INTEGER is signed 64-bit, as in the runtime
 

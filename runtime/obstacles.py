@@ -23,9 +23,10 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
+from irlc.lang.irdata import OBSTACLE_KEYS, OBSTACLE_KINDS
 from irlc.runtime import spatial, units
 
-KINDS = ("point", "sphere", "box", "capsule", "plane")
+KINDS = OBSTACLE_KINDS
 
 
 def _vec3(value, what: str) -> np.ndarray:
@@ -92,20 +93,13 @@ def from_program_units(name: str, spec: Mapping) -> Obstacle:
     ``language.md`` §6 and of IRDATA's OBSTACLE record). Raises ``ValueError``
     naming the key for unknown kinds, missing or unknown keys and bad values."""
     kind = spec.get("kind")
-    allowed = {
-        "point": {"center"},
-        "sphere": {"center", "radius"},
-        "box": {"center", "size", "rotation"},
-        "capsule": {"a", "b", "radius"},
-        "plane": {"point", "normal"},
-    }
-    if kind not in allowed:
+    if kind not in OBSTACLE_KEYS:
         raise ValueError(f"obstacle {name}: kind must be one of {', '.join(KINDS)}, got {kind!r}")
     keys = set(spec) - {"kind"}
-    unknown = keys - allowed[kind]
+    unknown = keys - {k for k, _, _ in OBSTACLE_KEYS[kind]}
     if unknown:
         raise ValueError(f"obstacle {name}: unknown key(s) {sorted(unknown)} for kind {kind}")
-    required = allowed[kind] - {"rotation"}
+    required = {k for k, _, needed in OBSTACLE_KEYS[kind] if needed}
     missing = required - keys
     if missing:
         raise ValueError(f"obstacle {name}: missing key(s) {sorted(missing)} for kind {kind}")
@@ -115,8 +109,8 @@ def from_program_units(name: str, spec: Mapping) -> Obstacle:
 
     def radius() -> float:
         r = float(spec["radius"])
-        if not np.isfinite(r) or r < 0.0:
-            raise ValueError(f"obstacle {name}.radius must be ≥ 0, got {spec['radius']!r}")
+        if not np.isfinite(r) or r <= 0.0:  # the data-list rule (lang/datalist.py)
+            raise ValueError(f"obstacle {name}.radius must be > 0, got {spec['radius']!r}")
         return r * units.MM
 
     if kind == "point":
@@ -132,8 +126,8 @@ def from_program_units(name: str, spec: Mapping) -> Obstacle:
             raise ValueError(f"obstacle {name}.normal must not be zero")
         return PlaneObstacle(name, mm3("point"), normal / norm)
     size = mm3("size")
-    if np.any(size < 0.0):
-        raise ValueError(f"obstacle {name}.size must be ≥ 0, got {spec['size']!r}")
+    if np.any(size <= 0.0):  # the data-list rule (lang/datalist.py)
+        raise ValueError(f"obstacle {name}.size must be > 0, got {spec['size']!r}")
     rotation = np.eye(3)
     if "rotation" in spec:
         a, b, c = _vec3(spec["rotation"], f"obstacle {name}.rotation") * units.DEG

@@ -230,3 +230,14 @@ def test_obstacle_keys_are_the_data_list_keys():
     )
     # a box turned 90° about z: its local x axis points along the world y axis
     np.testing.assert_allclose(box.rotation @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-12)
+
+
+def test_runtime_obstacle_rules_are_the_data_list_rules():
+    """One schema (IRDATA's OBSTACLE record) and the same positivity rules as the loader:
+    a hand-written .ird cannot pass what a data list would reject."""
+    with pytest.raises(ValueError, match="radius must be > 0"):
+        from_program_units("s", {"kind": "sphere", "center": [0, 0, 0], "radius": 0})
+    with pytest.raises(ValueError, match="size must be > 0"):
+        from_program_units("b", {"kind": "box", "center": [0, 0, 0], "size": [1, 0, 1]})
+    with pytest.raises(ValueError, match="missing key"):
+        from_program_units("b", {"kind": "box", "size": [1, 1, 1]})
