@@ -19,9 +19,10 @@ computed from those two files, independently of the drive code:
   A2/A3 screws' 0.33 N·m static friction leaves a stick–slip hunting of ≈ 0.01 rad under
   PWM (≤ 0.007 rad averaged);
 * the verdict is the actual motion's: the programs are run with ``--path-tolerance 20``
-  and ``--orientation-tolerance 1`` (mm, deg; the drives lag by ``v/K_v`` along the path, millimetres at these speeds — the
-  default 0.05 mm would fail them, see test_verdict.py), the report's path error is the
-  actual one and below it, the ideal one stays near zero under ``ideal``;
+  and ``--orientation-tolerance 1`` (mm, deg; the drives lag by ``v/K_v`` along the path,
+  millimetres at these speeds — the default 0.05 mm would fail them, see
+  tests/drives/test_verdict.py); the report's path error is the actual one and below it,
+  the ideal one stays near zero under ``ideal``;
 * decoupled vs coupled: the largest joint difference in % of the commanded range
   (Szkodny's measure), bounded by his 5.1 % simulation-vs-measurement agreement on
   joints that move more than 2° or 10 mm.

@@ -1,0 +1,182 @@
+"""With drives, the verdict comes from the actual motion (issue 9 §1).
+
+A straight line on irb6_track at 60 mm/s: its drives (K_v = 30 1/s on the arm axes) lag the
+setpoint by millimetres, while the kinematic (ideal) run follows the line to ~1e-6 mm.
+Checked through the command line and the API, against an independent forward kinematics
+of the trace's actual joints and an ideal run of the same program.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from irlc.robots.loader import load_toml
+from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.run import run_file
+from irlc.runtime.units import joints_to_si
+
+from irlc.cli import main
+
+ROBOT = Path(__file__).resolve().parents[2] / "robots" / "irb6_track.toml"
+LIN_LINE = 12  # the line of the first MOVE LIN below
+PROGRAM = """{ a straight line in the work area, ends from irlc fk irb6_track }
+PROGRAM verdict_line;
+ROBOT r := irb6_track;
+VAR
+  POSE: start, goal;
+BEGIN
+  start := (-843.241, 976.759, 400, 135, 0, -90);
+  goal := (-653.063, 934.597, 400, 135, 0, -90);
+  {PATHTOL}
+  MOVE PTP (400, 90, 0, 0, -45, 0);
+  R_SPEED := 60;
+  MOVE LIN goal WITH ACC := 250;
+  {PATHTOL2}
+  MOVE LIN start WITH ACC := 250;
+  WAIT 0.3 SEC;
+ENDPROGRAM
+"""
+LOOSE = ["--path-tolerance", "20", "--orientation-tolerance", "1"]
+
+pytestmark = pytest.mark.scenario
+
+
+def write(tmp_path: Path, name: str = "line", tol: str = "", tol2: str = "") -> Path:
+    path = tmp_path / f"{name}.irl"
+    path.write_text(PROGRAM.replace("{PATHTOL}", tol).replace("{PATHTOL2}", tol2))
+    return path
+
+
+def cli(tmp_path: Path, program: Path, *extra: str, capsys=None):
+    report, trace = tmp_path / "r.json", tmp_path / "t.csv"
+    args = ["run", str(program), "--drives", "decoupled", "--report", str(report)]
+    code = main([*args, "--trace", str(trace), "-q", *extra])
+    err = capsys.readouterr().err if capsys is not None else ""
+    with trace.open(newline="") as f:
+        rows = list(csv.DictReader(f))
+    return code, json.loads(report.read_text()), rows, err
+
+
+def test_leaving_the_path_fails_at_its_line_with_the_default_tolerance(tmp_path, capsys):
+    program = write(tmp_path)
+    code, report, rows, err = cli(tmp_path, program, capsys=capsys)
+    assert code == 2
+    assert report["status"] == "failed"
+    assert report["error"]["line"] == LIN_LINE
+    assert f"line.irl:{LIN_LINE}:" in err and "--path-tolerance" in err and "R_PATH_TOL" in err
+    first = report["verdict"]["violations"][0]
+    assert first["criterion"] == "path_tolerance" and first["line"] == LIN_LINE
+    assert first["limit"] == 0.05 and first["value"] > 0.05
+    assert report["error"]["time_s"] == pytest.approx(first["time_s"])
+    # the first trace row beyond the tolerance is the failure's time and line
+    over = [r for r in rows if float(r["path_error_mm"]) > 0.05]
+    assert float(over[0]["t_s"]) == pytest.approx(first["time_s"])
+    assert int(float(over[0]["line"])) == LIN_LINE
+    assert report["verdict"]["could_follow"] is False
+    assert report["drives_summary"]["could_follow"] is False
+    assert report["max_path_error_mm"] > 1.0  # millimetres: the drives' lag
+    assert report["ideal"]["max_path_error_mm"] < 1e-3  # the commanded motion is on the path
+
+
+def test_the_same_run_passes_with_a_loose_path_tolerance(tmp_path):
+    code, report, _, _ = cli(tmp_path, write(tmp_path), *LOOSE)
+    assert code == 0 and report["status"] == "ok"
+    verdict = report["verdict"]
+    assert verdict["could_follow"] is True and verdict["violations"] == []
+    assert verdict["criteria"]["path_tolerance_mm"] == 20.0
+    assert verdict["criteria"]["orientation_tolerance_deg"] == 1.0
+    assert report["drives_summary"]["could_follow"] is True
+    assert 1.0 < report["max_path_error_mm"] <= 20.0
+
+
+def test_r_path_tol_is_modal_in_the_program(tmp_path):
+    loose = write(tmp_path, "modal", tol="R_PATH_TOL := 20;")
+    code, report, _, _ = cli(tmp_path, loose, "--orientation-tolerance", "1")
+    assert code == 0, report["error"]
+    # tightened again before the second line: that line fails, at its own statement
+    tight = write(tmp_path, "modal2", tol="R_PATH_TOL := 20;", tol2="R_PATH_TOL := 0.5;")
+    code, report, _, _ = cli(tmp_path, tight, "--orientation-tolerance", "1")
+    assert code == 2
+    assert report["error"]["line"] == LIN_LINE + 2
+    assert report["verdict"]["criteria"]["path_tolerance_mm"] == 0.5
+
+
+def test_report_path_error_is_fk_of_the_actual_joints_against_the_commanded_path(tmp_path):
+    program = write(tmp_path)
+    tol = {"path_tolerance": 20.0, "orientation_tolerance": 1.0}
+    run = run_file(program, drives="decoupled", **tol)
+    ideal = run_file(program, drives="ideal")
+    assert run.ok and ideal.ok
+    cols = run.trace_columns
+    model = load_toml(ROBOT)
+    kinds = model.joint_kinds
+    names = run.report["joint_names"]
+    joint_cols = [cols.index(f"{n}_{'mm' if k == 'prismatic' else 'deg'}") for n, k in
+                  zip(names, kinds, strict=True)]  # fmt: skip
+    kin = Kinematics(model)  # independent FK of the trace's actual joints (robot file's tool)
+    actual = np.array([kin.tcp(joints_to_si(row[joint_cols], kinds))[:3, 3] for row in run.trace])
+    # the commanded path: the ideal run's TCP at the same times (on the line to ~1e-6 mm)
+    assert np.allclose(ideal.trace[:, 0], run.trace[:, 0])
+    xyz = [cols.index(c) for c in ("x_mm", "y_mm", "z_mm")]
+    commanded = ideal.trace[:, xyz]
+    on_path = np.array([ln in (LIN_LINE, LIN_LINE + 2) for ln in run.trace[:, 1]])
+    error = np.linalg.norm(actual * 1000.0 - commanded, axis=1)
+    error[~on_path] = 0.0  # PTP and WAIT command no TCP path
+    assert error.max() > 1.0
+    assert run.report["max_path_error_mm"] == pytest.approx(error.max(), abs=1e-5)
+    assert np.allclose(run.trace[:, cols.index("path_error_mm")], error, atol=1e-5)
+    assert np.allclose(run.trace[:, xyz], actual * 1000.0, atol=1e-6)  # pose columns: actual
+    # contour ≤ this error: the actual TCP's distance to the programmed line is smaller
+    a = np.array([-843.241, 976.759, 400.0])
+    b = np.array([-653.063, 934.597, 400.0])
+    u = (b - a) / np.linalg.norm(b - a)
+    rel = actual[on_path] * 1000.0 - a
+    contour = np.linalg.norm(rel - np.outer(rel @ u, u), axis=1)
+    assert np.all(contour <= error[on_path] + 1e-6)
+
+
+def test_ratings_beyond_the_drive_data_are_warnings(tmp_path, capsys):
+    text = ROBOT.read_text()
+    assert "[drives.dc]\n" in text and "[drives]\n" in text
+    text = text.replace("[drives.dc]\n", "[drives.dc]\ni_peak = 2.0\n")
+    text = text.replace("[drives]\n", "[drives]\ntorque_max = 5.0\n")
+    robot = tmp_path / "rated.toml"
+    robot.write_text(text)
+    program = write(tmp_path)
+    code, report, _, _ = cli(tmp_path, program, *LOOSE, "--robot", str(robot), capsys=capsys)
+    assert code == 0  # warnings, not failures
+    crit = report["verdict"]["criteria"]
+    assert [r["value"] for r in crit["current_peak_A"]] == [2.0] * 6
+    assert all(r["value"] == 5.0 for r in crit["torque_rating"])
+    axes = {a["joint"]: a for a in report["drives_summary"]["axes"]}
+    over_i = [n for n, a in axes.items() if a["peak_current_A"] > 2.0]
+    assert over_i
+    warned = [w for w in report["warnings"] if "above the motor's peak rating 2 A" in w]
+    assert len(warned) == len(over_i)
+    assert any("beyond the gear's rating 5" in w for w in report["warnings"])
+    # without ratings in the robot file: no criteria, no such warnings
+    _, plain, _, _ = cli(tmp_path, program, *LOOSE)
+    assert plain["verdict"]["criteria"]["current_peak_A"] is None
+    assert not any("rating" in w for w in plain["warnings"])
+
+
+def test_following_error_bound_from_the_drive_data(tmp_path):
+    text = ROBOT.read_text().replace("[drives]\n", "[drives]\nfollowing_error_max = 1e-4\n")
+    robot = tmp_path / "tight.toml"
+    robot.write_text(text)
+    code, report, _, _ = cli(tmp_path, write(tmp_path), *LOOSE, "--robot", str(robot))
+    assert code == 2
+    bounds = report["verdict"]["criteria"]["following_error_bound"]
+    assert bounds[0]["unit"] == "mm" and bounds[0]["bound"] == pytest.approx(0.1)
+    assert bounds[1]["unit"] == "deg" and bounds[1]["bound"] == pytest.approx(np.degrees(1e-4))
+    assert report["verdict"]["violations"][0]["criterion"] == "following_error"
+
+
+def test_bad_tolerance_option_is_a_usage_error(tmp_path, capsys):
+    program = write(tmp_path)
+    assert main(["run", str(program), "--path-tolerance", "0", "-q"]) == 3
+    assert "--path-tolerance must be a positive number" in capsys.readouterr().err
