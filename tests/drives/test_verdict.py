@@ -176,6 +176,13 @@ def test_following_error_bound_from_the_drive_data(tmp_path):
     assert report["verdict"]["violations"][0]["criterion"] == "following_error"
 
 
+def test_r_path_tol_must_be_positive(tmp_path):
+    program = write(tmp_path, "zero", tol="R_PATH_TOL := R_SPEED - R_SPEED;")
+    run = run_file(program)
+    assert not run.ok and run.error.line == 9
+    assert "R_PATH_TOL := 0.0: the value must be positive" in run.error.message
+
+
 def test_bad_tolerance_option_is_a_usage_error(tmp_path, capsys):
     program = write(tmp_path)
     assert main(["run", str(program), "--path-tolerance", "0", "-q"]) == 3
