@@ -184,34 +184,39 @@ def _sample_at(rec, t: float) -> int:
 
 
 def _following(names, rec, drive, bound):
+    """The first recorded row beyond a joint's bound; else (the bound was exceeded between
+    recorded rows, or steps were lost) the worst axis the drive summary marks, at its
+    largest recorded error."""
     err = np.abs(drive.following_error)
     over = err > bound[None, :]
-    lost = [a for a in drive.axes if a.lost_steps]
-    if not over.any() and not lost:
+    bad = [a for a in drive.axes if not a.could_follow]
+    if not over.any() and not bad:
         return None
     if over.any():
         i = int(np.flatnonzero(over.any(axis=1))[0])
         j = int(np.argmax(err[i] / bound))
-        kind = drive.axes[j].kind
-        sc = units.joint_scale([kind])[0]
-        unit = units.joint_unit(kind)
-        value, limit = float(err[i, j] / sc), float(bound[j] / sc)
-        what = f"following error {value:.4g} {unit} > bound {limit:g} {unit}"
-        t = float(drive.t[i])
+        value = float(err[i, j])
     else:
-        j = lost[0].joint
+        worst = max(bad, key=lambda a: a.max_following_error / bound[a.joint])
+        j = worst.joint
         i = int(np.argmax(err[:, j]))
-        value, limit, unit = float(lost[0].lost_steps), 0.0, "steps"
-        what = f"{lost[0].lost_steps} lost steps"
-        t = float(drive.t[i])
-    others = sorted({names[a.joint] for a in drive.axes if not a.could_follow} - {names[j]})
+        value = worst.max_following_error
+    axis = drive.axes[j]
+    sc, unit = units.joint_scale([axis.kind])[0], units.joint_unit(axis.kind)
+    limit = float(bound[j] / sc)
+    what = f"following error {value / sc:.4g} {unit} > bound {limit:g} {unit}"
+    if axis.lost_steps:
+        what = f"{axis.lost_steps} lost steps"
+    t = float(drive.t[i])
+    others = sorted({names[a.joint] for a in bad} - {names[j]})
     msg = (
         f"the drive of joint {names[j]} could not follow its setpoint ({what} at "
         f"t = {t:.3f} s)"
         + (f"; also {', '.join(others)}" if others else "")
         + "; slow down or check the drive data"
     )
-    row, failure = _violation("following_error", rec, _sample_at(rec, t), value, limit, unit, msg)
+    k = _sample_at(rec, t)
+    row, failure = _violation("following_error", rec, k, value / sc, limit, unit, msg)
     row["time_s"], failure.time_s, row["joint"] = t, round(t, 9), names[j]
     return row, failure
 

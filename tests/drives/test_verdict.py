@@ -187,3 +187,68 @@ def test_bad_tolerance_option_is_a_usage_error(tmp_path, capsys):
     program = write(tmp_path)
     assert main(["run", str(program), "--path-tolerance", "0", "-q"]) == 3
     assert "--path-tolerance must be a positive number" in capsys.readouterr().err
+
+
+# ----------------------------------------------------------------- the criteria, in isolation
+
+
+def _axis(j: int, error: float = 0.0, follow: bool = True):
+    from irlc.runtime.drives import AxisSummary
+
+    return AxisSummary(j, f"a{j + 1}", "revolute", "dc", error, 0.0, 0.0, 0.0, 1.0, 1.0, follow)
+
+
+def _verdict(q, clear_ideal, clear_actual, following, axes):
+    from types import SimpleNamespace
+
+    from irlc.runtime.drives import drive_params
+    from irlc.runtime.executor import ExecutionOptions
+    from irlc.runtime.verdict import judge
+
+    from .drive_models import dc_drives, planar
+
+    model = planar(2, drives=dc_drives(2))
+    times = np.array([0.0, 0.01, 0.02])
+    rec = SimpleNamespace(
+        times=times,
+        lines=np.array([0, 5, 6]),
+        tol_position=np.full(3, 5e-5),
+        clearance={"box": np.array(clear_ideal)},
+    )
+    none = np.zeros(3)
+    actual = SimpleNamespace(
+        q=np.array(q),
+        pos_error=none,
+        ori_error=none,
+        on_path=none.astype(bool),
+        clearance={"box": np.array(clear_actual)},
+    )
+    drive = SimpleNamespace(following_error=np.array(following), axes=axes, t=times)
+    params = drive_params(model)
+    return judge(model, ("a1", "a2"), rec, drive, actual, ExecutionOptions(), params)
+
+
+def test_actual_collision_and_limit_overshoot_fail_first_in_time():
+    q = [[0.0, 0.0], [0.0, 0.0], [3.01, 0.0]]  # a1 beyond +3 rad at the last sample
+    v = _verdict(q, [0.1, 0.1, 0.1], [0.1, -0.002, 0.1], np.zeros((3, 2)), [_axis(0), _axis(1)])
+    assert [x["criterion"] for x in v.violations] == ["collision", "position_limit"]
+    assert v.failure.line == 5 and v.failure.time_s == 0.01
+    assert "obstacle box (2 mm deep)" in v.failure.message
+    assert v.violations[1]["joint"] == "a1" and v.violations[1]["line"] == 6
+    assert v.violations[1]["value"] == pytest.approx(np.degrees(3.01))
+    assert not v.could_follow
+    # a collision the commanded motion already had is not the drives' doing
+    v = _verdict(np.zeros((3, 2)), [0.1, -0.001, 0.1], [0.1, -0.002, 0.1], np.zeros((3, 2)),
+                 [_axis(0), _axis(1)])  # fmt: skip
+    assert v.could_follow and v.violations == []
+
+
+def test_following_error_beyond_the_bound_between_recorded_rows_still_fails():
+    # the recorded rows stay within 5°, the drive summary (every step) saw 6° on a2
+    err = np.radians([[0.0, 0.0], [0.0, 4.0], [0.0, 1.0]])
+    v = _verdict(np.zeros((3, 2)), [1.0] * 3, [1.0] * 3, err,
+                 [_axis(0), _axis(1, np.radians(6.0), follow=False)])  # fmt: skip
+    (row,) = v.violations
+    assert row["criterion"] == "following_error" and row["joint"] == "a2"
+    assert row["value"] == pytest.approx(6.0) and row["limit"] == pytest.approx(5.0)
+    assert row["time_s"] == 0.01 and row["line"] == 5
