@@ -106,11 +106,12 @@ def _path_error(report: dict) -> str:
         f"{_num(report['max_orientation_error_deg'], '.3g')} deg"
     )
     ideal = report.get("ideal")
-    if ideal:
-        text += (
-            f" (actual motion; ideal {_num(ideal.get('max_path_error_mm'), '.3g')} mm, "
-            f"{_num(ideal.get('max_orientation_error_deg'), '.3g')} deg)"
-        )
+    if not ideal:
+        return text
+    text += (
+        f" (actual motion; ideal {_num(ideal.get('max_path_error_mm'), '.3g')} mm, "
+        f"{_num(ideal.get('max_orientation_error_deg'), '.3g')} deg)"
+    )
     tol = report.get("tolerances") or {}
     if tol:
         text += f", tolerance {_num(tol.get('path_mm'), 'g')} mm, "
