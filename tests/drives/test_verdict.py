@@ -158,6 +158,12 @@ def test_ratings_beyond_the_drive_data_are_warnings(tmp_path, capsys):
     warned = [w for w in report["warnings"] if "above the motor's peak rating 2 A" in w]
     assert len(warned) == len(over_i)
     assert any("beyond the gear's rating 5" in w for w in report["warnings"])
+    # the summary shows them, with the actual figures labelled and the criteria listed
+    capsys.readouterr()
+    assert main(["run", str(program), "--drives", "decoupled", *LOOSE, "--robot", str(robot)]) == 0
+    shown = " ".join(capsys.readouterr().out.replace("│", " ").split())
+    assert "actual motion; ideal" in shown and "verdict criteria" in shown
+    assert "peak rating" in shown and "gear's" in shown
     # without ratings in the robot file: no criteria, no such warnings
     _, plain, _, _ = cli(tmp_path, program, *LOOSE)
     assert plain["verdict"]["criteria"]["current_peak_A"] is None
