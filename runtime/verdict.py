@@ -50,6 +50,9 @@ class Verdict:
 def judge(model, names, rec, drive, actual, opts, params) -> Verdict:
     """The :class:`Verdict` of a drive run (module doc). ``actual`` is measured at the IPO
     samples ``rec.times``; ``params`` the robot's drive data (bounds and ratings)."""
+    from irlc.runtime.naming import JointNaming
+
+    naming = JointNaming.for_model(model, names)
     kinds = model.joint_kinds
     bound = following_bound(model, params)
     i_peak, torque_max = ratings(model, params)
@@ -58,24 +61,24 @@ def judge(model, names, rec, drive, actual, opts, params) -> Verdict:
         "path_tolerance_mm": _tolerance_mm(rec, actual),
         "orientation_tolerance_deg": opts.tol_orientation / units.DEG,
         "following_error_bound": [
-            {"joint": names[j], "bound": bound[j] / scale[j], "unit": units.joint_unit(kinds[j])}
+            {**_joint(naming, j), "bound": bound[j] / scale[j], "unit": units.joint_unit(kinds[j])}
             for j in range(model.n)
         ],
-        "current_peak_A": _per_joint(names, i_peak, 1.0),
-        "torque_rating": _per_joint(names, torque_max, 1.0, kinds),
+        "current_peak_A": _per_joint(naming, i_peak),
+        "torque_rating": _per_joint(naming, torque_max, kinds),
     }
     found = [
         _path(rec, actual),
         _orientation(rec, actual, opts.tol_orientation),
-        _following(names, rec, drive, bound),
-        _limits(model, names, rec, actual),
+        _following(naming, rec, drive, bound),
+        _limits(model, naming, rec, actual),
         _collision(rec, actual),
     ]
     violations = sorted((v for v in found if v is not None), key=lambda v: v[0]["time_s"])
     verdict = Verdict(criteria, [v[0] for v in violations])
     if violations:
         verdict.failure = violations[0][1]
-    verdict.warnings = _rating_warnings(names, kinds, drive, i_peak, torque_max)
+    verdict.warnings = _rating_warnings(naming, kinds, drive, i_peak, torque_max)
     return verdict
 
 
@@ -105,12 +108,17 @@ def ratings(model, params) -> tuple[np.ndarray | None, np.ndarray | None]:
     return i_peak, torque
 
 
-def _per_joint(names, values, scale, kinds=None) -> list | None:
+def _joint(naming, j: int) -> dict:
+    """A joint in JSON: its program name and the robot file's (``runtime/naming.py``)."""
+    return {"joint": naming.name(j), "robot_name": naming.robot[j]}
+
+
+def _per_joint(naming, values, kinds=None) -> list | None:
     if values is None:
         return None
     out = []
     for j, v in enumerate(values):
-        row = {"joint": names[j], "value": None if np.isnan(v) else float(v) / scale}
+        row = {**_joint(naming, j), "value": None if np.isnan(v) else float(v)}
         if kinds is not None:
             row["unit"] = "N·m" if kinds[j] == units.REVOLUTE else "N"
         out.append(row)
@@ -183,7 +191,7 @@ def _sample_at(rec, t: float) -> int:
     return int(np.clip(k, 0, len(rec.times) - 1))
 
 
-def _following(names, rec, drive, bound):
+def _following(naming, rec, drive, bound):
     """The first recorded row beyond a joint's bound; else (the bound was exceeded between
     recorded rows, or steps were lost) the worst axis the drive summary marks, at its
     largest recorded error."""
@@ -208,20 +216,21 @@ def _following(names, rec, drive, bound):
     if axis.lost_steps:
         what = f"{axis.lost_steps} lost steps"
     t = float(drive.t[i])
-    others = sorted({names[a.joint] for a in bad} - {names[j]})
+    others = naming.labels(sorted({a.joint for a in bad} - {j}))
     msg = (
-        f"the drive of joint {names[j]} could not follow its setpoint ({what} at "
+        f"the drive of joint {naming.label(j)} could not follow its setpoint ({what} at "
         f"t = {t:.3f} s)"
-        + (f"; also {', '.join(others)}" if others else "")
+        + (f"; also {others}" if others else "")
         + "; slow down or check the drive data"
     )
     k = _sample_at(rec, t)
     row, failure = _violation("following_error", rec, k, value / sc, limit, unit, msg)
-    row["time_s"], failure.time_s, row["joint"] = t, round(t, 9), names[j]
+    row["time_s"], failure.time_s = t, round(t, 9)
+    row.update(_joint(naming, j))
     return row, failure
 
 
-def _limits(model, names, rec, actual):
+def _limits(model, naming, rec, actual):
     lo = np.array([jt.limits.position[0] for jt in model.joints]) - LIMIT_SLACK
     hi = np.array([jt.limits.position[1] for jt in model.joints]) + LIMIT_SLACK
     out = (actual.q < lo) | (actual.q > hi)
@@ -235,11 +244,11 @@ def _limits(model, names, rec, actual):
     value = float(actual.q[k, j] / sc)
     limit = float((hi[j] - LIMIT_SLACK if actual.q[k, j] > hi[j] else lo[j] + LIMIT_SLACK) / sc)
     msg = (
-        f"the actual joint {names[j]} (simulated drives) overshoots its position limit: "
+        f"the actual joint {naming.label(j)} (simulated drives) overshoots its position limit: "
         f"{value:.6g} {unit} beyond {limit:.6g} {unit}; slow down or keep further from the limit"
     )
     row, failure = _violation("position_limit", rec, k, value, limit, unit, msg)
-    row["joint"] = names[j]
+    row.update(_joint(naming, j))
     return row, failure
 
 
@@ -266,20 +275,20 @@ def _collision(rec, actual):
 # --------------------------------------------------------------------------- warnings
 
 
-def _rating_warnings(names, kinds, drive, i_peak, torque_max) -> list[str]:
+def _rating_warnings(naming, kinds, drive, i_peak, torque_max) -> list[str]:
     out = []
     for a in drive.axes:
         j = a.joint
         if i_peak is not None and not np.isnan(i_peak[j]) and a.peak_current > i_peak[j]:
             out.append(
-                f"joint {names[j]}: peak current {a.peak_current:.4g} A is above the motor's "
-                f"peak rating {i_peak[j]:g} A ([drives.dc] i_peak)"
+                f"joint {naming.label(j)}: peak current {a.peak_current:.4g} A is above the "
+                f"motor's peak rating {i_peak[j]:g} A ([drives.dc] i_peak)"
             )
         if torque_max is not None and not np.isnan(torque_max[j]) and a.peak_torque > torque_max[j]:
             unit = "N·m" if kinds[j] == units.REVOLUTE else "N"
             what = "torque" if kinds[j] == units.REVOLUTE else "force"
             out.append(
-                f"joint {names[j]}: peak {what} {a.peak_torque:.4g} {unit} is beyond the gear's "
-                f"rating {torque_max[j]:g} {unit} ([drives] torque_max)"
+                f"joint {naming.label(j)}: peak {what} {a.peak_torque:.4g} {unit} is beyond "
+                f"the gear's rating {torque_max[j]:g} {unit} ([drives] torque_max)"
             )
     return out
