@@ -187,15 +187,17 @@ def run_code(
     opts = options or ExecutionOptions()
     if ipo is not None:
         opts.ipo = float(ipo)
+    tol_mm = opts.tol_position / units.MM
     if path_tolerance is not None:
-        opts.tol_position = _positive("--path-tolerance", path_tolerance, "mm") * units.MM
+        tol_mm = _positive("--path-tolerance", path_tolerance, "mm")
+        opts.tol_position = tol_mm * units.MM
     if orientation_tolerance is not None:
         deg = _positive("--orientation-tolerance", orientation_tolerance, "deg")
         opts.tol_orientation = deg * units.DEG
     controller = SimulatedController(
         model, q0, obstacles=obstacles, options=opts, progress=progress
     )
-    settings = Settings(path_tol=opts.tol_position / units.MM)  # R_PATH_TOL's start value
+    settings = Settings(path_tol=tol_mm)  # R_PATH_TOL's start value, as given
     if opts.ipo is not None:
         settings.ipo = opts.ipo
     execution = _interpret(code, controller, settings, output)
