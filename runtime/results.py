@@ -10,7 +10,11 @@ Trace columns (``interfaces.md``): ``t_s, line, <j>_<unit> …, <j>_speed_<unit>
 ``<j>_cmd_<unit> …, <j>_current_A …``; then the extras ``orientation_error_deg`` and
 ``clearance_<obstacle>_mm`` per obstacle. Joint names are the program's (MAIN_JOINT
 record), the pose is the world-frame TCP with ZYX angles. With drives the joint columns
-are the *actual* joints and speeds/accelerations are their backward differences.
+are the *actual* joints and speeds/accelerations are their backward differences; the pose,
+``path_error_mm``, ``orientation_error_deg`` and the clearances are those of the actual
+motion against the commanded path (:mod:`irlc.runtime.actual_motion`), and the report's
+``verdict`` (:mod:`irlc.runtime.verdict`) decides whether the run failed; the kinematic
+figures are kept under ``ideal``.
 """
 
 from __future__ import annotations
