@@ -105,8 +105,11 @@ def test_r_path_tol_is_modal_in_the_program(tmp_path):
     assert report["verdict"]["criteria"]["path_tolerance_mm"] == 0.5
 
 
-def test_report_path_error_is_fk_of_the_actual_joints_against_the_commanded_path(tmp_path):
-    program = write(tmp_path)
+@pytest.mark.parametrize("tool_mm", [0.0, 100.0])
+def test_report_path_error_is_fk_of_the_actual_joints_against_the_commanded_path(tmp_path, tool_mm):
+    """Also with ``R_TOOL`` set in the program: the actual TCP carries the program's tool."""
+    program = write(tmp_path, tol=f"R_TOOL := (0, 0, {tool_mm:g}, 0, 0, 0);" if tool_mm else "")
+    tool = np.array([0.0, 0.0, tool_mm / 1000.0, 1.0])  # in the robot file's TCP frame
     tol = {"path_tolerance": 20.0, "orientation_tolerance": 1.0}
     run = run_file(program, drives="decoupled", **tol)
     ideal = run_file(program, drives="ideal")
@@ -118,7 +121,9 @@ def test_report_path_error_is_fk_of_the_actual_joints_against_the_commanded_path
     joint_cols = [cols.index(f"{n}_{'mm' if k == 'prismatic' else 'deg'}") for n, k in
                   zip(names, kinds, strict=True)]  # fmt: skip
     kin = Kinematics(model)  # independent FK of the trace's actual joints (robot file's tool)
-    actual = np.array([kin.tcp(joints_to_si(row[joint_cols], kinds))[:3, 3] for row in run.trace])
+    actual = np.array(
+        [(kin.tcp(joints_to_si(row[joint_cols], kinds)) @ tool)[:3] for row in run.trace]
+    )
     # the commanded path: the ideal run's TCP at the same times (on the line to ~1e-6 mm)
     assert np.allclose(ideal.trace[:, 0], run.trace[:, 0])
     xyz = [cols.index(c) for c in ("x_mm", "y_mm", "z_mm")]
@@ -129,14 +134,17 @@ def test_report_path_error_is_fk_of_the_actual_joints_against_the_commanded_path
     assert error.max() > 1.0
     assert run.report["max_path_error_mm"] == pytest.approx(error.max(), abs=1e-5)
     assert np.allclose(run.trace[:, cols.index("path_error_mm")], error, atol=1e-5)
-    assert np.allclose(run.trace[:, xyz], actual * 1000.0, atol=1e-6)  # pose columns: actual
-    # contour ≤ this error: the actual TCP's distance to the programmed line is smaller
+    # pose columns: the actual TCP (from the first motion on: R_TOOL is set at line 9)
+    assert np.allclose(run.trace[1:, xyz], actual[1:] * 1000.0, atol=1e-6)
+    # contour ≤ this error: on the way back (goal → start, whatever the tool) the actual
+    # TCP's distance to the programmed line is smaller than the distance to the set point
+    back = run.trace[:, 1] == LIN_LINE + 2
     a = np.array([-843.241, 976.759, 400.0])
     b = np.array([-653.063, 934.597, 400.0])
     u = (b - a) / np.linalg.norm(b - a)
-    rel = actual[on_path] * 1000.0 - a
+    rel = actual[back] * 1000.0 - a
     contour = np.linalg.norm(rel - np.outer(rel @ u, u), axis=1)
-    assert np.all(contour <= error[on_path] + 1e-6)
+    assert np.all(contour <= error[back] + 1e-6)
 
 
 def test_ratings_beyond_the_drive_data_are_warnings(tmp_path, capsys):
