@@ -12,12 +12,19 @@ drive's actual joints ``θ̂(t)`` at times ``t``.
 
 ``k`` the sample at or before ``t``: the program's tool is used without knowing it.
 
-**Path error** (contour error at the sample, not the shortest distance to the path): the
-norms of the position and orientation parts of ``T̂(t) ⊖ x_d(t)`` on the controlled task
-components (a planar arm's task is ``x, y``), where ``x_d(t)`` is the *commanded* TCP at the
-same time. Between two IPO samples (every-step traces) ``x_d`` is interpolated: position
-linearly, orientation by slerp. PTP motion and standing still command no TCP path: their
-path error is 0, as in ideal runs; there the drives are judged by their following error.
+**Path error** is the *contour error*: the distance from the actual TCP to the commanded
+TCP path, not to the set point of the same instant (the drives' lag *along* the path is a
+timing error, judged by the following-error bound). The commanded path is the polyline of
+the desired poses ``x_d(t_k)`` of the Cartesian samples; for the actual sample at ``t`` its
+segments within ``[t − 2 s, t + 0.5 s]`` are searched (a closed path is not matched with
+its next lap). With ``a, b`` a segment's ends and ``p`` the actual position,
+
+    s* = clamp(((p − a)·(b − a)) / |b − a|², 0, 1),   e_p = min over segments |p − (a + s*(b − a))|
+
+on the controlled position components (a planar arm's task is ``x, y``); the orientation
+error is that of ``T̂`` against the desired pose at the nearest point (orientation by slerp).
+PTP motion and standing still command no TCP path: their path error is 0, as in ideal
+runs; there the drives are judged by their following error.
 
 **Clearances** are those of the actual link frames ``F(θ̂)`` (``runtime.distance``).
 """
@@ -60,37 +67,70 @@ def measure(
     for i in range(m):
         k = idx[i]
         tcp[i] = kin.tcp(q[i]) @ spatial.inverse(kin.tcp(rec.q[k])) @ rec.tcp[k]
-    desired, on_path = _desired(rec, times, idx)
+    on_path = rec.on_path[idx].copy()
     rows = np.array(tuple(task_rows), dtype=int)
     pos_rows, ori_rows = rows[rows < 3], rows[rows >= 3]
     pos = np.zeros(m)
     ori = np.zeros(m)
+    path = _CommandedPath(rec)
     for i in np.flatnonzero(on_path):
-        e = spatial.pose_error(tcp[i], desired[i])
-        pos[i] = np.linalg.norm(e[pos_rows])
-        ori[i] = np.linalg.norm(e[ori_rows])
+        pos[i], ori[i] = path.contour_error(times[i], tcp[i], pos_rows, ori_rows)
     return ActualMotion(times, idx, q, tcp, pos, ori, on_path, _clearances(kin, q, obstacles))
 
 
-def _desired(rec: RecordedRun, times: np.ndarray, idx: np.ndarray):
-    """``x_d(t)`` and whether a path is commanded there (module doc)."""
-    k_last = len(rec.times) - 1
-    desired = rec.desired[idx].copy()
-    on_path = rec.on_path[idx].copy()
-    for i, t in enumerate(times):
-        k = idx[i]
-        if k >= k_last or t <= rec.times[k] or not on_path[i]:
-            continue
-        if not rec.on_path[k + 1]:
-            continue
-        s = (t - rec.times[k]) / (rec.times[k + 1] - rec.times[k])
-        a, b = rec.desired[k], rec.desired[k + 1]
-        desired[i, :3, 3] = (1.0 - s) * a[:3, 3] + s * b[:3, 3]
+WINDOW_BACK_S = 2.0  # how far back along the path the nearest point is searched
+WINDOW_AHEAD_S = 0.5  # and how far ahead (overshoot)
+
+
+class _CommandedPath:
+    """The polyline of the desired TCP positions of the Cartesian samples (module doc)."""
+
+    def __init__(self, rec: RecordedRun) -> None:
+        self.times = rec.times
+        self.desired = rec.desired
+        self.points = rec.desired[:, :3, 3]
+        # segment k joins samples k and k + 1 where k + 1 commands a path: a path starts at
+        # the sample before its first one (the commanded TCP where the motion begins)
+        self.joined = rec.on_path[1:].copy()
+        self.on_path = rec.on_path
+
+    def contour_error(self, t: float, tcp: np.ndarray, pos_rows, ori_rows) -> tuple[float, float]:
+        """(position, orientation) error of ``tcp`` against the nearest commanded point."""
+        lo = int(np.searchsorted(self.times, t - WINDOW_BACK_S, side="left"))
+        hi = int(np.searchsorted(self.times, t + WINDOW_AHEAD_S, side="right"))
+        p = tcp[:3, 3]
+        seg = lo + np.flatnonzero(self.joined[lo : max(hi - 1, lo)])
+        if seg.size:
+            a, b = self.points[seg], self.points[seg + 1]
+            d = b - a
+            length2 = np.einsum("ij,ij->i", d, d)
+            s = np.where(
+                length2 > 0.0,
+                np.einsum("ij,ij->i", p - a, d) / np.where(length2 > 0.0, length2, 1.0),
+                0.0,
+            )
+            s = np.clip(s, 0.0, 1.0)
+            gap = (p - (a + s[:, None] * d))[:, pos_rows]
+            dist = np.linalg.norm(gap, axis=1)
+            best = int(np.argmin(dist))
+            desired = _between(self.desired[seg[best]], self.desired[seg[best] + 1], s[best])
+        else:  # a single Cartesian sample in reach: its own pose
+            k = lo + int(np.argmin(np.abs(self.times[lo:hi] - t))) if hi > lo else 0
+            desired = self.desired[k]
+        e = spatial.pose_error(tcp, desired)
+        return float(np.linalg.norm(e[pos_rows])), float(np.linalg.norm(e[ori_rows]))
+
+
+def _between(a: np.ndarray, b: np.ndarray, s: float) -> np.ndarray:
+    """The pose at ``s ∈ [0, 1]`` from ``a`` to ``b``: position linear, orientation slerp."""
+    out = a.copy()
+    out[:3, 3] = (1.0 - s) * a[:3, 3] + s * b[:3, 3]
+    if s > 0.0:
         quat = spatial.slerp(
             spatial.matrix_to_quat(a[:3, :3]), spatial.matrix_to_quat(b[:3, :3]), s
         )
-        desired[i, :3, :3] = spatial.quat_to_matrix(quat)
-    return desired, on_path
+        out[:3, :3] = spatial.quat_to_matrix(quat)
+    return out
 
 
 def _clearances(kin, q: np.ndarray, obstacles: dict) -> dict[str, np.ndarray]:

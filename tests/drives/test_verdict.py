@@ -124,27 +124,28 @@ def test_report_path_error_is_fk_of_the_actual_joints_against_the_commanded_path
     actual = np.array(
         [(kin.tcp(joints_to_si(row[joint_cols], kinds)) @ tool)[:3] for row in run.trace]
     )
-    # the commanded path: the ideal run's TCP at the same times (on the line to ~1e-6 mm)
+    # the commanded path: each LIN is a straight segment, from the ideal run's TCP where the
+    # line starts to where it ends; the path error is the distance to it (contour error)
     assert np.allclose(ideal.trace[:, 0], run.trace[:, 0])
     xyz = [cols.index(c) for c in ("x_mm", "y_mm", "z_mm")]
     commanded = ideal.trace[:, xyz]
-    on_path = np.array([ln in (LIN_LINE, LIN_LINE + 2) for ln in run.trace[:, 1]])
-    error = np.linalg.norm(actual * 1000.0 - commanded, axis=1)
-    error[~on_path] = 0.0  # PTP and WAIT command no TCP path
-    assert error.max() > 1.0
-    assert run.report["max_path_error_mm"] == pytest.approx(error.max(), abs=1e-5)
-    assert np.allclose(run.trace[:, cols.index("path_error_mm")], error, atol=1e-5)
+    error = np.zeros(len(run.trace))
+    lag = np.zeros(len(run.trace))
+    for line in (LIN_LINE, LIN_LINE + 2):
+        rows = np.flatnonzero(run.trace[:, 1] == line)
+        a, b = commanded[rows[0] - 1], commanded[rows[-1]]
+        rel = actual[rows] * 1000.0 - a
+        s = np.clip(rel @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0)
+        error[rows] = np.linalg.norm(rel - np.outer(s, b - a), axis=1)
+        lag[rows] = np.linalg.norm(actual[rows] * 1000.0 - commanded[rows], axis=1)
+    assert error.max() > 0.5  # the drives leave the line by more than the default tolerance
+    # the set point of the same instant lies on the line: its distance (the lag, a timing
+    # error) bounds the path error, which is smaller where the TCP lags along the line
+    assert np.all(error <= lag + 1e-9) and lag.max() > error.max() + 1.0
+    assert run.report["max_path_error_mm"] == pytest.approx(error.max(), abs=1e-4)
+    assert np.allclose(run.trace[:, cols.index("path_error_mm")], error, atol=1e-4)
     # pose columns: the actual TCP (from the first motion on: R_TOOL is set at line 9)
     assert np.allclose(run.trace[1:, xyz], actual[1:] * 1000.0, atol=1e-6)
-    # contour ≤ this error: on the way back (goal → start, whatever the tool) the actual
-    # TCP's distance to the programmed line is smaller than the distance to the set point
-    back = run.trace[:, 1] == LIN_LINE + 2
-    a = np.array([-843.241, 976.759, 400.0])
-    b = np.array([-653.063, 934.597, 400.0])
-    u = (b - a) / np.linalg.norm(b - a)
-    rel = actual[back] * 1000.0 - a
-    contour = np.linalg.norm(rel - np.outer(rel @ u, u), axis=1)
-    assert np.all(contour <= error[back] + 1e-6)
 
 
 def test_ratings_beyond_the_drive_data_are_warnings(tmp_path, capsys):
