@@ -9,7 +9,10 @@ The commands are parsed from the markdown, so the documents and this test cannot
   ``....... `` prompt) are its standard input;
 * a ```` ```irl FILE ```` block is written to ``FILE`` (the reader is told to save it);
 * a command expected to fail says so with ``(exit N)`` in its comment; all others must
-  exit 0.
+  exit 0;
+* the output a ``console`` block shows for a command is checked line by line (each line
+  must appear in the command's output) unless it abbreviates (``…``, ``...``) or is a
+  REPL transcript.
 
 Skipped, and reported as skipped: ``pip install …`` (the test runs in the installed test
 environment; the core-install case is checked by tests/robots/test_panda_core.py) and
@@ -27,7 +30,7 @@ import re
 import shutil
 import subprocess
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import pytest
@@ -49,6 +52,7 @@ class Step:
     command: str = ""  # shell command ("" for a file to write)
     exit_code: int = 0
     stdin: str = ""
+    expect: tuple[str, ...] = ()  # output lines shown in the document (stripped)
     write: tuple[str, str] | None = None  # (file name, text)
 
 
@@ -88,17 +92,18 @@ def _console_steps(first: int, lines: list[str]) -> list[Step]:
         if not line.startswith("$ "):
             continue
         command = line[2:].strip()
-        stdin = ""
+        shown = []
+        for later in lines[k + 1 :]:
+            if later.startswith("$ "):
+                break
+            shown.append(later)
+        stdin, expect = "", ()
         if re.match(r"irlc repl\b", command):
-            inputs = []
-            for later in lines[k + 1 :]:
-                if later.startswith("$ "):
-                    break
-                m = PROMPT.match(later)
-                if m:
-                    inputs.append(m.group(1))
+            inputs = [m.group(1) for m in map(PROMPT.match, shown) if m]
             stdin = "".join(f"{x}\n" for x in inputs)
-        steps.append(_step(first + k, command, stdin))
+        elif not any("…" in x or "..." in x for x in shown):
+            expect = tuple(x.strip() for x in shown if x.strip())
+        steps.append(replace(_step(first + k, command, stdin), expect=expect))
     return steps
 
 
@@ -183,6 +188,14 @@ def test_parser_reads_sh_console_and_files():
             "....... ENDIF",
             "$ irlc robots",
             "```",
+            "```console",
+            "$ irlc check a.irl   # (exit 1)",
+            "a.irl:1:1: error: x",
+            "  hint: y",
+            "$ irlc a.irl",
+            "│ status ok",
+            "│ ...",
+            "```",
             "```python",
             "print(1)",
             "```",
@@ -198,7 +211,10 @@ def test_parser_reads_sh_console_and_files():
         7,
     )
     assert steps[3].stdin == "MOVE LIN p\nENDIF\n" and steps[4].command == "irlc robots"
-    assert len(steps) == 5
+    assert steps[3].expect == () and steps[4].expect == ()
+    assert (steps[5].exit_code, steps[5].expect) == (1, ("a.irl:1:1: error: x", "hint: y"))
+    assert steps[6].expect == ()  # abbreviated output is not checked
+    assert len(steps) == 7
 
 
 def test_docs_show_commands():
@@ -239,6 +255,12 @@ def test_every_documented_command_runs(doc, tmp_path, capsys):
             f"\n--- stderr\n{done.stderr[-3000:]}"
         )
         assert "Traceback" not in done.stderr, f"{doc}:{step.line}: {done.stderr[-3000:]}"
+        printed = {x.strip() for x in (done.stdout + done.stderr).splitlines()}
+        missing = [x for x in step.expect if x not in printed]
+        assert not missing, (
+            f"{doc}:{step.line}: `{command}` did not print the documented lines {missing}\n"
+            f"--- stdout\n{done.stdout[-3000:]}\n--- stderr\n{done.stderr[-3000:]}"
+        )
     with capsys.disabled():
         for s in skipped:
             print(f"\nskipped {s}", end="")
