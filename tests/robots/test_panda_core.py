@@ -110,3 +110,18 @@ def test_robots_lists_every_robot_even_one_that_needs_an_extra(no_yourdfpy, tmp_
     assert "RRR" in rows["planar3"]
     assert "pip install 'irlc[urdf]'" in rows["pandaurdf"]
     assert "cannot load" in rows["broken"]
+
+
+def test_program_on_panda_compiles_and_runs_without_yourdfpy(no_yourdfpy, tmp_path):
+    """The issue's case: ``ROBOT r := panda;`` after ``pip install .`` alone."""
+    from irlc import run_program
+
+    program = tmp_path / "p.irl"
+    program.write_text(
+        "PROGRAM p;\nROBOT r := panda;\nBEGIN\n  MOVE PTP (0, -30, 0, -120, 0, 90, 45);\n"
+        "ENDPROGRAM\n",
+        encoding="utf-8",
+    )
+    run = run_program(program)
+    assert run.status == "ok", run.error
+    assert np.allclose(run.report["end_joints"], [0, -30, 0, -120, 0, 90, 45], atol=1e-6)
