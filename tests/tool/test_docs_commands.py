@@ -14,13 +14,20 @@ The commands are parsed from the markdown, so the documents and this test cannot
   must appear in the command's output) unless it abbreviates (``…``, ``...``) or is a
   REPL transcript.
 
-Skipped, and reported as skipped: ``pip install …`` (the test runs in the installed test
-environment; the core-install case is checked by tests/robots/test_panda_core.py) and
-``pytest`` (the suite this test belongs to). ``a && b`` runs its parts in order, without
-the skipped ones. The documents run in order, each on its own fresh copy of the
-repository's files (``git ls-files``) in a temporary folder, with the test environment's
-``bin`` first on ``PATH``. It runs every simulation of both pages and the numba
-precompile steps once: a scenario test (about a minute on a laptop).
+Skipped, and reported as skipped: ``pip install …`` and ``pytest`` (the suite this test
+belongs to). ``a && b`` runs its parts in order, without the skipped ones.
+
+Installs are simulated in the test environment: a document starts on the core install
+(every optional extra's modules hidden, as ``sys.modules[name] = None`` in a
+``sitecustomize`` on ``PYTHONPATH``, so ``import matplotlib`` fails as if it were not
+installed); a ``pip install '.[EXTRA]'`` the document shows makes that extra's modules
+(from pyproject.toml) available from then on. So a command that needs an extra the
+document has not installed yet fails here as it would for the reader.
+
+The documents run in order, each on its own fresh copy of the repository's files
+(``git ls-files``) in a temporary folder, with the test environment's ``bin`` first on
+``PATH``. It runs every simulation of both pages and the numba precompile steps once: a
+scenario test (about a minute and a half on a laptop).
 """
 
 from __future__ import annotations
@@ -41,6 +48,11 @@ FENCE = re.compile(r"^```(\S*)[ \t]*(\S*)[ \t]*$")
 EXPECTED_EXIT = re.compile(r"#.*\(exit (\d)\)")
 PROMPT = re.compile(r"^(?:\w+> |\.{3,} ?)(.*)$")
 SKIPPED = {"pip install": "install command", "pytest": "runs the test suite itself"}
+EXTRAS = re.compile(r"\[([\w,\s-]+)\]")
+HIDE_MODULES = """import os, sys
+for _name in filter(None, os.environ.get("IRLC_DOCS_HIDDEN", "").split(",")):
+    sys.modules.setdefault(_name, None)  # import fails as if not installed
+"""
 TIMEOUT_S = 300
 
 
@@ -141,6 +153,37 @@ def runnable(command: str) -> tuple[str, list[str]]:
     return " && ".join(kept), skipped
 
 
+def extra_modules() -> dict[str, set[str]]:
+    """Optional extra → the top-level modules its packages provide (pyproject.toml;
+    ``irlc[a,b]`` entries resolved)."""
+    import tomllib
+
+    table = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    extras = table["project"]["optional-dependencies"]
+
+    def modules(extra: str) -> set[str]:
+        out: set[str] = set()
+        for req in extras[extra]:
+            m = re.match(r"irlc\[([^\]]+)\]", req)
+            if m:
+                out |= set().union(*(modules(e.strip()) for e in m.group(1).split(",")))
+            else:
+                out.add(re.split(r"[<>=!~\[; ]", req, maxsplit=1)[0].lower().replace("-", "_"))
+        return out
+
+    return {extra: modules(extra) for extra in extras}
+
+
+def installed_extras(command: str) -> set[str]:
+    """The extras a skipped ``pip install`` names (``.[plot]``, ``-e '.[test]'``)."""
+    found: set[str] = set()
+    for part in command.split("&&"):
+        if part.strip().startswith("pip install"):
+            for m in EXTRAS.finditer(part):
+                found |= {e.strip() for e in m.group(1).split(",")}
+    return found
+
+
 def fresh_copy(dest: Path) -> Path:
     """The repository's tracked files (as in the working tree) under ``dest``."""
     try:
@@ -158,9 +201,10 @@ def fresh_copy(dest: Path) -> Path:
     return dest
 
 
-def _env() -> dict[str, str]:
+def _env(site: Path) -> dict[str, str]:
     env = dict(os.environ)
     env["PATH"] = str(Path(sys.executable).parent) + os.pathsep + env.get("PATH", "")
+    env["PYTHONPATH"] = str(site) + os.pathsep + env.get("PYTHONPATH", "")
     env.setdefault("OPENBLAS_NUM_THREADS", "1")
     env["COLUMNS"] = "120"
     return env
@@ -217,6 +261,27 @@ def test_parser_reads_sh_console_and_files():
     assert len(steps) == 7
 
 
+def test_extras_from_pyproject_and_install_commands():
+    modules = extra_modules()
+    assert modules["plot"] == {"matplotlib"} and modules["urdf"] == {"yourdfpy"}
+    assert {"matplotlib", "yourdfpy", "prompt_toolkit"} <= modules["full"] <= modules["test"]
+    assert installed_extras("pip install . && irlc x.irl") == set()
+    assert installed_extras("pip install -e '.[test]' && pytest") == {"test"}
+    assert installed_extras("pip install '.[plot, repl]'") == {"plot", "repl"}
+
+
+def test_hidden_module_fails_to_import(tmp_path):
+    """The simulated core install: a hidden module cannot be imported in a subprocess."""
+    (tmp_path / "sitecustomize.py").write_text(HIDE_MODULES, encoding="utf-8")
+    env = _env(tmp_path) | {"IRLC_DOCS_HIDDEN": "json"}
+    probe = "import importlib.util, sys; print(importlib.util.find_spec('json')); import json"
+    done = subprocess.run(
+        [sys.executable, "-c", probe], env=env, capture_output=True, text=True, timeout=60
+    )
+    assert done.returncode == 1 and done.stdout.strip() == "None"
+    assert "ModuleNotFoundError" in done.stderr
+
+
 def test_docs_show_commands():
     """Guard against a silently empty parse (a renamed fence would skip everything)."""
     for doc in DOCS:
@@ -230,12 +295,20 @@ def test_docs_show_commands():
 @pytest.mark.parametrize("doc", DOCS)
 def test_every_documented_command_runs(doc, tmp_path, capsys):
     work = fresh_copy(tmp_path / "repo")
-    env = _env()
+    site = tmp_path / "site"
+    site.mkdir()
+    (site / "sitecustomize.py").write_text(HIDE_MODULES, encoding="utf-8")
+    env = _env(site)
+    modules = extra_modules()
+    hidden = set().union(*modules.values())  # the core install
     skipped: list[str] = []
     for step in doc_steps(doc):
         if step.write is not None:
             (work / step.write[0]).write_text(step.write[1], encoding="utf-8")
             continue
+        for extra in installed_extras(step.command):
+            hidden -= modules[extra]
+        env["IRLC_DOCS_HIDDEN"] = ",".join(sorted(hidden))
         command, why = runnable(step.command)
         skipped += [f"{doc}:{step.line}: {w}" for w in why]
         if not command:
