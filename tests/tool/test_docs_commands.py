@@ -8,6 +8,7 @@ The commands are parsed from the markdown, so the documents and this test cannot
   for an ``irlc repl`` command the transcript's input lines (after a ``NAME> `` or
   ``....... `` prompt) are its standard input;
 * a ```` ```irl FILE ```` block is written to ``FILE`` (the reader is told to save it);
+* a ```` ```python ```` block runs as a script (``python -``, the block on stdin);
 * a command expected to fail says so with ``(exit N)`` in its comment; all others must
   exit 0;
 * the output a ``console`` block shows for a command is checked line by line (each line
@@ -136,6 +137,8 @@ def steps_of(text: str) -> list[Step]:
             steps += _sh_steps(first, lines)
         elif info == "console":
             steps += _console_steps(first, lines)
+        elif info == "python":
+            steps.append(Step(first, "python -", stdin="\n".join(lines) + "\n"))
         elif info == "irl" and arg:
             steps.append(Step(first - 1, write=(arg, "\n".join(lines) + "\n")))
     return steps
@@ -243,6 +246,9 @@ def test_parser_reads_sh_console_and_files():
             "```python",
             "print(1)",
             "```",
+            "```text",
+            "$ not a command",
+            "```",
         ]
     )
     steps = steps_of(text)
@@ -258,7 +264,8 @@ def test_parser_reads_sh_console_and_files():
     assert steps[3].expect == () and steps[4].expect == ()
     assert (steps[5].exit_code, steps[5].expect) == (1, ("a.irl:1:1: error: x", "hint: y"))
     assert steps[6].expect == ()  # abbreviated output is not checked
-    assert len(steps) == 7
+    assert (steps[7].command, steps[7].stdin) == ("python -", "print(1)\n")
+    assert len(steps) == 8
 
 
 def test_extras_from_pyproject_and_install_commands():
