@@ -64,13 +64,10 @@ def assemble(code, model, controller, obstacles, execution, opts, drives: str, e
     if drive is not None and every_step:
         times = drive.t
         q_actual = drive.q_actual
-        from irlc.runtime.kinematics import Kinematics
-
-        kin = Kinematics(model)
-        tcp = np.array([kin.tcp(q) for q in q_actual])
+        tcp = _tcp_of(model, q_actual, rec, times)
     elif drive is not None:
         q_actual = _at_times(drive, rec.times)
-        times, tcp = rec.times, _tcp_of(model, q_actual)
+        times, tcp = rec.times, _tcp_of(model, q_actual, rec, rec.times)
     else:
         times, tcp = rec.times, rec.tcp
     return RunResult(
@@ -92,11 +89,33 @@ def assemble(code, model, controller, obstacles, execution, opts, drives: str, e
     )
 
 
-def _tcp_of(model, q: np.ndarray) -> np.ndarray:
+def _tcp_of(model, q: np.ndarray, rec: RecordedRun, times: np.ndarray) -> np.ndarray:
+    """World TCP of joints ``q`` (the drives' actual joints at ``times``) with the tool the
+    program had then: the recorded sample's ``R_TOOL`` is ``f₀(θₖ)⁻¹ · TCPₖ`` (``f₀``: the
+    forward kinematics with the robot file's tool, ``θₖ``, ``TCPₖ``: the recorded joints
+    and TCP), and ``TCP(q) = f₀(q) · R_TOOLₖ`` with ``k`` the last sample at or before
+    the time."""
     from irlc.runtime.kinematics import Kinematics
 
+    if not len(q):
+        return np.zeros((0, 4, 4))
     kin = Kinematics(model)
-    return np.array([kin.tcp(qi) for qi in q]) if len(q) else np.zeros((0, 4, 4))
+    tcp = np.array([kin.tcp(qi) for qi in q])
+    if not len(rec.times):
+        return tcp
+    r_tool = np.array(
+        [_rigid_inverse(kin.tcp(qk)) @ tk for qk, tk in zip(rec.q, rec.tcp, strict=True)]
+    )
+    idx = np.clip(np.searchsorted(rec.times, times, side="right") - 1, 0, len(rec.times) - 1)
+    return tcp @ r_tool[idx]
+
+
+def _rigid_inverse(t: np.ndarray) -> np.ndarray:
+    """``T⁻¹ = [Rᵀ, −Rᵀp; 0, 1]`` of a rigid transform."""
+    inv = np.eye(4)
+    inv[:3, :3] = t[:3, :3].T
+    inv[:3, 3] = -t[:3, :3].T @ t[:3, 3]
+    return inv
 
 
 # --------------------------------------------------------------------------- drives
@@ -397,7 +416,7 @@ def build_trace(model, rec: RecordedRun, names, drive, every_step: bool):
             lines, pos_err, ori_err = rec.lines[idx], rec.pos_error[idx], rec.ori_error[idx]
             clearance = {k: v[idx] for k, v in rec.clearance.items()}
         q = drive.q_actual if every_step else _at_times(drive, times)
-        tcp = _tcp_of(model, q)
+        tcp = _tcp_of(model, q, rec, times)
     speed, accel = finite_differences(times, q)
     k = len(times)
     poses = np.array([units.pose_from_si(t) for t in tcp]) if k else np.zeros((0, 6))

@@ -54,3 +54,24 @@ def test_path_speed_has_no_spike_at_the_start(tmp_path):
     # a PTP of 15 deg on two joints: the TCP moves at a few hundred mm/s at most
     assert speed.max() < 1000.0, speed[:3]
     assert speed[:2].max() < 50.0  # starts at rest
+
+
+def test_drive_runs_keep_the_program_tool(tmp_path):
+    """With simulated drives the TCP is recomputed from the actual joints: with R_TOOL, not
+    the robot file's tool alone (which put it 150 mm off in every sample)."""
+    code = compile_program(
+        tmp_path / "ktool.irl",
+        source=PROGRAM.format(robot="koch11", first="WAIT 0.1 SEC;"),
+    )
+    ideal = run_code(code)
+    driven = run_code(code, drives="decoupled")
+    assert ideal.status == driven.status == "ok"
+    tool = driven.model.tool @ units.pose_to_si(0.0, 0.0, 150.0, 0.0, 0.0, 0.0)
+    kin = Kinematics(driven.model, tool)
+    for q, tcp in zip(driven.q, driven.tcp, strict=True):
+        np.testing.assert_allclose(tcp, kin.tcp(q), atol=1e-12)
+    # standing still: the actual TCP is where the ideal run's is (drive error ≪ 0.1 mm)
+    gap = np.linalg.norm(driven.tcp[:, :3, 3] - ideal.tcp[: len(driven.tcp), :3, 3], axis=1)
+    assert gap.max() < 1e-4, gap.max()
+    z_mm = driven.trace[:, driven.trace_columns.index("z_mm")]
+    np.testing.assert_allclose(z_mm, ideal.trace[:, ideal.trace_columns.index("z_mm")], atol=0.1)
