@@ -287,7 +287,10 @@ def build_report(
             "level": drive.level,
             "step_s": rnd(drive.step),
             "could_follow": bool(drive.could_follow),
-            "axes": [_clean(a) for a in report_axes(drive, model)],
+            "axes": [
+                _clean({**row, "joint": names[a.joint], "robot_name": row["joint"]})
+                for a, row in zip(drive.axes, report_axes(drive, model), strict=True)
+            ],
         }
     return report
 

@@ -103,3 +103,11 @@ def test_summary_and_report_show_the_active_tool(tmp_path, capsys):
     assert tool["active"] == pytest.approx([0, 0, 253.4, -45, 0, 0], abs=1e-9)
     assert "(0, 0, 253.4, -45, 0, 0) mm, deg" in out
     assert "R_TOOL (0, 0, 150, 0, 0, 0)" in out
+
+
+def test_drive_axes_in_the_report_follow_the_rule(tmp_path):
+    run = run_file(_program(tmp_path, "koch11", "WAIT 0.05 SEC;"), drives="decoupled")
+    assert run.status == "ok", run.error
+    axes = run.report["drives_summary"]["axes"]
+    assert [a["joint"] for a in axes] == [f"a{i}" for i in range(1, 12)]
+    assert [a["robot_name"] for a in axes] == [f"J{i}" for i in range(1, 12)]
