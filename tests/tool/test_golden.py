@@ -154,4 +154,4 @@ def test_reduced_report_names_its_units_and_older_expectations_still_pass():
     older = {k: v for k, v in red.items() if k != "units"}  # written before the key existed
     assert compare(older, red) == []
     wrong = {**red, "units": {"length": "m", "angle": "rad", "time": "s"}}
-    assert [m.path for m in compare(wrong, red)] == ["units"]
+    assert [m.path for m in compare(wrong, red)] == ["units.length", "units.angle"]
