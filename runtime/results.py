@@ -230,8 +230,8 @@ def build_report(
         joints.append(
             {
                 "name": name,
-                "robot_name": model.joint_names[j],
                 "unit": units.joint_unit(kinds[j]),
+                "robot_name": model.joint_names[j],
                 "min": rnd(float(col.min())),
                 "max": rnd(float(col.max())),
                 "max_abs_speed": rnd(float(np.abs(speed[:, j]).max()) if k else 0.0),
