@@ -459,6 +459,19 @@ class Session:
         out.append(f"  tool ({tool}) [mm, deg]; R_TOOL is composed after it")
         return Entry(out)
 
+    def _tool_line(self) -> str:
+        """The active tool: the robot file's, then R_TOOL (mm, deg ZYX)."""
+
+        def pose(t) -> str:
+            return "(" + ", ".join(_fmt(v) for v in units.pose_from_si(t)) + ")"
+
+        file_tool = self.model.tool
+        r_tool = units.pose_value_to_si(self.state.settings.tool)
+        return (
+            f"R_TOOL {pose(r_tool)} after the robot file's tool {pose(file_tool)}: "
+            f"TCP tool {pose(file_tool @ r_tool)}  [mm, deg]"
+        )
+
     def limits(self) -> list[str]:
         m, opts = self.model, self.state.options
         naming = self.naming()
@@ -491,12 +504,14 @@ class Session:
         for name in o.obstacles:
             out.append(f"OBSTACLE {name}")
         if o.frozen:
-            frozen = ", ".join(f"{j + 1}={_fmt(v)}" for j, v in sorted(o.frozen.items()))
+            naming = self.naming()
+            frozen = ", ".join(f"{naming.name(j)}={_fmt(v)}" for j, v in sorted(o.frozen.items()))
             out.append(f"FREEZE {frozen}")
         s = self.state.settings
         out.append(f"R_SPEED {_fmt(s.speed)}  R_ACC {_fmt(s.acc)}  R_SPEED_ORI {_fmt(s.speed_ori)}"
                    f"  R_SPEED_PTP {_fmt(s.speed_ptp)}  R_IPO {_fmt(s.ipo)}")  # fmt: skip
-        return out if len(out) > 1 else ["no modal options active", *out]
+        out.append(self._tool_line())
+        return out if len(out) > 2 else ["no modal options active", *out]
 
     # ------------------------------------------------------------------ files
 

@@ -111,3 +111,23 @@ def test_drive_axes_in_the_report_follow_the_rule(tmp_path):
     axes = run.report["drives_summary"]["axes"]
     assert [a["joint"] for a in axes] == [f"a{i}" for i in range(1, 12)]
     assert [a["robot_name"] for a in axes] == [f"J{i}" for i in range(1, 12)]
+
+
+def test_repl_options_show_the_composed_tool_and_frozen_joints_by_name(tmp_path):
+    s = Session("mobile8")
+    for text in ("R_TOOL := POSE(0, 0, 150, 0, 0, 0);", "FREEZESTART 3;"):
+        assert s.enter(text).failure == 0, text
+    lines = s.enter(":options").lines
+    # mobile8.toml's tool turns 90 deg about y; R_TOOL's 150 mm on its z is then along x
+    assert "R_TOOL (0, 0, 150, 0, 0, 0) after the robot file's tool (0, 0, 0, 0, 90, 0)" in (
+        "\n".join(lines)
+    )
+    assert any(line.startswith("FREEZE a3=") for line in lines), lines
+    moved = s.enter("MOVE_INC PTP (10, 0, 0, 0, 0, 0, 0, 0)")
+    assert moved.failure == 0, moved.lines
+    trace = tmp_path / "t.csv"
+    assert s.enter(f":trace {trace}").failure == 0
+    rows = [r.split(",") for r in trace.read_text().splitlines()]
+    col = rows[0].index("x_mm")
+    # the start sample already has the program's tool: a 10 mm platform move, no 150 mm jump
+    assert abs(float(rows[2][col]) - float(rows[1][col])) < 10.0
