@@ -36,19 +36,21 @@ def joints_table(report: dict) -> Table:
     table = Table(
         title="joints (deg | mm, /s, /s²)", title_justify="left", show_edge=False, pad_edge=False
     )
-    table.add_column("joint", overflow="fold")  # on a narrow terminal names wrap, not numbers
-    table.add_column("unit", no_wrap=True)
+    labels = [
+        f"{joint_label(j['name'], j.get('robot_name'))} [{j['unit']}]" for j in report["joints"]
+    ]
+    longest = max((len(w) for label in labels for w in label.split()), default=5)
+    table.add_column("joint", min_width=longest)  # a narrow terminal wraps names, cuts none
     for name in ("min", "max", "end", "|v|max", "|a|max"):
         table.add_column(name, justify="right", no_wrap=True)
-    table.add_column("limit active", no_wrap=True)
+    table.add_column("limit active")
     following = any(j.get("max_following_error") is not None for j in report["joints"])
     if following:
         table.add_column("follow err", justify="right", no_wrap=True)
     end = report.get("end_joints") or []
     for i, j in enumerate(report["joints"]):
         cells: list = [
-            Text(joint_label(j["name"], j.get("robot_name"))),
-            j["unit"],
+            Text(labels[i]),
             _num(j["min"], ".2f"),
             _num(j["max"], ".2f"),
             _num(end[i] if i < len(end) else None, ".2f"),

@@ -50,7 +50,7 @@ def test_summary_report_trace_and_export_use_one_rule(tmp_path, capsys, robot):
     out = capsys.readouterr().out
     assert code == 0, out
     for label in _labels(robot):  # every joint of the summary, robot name beside it
-        assert re.search(rf"│ {re.escape(label)}\s+│", out), (label, out)
+        assert re.search(rf"│ {re.escape(label)} \[(deg|mm)\]\s+│", out), (label, out)
     rep = json.loads(report.read_text())
     assert [j["name"] for j in rep["joints"]] == [f"a{i + 1}" for i in range(len(rep["joints"]))]
     assert [j["robot_name"] for j in rep["joints"]] == ROBOT_NAMES[robot]
