@@ -146,6 +146,8 @@ def _criteria(verdict: dict) -> str:
         rated = [r for r in c.get(key) or [] if r.get("value") is not None]
         parts.append(f"{what} {'rated' if rated else 'not rated'}")
     return "; ".join(parts)
+
+
 def _pose_text(pose) -> str:
     return "(" + ", ".join(_num(v, ".6g") for v in pose) + ")"
 
