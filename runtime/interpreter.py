@@ -47,6 +47,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from irlc.lang.irdata import JOINT_TUPLE_TYPES, Code, Routine, Slot, Target, Value
+from irlc.lang.settings import BY_WITH_WORD, SYSTEM_VARIABLES
 from irlc.runtime import builtins as B
 from irlc.runtime import units
 from irlc.runtime import values as V
@@ -146,24 +147,10 @@ class _Frame:
 
 
 _ARRAY_TYPE = re.compile(r"ARRAY\[(-?\d+)\.\.(-?\d+)\]OF(.+)")
-_SETTINGS_FIELDS = {
-    "R_SPEED": "speed",
-    "R_ACC": "acc",
-    "R_SPEED_ORI": "speed_ori",
-    "R_SPEED_PTP": "speed_ptp",
-    "R_ACC_PTP": "acc_ptp",
-    "R_TOOL": "tool",
-    "R_BASE": "base",
-    "R_IPO": "ipo",
+_SETTINGS_FIELDS = {  # system variable → Settings field (rows: lang/settings.py)
+    name: v.field for name, v in SYSTEM_VARIABLES.items() if v.field is not None
 }
-_MOVE_NUMBERS = {
-    "SPEED": "speed",
-    "ACC": "acc",
-    "SPEED_ORI": "speed_ori",
-    "SPEED_PTP": "speed_ptp",
-    "ACC_PTP": "acc_ptp",
-    "TIME": "time",
-}
+_MOVE_NUMBERS = {word: s.field for word, s in BY_WITH_WORD.items()}  # WITH word → field
 _LIMIT_OPTIONS = {  # option → (field of MotionCommand / ModalOptions, derivative)
     "JOINTLIMIT": ("joint_limits", 0),
     "JOINTSPEEDLIMIT": ("speed_limits", 1),

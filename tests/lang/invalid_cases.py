@@ -358,7 +358,31 @@ CASES: list[tuple[str, str, int, int, str]] = [
         body("  MOVE LIN p WITH SPEED := -3;", "VAR POSE: p;\n"),
         5,
         28,
-        "must be positive",
+        "WITH SPEED := -3.0: the value must be in (0, 100000] mm/s",
+    ),
+    # constant settings: the run-time range table (lang/settings.py), at compile time
+    ("r_speed_negative", body("  R_SPEED := -5;"), 4, 14, "R_SPEED := -5.0: the value must be"),
+    ("r_ipo_zero", body("  R_IPO := 0;"), 4, 12, "R_IPO := 0.0: the value must be in [1e-05, 1] s"),
+    (
+        "r_speed_ptp_const_above_100",
+        body("  HALT;\n  R_SPEED_PTP := pct;", "CONST pct = 150;\n"),
+        6,
+        18,
+        "R_SPEED_PTP := 150.0: the value must be in (0, 100] %",
+    ),
+    (
+        "r_acc_folded_negative",
+        body("  R_ACC := 100 - 200;"),
+        4,
+        16,
+        "R_ACC := -100.0: the value must be in (0, 1000000] mm/s²",
+    ),
+    (
+        "with_time_above_a_day",
+        body("  MOVE LIN p WITH TIME := 1e6;", "VAR POSE: p;\n"),
+        5,
+        27,
+        "WITH TIME := 1000000.0: the value must be in (0, 86400] s",
     ),
     (
         "reconf_count",

@@ -1,0 +1,163 @@
+"""The motion settings: one row per setting, read by the checker, the IRDATA reader and the
+runtime (interpreter, controller, pre-interpolator).
+
+A numeric setting has a field (of ``runtime.controller.Settings`` and ``MotionCommand``),
+a system variable (``R_SPEED := v;``, IRDATA ``PUSHSYS/POPSYS R_SPEED``) and/or a WITH
+word (``WITH SPEED := v``, IRDATA ``MOVE LIN 1 SPEED``), a unit (program units: mm, deg,
+s, %), the motion kinds that accept the WITH form, and its admissible range
+
+    v ∈ (low, high]      or, when ``closed``,      v ∈ [low, high].
+
+The same range is checked when a constant is compiled (``R_SPEED := -5;`` is a compile
+error at its line and column) and when a value is assigned or used at run time (a
+:class:`~irlc.runtime.errors.RunFailure` at its line), with the same words:
+``R_SPEED := -5.0: the value must be positive``. A new setting is one row here plus its
+behaviour in the controller.
+
+Upper bounds are physical sanity bounds (100 m/s, 1000 m/s², a day for one motion — far
+above any robot), not robot limits: the robot's own joint limits apply on top. ``R_IPO``
+below 10 µs would need millions of cycles per simulated second.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+ALL_KINDS = ("PTP", "LIN", "CIRCLE", "LINPATH", "PTPINC", "LININC")  # IRDATA motion kinds
+PTP_KINDS = ("PTP", "PTPINC")  # joint interpolation: SPEED_PTP, ACC_PTP (%)
+PATH_KINDS = ("LIN", "CIRCLE", "LINPATH", "LININC")  # Cartesian path: SPEED, ACC, SPEED_ORI
+
+
+@dataclass(frozen=True)
+class SettingRange:
+    """Admissible values of a numeric setting: ``(low, high]``, or ``[low, high]`` when
+    ``closed``."""
+
+    low: float
+    high: float
+    unit: str = ""
+    closed: bool = False
+
+    def __contains__(self, v: float) -> bool:
+        return (self.low <= v if self.closed else self.low < v) and v <= self.high
+
+    def __str__(self) -> str:
+        if self.high == math.inf and self.low == 0.0 and not self.closed:
+            return "positive"
+        return f"in {self.interval()}{' ' + self.unit if self.unit else ''}"
+
+    def interval(self) -> str:
+        """``(0, 100]``, ``[1e-05, 1]``; a whole upper bound in digits (``100000``)."""
+        high = f"{self.high:.0f}" if self.high.is_integer() else f"{self.high:g}"
+        return f"{'[' if self.closed else '('}{self.low:g}, {high}]"
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One numeric motion setting (see the module doc)."""
+
+    field: str  # Settings / MotionCommand field
+    system_variable: str | None  # R_… word (program and IRDATA), None: WITH only
+    with_word: str | None  # WITH … word (program and IRDATA MOVE clause), None: no WITH form
+    unit: str
+    range: SettingRange
+    kinds: tuple[str, ...] = ()  # motion kinds whose WITH form accepts it
+    meaning: str = ""
+
+
+def _positive(unit: str, high: float) -> SettingRange:
+    return SettingRange(0.0, high, unit)
+
+
+# THE table of numeric settings. Defaults live in runtime.controller.Settings.
+SETTINGS: tuple[Setting, ...] = (
+    Setting("speed", "R_SPEED", "SPEED", "mm/s", _positive("mm/s", 1e5), PATH_KINDS,
+            "path speed"),
+    Setting("acc", "R_ACC", "ACC", "mm/s²", _positive("mm/s²", 1e6), PATH_KINDS,
+            "path acceleration"),
+    Setting("speed_ori", "R_SPEED_ORI", "SPEED_ORI", "deg/s", _positive("deg/s", 1e5),
+            PATH_KINDS, "orientation speed"),
+    Setting("speed_ptp", "R_SPEED_PTP", "SPEED_PTP", "%", _positive("%", 100.0), PTP_KINDS,
+            "PTP speed, % of each joint's maximum"),
+    Setting("acc_ptp", "R_ACC_PTP", "ACC_PTP", "%", _positive("%", 100.0), PTP_KINDS,
+            "PTP acceleration, % of each joint's maximum"),
+    Setting("time", None, "TIME", "s", _positive("s", 86400.0), ALL_KINDS,
+            "fixed motion time (overrides the speeds)"),
+    Setting("ipo", "R_IPO", None, "s", SettingRange(1e-5, 1.0, "s", closed=True), (),
+            "interpolation (IPO) cycle"),
+    # R_PATH_TOL (path tolerance, mm, > 0) goes here as one more row.
+)  # fmt: skip
+
+BY_FIELD: dict[str, Setting] = {s.field: s for s in SETTINGS}
+BY_SYSTEM_VARIABLE: dict[str, Setting] = {
+    s.system_variable: s for s in SETTINGS if s.system_variable
+}
+BY_WITH_WORD: dict[str, Setting] = {s.with_word: s for s in SETTINGS if s.with_word}
+SETTING_RANGES: dict[str, SettingRange] = {s.field: s.range for s in SETTINGS}
+
+
+@dataclass(frozen=True)
+class SystemVariable:
+    """A system variable: its IRL type (``None``: the robot's MAIN_JOINT), whether a program
+    may assign it, and the ``Settings`` field that holds it (``None``: read from the
+    controller)."""
+
+    name: str
+    type_name: str | None
+    writable: bool
+    field: str | None
+
+
+SYSTEM_VARIABLES: dict[str, SystemVariable] = {
+    v.name: v
+    for v in (
+        *(SystemVariable(s.system_variable, "REAL", True, s.field)
+          for s in SETTINGS if s.system_variable),
+        SystemVariable("R_TOOL", "POSE", True, "tool"),  # TCP in the flange frame
+        SystemVariable("R_BASE", "POSE", True, "base"),  # program base frame in the world
+        SystemVariable("R_ACT_POSE", "POSE", False, None),
+        SystemVariable("R_ACT_JOINT", None, False, None),
+    )
+}  # fmt: skip
+
+
+def setting_error(field_name: str, value: object) -> str | None:
+    """``None`` if ``value`` is admissible for the setting, else why not
+    (``"the value must be in (0, 100] %"``)."""
+    allowed = SETTING_RANGES[field_name]
+    if isinstance(value, float | int) and not isinstance(value, bool) and value in allowed:
+        return None
+    return f"the value must be {allowed}"
+
+
+def shown_value(value: object) -> str:
+    """A setting's value as a message shows it: as WRITE prints a REAL (6 decimals,
+    ``150.0``) unless that rounds it, then ``%g``."""
+    if not isinstance(value, float | int):
+        return repr(value)
+    r = round(float(value), 6)
+    shown = "0.0" if r == 0.0 else repr(r)
+    return shown if float(shown) == value else f"{value:g}"
+
+
+def setting_message(field_name: str, value: object, what: str) -> str | None:
+    """``None`` if admissible, else ``"<what> := <value>: the value must be …"`` (the one
+    wording of compile-time and run-time range errors)."""
+    error = setting_error(field_name, value)
+    return None if error is None else f"{what} := {shown_value(value)}: {error}"
+
+
+def ranges_table() -> str:
+    """The settings and their ranges as a Markdown table (docs/language.md lists it)."""
+    rows = [
+        "| system variable | WITH | unit | admissible values | WITH accepted by |",
+        "|---|---|---|---|---|",
+    ]
+    for s in SETTINGS:
+        kinds = "all motion" if s.kinds == ALL_KINDS else ", ".join(s.kinds) or "—"
+        rows.append(
+            f"| {s.system_variable or '—'} | {s.with_word or '—'} | {s.unit} | "
+            f"{s.range.interval()} | {kinds} |"
+        )
+    return "\n".join(rows) + "\n"
