@@ -61,6 +61,11 @@ from irlc.runtime.controller import (
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.values import ArrayValue, JointTuple, Orientation, Pose, Position, RecordValue
 
+# The endless-loop guard: at most this many instructions without motion (about 1 s of
+# CPython); a cycle of waiting counts as WAIT_CYCLE_COST instructions (about its run time),
+# so a loop that only waits is caught as fast. Users raise it: --instruction-budget.
+DEFAULT_INSTRUCTION_BUDGET = 1_000_000
+WAIT_CYCLE_COST = 50
 MAX_CALL_DEPTH = 10_000
 MAX_STACK = 1_000_000
 LIMIT_TOLERANCE = 1e-6  # deg | mm (per derivative) when checking a bound against the state
@@ -174,7 +179,7 @@ class Interpreter:
         settings: Settings | None = None,
         output: Callable[[str], None] | list[str] | None = None,
         wait_timeout: float = 60.0,
-        instruction_budget: int = 50_000_000,
+        instruction_budget: int = DEFAULT_INSTRUCTION_BUDGET,
         state: MachineState | None = None,
     ):
         if not (wait_timeout > 0 and math.isfinite(wait_timeout)):
@@ -252,9 +257,7 @@ class Interpreter:
                 self.pc = cur + 1
                 self._steps += 1
                 if self._steps - self._progress_at > budget:
-                    raise RunFailure(
-                        f"more than {budget} instructions without motion or waiting — endless loop?"
-                    )
+                    raise self._budget_failure()
                 handler(args)
         except _Finished as f:
             return f.status
@@ -270,11 +273,29 @@ class Interpreter:
         return _malformed(f"{what} at instruction {self._cur} ({op})")
 
     def _progress(self) -> None:
-        """Restart the instruction budget if simulated time advanced (motion or waiting)."""
+        """Restart the instruction budget if simulated time advanced by motion."""
         t = self._time()
         if t > self._progress_time:
             self._progress_time = t
             self._progress_at = self._steps
+
+    def _waited(self, t_before: float) -> None:
+        """Charge the budget for the cycles a WAIT (or a WAIT FOR) stood still; fail at the
+        waiting statement once it is used up."""
+        t = self._time()
+        if t > t_before:
+            cycles = math.ceil((t - t_before) / self.state.settings.ipo - 1e-9)
+            self._progress_at -= WAIT_CYCLE_COST * cycles
+            self._progress_time = max(self._progress_time, t)
+            if self._steps - self._progress_at > self.budget:
+                raise self._budget_failure()
+
+    def _budget_failure(self) -> RunFailure:
+        return RunFailure(
+            f"more than {self.budget} instructions without motion (a cycle of waiting counts "
+            f"as {WAIT_CYCLE_COST}) — endless loop? If not, raise the budget: "
+            "--instruction-budget N (Python: instruction_budget=N)"
+        )
 
     def _time(self) -> float:
         return float(self.controller.time)
@@ -824,8 +845,9 @@ class Interpreter:
         if s < 0:
             raise RunFailure(f"WAIT {V.format_real(s)} SEC: the time must not be negative")
         if s > 0:
+            t_before = self._time()
             self._ctl(self.controller.wait, s, self._line(), *self._snapshot())
-            self._progress()
+            self._waited(t_before)
 
     def _now(self) -> float:
         return max(self._time(), self.state.input_clock)
@@ -871,11 +893,12 @@ class Interpreter:
                 f" {V.format_real(self.wait_timeout)} s"
                 f" (waiting since t = {V.format_real(start)} s)"
             )
-        dt = t_next - self._time()
+        t_before = self._time()
+        dt = t_next - t_before
         if dt > 0:
             self._ctl(self.controller.wait, dt, self._line(), *self._snapshot())
         self.state.input_clock = max(self.state.input_clock, t_next)
-        self._progress()
+        self._waited(t_before)
         self.pc = args[0]
 
     def _op_sigout(self, args) -> None:

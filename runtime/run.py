@@ -169,12 +169,16 @@ def run_code(
     output: Callable[[str], None] | None = None,
     options: ExecutionOptions | None = None,
     trace_every_step: bool = False,
+    instruction_budget: int | None = None,
 ) -> RunResult:
-    """Execute compiled ``code`` (see the module doc)."""
+    """Execute compiled ``code`` (see the module doc). ``instruction_budget``: the
+    endless-loop guard (instructions without motion; default
+    :data:`~irlc.runtime.interpreter.DEFAULT_INSTRUCTION_BUDGET`)."""
     if drives not in DRIVE_LEVELS:
         raise RunSetupError(f"unknown drive level {drives!r} (known: {', '.join(DRIVE_LEVELS)})")
     if ipo is not None and setting_error("ipo", ipo):
         raise RunSetupError(f"--ipo must be between 1e-5 and 1 s, got {ipo!r}")
+    budget = _budget(instruction_budget)
     base = Path(base_dir) if base_dir is not None else None
     model = resolve_model(code, robot, base)
     obstacles = obstacle_shapes(code)
@@ -186,17 +190,30 @@ def run_code(
         model, q0, obstacles=obstacles, options=opts, progress=progress
     )
     settings = Settings(ipo=opts.ipo) if opts.ipo is not None else Settings()
-    execution = _interpret(code, controller, settings, output)
+    execution = _interpret(code, controller, settings, output, budget)
     from irlc.runtime.results import assemble
 
     return assemble(code, model, controller, obstacles, execution, opts, drives, trace_every_step)
 
 
-def _interpret(code, controller, settings, output: Callable[[str], None] | None):
+def _budget(budget: int | None) -> int:
+    """The endless-loop budget: ``None`` → the default; else a positive whole number."""
+    from irlc.runtime.interpreter import DEFAULT_INSTRUCTION_BUDGET
+
+    if budget is None:
+        return DEFAULT_INSTRUCTION_BUDGET
+    if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
+        raise RunSetupError(f"--instruction-budget must be a positive integer, got {budget!r}")
+    return budget
+
+
+def _interpret(code, controller, settings, output: Callable[[str], None] | None, budget: int):
     """Run the interpreter; its result carries output, events, warnings and the error."""
     from irlc.runtime.interpreter import Interpreter
 
-    interp = Interpreter(code, controller, settings=settings, output=output)
+    interp = Interpreter(
+        code, controller, settings=settings, output=output, instruction_budget=budget
+    )
     result = interp.run(check=False)
     if result.error is not None and result.error.time_s is None:
         result.error.time_s = controller.time

@@ -52,6 +52,14 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
 )
 @click.option("--ipo", type=float, default=None, help="IPO cycle in seconds (overrides R_IPO).")
 @click.option(
+    "--instruction-budget",
+    "instruction_budget",
+    type=int,
+    default=None,
+    help="Endless-loop guard: instructions without motion before the run fails "
+    "(a cycle of waiting counts as 50).  [default: 1000000]",
+)
+@click.option(
     "--drives",
     type=click.Choice(DRIVE_CHOICES),
     default="ideal",
@@ -112,6 +120,7 @@ def run_cmd(
     robot,
     datalist_path,
     ipo,
+    instruction_budget,
     drives,
     report_path,
     trace_path,
@@ -147,6 +156,7 @@ def run_cmd(
         live and sys.stdout.isatty(),
         None if not live else click.echo,
         err,
+        budget=instruction_budget,
     )
     if isinstance(run, int):
         return run
@@ -170,7 +180,19 @@ def run_cmd(
     return code
 
 
-def _run(program, robot, datalist_path, ipo, drives, seed, every_step, show_progress, echo, err):
+def _run(
+    program,
+    robot,
+    datalist_path,
+    ipo,
+    drives,
+    seed,
+    every_step,
+    show_progress,
+    echo,
+    err,
+    budget=None,
+):
     """Compile and run; returns the RunResult, or an exit code after printing the error."""
     from irlc.lang.diagnostics import CompileError
     from irlc.robots import RobotFileError
@@ -184,6 +206,7 @@ def _run(program, robot, datalist_path, ipo, drives, seed, every_step, show_prog
             robot=robot,
             datalist_path=datalist_path,
             ipo=ipo,
+            instruction_budget=budget,
             drives=drives,
             seed_config=seed,
             progress=progress,
