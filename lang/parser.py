@@ -668,6 +668,13 @@ class _Builder(Transformer):
         return ast.Assign(target.span, target, value)
 
     def call_noargs(self, c):
+        word = c[0].value.upper()
+        if word in _MISSPELLED:  # `END_IF;` parses as a call: the typo's hint, at the typo
+            raise _BuildError(
+                _span(c[0]),
+                f"'{c[0].value}' is not a keyword of this dialect",
+                f"write {_MISSPELLED[word]}",
+            )
         return ast.CallStmt(_span(c[0]), c[0].value, [])
 
     def call(self, c):

@@ -29,6 +29,50 @@ CASES: list[tuple[str, str, int, int, str]] = [
     ),
     ("stray_close_brace", body("  HALT; }"), 4, 9, "'}' without an opening '{'"),
     # ---------------------------------------------------------------- syntax
+    # END_ typos: the hint at the typo, with or without the ';' (with it, the word parses as
+    # a procedure call; it used to fail later, at ENDPROGRAM or at BEGIN)
+    (
+        "end_if_semicolon",
+        body("  IF TRUE THEN\n    HALT;\n  END_IF;"),
+        6,
+        3,
+        "'END_IF' is not a keyword",
+    ),
+    (
+        "end_if_no_semicolon",
+        body("  IF TRUE THEN\n    HALT;\n  END_IF"),
+        6,
+        3,
+        "'END_IF' is not a keyword",
+    ),
+    (
+        "end_for_semicolon",
+        body("  FOR i := 1 TO 3 DO\n    HALT;\n  END_FOR;", "VAR INTEGER: i;\n"),
+        7,
+        3,
+        "'END_FOR' is not a keyword of this dialect",
+    ),
+    (
+        "end_while_semicolon",
+        body("  WHILE FALSE DO\n    HALT;\n  END_WHILE;"),
+        6,
+        3,
+        "'END_WHILE' is not a keyword of this dialect",
+    ),
+    (
+        "endprocedure_semicolon",
+        H + "PROCEDURE p;\nBEGIN\n  HALT;\nENDPROCEDURE;\nBEGIN\n  p;\nENDPROGRAM\n",
+        6,
+        1,
+        "'ENDPROCEDURE' is not a keyword of this dialect",
+    ),
+    (
+        "endfunction_semicolon",
+        H + "FUNCTION f: REAL;\nBEGIN\n  RETURN 1.0;\nENDFUNCTION;\nBEGIN\n  HALT;\nENDPROGRAM\n",
+        6,
+        1,
+        "'ENDFUNCTION' is not a keyword of this dialect",
+    ),
     ("missing_semicolon", body("  HALT\n  PAUSE;"), 4, 7, "expected ';' after 'HALT'"),
     (
         "missing_semicolon_assign",
