@@ -22,7 +22,12 @@ from irlc.lang.builtins import BUILTINS, POSE_FROM_NUMBERS, POSE_FROM_PARTS, SYS
 from irlc.lang.datalist import Datalist
 from irlc.lang.diagnostics import Diagnostic, Span
 from irlc.lang.irdata import ObstacleDef, Slot, Value
-from irlc.lang.settings import BY_SYSTEM_VARIABLE, BY_WITH_WORD, setting_message
+from irlc.lang.settings import (
+    BY_SYSTEM_VARIABLE,
+    BY_WITH_WORD,
+    reconfiguration_counts,
+    setting_message,
+)
 from irlc.lang.signature import RobotSignature
 
 MAX_ARRAY = 1_000_000
@@ -1278,18 +1283,27 @@ class Checker:
         joint = T.JointTuple("MAIN_JOINT", self.n)
         npts = len(s.targets)
         configs = c.args
-        if len(configs) == 1 and isinstance(configs[0], ast.Tuple) and npts > 1:
-            configs = configs[0].items
+        if (
+            len(configs) == 1
+            and isinstance(configs[0], ast.Tuple)
+            and npts > 1
+            and not self._numbers_only(configs[0])
+        ):
+            configs = configs[0].items  # (k1, k2, k3): one configuration per point
         c.args = list(configs)
         for k in configs:
             got = self.expr(k, joint)
             self.require(k, joint, got, "WITH RECONFIGURATION")
-        if len(configs) != npts:
+        allowed = reconfiguration_counts(s.kind, npts)
+        if len(configs) not in allowed:
+            plural = "s" if len(configs) != 1 else ""
             self.error(
                 c.span,
-                f"WITH RECONFIGURATION gives {len(configs)} configuration"
-                f"{'s' if len(configs) != 1 else ''} for {npts} point{'s' if npts != 1 else ''}",
-                "give one MAIN_JOINT configuration per point, in order",
+                f"WITH RECONFIGURATION gives {len(configs)} configuration{plural}"
+                f" for {npts} point{'s' if npts != 1 else ''}",
+                "give one MAIN_JOINT configuration for the whole move, or one per point, in order"
+                if len(allowed) > 1
+                else "give one MAIN_JOINT configuration per point, in order",
             )
         if s.kind in ("PTP", "PTPINC") and s.targets and s.targets[0].ty == joint:
             self.error(
@@ -1297,6 +1311,16 @@ class Checker:
                 "WITH RECONFIGURATION needs a POSE target",
                 "a MAIN_JOINT target already fixes the configuration",
             )
+
+    def _numbers_only(self, t: ast.Tuple) -> bool:
+        """Whether every item of ``t`` is a number (then ``t`` is one configuration, not a
+        list of them). Typed quietly: the items are typed again, with diagnostics, after."""
+        mark = len(self.diags)
+        numeric = all(
+            not isinstance(item, ast.Tuple) and self.expr(item, None).is_numeric for item in t.items
+        )
+        del self.diags[mark:]
+        return numeric
 
     def limit_pair(self, option: str, lo: ast.Expr, hi: ast.Expr, what: str) -> None:
         lo_name, hi_name = _LIMIT_TYPES[option]

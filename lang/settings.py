@@ -148,6 +148,16 @@ def setting_message(field_name: str, value: object, what: str) -> str | None:
     return None if error is None else f"{what} := {shown_value(value)}: {error}"
 
 
+_KIND_WORDS = {
+    "PTP": "PTP",
+    "LIN": "LIN",
+    "CIRCLE": "CIRCLE",
+    "LINPATH": "LIN PATH",
+    "PTPINC": "MOVE_INC PTP",
+    "LININC": "MOVE_INC LIN",
+}
+
+
 def ranges_table() -> str:
     """The settings and their ranges as a Markdown table (docs/language.md lists it)."""
     rows = [
@@ -155,9 +165,20 @@ def ranges_table() -> str:
         "|---|---|---|---|---|",
     ]
     for s in SETTINGS:
-        kinds = "all motion" if s.kinds == ALL_KINDS else ", ".join(s.kinds) or "—"
+        kinds = ", ".join(_KIND_WORDS[k] for k in s.kinds) or "—"
+        kinds = "all motion" if s.kinds == ALL_KINDS else kinds
         rows.append(
             f"| {s.system_variable or '—'} | {s.with_word or '—'} | {s.unit} | "
             f"{s.range.interval()} | {kinds} |"
         )
     return "\n".join(rows) + "\n"
+
+
+def reconfiguration_counts(kind: str, points: int) -> tuple[int, ...]:
+    """How many configurations ``WITH RECONFIGURATION`` may give for a motion of ``kind``
+    through ``points`` points: one per point; a LIN through several points may also give
+    one for the whole move (its reference is spread along the path by arc length).
+    CIRCLE (via, target) and LIN PATH need one per point (language.md §5.1)."""
+    if kind == "LIN" and points > 1:
+        return (1, points)
+    return (points,)

@@ -47,7 +47,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from irlc.lang.irdata import JOINT_TUPLE_TYPES, Code, Routine, Slot, Target, Value
-from irlc.lang.settings import BY_WITH_WORD, SYSTEM_VARIABLES
+from irlc.lang.settings import BY_WITH_WORD, SYSTEM_VARIABLES, reconfiguration_counts
 from irlc.runtime import builtins as B
 from irlc.runtime import units
 from irlc.runtime import values as V
@@ -968,7 +968,7 @@ class Interpreter:
         fields: dict[str, object] = {}
         for word, name, count in reversed(clauses):
             operands = self._pop_n(count)
-            fields[name] = self._move_clause(word, operands, npts)
+            fields[name] = self._move_clause(word, operands, kind, npts)
         targets = tuple(self._move_target(kind, t) for t in self._pop_n(npts))
         self._check_point_count(kind, npts)
         cmd = MotionCommand(kind, targets, self._line(), **fields)
@@ -991,13 +991,13 @@ class Interpreter:
             return t
         return self._main_joint(t, f"MOVE {kind} target")
 
-    def _move_clause(self, word: str, operands: list, npts: int) -> object:
+    def _move_clause(self, word: str, operands: list, kind: str, npts: int) -> object:
         if word in _MOVE_NUMBERS:
             what = f"WITH {word}"
             return check_setting(_MOVE_NUMBERS[word], self._number(operands[0], what), what)
         if word in _LIMIT_OPTIONS:
             return self._checked_limits(word, operands[0], operands[1])
-        if len(operands) not in (1, npts):
+        if len(operands) not in reconfiguration_counts(kind, npts):
             raise _malformed(f"{len(operands)} RECONFIGURATION targets for {npts} points")
         return tuple(self._main_joint(k, "RECONFIGURATION") for k in operands)
 

@@ -36,7 +36,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from irlc.lang.settings import BY_FIELD, setting_message
+from irlc.lang.settings import BY_FIELD, reconfiguration_counts, setting_message
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
 from irlc.runtime.controller import ModalOptions, MotionCommand, Settings
@@ -336,21 +336,19 @@ class PreInterpolator:
         if not cmd.reconfiguration:
             return [None] * len(paths)
         configs = [self.joints_si(k) for k in cmd.reconfiguration]
+        if len(configs) not in reconfiguration_counts(cmd.kind, len(cmd.targets)):
+            raise RunFailure(
+                f"WITH RECONFIGURATION gives {len(configs)} configurations for "
+                f"{len(cmd.targets)} points",
+                cmd.line,
+            )
         if isinstance(paths[0], CartesianArc):
-            arc = paths[0]
-            if len(configs) == 1:
-                return [ReferencePath(np.array([0.0, 1.0]), np.array([q_start, configs[0]]))]
-            knots = np.array([0.0, arc.via_fraction, 1.0])
+            knots = np.array([0.0, paths[0].via_fraction, 1.0])
             return [ReferencePath(knots, np.array([q_start, configs[0], configs[-1]]))]
-        if len(configs) == 1 and len(paths) > 1:  # one target: spread along the path
+        if len(configs) == 1 and len(paths) > 1:  # one for the whole LIN: spread by arc length
             lengths = np.array([max(p.length, 1e-12) for p in paths])
             frac = np.cumsum(lengths) / lengths.sum()
             configs = [q_start + f * (configs[0] - q_start) for f in frac]
-        if len(configs) != len(paths):
-            raise RunFailure(
-                f"WITH RECONFIGURATION gives {len(configs)} configurations for {len(paths)} points",
-                cmd.line,
-            )
         out, prev = [], q_start
         for k in configs:
             out.append(ReferencePath(np.array([0.0, 1.0]), np.array([prev, k])))

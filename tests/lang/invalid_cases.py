@@ -439,6 +439,17 @@ CASES: list[tuple[str, str, int, int, str]] = [
         "gives 2 configurations for 3 points",
     ),
     (
+        "reconf_one_for_path",  # PATH and CIRCLE: one per point; LIN may give one for all
+        body(
+            "  MOVE LIN p, p WITH RECONFIGURATION k;\n"
+            "  MOVE LIN PATH (p, p) WITH RECONFIGURATION k;",
+            "VAR POSE: p; MAIN_JOINT: k;\n",
+        ),
+        6,
+        29,
+        "WITH RECONFIGURATION gives 1 configuration for 2 points",
+    ),
+    (
         "reconf_type",
         body("  MOVE LIN p WITH RECONFIGURATION p;", "VAR POSE: p;\n"),
         5,

@@ -106,3 +106,13 @@ def test_runtime_and_compile_time_use_the_same_words(planar3):
     assert run.error.line == 3
     assert run.error.message == setting_message("speed", -5.0, "R_SPEED")
     assert run.error.message == "R_SPEED := -5.0: the value must be in (0, 100000] mm/s"
+
+
+def test_language_doc_lists_the_table():
+    """docs/language.md shows the settings table as generated from lang/settings.py."""
+    from pathlib import Path
+
+    from irlc.lang.settings import ranges_table
+
+    doc = Path(__file__).resolve().parents[2] / "docs" / "language.md"
+    assert ranges_table() in doc.read_text(encoding="utf-8")
