@@ -2,16 +2,17 @@
 runtime (interpreter, controller, pre-interpolator).
 
 A numeric setting has a field (of ``runtime.controller.Settings`` and ``MotionCommand``),
-a system variable (``R_SPEED := v;``, IRDATA ``PUSHSYS/POPSYS R_SPEED``) and/or a WITH
-word (``WITH SPEED := v``, IRDATA ``MOVE LIN 1 SPEED``), a unit (program units: mm, deg,
-s, %), the motion kinds that accept the WITH form, and its admissible range
+a system variable (``R_SPEED := v;``, IRDATA ``PUSHSYS/POPSYS R_SPEED``) with its value
+at program start, and/or a WITH word (``WITH SPEED := v``, IRDATA ``MOVE LIN 1 SPEED``), a
+unit (program units: mm, deg, s, %), the motion kinds that accept the WITH form, and its
+admissible range
 
     v ∈ (low, high]      or, when ``closed``,      v ∈ [low, high].
 
 The same range is checked when a constant is compiled (``R_SPEED := -5;`` is a compile
 error at its line and column) and when a value is assigned or used at run time (a
 :class:`~irlc.runtime.errors.RunFailure` at its line), with the same words:
-``R_SPEED := -5.0: the value must be positive``. A new setting is one row here plus its
+``R_SPEED := -5.0: the value must be in (0, 100000] mm/s``. A new setting is one row here plus its
 behaviour in the controller.
 
 Upper bounds are physical sanity bounds (100 m/s, 1000 m/s², a day for one motion — far
@@ -64,6 +65,7 @@ class Setting:
     range: SettingRange
     kinds: tuple[str, ...] = ()  # motion kinds whose WITH form accepts it
     meaning: str = ""
+    default: float | None = None  # the system variable's value at program start
 
 
 def _positive(unit: str, high: float) -> SettingRange:
@@ -73,20 +75,21 @@ def _positive(unit: str, high: float) -> SettingRange:
 # THE table of numeric settings. Defaults live in runtime.controller.Settings.
 SETTINGS: tuple[Setting, ...] = (
     Setting("speed", "R_SPEED", "SPEED", "mm/s", _positive("mm/s", 1e5), PATH_KINDS,
-            "path speed"),
+            "path speed", 500.0),
     Setting("acc", "R_ACC", "ACC", "mm/s²", _positive("mm/s²", 1e6), PATH_KINDS,
-            "path acceleration"),
+            "path acceleration", 1000.0),
     Setting("speed_ori", "R_SPEED_ORI", "SPEED_ORI", "deg/s", _positive("deg/s", 1e5),
-            PATH_KINDS, "orientation speed"),
+            PATH_KINDS, "orientation speed", 45.0),
     Setting("speed_ptp", "R_SPEED_PTP", "SPEED_PTP", "%", _positive("%", 100.0), PTP_KINDS,
-            "PTP speed, % of each joint's maximum"),
+            "PTP speed, % of each joint's maximum", 50.0),
     Setting("acc_ptp", "R_ACC_PTP", "ACC_PTP", "%", _positive("%", 100.0), PTP_KINDS,
-            "PTP acceleration, % of each joint's maximum"),
+            "PTP acceleration, % of each joint's maximum", 50.0),
     Setting("time", None, "TIME", "s", _positive("s", 86400.0), ALL_KINDS,
             "fixed motion time (overrides the speeds)"),
     Setting("ipo", "R_IPO", None, "s", SettingRange(1e-5, 1.0, "s", closed=True), (),
-            "interpolation (IPO) cycle"),
-    # R_PATH_TOL (path tolerance, mm, > 0) goes here as one more row.
+            "interpolation (IPO) cycle", 0.01),
+    # R_PATH_TOL (path tolerance, mm, > 0): one more row here, e.g.
+    # Setting("path_tol", "R_PATH_TOL", None, "mm", _positive("mm", math.inf), (), …, default)
 )  # fmt: skip
 
 BY_FIELD: dict[str, Setting] = {s.field: s for s in SETTINGS}
@@ -161,14 +164,15 @@ _KIND_WORDS = {
 def ranges_table() -> str:
     """The settings and their ranges as a Markdown table (docs/language.md lists it)."""
     rows = [
-        "| system variable | WITH | unit | admissible values | WITH accepted by |",
-        "|---|---|---|---|---|",
+        "| system variable | start value | WITH | unit | admissible values | WITH accepted by |",
+        "|---|---|---|---|---|---|",
     ]
     for s in SETTINGS:
         kinds = ", ".join(_KIND_WORDS[k] for k in s.kinds) or "—"
         kinds = "all motion" if s.kinds == ALL_KINDS else kinds
         rows.append(
-            f"| {s.system_variable or '—'} | {s.with_word or '—'} | {s.unit} | "
+            f"| {s.system_variable or '—'} | {'—' if s.default is None else f'{s.default:g}'} | "
+            f"{s.with_word or '—'} | {s.unit} | "
             f"{s.range.interval()} | {kinds} |"
         )
     return "\n".join(rows) + "\n"

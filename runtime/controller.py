@@ -16,10 +16,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Protocol
 
+from irlc.lang.settings import BY_FIELD, setting_message
 from irlc.lang.settings import SETTING_RANGES as SETTING_RANGES
 from irlc.lang.settings import SettingRange as SettingRange
 from irlc.lang.settings import setting_error as setting_error
-from irlc.lang.settings import setting_message
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.values import IDENTITY, JointTuple, Pose, Position
 
@@ -41,18 +41,24 @@ class MotionCommand:
     reconfiguration: tuple[JointTuple, ...] | None = None  # one, or one per point
 
 
+def _default(name: str) -> float:
+    value = BY_FIELD[name].default
+    assert value is not None, name
+    return value
+
+
 @dataclass
 class Settings:
-    """System variables (defaults for later motion)."""
+    """System variables (defaults for later motion); start values from lang/settings.py."""
 
-    speed: float = 500.0  # R_SPEED, mm/s
-    acc: float = 1000.0  # R_ACC, mm/s²
-    speed_ori: float = 45.0  # R_SPEED_ORI, deg/s
-    speed_ptp: float = 50.0  # R_SPEED_PTP, %
-    acc_ptp: float = 50.0  # R_ACC_PTP, %
+    speed: float = _default("speed")  # R_SPEED, mm/s
+    acc: float = _default("acc")  # R_ACC, mm/s²
+    speed_ori: float = _default("speed_ori")  # R_SPEED_ORI, deg/s
+    speed_ptp: float = _default("speed_ptp")  # R_SPEED_PTP, %
+    acc_ptp: float = _default("acc_ptp")  # R_ACC_PTP, %
     tool: Pose = field(default_factory=lambda: Pose(Position(0.0, 0.0, 0.0), IDENTITY))
     base: Pose = field(default_factory=lambda: Pose(Position(0.0, 0.0, 0.0), IDENTITY))
-    ipo: float = 0.01  # R_IPO, s
+    ipo: float = _default("ipo")  # R_IPO, s
 
 
 # The range table of the numeric settings is lang/settings.py (one row per setting; the

@@ -177,7 +177,7 @@ def run_code(
     if drives not in DRIVE_LEVELS:
         raise RunSetupError(f"unknown drive level {drives!r} (known: {', '.join(DRIVE_LEVELS)})")
     if ipo is not None and setting_error("ipo", ipo):
-        raise RunSetupError(f"--ipo must be between 1e-5 and 1 s, got {ipo!r}")
+        raise RunSetupError(f"--ipo {ipo!r}: {setting_error('ipo', ipo)}")
     budget = _budget(instruction_budget)
     base = Path(base_dir) if base_dir is not None else None
     model = resolve_model(code, robot, base)
