@@ -41,3 +41,23 @@ def test_a_procedure_call_of_another_name_still_parses():
     src = "PROGRAM t;\nPROCEDURE endit;\nBEGIN\n  HALT;\nENDPROC;\nBEGIN\n  endit;\nENDPROGRAM\n"
     program, diagnostics = parse(src, "t.irl")
     assert program is not None and not diagnostics
+
+
+@pytest.mark.parametrize(
+    ("source", "line", "column", "word", "right"),
+    [
+        ("  CASE 1 OF\n    1: HALT;\n  END_CASE;", 6, 3, "END_CASE", "ENDCASE"),
+        ("  HALT;\nEND_PROGRAM;", 5, 1, "END_PROGRAM", "ENDPROGRAM"),
+    ],
+)
+def test_more_end_typos(source, line, column, word, right):
+    """Also END_CASE; and END_PROGRAM at the end of the file (with or without ';')."""
+    for tail in ("", "\n", "\n{ trailing comment }\n"):
+        for text in (source, source.rstrip(";")):
+            src = f"PROGRAM t;\nROBOT r := six;\nBEGIN\n{text}{tail}"
+            if "ENDPROGRAM" not in right:
+                src += "\nENDPROGRAM\n"
+            _, diagnostics = parse(src, "t.irl")
+            (d,) = diagnostics
+            assert (d.span.line, d.span.column, d.hint) == (line, column, f"write {right}"), src
+            assert d.message == f"'{word}' is not a keyword of this dialect"
