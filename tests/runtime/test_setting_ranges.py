@@ -5,6 +5,7 @@ failed at the next MOVE, naming that line)."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -94,6 +95,12 @@ def test_one_table_feeds_checker_interpreter_and_controller():
     for name, var in settings.SYSTEM_VARIABLES.items():
         assert name in irdata.SYSTEM_VARIABLES and name in builtins.SYSTEM_VARIABLES
         assert interpreter._SETTINGS_FIELDS.get(name) == var.field
+    command_fields = {f.name for f in dataclasses.fields(controller.MotionCommand)}
+    for row in settings.SETTINGS:  # every row has its field where the runtime keeps it
+        if row.with_word:
+            assert row.field in command_fields
+        if row.system_variable:
+            assert getattr(controller.Settings(), row.field) == row.default
 
 
 def test_runtime_and_compile_time_use_the_same_words(planar3):
