@@ -70,3 +70,11 @@ def test_a_long_computation_passes_with_a_raised_budget(tmp_path):
     assert run_file(prog).status == "failed"
     run = run_file(prog, instruction_budget=10 * DEFAULT_INSTRUCTION_BUDGET)
     assert run.status == "ok" and run.output == ["300000"]
+
+
+def test_public_api_takes_the_budget(tmp_path):
+    from irlc import run_program
+
+    prog = _program(tmp_path, LOOPS["empty"][0])
+    run = run_program(prog, instruction_budget=2000)
+    assert run.status == "failed" and "more than 2000 instructions" in run.error.message
