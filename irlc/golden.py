@@ -202,7 +202,14 @@ class ExpectationError(ValueError):
     """An expected file cannot be used: ``FILE: key 'K': reason``."""
 
 
-RUN_OPTIONS = ("ipo", "drives", "seed_config", "robot", "datalist_path")  # docs/golden.md
+RUN_OPTIONS = (  # docs/golden.md
+    "ipo",
+    "drives",
+    "seed_config",
+    "robot",
+    "datalist_path",
+    "instruction_budget",
+)
 
 
 def load_expectation(path: Path) -> dict:

@@ -78,3 +78,17 @@ def test_public_api_takes_the_budget(tmp_path):
     prog = _program(tmp_path, LOOPS["empty"][0])
     run = run_program(prog, instruction_budget=2000)
     assert run.status == "failed" and "more than 2000 instructions" in run.error.message
+
+
+def test_golden_options_take_the_budget(tmp_path):
+    import json
+
+    from irlc import golden
+
+    prog = _program(tmp_path, LOOPS["empty"][0])
+    expected = tmp_path / "loop.expected.json"
+    expected.write_text(json.dumps({"options": {"instruction_budget": 1000}}))
+    options = golden.load_expectation(expected)["options"]
+    report = golden.default_runner(prog, options)
+    assert report["status"] == "failed"
+    assert "more than 1000 instructions" in json.dumps(report)
