@@ -61,11 +61,11 @@ from irlc.runtime.controller import (
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.values import ArrayValue, JointTuple, Orientation, Pose, Position, RecordValue
 
-# The endless-loop guard: at most this many instructions without motion (about 1 s of
+# The endless-loop guard: at most this many instructions without motion (about 0.3 s of
 # CPython); a cycle of waiting counts as WAIT_CYCLE_COST instructions (about its run time),
 # so a loop that only waits is caught as fast. Users raise it: --instruction-budget.
-DEFAULT_INSTRUCTION_BUDGET = 1_000_000
-WAIT_CYCLE_COST = 50
+DEFAULT_INSTRUCTION_BUDGET = 500_000
+WAIT_CYCLE_COST = 25
 MAX_CALL_DEPTH = 10_000
 MAX_STACK = 1_000_000
 LIMIT_TOLERANCE = 1e-6  # deg | mm (per derivative) when checking a bound against the state

@@ -57,7 +57,7 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
     type=int,
     default=None,
     help="Endless-loop guard: instructions without motion before the run fails "
-    "(a cycle of waiting counts as 50).  [default: 1000000]",
+    "(a cycle of waiting counts as 25).  [default: 500000]",
 )
 @click.option(
     "--drives",
