@@ -61,35 +61,39 @@ class Setting:
     field: str  # Settings / MotionCommand field
     system_variable: str | None  # R_… word (program and IRDATA), None: WITH only
     with_word: str | None  # WITH … word (program and IRDATA MOVE clause), None: no WITH form
-    unit: str
-    range: SettingRange
+    range: SettingRange  # admissible values, with the unit (program units)
     kinds: tuple[str, ...] = ()  # motion kinds whose WITH form accepts it
     meaning: str = ""
     default: float | None = None  # the system variable's value at program start
+
+    @property
+    def unit(self) -> str:
+        return self.range.unit
 
 
 def _positive(unit: str, high: float) -> SettingRange:
     return SettingRange(0.0, high, unit)
 
 
-# THE table of numeric settings. Defaults live in runtime.controller.Settings.
+# THE table of numeric settings (with their start values; runtime.controller.Settings
+# reads them).
 SETTINGS: tuple[Setting, ...] = (
-    Setting("speed", "R_SPEED", "SPEED", "mm/s", _positive("mm/s", 1e5), PATH_KINDS,
+    Setting("speed", "R_SPEED", "SPEED", _positive("mm/s", 1e5), PATH_KINDS,
             "path speed", 500.0),
-    Setting("acc", "R_ACC", "ACC", "mm/s²", _positive("mm/s²", 1e6), PATH_KINDS,
+    Setting("acc", "R_ACC", "ACC", _positive("mm/s²", 1e6), PATH_KINDS,
             "path acceleration", 1000.0),
-    Setting("speed_ori", "R_SPEED_ORI", "SPEED_ORI", "deg/s", _positive("deg/s", 1e5),
-            PATH_KINDS, "orientation speed", 45.0),
-    Setting("speed_ptp", "R_SPEED_PTP", "SPEED_PTP", "%", _positive("%", 100.0), PTP_KINDS,
+    Setting("speed_ori", "R_SPEED_ORI", "SPEED_ORI", _positive("deg/s", 1e5), PATH_KINDS,
+            "orientation speed", 45.0),
+    Setting("speed_ptp", "R_SPEED_PTP", "SPEED_PTP", _positive("%", 100.0), PTP_KINDS,
             "PTP speed, % of each joint's maximum", 50.0),
-    Setting("acc_ptp", "R_ACC_PTP", "ACC_PTP", "%", _positive("%", 100.0), PTP_KINDS,
+    Setting("acc_ptp", "R_ACC_PTP", "ACC_PTP", _positive("%", 100.0), PTP_KINDS,
             "PTP acceleration, % of each joint's maximum", 50.0),
-    Setting("time", None, "TIME", "s", _positive("s", 86400.0), ALL_KINDS,
+    Setting("time", None, "TIME", _positive("s", 86400.0), ALL_KINDS,
             "fixed motion time (overrides the speeds)"),
-    Setting("ipo", "R_IPO", None, "s", SettingRange(1e-5, 1.0, "s", closed=True), (),
+    Setting("ipo", "R_IPO", None, SettingRange(1e-5, 1.0, "s", closed=True), (),
             "interpolation (IPO) cycle", 0.01),
-    # R_PATH_TOL (path tolerance, mm, > 0): one more row here, e.g.
-    # Setting("path_tol", "R_PATH_TOL", None, "mm", _positive("mm", math.inf), (), …, default)
+    # R_PATH_TOL (path tolerance, mm, > 0) is one more row here, e.g.
+    # Setting("path_tol", "R_PATH_TOL", None, _positive("mm", math.inf), (), "…", default)
 )  # fmt: skip
 
 BY_FIELD: dict[str, Setting] = {s.field: s for s in SETTINGS}
