@@ -205,6 +205,8 @@ class ExpectationError(ValueError):
 RUN_OPTIONS = (  # docs/golden.md
     "ipo",
     "drives",
+    "path_tolerance",
+    "orientation_tolerance",
     "seed_config",
     "robot",
     "datalist_path",

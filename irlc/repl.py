@@ -477,7 +477,8 @@ class Session:
             out.append(f"FREEZE {frozen}")
         s = self.state.settings
         out.append(f"R_SPEED {_fmt(s.speed)}  R_ACC {_fmt(s.acc)}  R_SPEED_ORI {_fmt(s.speed_ori)}"
-                   f"  R_SPEED_PTP {_fmt(s.speed_ptp)}  R_IPO {_fmt(s.ipo)}")  # fmt: skip
+                   f"  R_SPEED_PTP {_fmt(s.speed_ptp)}  R_IPO {_fmt(s.ipo)}"
+                   f"  R_PATH_TOL {_fmt(s.path_tol)}")  # fmt: skip
         return out if len(out) > 1 else ["no modal options active", *out]
 
     # ------------------------------------------------------------------ files

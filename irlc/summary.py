@@ -70,11 +70,7 @@ def overview_table(report: dict) -> Table:
         f"{_num(report['duration_s'], '.3f')} s, {report['samples']} samples at "
         f"IPO {_num(report['ipo_s'] * 1e3, '.3g')} ms, drives {report['drives']}",
     )
-    table.add_row(
-        "path error",
-        f"max {_num(report['max_path_error_mm'], '.3g')} mm, "
-        f"{_num(report['max_orientation_error_deg'], '.3g')} deg",
-    )
+    table.add_row("path error", _path_error(report))
     ik = report.get("ik") or {}
     table.add_row(
         "inverse transformation",
@@ -94,11 +90,51 @@ def overview_table(report: dict) -> Table:
             f"{drives['level']}, step {_num(drives['step_s'] * 1e3, '.3g')} ms, "
             + ("could follow" if drives["could_follow"] else "[red]could NOT follow[/red]"),
         )
+    if report.get("verdict"):
+        table.add_row("verdict criteria", _criteria(report["verdict"]))
     error = report.get("error")
     if error:
         where = f"line {error.get('line')}, t = {_num(error.get('time_s'), '.3f')} s"
         table.add_row("error", Text(f"{where}: {error['message']}", style="red"))
     return table
+
+
+def _path_error(report: dict) -> str:
+    """``max … mm, … deg``; with drives ``(actual motion; ideal …)`` and the tolerances."""
+    text = (
+        f"max {_num(report['max_path_error_mm'], '.3g')} mm, "
+        f"{_num(report['max_orientation_error_deg'], '.3g')} deg"
+    )
+    ideal = report.get("ideal")
+    if not ideal:
+        return text
+    text += (
+        f" (actual motion; ideal {_num(ideal.get('max_path_error_mm'), '.3g')} mm, "
+        f"{_num(ideal.get('max_orientation_error_deg'), '.3g')} deg)"
+    )
+    tol = report.get("tolerances") or {}
+    if tol:
+        text += f", tolerance {_num(tol.get('path_mm'), 'g')} mm, "
+        text += f"{_num(tol.get('orientation_deg'), 'g')} deg"
+    return text
+
+
+def _criteria(verdict: dict) -> str:
+    """The drive verdict's criteria in one line: tolerances, bounds, ratings."""
+    c = verdict.get("criteria") or {}
+    parts = [
+        f"path ≤ {_num(c.get('path_tolerance_mm'), 'g')} mm",
+        f"orientation ≤ {_num(c.get('orientation_tolerance_deg'), 'g')} deg",
+    ]
+    bounds = {
+        f"{_num(b['bound'], '.3g')} {b['unit']}" for b in c.get("following_error_bound") or []
+    }
+    if bounds:
+        parts.append(f"following error ≤ {' | '.join(sorted(bounds))}")
+    for key, what in (("current_peak_A", "peak current"), ("torque_rating", "gear torque")):
+        rated = [r for r in c.get(key) or [] if r.get("value") is not None]
+        parts.append(f"{what} {'rated' if rated else 'not rated'}")
+    return "; ".join(parts)
 
 
 def render_summary(report: dict, console: Console) -> None:

@@ -49,9 +49,12 @@ class SettingRange:
         return f"in {self.interval()}{' ' + self.unit if self.unit else ''}"
 
     def interval(self) -> str:
-        """``(0, 100]``, ``[1e-05, 1]``; a whole upper bound in digits (``100000``)."""
+        """``(0, 100]``, ``[1e-05, 1]``, ``(0, ∞)``; a whole upper bound in digits."""
+        left = "[" if self.closed else "("
+        if self.high == math.inf:
+            return f"{left}{self.low:g}, ∞)"
         high = f"{self.high:.0f}" if self.high.is_integer() else f"{self.high:g}"
-        return f"{'[' if self.closed else '('}{self.low:g}, {high}]"
+        return f"{left}{self.low:g}, {high}]"
 
 
 @dataclass(frozen=True)
@@ -92,8 +95,8 @@ SETTINGS: tuple[Setting, ...] = (
             "fixed motion time (overrides the speeds)"),
     Setting("ipo", "R_IPO", None, SettingRange(1e-5, 1.0, "s", closed=True), (),
             "interpolation (IPO) cycle", 0.01),
-    # R_PATH_TOL (path tolerance, mm, > 0) is one more row here, e.g.
-    # Setting("path_tol", "R_PATH_TOL", None, _positive("mm", math.inf), (), "…", default)
+    Setting("path_tol", "R_PATH_TOL", None, _positive("mm", math.inf), (),
+            "path tolerance (start value: --path-tolerance)", 0.05),
 )  # fmt: skip
 
 BY_FIELD: dict[str, Setting] = {s.field: s for s in SETTINGS}

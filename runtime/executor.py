@@ -13,9 +13,10 @@ For each command the pre-interpolator (:mod:`preinterp`) makes segments; every I
 
 **Path deviation.** When the hard problem is infeasible the inverse transformation
 returns a relaxed cycle. Its TCP error is recorded with time and line (a warning); if it
-exceeds ``tol_position`` (default 0.05 mm) or ``tol_orientation`` (default 0.01°) the run
-fails (:class:`RunFailure`, exit 2) naming the line, the time and the binding
-constraint. Never a silent zero step: an unconverged cycle is treated the same way.
+exceeds the path tolerance ``R_PATH_TOL`` (start value ``tol_position``, 0.05 mm) or
+``tol_orientation`` (default 0.01°) the run fails (:class:`RunFailure`, exit 2) naming
+the line, the time and the binding constraint. Never a silent zero step: an unconverged
+cycle is treated the same way.
 
 **RECONFIGURATION k** (self-motion). The reference moves from the current configuration
 to ``k`` along a synchronised joint profile (PTP timing under the active limits and
@@ -105,6 +106,7 @@ class SimulatedController:
         self._last_reference: np.ndarray | None = None  # θ⁰ of the last IK cycle
         self._active_obstacles: frozenset[str] = frozenset()
         self.dt_used = self.opts.ipo if self.opts.ipo is not None else Settings().ipo
+        self.recorder.tol_position = self.opts.tol_position
         self._record_initial()
 
     # ------------------------------------------------------------------ protocol
@@ -124,6 +126,7 @@ class SimulatedController:
 
     def move(self, cmd: MotionCommand, settings: Settings, options: ModalOptions) -> None:
         self._line = cmd.line
+        self.recorder.tol_position = settings.path_tol * units.MM  # R_PATH_TOL
         solver = self._solver(settings)
         state = self._plan_state(settings, solver)
         self._settings = settings
@@ -135,6 +138,7 @@ class SimulatedController:
         self, target: JointTuple, line: int, settings: Settings, options: ModalOptions
     ) -> None:
         self._line = line
+        self.recorder.tol_position = settings.path_tol * units.MM  # R_PATH_TOL
         solver = self._solver(settings)
         state = self._plan_state(settings, solver)
         lims = self.pre.limits((None, None, None), options, line)
@@ -307,7 +311,7 @@ class SimulatedController:
             self._check_collisions(res.clearances, opts.active_obstacles, seg.line, t)
         if res.relaxed or not res.converged:
             rec.note_relaxed(seg.line, t, dt, pos_err, ori_err, res.binding)
-        if pos_err > self.opts.tol_position or ori_err > self.opts.tol_orientation:
+        if pos_err > rec.tol_position or ori_err > self.opts.tol_orientation:
             raise self._deviation_failure(seg, t, pos_err, ori_err, res)
         self._tick()
 
@@ -382,7 +386,8 @@ class SimulatedController:
     def _deviation_failure(self, seg, t, pos_err, ori_err, res) -> RunFailure:
         what = (
             f"the path cannot be followed: TCP deviation {pos_err / units.MM:.4g} mm, "
-            f"{ori_err / units.DEG:.4g} deg (tolerance {self.opts.tol_position / units.MM:g} mm, "
+            f"{ori_err / units.DEG:.4g} deg "
+            f"(tolerance {self.recorder.tol_position / units.MM:g} mm, "
             f"{self.opts.tol_orientation / units.DEG:g} deg)"
         )
         if res.binding:

@@ -18,6 +18,7 @@ from rich.table import Table
 from irlc.cli.app import cli
 from irlc.errors import EXIT_RUN, UsageError
 from irlc.robots import RobotFileError, list_robots, load_robot
+from irlc.robots.loader import MissingExtraError
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
@@ -68,16 +69,27 @@ def _print_json(data: dict) -> None:
 # ----------------------------------------------------------------------------- robots
 
 
+def _robot_row(name: str) -> tuple[str, str, str, str]:
+    """One row of ``irlc robots``; a robot that cannot load says why in its row (a missing
+    optional extra: the ``pip install`` that adds it) instead of failing the listing."""
+    try:
+        model = load_robot(name)
+    except MissingExtraError as e:
+        return name, "?", "?", f"needs the optional extra: pip install 'irlc[{e.extra}]'"
+    except RobotFileError as e:
+        return name, "?", "?", f"cannot load: {e}"
+    kinds = "".join("R" if k == "revolute" else "P" for k in model.joint_kinds)
+    return name, str(model.n), kinds, model.description
+
+
 @cli.command("robots")
 def robots_cmd() -> None:
-    """List the robots of the library."""
+    """List the robots of the library (every one, with what a robot that cannot load needs)."""
     table = Table(title="irlc robots")
     for col in ("name", "joints", "kinds", "description"):
         table.add_column(col)
     for name in list_robots():
-        model = _robot(name)
-        kinds = "".join("R" if k == "revolute" else "P" for k in model.joint_kinds)
-        table.add_row(name, str(model.n), kinds, model.description)
+        table.add_row(*(escape(cell) for cell in _robot_row(name)))
     Console().print(table)
 
 

@@ -67,6 +67,21 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
     help="Drive simulation level after the kinematic run.",
 )
 @click.option(
+    "--path-tolerance",
+    "path_tolerance",
+    type=float,
+    default=None,
+    help="Path tolerance in mm (start value of R_PATH_TOL; default 0.05). A larger TCP "
+    "deviation fails the run; with --drives, that of the actual motion.",
+)
+@click.option(
+    "--orientation-tolerance",
+    "orientation_tolerance",
+    type=float,
+    default=None,
+    help="Orientation tolerance in deg (default 0.01).",
+)
+@click.option(
     "--report",
     "report_path",
     type=click.Path(path_type=Path, dir_okay=False),
@@ -122,6 +137,8 @@ def run_cmd(
     ipo,
     instruction_budget,
     drives,
+    path_tolerance,
+    orientation_tolerance,
     report_path,
     trace_path,
     trace_every_step,
@@ -149,14 +166,18 @@ def run_cmd(
         program,
         robot,
         datalist_path,
-        ipo,
-        drives,
+        dict(
+            ipo=ipo,
+            drives=drives,
+            path_tolerance=path_tolerance,
+            orientation_tolerance=orientation_tolerance,
+            instruction_budget=instruction_budget,
+        ),
         seed,
         trace_every_step,
         live and sys.stdout.isatty(),
         None if not live else click.echo,
         err,
-        budget=instruction_budget,
     )
     if isinstance(run, int):
         return run
@@ -180,19 +201,7 @@ def run_cmd(
     return code
 
 
-def _run(
-    program,
-    robot,
-    datalist_path,
-    ipo,
-    drives,
-    seed,
-    every_step,
-    show_progress,
-    echo,
-    err,
-    budget=None,
-):
+def _run(program, robot, datalist_path, options, seed, every_step, show_progress, echo, err):
     """Compile and run; returns the RunResult, or an exit code after printing the error."""
     from irlc.lang.diagnostics import CompileError
     from irlc.robots import RobotFileError
@@ -205,13 +214,11 @@ def _run(
             program,
             robot=robot,
             datalist_path=datalist_path,
-            ipo=ipo,
-            instruction_budget=budget,
-            drives=drives,
             seed_config=seed,
             progress=progress,
             output=echo,
             trace_every_step=every_step,
+            **options,
         )
     except CompileError as exc:
         stop()
