@@ -407,6 +407,7 @@ CASES: list[tuple[str, str, int, int, str]] = [
     # constant settings: the run-time range table (lang/settings.py), at compile time
     ("r_speed_negative", body("  R_SPEED := -5;"), 4, 14, "R_SPEED := -5.0: the value must be"),
     ("r_ipo_zero", body("  R_IPO := 0;"), 4, 12, "R_IPO := 0.0: the value must be in [1e-05, 1] s"),
+    ("r_path_tol_zero", body("  R_PATH_TOL := 0;"), 4, 17, "R_PATH_TOL := 0.0: the value must be"),
     (
         "r_speed_ptp_const_above_100",
         body("  HALT;\n  R_SPEED_PTP := pct;", "CONST pct = 150;\n"),
