@@ -107,6 +107,7 @@ class SimulatedController:
         self._active_obstacles: frozenset[str] = frozenset()
         self.dt_used = self.opts.ipo if self.opts.ipo is not None else Settings().ipo
         self.recorder.tol_position = self.opts.tol_position
+        self._start_tool = b""  # the tool (bytes) the start sample was stamped with
         self._record_initial()
 
     # ------------------------------------------------------------------ protocol
@@ -363,12 +364,20 @@ class SimulatedController:
         return None
 
     def _record_initial(self) -> None:
-        """The sample at t = 0 (with the clearances of the start configuration)."""
-        solver = self._solver(Settings())
+        """The sample at t = 0 (with the clearances of the start configuration), with the
+        default tool; :meth:`_solver` re-stamps it with the program's tool while it is the
+        only sample (``R_TOOL`` set before the first motion holds from t = 0)."""
+        self._stamp_start(self._solver(Settings()))
+
+    def _stamp_start(self, solver: _Solver) -> None:
         frames = solver.kin.link_frames(self.q)
         tcp = solver.kin.tcp_from_frames(frames)
         clear = self._clearances(solver, frames)
-        self.recorder.add(self._t, 0, self.q, tcp, None, clearances=clear)
+        if len(self.recorder) == 0:
+            self.recorder.add(self._t, 0, self.q, tcp, None, clearances=clear)
+        else:
+            self.recorder.restamp_first(tcp, clear)
+        self._start_tool = solver.kin.tool.tobytes()
 
     def _clearances(self, solver: _Solver, frames) -> dict[str, tuple[float, int]] | None:
         if not self.obstacles:
@@ -413,6 +422,8 @@ class SimulatedController:
             kin = Kinematics(self.model, tool)
             solver = _Solver(kin, InverseTransformation(self.model, kin, self.ik_params))
             self._solvers[key] = solver
+        if len(self.recorder) == 1 and key != self._start_tool:
+            self._stamp_start(solver)  # a tool set before the first motion holds from t = 0
         return solver
 
     def _plan_state(self, settings: Settings, solver: _Solver) -> PlanState:

@@ -160,6 +160,19 @@ class Recorder:
             self._add_clearances(k, clearances)
         self._k = k + 1
 
+    def restamp_first(
+        self, tcp: np.ndarray, clearances: dict[str, tuple[float, int]] | None = None
+    ) -> None:
+        """Replace the TCP pose (and clearances) of the start sample while it is the only
+        one: the program set another tool (``R_TOOL``) before it first moved, and every
+        output uses the program's tool from t = 0."""
+        if self._k != 1:
+            raise ValueError("only the start sample can be re-stamped, before the next one")
+        self._tcp[0] = tcp
+        if self.obstacle_names:
+            self._last_clearance = [float("inf")] * len(self.obstacle_names)
+            self._add_clearances(0, clearances)
+
     @property
     def active_time(self) -> dict[tuple[int, str], float]:
         """(joint, ``"speed max"``-style label) → seconds the limit was active (the

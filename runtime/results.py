@@ -9,7 +9,8 @@ Trace columns (``interfaces.md``): ``t_s, line, <j>_<unit> …, <j>_speed_<unit>
 <j>_accel_<unit>_s2 …, x_mm, y_mm, z_mm, a_deg, b_deg, c_deg, path_error_mm``; with drives
 ``<j>_cmd_<unit> …, <j>_current_A …``; then the extras ``orientation_error_deg`` and
 ``clearance_<obstacle>_mm`` per obstacle. Joint names are the program's (MAIN_JOINT
-record), the pose is the world-frame TCP with ZYX angles. With drives the joint columns
+record; :mod:`naming`), the report's ``joints`` rows add the robot file's name as
+``robot_name``; the pose is the world-frame TCP with ZYX angles. With drives the joint columns
 are the *actual* joints and speeds/accelerations are their backward differences; the pose,
 ``path_error_mm``, ``orientation_error_deg`` and the clearances are those of the actual
 motion against the commanded path (:mod:`irlc.runtime.actual_motion`), and the report's
@@ -26,6 +27,7 @@ from typing import Any
 import numpy as np
 from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.naming import JointNaming
 from irlc.runtime.recorder import RecordedRun, finite_differences
 
 ROUND = 9  # significant digits of report numbers
@@ -49,7 +51,7 @@ def assemble(code, model, controller, obstacles, execution, opts, drives: str, e
 
     rec = controller.recorder.arrays()
     error = execution.error
-    names = tuple(code.joint_names) if len(code.joint_names) == model.n else model.joint_names
+    names = JointNaming.for_model(model, code.joint_names).program
     warnings = list(controller.recorder.warnings) + list(execution.warnings)
     warnings += relaxed_warnings(controller.recorder)
     drive = actual = verdict = None
@@ -217,6 +219,7 @@ def build_report(
             {
                 "name": name,
                 "unit": units.joint_unit(kinds[j]),
+                "robot_name": model.joint_names[j],
                 "min": rnd(float(col.min())),
                 "max": rnd(float(col.max())),
                 "max_abs_speed": rnd(float(np.abs(speed[:, j]).max()) if k else 0.0),
@@ -261,7 +264,9 @@ def build_report(
             "orientation_deg": rnd(opts.tol_orientation / units.DEG),
         },
         "joint_names": list(names),
+        "robot_joint_names": list(model.joint_names),
         "program_name": code.program,
+        "tool": tool_report(model, execution.state.settings.tool),
     }
     if drive is not None:
         from irlc.runtime.drives import report_axes
@@ -277,9 +282,28 @@ def build_report(
             "level": drive.level,
             "step_s": rnd(drive.step),
             "could_follow": bool(could_follow),
-            "axes": [_clean(a) for a in report_axes(drive, model)],
+            "axes": [
+                _clean({**row, "joint": names[a.joint], "robot_name": row["joint"]})
+                for a, row in zip(drive.axes, report_axes(drive, model), strict=True)
+            ],
         }
     return report
+
+
+def tool_report(model, r_tool) -> dict:
+    """The tool at the end of the run (mm, deg ZYX): the robot file's, the program's
+    ``R_TOOL``, and the active one ``tool_file · R_TOOL`` the TCP is computed with."""
+    file_tool = model.tool
+    program = units.pose_value_to_si(r_tool)
+
+    def pose(t: np.ndarray) -> list[float | None]:
+        return [rnd(v, 9) for v in units.pose_from_si(t)]
+
+    return {
+        "robot_file": pose(file_tool),
+        "r_tool": pose(program),
+        "active": pose(file_tool @ program),
+    }
 
 
 def _at_times(drive, times: np.ndarray) -> np.ndarray:
