@@ -182,3 +182,16 @@ def test_report_the_observations_that_hang_on_unknowns(capsys):
     with capsys.disabled():
         print("\nkoch11, chapter-6 observations that hang on unknowns:\n  " + "\n  ".join(lines))
     assert avoid.status == free.status == "ok" and np.all(np.isfinite(q_av)) and len(lines) == 7
+
+
+def test_the_programs_differ_from_the_first_reconstructions_only_in_the_start_configuration():
+    """The chapter-6 programs are the ones written for koch11_v1, unchanged: only the cell
+    data lists' start configurations (and the 6.6 post) moved with the revised robot."""
+    old = PROGRAMS.parent / "tests" / "runtime" / "koch11_v1_programs"
+    for program in sorted(old.glob("*.irl")):
+        assert (PROGRAMS / program.name).read_text() == program.read_text(), program.name
+    for cell in ("square_cell", "obstacle_cell"):
+        new = tomllib.loads((PROGRAMS / f"{cell}.toml").read_text())
+        before = tomllib.loads((old / f"{cell}.toml").read_text())
+        assert new["poses"] == before["poses"]
+        assert new["joints"]["konf_0_v1"] == before["joints"]["konf_0"]
