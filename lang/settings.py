@@ -97,6 +97,9 @@ SETTINGS: tuple[Setting, ...] = (
             "interpolation (IPO) cycle", 0.01),
     Setting("path_tol", "R_PATH_TOL", None, _positive("mm", math.inf), (),
             "path tolerance (start value: --path-tolerance)", 0.05),
+    Setting("approx", "R_APPROX", "APPROX", SettingRange(0.0, 1e5, "mm", closed=True),
+            ALL_KINDS, "approximate positioning: blend distance at the point (0: exact stop)",
+            0.0),
 )  # fmt: skip
 
 BY_FIELD: dict[str, Setting] = {s.field: s for s in SETTINGS}

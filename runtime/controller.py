@@ -35,6 +35,7 @@ class MotionCommand:
     speed_ptp: float | None = None  # % of each joint's max speed
     acc_ptp: float | None = None  # % of each joint's max acceleration
     time: float | None = None  # s, fixed motion time
+    approx: float | None = None  # mm, WITH APPROX (blend distance at the points)
     joint_limits: tuple[JointTuple, JointTuple] | None = None  # WITH JOINTLIMIT min, max
     speed_limits: tuple[JointTuple, JointTuple] | None = None
     accel_limits: tuple[JointTuple, JointTuple] | None = None
@@ -60,6 +61,7 @@ class Settings:
     base: Pose = field(default_factory=lambda: Pose(Position(0.0, 0.0, 0.0), IDENTITY))
     ipo: float = _default("ipo")  # R_IPO, s
     path_tol: float = _default("path_tol")  # R_PATH_TOL, mm (start: --path-tolerance)
+    approx: float = _default("approx")  # R_APPROX, mm (0: exact stop)
 
 
 # The range table of the numeric settings is lang/settings.py (one row per setting; the

@@ -36,6 +36,16 @@ from dataclasses import dataclass
 import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime import spatial, units
+from irlc.runtime.blending import (
+    NO_OVERLAP,
+    Overlap,
+    blend_joints,
+    blend_pose,
+    choose_overlap,
+    limit_distance,
+    tail_cycles,
+    within_joint_limits,
+)
 from irlc.runtime.controller import ModalOptions, MotionCommand, Settings, setting_error
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik.freeze import FrozenJoints
@@ -108,6 +118,8 @@ class SimulatedController:
         self.dt_used = self.opts.ipo if self.opts.ipo is not None else Settings().ipo
         self.recorder.tol_position = self.opts.tol_position
         self._start_tool = b""  # the tool (bytes) the start sample was stamped with
+        self._pending: _Pending | None = None  # an approximated segment's unrun tail
+        self.blends: list[dict] = []  # one entry per approximated point (the report's)
         self._record_initial()
 
     # ------------------------------------------------------------------ protocol
@@ -116,9 +128,11 @@ class SimulatedController:
         return self._t
 
     def joints(self) -> tuple[float, ...]:
+        self.flush(f"line {self._line_now()} reads the robot's joints")
         return tuple(float(v) for v in self.q / self.scale)
 
     def pose(self, settings: Settings) -> Pose:
+        self.flush(f"line {self._line_now()} reads R_ACT_POSE")
         return self._program_pose(self._tcp(self.q, settings), settings)
 
     def forward(self, joints: JointTuple, settings: Settings) -> Pose:
@@ -129,15 +143,154 @@ class SimulatedController:
         self._line = cmd.line
         self.recorder.tol_position = settings.path_tol * units.MM  # R_PATH_TOL
         solver = self._solver(settings)
+        approx = self._approx(cmd, settings)
+        context = (cmd.kind in ("PTP", "PTPINC"), options, solver.kin.tool.tobytes(),
+                   base_transform(settings).tobytes(), self._dt(settings))  # fmt: skip
+        if self._pending is not None and self._pending.context != context:
+            self.flush(self._pending_reason(cmd, context))
         state = self._plan_state(settings, solver)
         self._settings = settings
         segments = self.pre.plan(cmd, settings, options, state)
-        for seg in segments:
-            self._run_segment(seg, settings, options, solver)
+        for point, seg in enumerate(segments, start=1):
+            run = _SegmentRun(self, seg, options, solver, settings)
+            self._feed(run, approx, context, point)
 
+    def flush(self, reason: str = "") -> None:
+        """Ends the pending approximated motion with an exact stop at its point (the
+        advance run stops: WAIT, WAIT FOR, an input read, R_ACT_POSE, a change of options,
+        the end of the program); ``reason`` goes into the point's report entry."""
+        pending, self._pending = self._pending, None
+        if pending is None:
+            return
+        self._run_cycles(pending.run, pending.run.seg.cycles)
+        self.blends.append(pending.entry(None, self.dt_used, reason or "exact stop"))
+
+    def finish(self) -> None:
+        """The end of the program: the last point is reached exactly."""
+        self.flush("the program ends")
+
+    def _approx(self, cmd: MotionCommand, settings: Settings) -> float:
+        """The statement's blend distance (m): WITH APPROX, else R_APPROX."""
+        value = cmd.approx if cmd.approx is not None else settings.approx
+        what = "WITH APPROX" if cmd.approx is not None else "R_APPROX"
+        error = setting_error("approx", value)
+        if error is not None:
+            raise RunFailure(f"{what} := {value!r}: {error}", cmd.line, self._t)
+        return float(value) * units.MM
+
+    def _pending_reason(self, cmd: MotionCommand, context) -> str:
+        old = self._pending.context if self._pending is not None else context
+        if old[0] != context[0]:
+            kinds = ("LIN/CIRCLE", "PTP")
+            return (
+                f"MOVE {cmd.kind} at line {cmd.line} follows a {kinds[old[0]]} motion: "
+                "blending between joint and Cartesian motion is not done (exact stop)"
+            )
+        if old[1] != context[1]:
+            return f"the options changed before line {cmd.line} (exact stop)"
+        return f"R_TOOL, R_BASE or R_IPO changed before line {cmd.line} (exact stop)"
+
+    def _feed(self, run: _SegmentRun, approx: float, context, point: int) -> None:
+        """Run segment ``run``: blended with the pending one if any, and itself left
+        pending (its last cycles within ``APPROX`` of its point) when ``approx > 0``."""
+        seg = run.seg
+        length = self._seg_length(run)
+        reserve = 0
+        if approx > 0.0:
+            d_own = limit_distance(approx, length, length)
+            reserve = tail_cycles(self._remaining(run, seg.cycles + 1), d_own)
+        pending, self._pending = self._pending, None
+        if pending is not None:
+            overlap = self._overlap(pending, run, length, reserve)
+            self._run_cycles(pending.run, pending.run.seg.cycles - overlap.cycles)
+            self._blend_cycles(pending, run, overlap.cycles)
+            self.blends.append(pending.entry(overlap, self.dt_used, pending.limit_reason))
+        if approx > 0.0:
+            self._run_cycles(run, max(run.done, seg.cycles - reserve))
+            self._pending = _Pending(run, approx, length, context, point)
+        else:
+            self._run_cycles(run, seg.cycles)
+
+    # ------------------------------------------------------------------ blending
+    def _seg_length(self, run: _SegmentRun) -> float:
+        """Path length of the TCP (m): the chord for PTP."""
+        seg = run.seg
+        if seg.is_joint:
+            tcp = run.solver.kin.tcp
+            return float(np.linalg.norm(tcp(seg.path.q1)[:3, 3] - tcp(seg.path.q0)[:3, 3]))
+        return float(getattr(seg.path, "length", 0.0))
+
+    def _remaining(self, run: _SegmentRun, count: int) -> list[float]:
+        """TCP distance to the segment's end ``i`` cycles before it, ``i = 0 … count−1``
+        (stops early once it exceeds half the segment)."""
+        seg = run.seg
+        end = self._seg_point(run, seg.cycles)
+        out = []
+        half = 0.5 * self._seg_length(run) + 1e-12
+        for i in range(min(count, seg.cycles + 1)):
+            dist = float(np.linalg.norm(self._seg_point(run, seg.cycles - i) - end))
+            out.append(dist)
+            if dist > half:
+                break
+        return out
+
+    def _seg_point(self, run: _SegmentRun, k: int) -> np.ndarray:
+        """TCP position (m) of cycle ``k`` of the segment (``k = 0``: its start)."""
+        seg = run.seg
+        s = 0.0 if k <= 0 else seg.setpoint(k, run.dt)[0]
+        x = seg.path.at(s)
+        if seg.is_joint:
+            return run.solver.kin.tcp(x)[:3, 3]
+        return x[:3, 3]
+
+    def _overlap(self, pending: _Pending, run: _SegmentRun, length: float, reserve: int):
+        """The overlap of the pending segment A with the next segment B (blending.py)."""
+        a_run, seg_a, seg_b = pending.run, pending.run.seg, run.seg
+        d = limit_distance(pending.approx, pending.length, length)
+        pending.limit = d
+        pending.limit_reason = ""
+        if d < pending.approx:
+            pending.limit_reason = "shortened to half of a neighbouring segment"
+        m_a = seg_a.cycles - a_run.done
+        m_b = max(0, seg_b.cycles - reserve)
+        if d <= 0.0 or m_a <= 0 or m_b <= 0:
+            if d <= 0.0:
+                pending.limit_reason = "a neighbouring segment has no TCP path length"
+            return NO_OVERLAP
+        corner_k = seg_a.cycles
+        if seg_a.is_joint:
+            q1 = seg_a.path.q1
+            qa = np.array([seg_a.setpoint(corner_k - i, a_run.dt)[1] - q1 if corner_k - i > 0
+                           else seg_a.path.q0 - q1 for i in range(m_a + 1)])  # fmt: skip
+            qb = np.array([seg_b.setpoint(j, run.dt)[1] - q1 if j > 0 else 0.0 * q1
+                           for j in range(m_b + 1)])  # fmt: skip
+            tcp = run.solver.kin.tcp
+            p1 = tcp(q1)[:3, 3]
+            a = np.array([tcp(q1 + x)[:3, 3] - p1 for x in qa])
+            b = np.array([tcp(q1 + x)[:3, 3] - p1 for x in qb])
+            far: dict[int, float] = {}
+
+            def check(m: int) -> bool:
+                j = np.arange(1, m + 1)
+                blended = q1 + qa[m - j] + qb[j]
+                dist = max(float(np.linalg.norm(tcp(q)[:3, 3] - p1)) for q in blended)
+                far[m] = dist
+                return dist <= d + 1e-12 and self._joint_blend_ok(pending, run, qa, qb, q1, m)
+
+            overlap = choose_overlap(a, b, d, check, superposed=False)
+            if overlap.cycles:
+                overlap = dataclasses.replace(
+                    overlap, max_distance=max(overlap.max_distance, far[overlap.cycles])
+                )
+            return overlap
+        corner = seg_a.path.at(1.0)[:3, 3]
+        a = np.array([self._seg_point(a_run, corner_k - i) - corner for i in range(m_a + 1)])
+        b = np.array([self._seg_point(run, j) - corner for j in range(m_b + 1)])
+        return choose_overlap(a, b, d)
     def reconfigure(
         self, target: JointTuple, line: int, settings: Settings, options: ModalOptions
     ) -> None:
+        self.flush(f"RECONFIGURATION at line {line}")
         self._line = line
         self.recorder.tol_position = settings.path_tol * units.MM  # R_PATH_TOL
         solver = self._solver(settings)
@@ -177,6 +330,7 @@ class SimulatedController:
     def wait(self, seconds: float, line: int, settings: Settings, options: ModalOptions) -> None:
         if not (seconds >= 0.0 and math.isfinite(seconds)):
             raise RunFailure(f"WAIT needs a finite time ≥ 0 s, got {seconds!r}", line, self._t)
+        self.flush(f"WAIT at line {line}")
         self._line = line
         dt = self._dt(settings)
         n = round(seconds / dt)
@@ -199,6 +353,7 @@ class SimulatedController:
         at that statement (as JOINTLIMIT's "excludes the current state" does), not at the
         next motion: an avoided obstacle the arm is already inside cannot be avoided, and
         fewer free joints than task rows cannot follow any path."""
+        self.flush(f"{option} at line {line}")
         if option == "OBSTACLE":
             self._check_not_inside(options.obstacles, line, settings)
         elif option == "FREEZE":
@@ -228,23 +383,80 @@ class SimulatedController:
         self.recorder.events.append(event)
 
     # ------------------------------------------------------------------ cycles
-    def _run_segment(self, seg: Segment, settings, options, solver: _Solver) -> None:
-        dt = self._dt(settings)
-        self._active_obstacles = frozenset(options.obstacles)
-        if seg.is_joint:
-            for k in range(1, seg.cycles + 1):
-                s, q = seg.setpoint(k, dt)
-                self._joint_cycle(seg, q, k, s, dt, solver)
-            self._last_reference = None
+    def _run_cycles(self, run: _SegmentRun, upto: int) -> None:
+        """Cycles ``run.done + 1 … upto`` of the segment on its own."""
+        if upto <= run.done:
             return
-        cycle_opts = self._cycle_options(seg, options)
-        reference = self._blended_reference(seg.reference, cycle_opts.reference)
-        for k in range(1, seg.cycles + 1):
-            s, target = seg.setpoint(k, dt)
-            if reference is not None:
-                cycle_opts.reference = reference.at(s)
-            self._ik_cycle(seg, target, dt, cycle_opts, solver)
-        self._last_reference = None if cycle_opts.reference is None else cycle_opts.reference
+        self._start(run)
+        seg, dt = run.seg, run.dt
+        self._active_obstacles = run.obstacles
+        if seg.is_joint:
+            for k in range(run.done + 1, upto + 1):
+                s, q = seg.setpoint(k, dt)
+                self._joint_cycle(seg, q, k, s, dt, run.solver)
+            self._last_reference = None
+        else:
+            opts, reference = run.cycle_opts, run.reference
+            for k in range(run.done + 1, upto + 1):
+                s, target = seg.setpoint(k, dt)
+                if reference is not None:
+                    opts.reference = reference.at(s)
+                self._ik_cycle(seg, target, dt, opts, run.solver)
+            self._last_reference = opts.reference
+        run.done = upto
+
+    def _start(self, run: _SegmentRun) -> None:
+        """The segment's θ⁰(s), from the reference in effect when it starts."""
+        if run.started:
+            return
+        run.started = True
+        if not run.seg.is_joint:
+            run.reference = self._blended_reference(run.seg.reference, run.cycle_opts.reference)
+
+    def _blend_cycles(self, pending: _Pending, run: _SegmentRun, m: int) -> None:
+        """The ``m`` overlapping cycles of the pending segment's end and the next
+        segment's start (blending.py); the samples carry the next statement's line."""
+        a_run = pending.run
+        seg_a, seg_b, dt = a_run.seg, run.seg, run.dt
+        big_k = seg_a.cycles
+        self._start(run)
+        self._active_obstacles = run.obstacles
+        k0 = len(self.recorder)
+        if seg_a.is_joint:
+            q1 = seg_a.path.q1
+            for j in range(1, m + 1):
+                qa = seg_a.setpoint(big_k - m + j, dt)[1]
+                _, qb = seg_b.setpoint(j, dt)
+                self._joint_cycle(seg_b, blend_joints(qa, qb, q1), j, 0.0, dt, run.solver, False)
+            self._last_reference = None
+        else:
+            corner = seg_a.path.at(1.0)
+            opts, reference = run.cycle_opts, run.reference
+            for j in range(1, m + 1):
+                xa = seg_a.setpoint(big_k - m + j, dt)[1]
+                s, xb = seg_b.setpoint(j, dt)
+                if reference is not None:
+                    opts.reference = reference.at(s)
+                self._ik_cycle(seg_b, blend_pose(xa, xb, corner), dt, opts, run.solver)
+            self._last_reference = opts.reference
+        a_run.done, run.done = big_k, max(run.done, m)
+        if m:
+            tcp = self.recorder._tcp[max(k0 - 1, 0) : k0 + m, :3, 3]
+            speeds = np.linalg.norm(np.diff(tcp, axis=0), axis=1) / dt
+            pending.min_speed = float(speeds.min()) if speeds.size else 0.0
+            pending.start_time = float(self.recorder._times[max(k0 - 1, 0)])
+
+    def _joint_blend_ok(self, pending, run, qa, qb, q1, m: int) -> bool:
+        """Joint blend ``m`` within the position, speed and acceleration limits of both
+        segments (with one cycle either side, to include the switch in and out)."""
+        la, lb = pending.run.seg.limits, run.seg.limits
+        boxes = [np.column_stack((np.fmax(a[:, 0], b[:, 0]), np.fmin(a[:, 1], b[:, 1])))
+                 for a, b in zip(la, lb, strict=True)]  # fmt: skip
+        j = np.arange(1, m + 1)
+        before = [q1 + qa[i] for i in (m + 1, m) if i < len(qa)]
+        after = [q1 + qb[i] for i in (m + 1, m + 2) if i < len(qb)]
+        seq = np.array([*before, *(q1 + qa[m - j] + qb[j]), *after])
+        return within_joint_limits(seq, run.dt, *boxes)
 
     def _blended_reference(self, path: ReferencePath | None, constant: np.ndarray | None):
         """The segment's θ⁰(s), starting from the previous cycle's reference (or the
@@ -316,12 +528,14 @@ class SimulatedController:
             raise self._deviation_failure(seg, t, pos_err, ori_err, res)
         self._tick()
 
-    def _joint_cycle(self, seg: Segment, q, k: int, s: float, dt: float, solver) -> None:
+    def _joint_cycle(
+        self, seg: Segment, q, k: int, s: float, dt: float, solver, profiled: bool = True
+    ) -> None:
         self.q_prev, self.q = self.q, np.array(q, dtype=float)
         self._t = _advance(self._t, dt)
         frames = solver.kin.link_frames(self.q)
         tcp = solver.kin.tcp_from_frames(frames)
-        active = self._ptp_active(seg, k, dt)
+        active = self._ptp_active(seg, k, dt) if profiled else None
         clearances = self._clearances(solver, frames)
         self.recorder.add(
             self._t, seg.line, self.q, tcp, None, active=active, clearances=clearances, dt=dt
@@ -427,9 +641,20 @@ class SimulatedController:
         return solver
 
     def _plan_state(self, settings: Settings, solver: _Solver) -> PlanState:
-        return PlanState(
-            self.q.copy(), solver.kin.tcp(self.q), self._dt(settings), base_transform(settings)
-        )
+        """Where the next motion starts: here, or at the pending segment's point."""
+        q, tcp = self.q.copy(), None
+        if self._pending is not None:
+            seg = self._pending.run.seg
+            if seg.is_joint:
+                q = seg.path.q1.copy()
+            else:
+                tcp = seg.path.at(1.0).copy()
+        if tcp is None:
+            tcp = solver.kin.tcp(q)
+        return PlanState(q, tcp, self._dt(settings), base_transform(settings))
+
+    def _line_now(self) -> int:
+        return self._line
 
     def _tcp(self, q: np.ndarray, settings: Settings) -> np.ndarray:
         return self._solver(settings).kin.tcp(q)
@@ -452,6 +677,58 @@ class SimulatedController:
         if not sol.converged:
             raise RunFailure(f"MOVE PTP: {sol.message}", line, self._t)
         return sol.q
+
+
+class _SegmentRun:
+    """One segment being executed: cycles done so far and its per-cycle options."""
+
+    def __init__(self, ctl: SimulatedController, seg: Segment, options, solver, settings):
+        self.seg, self.solver = seg, solver
+        self.dt = ctl._dt(settings)
+        self.done = 0
+        self.started = False
+        self.obstacles = frozenset(options.obstacles)
+        self.reference: ReferencePath | None = None
+        self.cycle_opts = None if seg.is_joint else ctl._cycle_options(seg, options)
+
+
+@dataclass
+class _Pending:
+    """An approximated segment whose last cycles wait for the next motion."""
+
+    run: _SegmentRun
+    approx: float  # m, requested
+    length: float  # m, TCP path length (chord for PTP)
+    context: tuple  # what must not change for a blend (kind family, options, tool, base, Δt)
+    point: int  # 1-based point of its statement
+    limit: float = 0.0  # m, d = min(APPROX, L_A/2, L_B/2)
+    limit_reason: str = ""
+    min_speed: float = 0.0  # m/s, lowest TCP speed during the blend
+    start_time: float = 0.0  # s, the blend's first sample's predecessor
+
+    def entry(self, overlap: Overlap | None, dt: float, reason: str) -> dict:
+        """The point's report entry (mm, s): ``overlap`` None is an exact stop."""
+        o = overlap or NO_OVERLAP
+        seg = self.run.seg
+        return {
+            "line": seg.line,
+            "point": self.point,
+            "kind": seg.kind,
+            "approx_mm": _mm(self.approx),
+            "limit_mm": _mm(self.limit if overlap is not None else 0.0),
+            "used_mm": _mm(o.used),
+            "max_distance_mm": _mm(o.max_distance),
+            "start_s": round(self.start_time, 9) if o.cycles else None,
+            "cycles": o.cycles,
+            "saved_s": round(o.cycles * dt, 9),
+            "min_speed_mm_s": _mm(self.min_speed) if o.cycles else 0.0,
+            "blended": o.cycles > 0,
+            "note": reason if (reason or not o.cycles) else "",
+        }
+
+
+def _mm(x: float) -> float:
+    return round(x / units.MM, 6) + 0.0
 
 
 def _with_position_limits(model: RobotModel, position: np.ndarray) -> RobotModel:

@@ -226,6 +226,7 @@ class Interpreter:
             self._prepare()
             self._running = True
             status = self._execute()
+            self._stop_advance("the program ends")
         except RunFailure as e:
             if e.line is None and self._running:
                 e.line = self._lines[self._cur]
@@ -844,6 +845,7 @@ class Interpreter:
         s = self._number(self.stack.pop(), "WAIT")
         if s < 0:
             raise RunFailure(f"WAIT {V.format_real(s)} SEC: the time must not be negative")
+        self._stop_advance(f"WAIT at line {self._line()}")
         if s > 0:
             t_before = self._time()
             self._ctl(self.controller.wait, s, self._line(), *self._snapshot())
@@ -870,13 +872,22 @@ class Interpreter:
                     break
         return best
 
+    def _stop_advance(self, why: str) -> None:
+        """The advance run stops here: a pending approximated motion ends exactly at its
+        point first (WAIT, WAIT FOR, reading an input, the end of the program)."""
+        flush = getattr(self.controller, "flush", None)
+        if flush is not None:
+            self._ctl(flush, why)
+
     def _op_pushin(self, args) -> None:
         n = self.stack.pop()
         if not isinstance(n, int) or isinstance(n, bool):
             raise _malformed(f"an input number must be an INTEGER, got {V.type_name(n)}")
+        self._stop_advance(f"line {self._line()} reads input {n}")
         self._push(self._input(n, self._now()))
 
     def _op_waitfor(self, args) -> None:
+        self._stop_advance(f"WAIT FOR at line {self._line()}")
         if self._condition("WAIT FOR"):
             self._waitfor = None
             return

@@ -259,6 +259,7 @@ def build_report(
         "output": list(execution.output),
         "warnings": warnings,
         "events": [_clean(e) for e in execution.events],
+        "approximations": list(getattr(controller, "blends", ())),
         "tolerances": {
             "path_mm": rnd(opts.tol_position / units.MM),
             "orientation_deg": rnd(opts.tol_orientation / units.DEG),
