@@ -128,11 +128,11 @@ class SimulatedController:
         return self._t
 
     def joints(self) -> tuple[float, ...]:
-        self.flush(f"line {self._line_now()} reads the robot's joints")
+        self.flush("the robot's joints are read (CYCLICSTART, JOINTLIMIT, FREEZESTART)")
         return tuple(float(v) for v in self.q / self.scale)
 
     def pose(self, settings: Settings) -> Pose:
-        self.flush(f"line {self._line_now()} reads R_ACT_POSE")
+        self.flush("the robot's pose is read")
         return self._program_pose(self._tcp(self.q, settings), settings)
 
     def forward(self, joints: JointTuple, settings: Settings) -> Pose:
@@ -201,9 +201,7 @@ class SimulatedController:
             reserve = tail_cycles(self._remaining(run, seg.cycles + 1), d_own)
         pending, self._pending = self._pending, None
         if pending is not None:
-            overlap = self._overlap(pending, run, length, reserve)
-            self._run_cycles(pending.run, pending.run.seg.cycles - overlap.cycles)
-            self._blend_cycles(pending, run, overlap.cycles)
+            overlap = self._blend(pending, run, length, reserve)
             self.blends.append(pending.entry(overlap, self.dt_used, pending.limit_reason))
         if approx > 0.0:
             self._run_cycles(run, max(run.done, seg.cycles - reserve))
@@ -212,6 +210,41 @@ class SimulatedController:
             self._run_cycles(run, seg.cycles)
 
     # ------------------------------------------------------------------ blending
+    def _blend(self, pending: _Pending, run: _SegmentRun, length: float, reserve: int):
+        """Runs the pending segment's rest and the blend into ``run``. A blend the inverse
+        transformation cannot follow within the limits (a RunFailure in its cycles) is
+        undone and tried again with half the distance, down to an exact stop."""
+        cap = math.inf
+        while True:
+            overlap = self._overlap(pending, run, length, reserve, cap)
+            state = self._mark(pending.run, run)
+            try:
+                self._run_cycles(pending.run, pending.run.seg.cycles - overlap.cycles)
+                self._blend_cycles(pending, run, overlap.cycles)
+                return overlap
+            except RunFailure as exc:
+                if overlap.cycles == 0:
+                    raise
+                self._rewind(state, pending.run, run)
+                cap = 0.5 * overlap.used if overlap.used > 2.0 * _MIN_BLEND else 0.0
+                pending.limit_reason = f"shortened: the longer blend failed ({exc.message})"
+
+    def _mark(self, a_run: _SegmentRun, b_run: _SegmentRun) -> tuple:
+        return (self.q.copy(), self.q_prev.copy(), self._t, self._cycles, self._last_reference,
+                self.recorder.mark(), a_run.done, b_run.done, b_run.started, b_run.reference,
+                None if b_run.cycle_opts is None else b_run.cycle_opts.reference,
+                None if a_run.cycle_opts is None else a_run.cycle_opts.reference)  # fmt: skip
+
+    def _rewind(self, state: tuple, a_run: _SegmentRun, b_run: _SegmentRun) -> None:
+        (self.q, self.q_prev, self._t, self._cycles, self._last_reference, rec, a_done,
+         b_done, b_started, b_ref, b_opt_ref, a_opt_ref) = state  # fmt: skip
+        self.recorder.rewind(rec)
+        a_run.done, b_run.done, b_run.started, b_run.reference = a_done, b_done, b_started, b_ref
+        if b_run.cycle_opts is not None:
+            b_run.cycle_opts.reference = b_opt_ref
+        if a_run.cycle_opts is not None:
+            a_run.cycle_opts.reference = a_opt_ref
+
     def _seg_length(self, run: _SegmentRun) -> float:
         """Path length of the TCP (m): the chord for PTP."""
         seg = run.seg
@@ -243,14 +276,16 @@ class SimulatedController:
             return run.solver.kin.tcp(x)[:3, 3]
         return x[:3, 3]
 
-    def _overlap(self, pending: _Pending, run: _SegmentRun, length: float, reserve: int):
-        """The overlap of the pending segment A with the next segment B (blending.py)."""
+    def _overlap(self, pending: _Pending, run: _SegmentRun, length: float, reserve: int,
+                 cap: float = math.inf) -> Overlap:  # fmt: skip
+        """The overlap of the pending segment A with the next segment B (blending.py),
+        its distance at most ``cap`` (a shortened retry)."""
         a_run, seg_a, seg_b = pending.run, pending.run.seg, run.seg
         d = limit_distance(pending.approx, pending.length, length)
-        pending.limit = d
-        pending.limit_reason = ""
-        if d < pending.approx:
+        if d < pending.approx and not pending.limit_reason:
             pending.limit_reason = "shortened to half of a neighbouring segment"
+        d = min(d, cap)
+        pending.limit = d
         m_a = seg_a.cycles - a_run.done
         m_b = max(0, seg_b.cycles - reserve)
         if d <= 0.0 or m_a <= 0 or m_b <= 0:
@@ -287,6 +322,7 @@ class SimulatedController:
         a = np.array([self._seg_point(a_run, corner_k - i) - corner for i in range(m_a + 1)])
         b = np.array([self._seg_point(run, j) - corner for j in range(m_b + 1)])
         return choose_overlap(a, b, d)
+
     def reconfigure(
         self, target: JointTuple, line: int, settings: Settings, options: ModalOptions
     ) -> None:
@@ -653,9 +689,6 @@ class SimulatedController:
             tcp = solver.kin.tcp(q)
         return PlanState(q, tcp, self._dt(settings), base_transform(settings))
 
-    def _line_now(self) -> int:
-        return self._line
-
     def _tcp(self, q: np.ndarray, settings: Settings) -> np.ndarray:
         return self._solver(settings).kin.tcp(q)
 
@@ -740,6 +773,7 @@ def _with_position_limits(model: RobotModel, position: np.ndarray) -> RobotModel
 
 
 _NAN = float("nan")
+_MIN_BLEND = 1e-4  # m: a blend shortened below this is an exact stop
 
 
 def _advance(t: float, dt: float) -> float:

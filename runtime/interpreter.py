@@ -592,6 +592,8 @@ class Interpreter:
     def _op_pushsys(self, args) -> None:
         name = args[0]
         st = self.state
+        if name in ("R_ACT_POSE", "R_ACT_JOINT"):
+            self._stop_advance(f"line {self._line()} reads {name}")
         if name == "R_ACT_POSE":
             v = self._ctl(self.controller.pose, dataclasses.replace(st.settings))
         elif name == "R_ACT_JOINT":

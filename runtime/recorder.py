@@ -25,6 +25,7 @@ limits is a check of the controller.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -216,6 +217,20 @@ class Recorder:
             last.binding = last.binding or binding
         else:
             self.relaxed_spans.append(RelaxedSpan(line, t, t, 1, deviation, ori, binding))
+
+    def mark(self) -> tuple:
+        """The recorder's state, to :meth:`rewind` to (a blend that is tried and
+        shortened: approximate positioning)."""
+        spans = [dataclasses.replace(s) for s in self.relaxed_spans]
+        return (self._k, spans, len(self.warnings), len(self.events), self.ik_cycles,
+                list(self._last_clearance))  # fmt: skip
+
+    def rewind(self, mark: tuple) -> None:
+        """Drop every sample, span, warning and event recorded after :meth:`mark`."""
+        self._k, spans, n_warn, n_events, self.ik_cycles, clearance = mark
+        self.relaxed_spans = [dataclasses.replace(s) for s in spans]
+        del self.warnings[n_warn:], self.events[n_events:]
+        self._last_clearance = list(clearance)
 
     # ------------------------------------------------------------------ arrays
     def arrays(self) -> RecordedRun:
