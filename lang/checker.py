@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 
 from irlc.lang import ast
 from irlc.lang import types as T
+from irlc.lang.approx_lint import approx_warnings
 from irlc.lang.builtins import BUILTINS, POSE_FROM_NUMBERS, POSE_FROM_PARTS, SYSTEM_VARIABLES
 from irlc.lang.datalist import Datalist
 from irlc.lang.diagnostics import Diagnostic, Span
@@ -25,6 +26,7 @@ from irlc.lang.irdata import ObstacleDef, Slot, Value
 from irlc.lang.settings import (
     BY_SYSTEM_VARIABLE,
     BY_WITH_WORD,
+    approximation_hint,
     reconfiguration_counts,
     setting_message,
 )
@@ -193,6 +195,8 @@ class Checker:
         self.collect_labels(p.body)
         self.check_list(p.body, p.end_span, "ENDPROGRAM")
         self.routine = None
+        for node, message, hint in approx_warnings(p.body):
+            self.warning(node.span, message, hint)
         return Checked(
             p,
             self.joint_names,
@@ -564,7 +568,11 @@ class Checker:
     def e_name(self, e: ast.Name, want) -> T.Type:
         sym = self.lookup(e.name)
         if sym is None:
-            self.error(e.span, f"unknown name '{e.name}'", self.suggest(e.name))
+            self.error(
+                e.span,
+                f"unknown name '{e.name}'",
+                approximation_hint(e.name) or self.suggest(e.name),
+            )
             return T.ERROR
         e.sym = sym
         if sym.kind == "routine":
@@ -1002,7 +1010,8 @@ class Checker:
         assert isinstance(root, ast.Name)
         sym = self.lookup(root.name)
         if sym is None:
-            self.error(root.span, f"unknown name '{root.name}'", self.suggest(root.name))
+            hint = approximation_hint(root.name) or self.suggest(root.name)
+            self.error(root.span, f"unknown name '{root.name}'", hint)
             self.expr(s.value, None)
             return
         if sym.kind not in ("var", "param", "sysvar"):
@@ -1255,7 +1264,8 @@ class Checker:
             self.error(
                 c.span,
                 f"unknown WITH option '{c.word}'",
-                f"WITH options: {', '.join(_WITH_PARAMS)}, JOINTLIMIT, JOINTSPEEDLIMIT, "
+                approximation_hint(c.word)
+                or f"WITH options: {', '.join(_WITH_PARAMS)}, JOINTLIMIT, JOINTSPEEDLIMIT, "
                 "JOINTACCELLIMIT, RECONFIGURATION",
             )
             self.expr(c.args[0], None)

@@ -18,6 +18,7 @@ from importlib import resources
 import lark
 from irlc.lang import ast
 from irlc.lang.diagnostics import Diagnostic, Span
+from irlc.lang.settings import approximation_hint
 from irlc.lang.types import INT_MAX, integer_overflow
 from lark import Lark, Token, Transformer
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
@@ -391,7 +392,7 @@ def _syntax_diagnostic(e: UnexpectedInput, text: str, filename: str) -> Diagnost
         f"unexpected {_token_text(tok)}; expected {_describe_expected(expected)}",
         filename,
         span,
-        _token_hint(tok, expected),
+        approximation_hint(str(tok.value)) or _token_hint(tok, expected),
     )
 
 

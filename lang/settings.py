@@ -23,6 +23,7 @@ below 10 µs would need millions of cycles per simulated second.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 
 ALL_KINDS = ("PTP", "LIN", "CIRCLE", "LINPATH", "PTPINC", "LININC")  # IRDATA motion kinds
@@ -186,6 +187,18 @@ def ranges_table() -> str:
             f"{s.range.interval()} | {kinds} |"
         )
     return "\n".join(rows) + "\n"
+
+
+# Approximate positioning as other robot languages write it (KRL C_DIS/C_PTP/C_VEL/C_ORI,
+# RAPID zones z50/fine, FANUC CNT50, a ZONE option): each gets the one hint below.
+_FOREIGN_APPROX = re.compile(r"^(C_(DIS|PTP|VEL|ORI|SPL|LIN)|ZONE|FINE|Z\d+|CNT\d+)$", re.I)
+APPROX_HINT = "approximate positioning is written WITH APPROX := mm (or R_APPROX := mm;)"
+
+
+def approximation_hint(word: str) -> str | None:
+    """The APPROX hint for another language's approximation word (``C_DIS``, ``z50``), else
+    ``None``."""
+    return APPROX_HINT if _FOREIGN_APPROX.match(word) else None
 
 
 def reconfiguration_counts(kind: str, points: int) -> tuple[int, ...]:

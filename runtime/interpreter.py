@@ -828,6 +828,7 @@ class Interpreter:
             self.pc = args[0]
 
     def _op_halt(self, args) -> None:
+        self._stop_advance(f"HALT at line {self._line()}")
         self._event("halt")
         raise _Finished("halted")
 
@@ -838,6 +839,7 @@ class Interpreter:
         raise _malformed("execution ran past the last instruction (no END)")
 
     def _op_pause(self, args) -> None:
+        self._stop_advance(f"PAUSE at line {self._line()}")
         self._event("pause")
         self._warn(f"line {self._line()}: PAUSE in a batch run — execution continues")
 

@@ -1,0 +1,164 @@
+"""Compile-time warnings where approximate positioning (``WITH APPROX``, ``R_APPROX``)
+has no effect.
+
+The controller blends an approximated motion into the next one only if nothing stops
+its *advance run* in between (docs/language.md, "Approximate positioning"). These
+statements stop it, so the approximated point before them is reached with an exact stop:
+
+* ``WAIT … SEC`` and ``WAIT FOR`` (any), ``PAUSE``, ``HALT``;
+* reading an input ``IN[n]`` (e.g. ``IF IN[1] THEN``) or ``R_ACT_POSE`` / ``R_ACT_JOINT``;
+* ``RECONFIGURATION``, and switching an option on or off (JOINTLIMIT …, CYCLIC,
+  OBSTACLE, FREEZE);
+* a motion of the other family (PTP after LIN/CIRCLE or the reverse: joint and
+  Cartesian motion are not blended);
+* the end of the program (for an explicit ``WITH APPROX`` on the last motion).
+
+Writing a signal or WRITE does not stop it. The walk follows the statements in source
+order (into the bodies of IF, loops and CASE); a routine call is not followed. The
+motion is "approximated" when it has ``WITH APPROX`` with a constant other than 0, or,
+without a WITH APPROX, when the last constant assigned to ``R_APPROX`` before it in
+source order was not 0 (an assignment of a non-constant counts as on).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, fields
+
+from irlc.lang import ast
+
+_PTP = ("PTP", "PTPINC")
+
+
+@dataclass
+class _Approximated:
+    move: ast.Move
+    explicit: bool  # WITH APPROX (not the modal R_APPROX)
+
+
+def approx_warnings(body: list[ast.Stmt]) -> list[tuple[ast.Node, str, str]]:
+    """``(node, message, hint)`` for every statement that ends an approximation."""
+    out: list[tuple[ast.Node, str, str]] = []
+    modal = False
+    pending: _Approximated | None = None
+    for s in _in_order(body):
+        if pending is not None:
+            why = _stops(s, pending.move)
+            if why:
+                out.append(_warning(s, pending.move, why))
+                pending = None
+        if isinstance(s, ast.Assign) and _is_name(s.target, "R_APPROX"):
+            modal = _nonzero(s.value)
+        if isinstance(s, ast.Move):
+            pending = _approximated(s, modal)
+    if pending is not None and pending.explicit:
+        m = pending.move
+        message = "WITH APPROX has no effect: the program ends after this motion"
+        out.append((m, message, "the last point of a program is reached with an exact stop"))
+    return out
+
+
+def _warning(s: ast.Stmt, move: ast.Move, why: str) -> tuple[ast.Node, str, str]:
+    return (
+        s,
+        f"{why} stops the advance run: the approximated motion on line {move.span.line} "
+        "ends with an exact stop",
+        "write WITH APPROX := 0 on that motion to make the exact stop explicit, or move "
+        "the statement",
+    )
+
+
+def _approximated(m: ast.Move, modal: bool) -> _Approximated | None:
+    for c in m.clauses:
+        if c.kind == "APPROX":
+            return _Approximated(m, True) if _nonzero(c.args[0]) else None
+    return _Approximated(m, False) if modal else None
+
+
+def _stops(s: ast.Stmt, move: ast.Move) -> str | None:
+    """Why ``s`` stops the advance run after the approximated ``move`` (None: it does
+    not)."""
+    name = type(s).__name__
+    if isinstance(s, ast.Wait | ast.WaitFor | ast.Pause | ast.Halt):
+        return {"Wait": "WAIT", "WaitFor": "WAIT FOR", "Pause": "PAUSE", "Halt": "HALT"}[name]
+    if isinstance(s, ast.Reconfigure):
+        return "RECONFIGURATION"
+    if isinstance(s, ast.ModalOn | ast.ModalOff):
+        return f"switching {s.option} {'on' if isinstance(s, ast.ModalOn) else 'off'}"
+    if isinstance(s, ast.Move) and (s.kind in _PTP) != (move.kind in _PTP):
+        return f"MOVE {s.kind} after MOVE {move.kind} (joint and Cartesian motion)"
+    for e in _own_exprs(s):
+        for node in _walk(e):
+            if isinstance(node, ast.Input):
+                return "reading an input (IN[…])"
+            if isinstance(node, ast.Name) and node.name.upper() in ("R_ACT_POSE", "R_ACT_JOINT"):
+                return f"reading {node.name.upper()}"
+    return None
+
+
+def _in_order(body: list[ast.Stmt]) -> Iterator[ast.Stmt]:
+    """The statements in source order, nested bodies after their statement."""
+    for s in body:
+        yield s
+        if isinstance(s, ast.If):
+            for _, arm in s.arms:
+                yield from _in_order(arm)
+            if s.else_body:
+                yield from _in_order(s.else_body)
+        elif isinstance(s, ast.Case):
+            for arm in s.arms:
+                yield from _in_order(arm.body)
+            if s.else_body:
+                yield from _in_order(s.else_body)
+        elif isinstance(s, ast.While | ast.Repeat | ast.For):
+            yield from _in_order(s.body)
+
+
+def _own_exprs(s: ast.Stmt) -> list[ast.Expr]:
+    """The expressions a statement evaluates itself (not those of nested bodies)."""
+    if isinstance(s, ast.If):
+        return [cond for cond, _ in s.arms]
+    if isinstance(s, ast.While | ast.Repeat):
+        return [s.cond]
+    if isinstance(s, ast.Case):
+        return [s.selector]
+    if isinstance(s, ast.For):
+        return [e for e in (s.start, s.stop, s.step) if e is not None]
+    out = []
+    for f in fields(s):
+        v = getattr(s, f.name)
+        if isinstance(v, ast.Expr):
+            out.append(v)
+        elif isinstance(v, list):
+            out += [x for x in v if isinstance(x, ast.Expr)]
+            for x in v:
+                if isinstance(x, ast.WithClause):
+                    out += x.args
+    return out
+
+
+def _walk(e: object) -> Iterator[object]:
+    if not isinstance(e, ast.Node):
+        return
+    yield e
+    for f in fields(e):
+        if f.name in ("span", "ty", "const"):
+            continue
+        v = getattr(e, f.name)
+        items = v if isinstance(v, list | tuple) else [v]
+        for x in items:
+            if isinstance(x, tuple):
+                for y in x:
+                    yield from _walk(y)
+            else:
+                yield from _walk(x)
+
+
+def _is_name(e: ast.Expr, name: str) -> bool:
+    return isinstance(e, ast.Name) and e.name.upper() == name
+
+
+def _nonzero(e: ast.Expr) -> bool:
+    """A constant 0 switches approximation off; anything else (a non-constant) on."""
+    value = e.const if e.const is not None else (e.value if isinstance(e, ast.Num) else None)
+    return not (isinstance(value, int | float) and value == 0)
