@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 Check = Callable[[int], bool]  # extra admissibility test of an overlap m
+_TOL = 1e-12  # m: rounding of the distances compared with d
 
 
 def blend_pose(a: np.ndarray, b: np.ndarray, corner: np.ndarray) -> np.ndarray:
@@ -61,7 +62,7 @@ def tail_cycles(remaining: Sequence[float], d: float) -> int:
     is the largest ``i`` with ``remaining[i'] ≤ d`` for all ``i' ≤ i``."""
     n = 0
     for i in range(1, len(remaining)):
-        if remaining[i] > d:
+        if remaining[i] > d + _TOL:
             break
         n = i
     return n
@@ -104,7 +105,7 @@ def choose_overlap(
     if d <= 0.0:
         return NO_OVERLAP
     na, nb = np.linalg.norm(a, axis=1), np.linalg.norm(b, axis=1)
-    tol = 1e-12
+    tol = _TOL
     for m in range(m_max, 0, -1):
         if na[m] > d + tol or nb[m] > d + tol:
             continue

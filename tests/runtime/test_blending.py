@@ -1,0 +1,294 @@
+"""Approximate positioning (WITH APPROX / R_APPROX), checked from the report and the trace
+against closed forms (runtime/blending.py, docs/language.md "Approximate positioning").
+
+The LIN corner: two 200 mm sides at R_SPEED 250 mm/s, R_ACC 1000 mm/s² take exactly
+1.05 s each (ramps 0.25 s over 31.25 mm), so for APPROX d ≤ 31.25 mm the blend lies in
+both ramps: it lasts T = ⌊√(2d/a)/Δt⌋·Δt, starts a·T²/2 before the corner on side A and
+rejoins side B a·T²/2 after it; half-way both offsets are a·T²/8 (perpendicular sides:
+distance √2·a·T²/8 from the corner) and the speed is a·T/√2 (v_A ⊥ v_B, each a·T/2).
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from irlc.lang.diagnostics import CompileError
+from irlc.runtime.blending import choose_overlap, limit_distance, tail_cycles
+from irlc.runtime.run import run_file
+
+PROGRAMS = Path(__file__).resolve().parents[2] / "programs"
+
+CORNER = """PROGRAM corner;
+ROBOT r := panda;
+BEGIN
+  R_SPEED := 250;
+  R_ACC := 1000;
+  MOVE PTP (0, -30, 0, -120, 0, 90, 45);
+  MOVE LIN POSE(400, -100, 500, 0, 0, 180);
+  MOVE LIN POSE(400, 100, 500, 0, 0, 180){approx};
+  MOVE LIN POSE({x2}, 100, 500, 0, 0, 180);
+ENDPROGRAM
+"""
+A = 1000.0  # mm/s²
+DT = 0.01
+
+
+def _run(tmp_path: Path, text: str, name: str = "p", **kw):
+    path = tmp_path / f"{name}.irl"
+    path.write_text(text, encoding="utf-8")
+    run = run_file(path, **kw)
+    assert run.status == "ok", run.error
+    return run
+
+
+def _corner(tmp_path, approx: float | None, x2: float = 600.0):
+    clause = "" if approx is None else f" WITH APPROX := {approx:g}"
+    return _run(tmp_path, CORNER.format(approx=clause, x2=f"{x2:g}"), "corner")
+
+
+def _positions_mm(run) -> np.ndarray:
+    return run.recorded.tcp[:, :3, 3] * 1000.0
+
+
+@pytest.fixture(scope="module")
+def exact_and_blended(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("blend")
+    return _corner(tmp, None), _corner(tmp, 20.0)
+
+
+def test_corner_blend_closed_form(exact_and_blended):
+    exact, blended = exact_and_blended
+    (entry,) = [e for e in blended.report["approximations"] if e["line"] == 8]
+    cycles = math.floor(math.sqrt(2 * 20.0 / A) / DT + 1e-9)
+    t_blend = cycles * DT
+    assert entry["blended"] and entry["cycles"] == cycles == 20
+    assert entry["approx_mm"] == 20.0 and entry["limit_mm"] == 20.0
+    assert entry["used_mm"] == pytest.approx(A * t_blend**2 / 2, abs=1e-6)
+    # the blend saves its overlap: cycle time shorter by T
+    assert exact.report["duration_s"] - blended.report["duration_s"] == pytest.approx(t_blend)
+    assert entry["saved_s"] == pytest.approx(t_blend)
+    # closest point to the corner half-way: offsets a·T²/8 along −y and +x
+    p = _positions_mm(blended)
+    corner = np.array([400.0, 100.0, 500.0])
+    dist = np.linalg.norm(p - corner, axis=1)
+    k = int(np.argmin(dist))
+    half = A * t_blend**2 / 8
+    assert dist[k] == pytest.approx(math.sqrt(2) * half, abs=1e-3)
+    np.testing.assert_allclose(p[k], corner + [half, -half, 0.0], atol=1e-3)
+    # speed there a·T/√2 (not zero)
+    t = blended.recorded.times
+    speed = np.linalg.norm(np.diff(p, axis=0), axis=1) / np.diff(t)
+    around = speed[k - 3 : k + 3]
+    assert around.min() > 0.9 * A * t_blend / math.sqrt(2)
+    assert entry["min_speed_mm_s"] == pytest.approx(A * t_blend / math.sqrt(2), rel=0.02)
+    # the exact run stops at the corner: its speed there drops to zero
+    pe = _positions_mm(exact)
+    ke = int(np.argmin(np.linalg.norm(pe - corner, axis=1)))
+    assert np.linalg.norm(pe[ke] - corner) < 1e-6
+    # the whole run stays within APPROX of the programmed polyline's corner region
+    near = dist < 25.0
+    assert dist[near].min() < 20.0  # the blend passes inside the corner...
+    off_path = (p[:, 0] > 400.0 + 1e-6) & (p[:, 1] < 100.0 - 1e-6)
+    assert off_path.any() and dist[off_path].max() <= 20.0 + 1e-6  # ...within APPROX
+
+
+def test_blend_is_commanded_path_and_final_point_exact(exact_and_blended):
+    _, blended = exact_and_blended
+    rec = blended.recorded
+    # the blended corner is the commanded path: the path error stays at the IK's level
+    assert blended.report["max_path_error_mm"] < 1e-3
+    assert rec.on_path[-30:].all()
+    # the last point of the run of approximated moves is reached exactly
+    np.testing.assert_allclose(_positions_mm(blended)[-1], [600.0, 100.0, 500.0], atol=1e-6)
+    last = blended.report["approximations"]
+    assert [e["line"] for e in last] == [8]
+
+
+def test_blend_shrinks_on_a_short_segment(tmp_path):
+    run = _corner(tmp_path, 50.0, x2=430.0)  # side B is 30 mm: at most 15 mm
+    (entry,) = run.report["approximations"]
+    assert entry["limit_mm"] == pytest.approx(15.0)
+    assert entry["blended"] and 0.0 < entry["used_mm"] <= 15.0 + 1e-9
+    assert entry["note"] == "shortened to half of a neighbouring segment"
+    p = _positions_mm(run)
+    dist = np.linalg.norm(p - [400.0, 100.0, 500.0], axis=1)
+    inside = (p[:, 0] > 400.0 + 1e-6) & (p[:, 1] < 100.0 - 1e-6)
+    assert dist[inside].max() <= 15.0 + 1e-6
+    np.testing.assert_allclose(p[-1], [430.0, 100.0, 500.0], atol=1e-6)
+
+
+def test_modal_r_approx_and_path_points(tmp_path):
+    text = CORNER.replace(
+        "  MOVE LIN POSE(400, -100", "  R_APPROX := 10;\n  MOVE LIN POSE(400, -100"
+    )
+    text = text.replace(
+        "  MOVE LIN POSE({x2}, 100, 500, 0, 0, 180);",
+        "  MOVE LIN PATH (POSE(600, 100, 500, 0, 0, 180), POSE(600, 0, 500, 0, 0, 180),"
+        " POSE(500, 0, 500, 0, 0, 180)) WITH APPROX := 25;\n"
+        "  MOVE LIN POSE(500, 0, 400, 0, 0, 180) WITH APPROX := 0;",
+    )
+    run = _run(tmp_path, text.format(approx="", x2=600))
+    entries = run.report["approximations"]
+    used = {(e["line"], e["point"]): e for e in entries}
+    assert used[(9, 1)]["approx_mm"] == 10.0 and used[(9, 1)]["blended"]  # R_APPROX
+    for point in (1, 2, 3):  # every point of the PATH, the last into the next LIN
+        e = used[(10, point)]
+        assert e["blended"] and e["used_mm"] <= 25.0 + 1e-9 and e["min_speed_mm_s"] > 0
+    assert (11, 1) not in used  # APPROX := 0: exact stop, nothing to report
+    np.testing.assert_allclose(_positions_mm(run)[-1], [500.0, 0.0, 400.0], atol=1e-6)
+
+
+def test_circle_blends_with_lines(tmp_path):
+    text = CORNER.format(approx=" WITH APPROX := 20", x2=600).replace(
+        "  MOVE LIN POSE(600, 100, 500, 0, 0, 180);",
+        "  MOVE CIRCLE POSE(450, 150, 500, 0, 0, 180), POSE(500, 100, 500, 0, 0, 180)"
+        " WITH APPROX := 20;\n  MOVE LIN POSE(500, -50, 500, 0, 0, 180);",
+    )
+    run = _run(tmp_path, text)
+    entries = {e["line"]: e for e in run.report["approximations"]}
+    assert entries[8]["blended"] and entries[9]["blended"] and entries[9]["kind"] == "circle"
+    for e in entries.values():
+        assert e["max_distance_mm"] <= 20.0 + 1e-9 and e["min_speed_mm_s"] > 0.0
+
+
+PTP = """PROGRAM ptps;
+ROBOT r := panda;
+BEGIN
+  MOVE PTP (0, -30, 0, -120, 0, 90, 45);
+  R_APPROX := {approx};
+  MOVE PTP (30, -20, 0, -110, 0, 90, 45);
+  MOVE PTP (30, 0, 0, -90, 0, 90, 45);
+  MOVE PTP (0, -30, 0, -120, 0, 90, 45) WITH APPROX := 0;
+ENDPROGRAM
+"""
+
+
+def test_ptp_blend_in_joint_space(tmp_path):
+    exact = _run(tmp_path, PTP.format(approx=0), "e")
+    blended = _run(tmp_path, PTP.format(approx=40), "b")
+    entries = blended.report["approximations"]
+    assert [e["line"] for e in entries] == [6, 7] and all(e["blended"] for e in entries)
+    saved = sum(e["saved_s"] for e in entries)
+    assert saved > 0.1
+    assert exact.report["duration_s"] - blended.report["duration_s"] == pytest.approx(saved)
+    # the joint limits (robot file) still hold: speeds and accelerations of the trace
+    model = blended.model
+    for j, row in enumerate(blended.report["joints"]):
+        v_max = model.speed_limits[j, 1] * 180 / math.pi
+        a_max = model.accel_limits[j, 1] * 180 / math.pi
+        assert row["max_abs_speed"] <= v_max * (1 + 1e-6)
+        assert row["max_abs_accel"] <= a_max * (1 + 1e-6)
+    # within APPROX of each point (TCP, by forward kinematics of the trace)
+    from irlc.runtime.kinematics import Kinematics
+
+    kin = Kinematics(model)
+    p = _positions_mm(blended)
+    for e, q in zip(entries, ([30, -20, 0, -110, 0, 90, 45], [30, 0, 0, -90, 0, 90, 45])):
+        corner = kin.tcp(np.radians(q))[:3, 3] * 1000.0
+        d = np.linalg.norm(p - corner, axis=1)
+        assert d.min() > 0.0 and e["max_distance_mm"] <= 40.0 + 1e-9
+    np.testing.assert_allclose(blended.report["end_joints"], [0, -30, 0, -120, 0, 90, 45],
+                               atol=1e-9)  # fmt: skip
+
+
+def test_advance_run_stops_end_the_approximation(tmp_path):
+    text = CORNER.format(approx=" WITH APPROX := 20", x2=600).replace(
+        "  MOVE LIN POSE(600", "  WAIT 0.1 SEC;\n  MOVE LIN POSE(600"
+    )
+    run = _run(tmp_path, text)
+    (entry,) = run.report["approximations"]
+    assert not entry["blended"] and entry["note"] == "WAIT at line 9"
+    assert any("WAIT stops the advance run" in d.message for d in run.diagnostics)
+    p = _positions_mm(run)
+    assert np.linalg.norm(p - [400.0, 100.0, 500.0], axis=1).min() < 1e-6  # exact stop
+
+
+def test_joint_and_cartesian_motion_are_not_blended(tmp_path):
+    text = PTP.format(approx=40).replace(
+        "  MOVE PTP (30, 0, 0, -90, 0, 90, 45);", "  MOVE LIN POSE(400, 0, 500, 0, 0, 180);"
+    )
+    run = _run(tmp_path, text)
+    entry = run.report["approximations"][0]
+    assert entry["line"] == 6 and not entry["blended"]
+    assert "blending between joint and Cartesian motion is not done" in entry["note"]
+    assert any("joint and Cartesian motion" in d.message for d in run.diagnostics)
+
+
+def test_a_blend_the_limits_forbid_is_shortened(tmp_path):
+    """A 3R arm whose J3 is held near 0 and J2 kept in [30, 150] deg cannot bring the TCP
+    nearer than √(5 + 4·cos 150°) ≈ 1.24 m to its base: the 1 m blend of the corner
+    (1.3, 1.3) m would cut inside that circle, so it is shortened until it can be followed."""
+    text = """PROGRAM sh;
+ROBOT r := planar3;
+BEGIN
+  R_SPEED := 300;
+  MOVE PTP (-130.6, 117.87, 0);
+  JOINTLIMIT (-180, 30, -0.5), (180, 150, 0.5);
+  MOVE LIN POSE(1300, 1300, 0, 0, 0, 0) WITH APPROX := 1000;
+  MOVE LIN POSE(-1200, 1300, 0, 0, 0, 0);
+  JOINTLIMITEND;
+ENDPROGRAM
+"""
+    run = _run(tmp_path, text)
+    (entry,) = run.report["approximations"]
+    assert entry["blended"] and entry["used_mm"] < 1000.0
+    assert entry["note"].startswith("shortened: the longer blend failed")
+    q = np.degrees(run.recorded.q)
+    assert q[:, 1].min() >= 30.0 - 1e-6 and q[:, 1].max() <= 150.0 + 1e-6
+    r = np.linalg.norm(run.recorded.tcp[:, :2, 3], axis=1)
+    r_min = math.sqrt(5 + 4 * math.cos(math.radians(150)))
+    assert r.min() >= r_min * (1 - 1e-3)
+    assert run.report["max_path_error_mm"] < 0.05
+
+
+@pytest.mark.parametrize("program", ["square_limits", "square_cyclic"])
+def test_koch11_square_blended_keeps_the_limits(tmp_path, program):
+    text = (PROGRAMS / f"{program}.irl").read_text(encoding="utf-8")
+    text = text.replace("R_ACC := 2000;", "R_ACC := 2000;\n  R_APPROX := 100;")
+    if program == "square_cyclic":
+        text = text.replace("FOR lap := 1 TO 3 DO", "FOR lap := 1 TO 1 DO")
+    exact = run_file(PROGRAMS / f"{program}.irl")
+    run = _run(tmp_path, text, program, datalist_path=[PROGRAMS])
+    blended = [e for e in run.report["approximations"] if e["blended"]]
+    assert blended and all(e["used_mm"] <= 100.0 + 1e-9 for e in blended)
+    if program == "square_limits":
+        assert run.report["duration_s"] < exact.report["duration_s"]
+    data = tomllib.loads((PROGRAMS.parent / "robots/datalists/koch11_ch6.toml").read_text())
+    lo, hi = data["limits"]["jmin_base"]["values"], data["limits"]["jmax_base"]["values"]
+    for j, row in enumerate(run.report["joints"]):
+        assert lo[j] - 1e-6 <= row["min"] and row["max"] <= hi[j] + 1e-6, row["name"]
+    assert run.report["max_path_error_mm"] <= 0.05
+
+
+def test_overlap_choice_closed_form():
+    """Two perpendicular unit-acceleration ramps: a_i = i²/2 along −y, b_j = j²/2 along +x
+    (cycles of 1 s); the largest m with m²/2 ≤ d and the half-way distance ≤ d."""
+    i = np.arange(0, 11, dtype=float)
+    a = np.column_stack((0 * i, -(i**2) / 2, 0 * i))
+    b = np.column_stack((i**2 / 2, 0 * i, 0 * i))
+    o = choose_overlap(a, b, 20.0)
+    assert o.cycles == 6 and o.used == 18.0  # 6²/2 = 18 ≤ 20 < 7²/2
+    assert o.max_distance == 18.0
+    assert choose_overlap(a, b, 0.0).cycles == 0
+    assert limit_distance(0.05, 0.03, 1.0) == 0.015
+    assert tail_cycles([0.0, 1.0, 2.0, 5.0, 1.0], 2.5) == 2
+
+
+def test_foreign_approximation_words_get_the_hint(tmp_path):
+    for statement in ("MOVE LIN p C_DIS;", "MOVE LIN p WITH ZONE := 5;", "MOVE LIN p, z50;",
+                      "MOVE PTP p C_PTP;", "MOVE LIN p WITH C_VEL := 5;"):  # fmt: skip
+        path = tmp_path / "h.irl"
+        path.write_text(
+            "PROGRAM h;\nROBOT r := panda;\nVAR POSE: p;\nBEGIN\n"
+            f"  p := POSE(400, 0, 500, 0, 0, 180);\n  {statement}\nENDPROGRAM\n",
+            encoding="utf-8",
+        )
+        with pytest.raises(CompileError) as info:
+            run_file(path)
+        (diag,) = info.value.diagnostics
+        assert diag.span.line == 6, statement
+        assert "approximate positioning is written WITH APPROX := mm" in (diag.hint or "")
