@@ -78,7 +78,7 @@ def test_corner_blend_closed_form(exact_and_blended):
     k = int(np.argmin(dist))
     half = A * t_blend**2 / 8
     assert dist[k] == pytest.approx(math.sqrt(2) * half, abs=1e-3)
-    np.testing.assert_allclose(p[k], corner + [half, -half, 0.0], atol=1e-3)
+    np.testing.assert_allclose(p[k], corner + np.array([half, -half, 0.0]), atol=1e-3)
     # speed there a·T/√2 (not zero)
     t = blended.recorded.times
     speed = np.linalg.norm(np.diff(p, axis=0), axis=1) / np.diff(t)
@@ -187,10 +187,18 @@ def test_ptp_blend_in_joint_space(tmp_path):
 
     kin = Kinematics(model)
     p = _positions_mm(blended)
-    for e, q in zip(entries, ([30, -20, 0, -110, 0, 90, 45], [30, 0, 0, -90, 0, 90, 45])):
+    t = blended.recorded.times
+    points = ([30, -20, 0, -110, 0, 90, 45], [30, 0, 0, -90, 0, 90, 45])
+    for e, q in zip(entries, points, strict=True):
         corner = kin.tcp(np.radians(q))[:3, 3] * 1000.0
         d = np.linalg.norm(p - corner, axis=1)
-        assert d.min() > 0.0 and e["max_distance_mm"] <= 40.0 + 1e-9
+        # the blend: from its start sample (on A, used_mm before the point) to B
+        window = (t > e["start_s"] - 1e-9) & (t <= e["start_s"] + e["cycles"] * 0.01 + 1e-9)
+        assert window.sum() == e["cycles"] + 1
+        assert d[window].max() <= 40.0 + 1e-9 and d[window].max() == pytest.approx(
+            e["max_distance_mm"], abs=1e-6
+        )
+        assert d.min() > 1.0  # the point itself is not visited: the corner is cut
     np.testing.assert_allclose(blended.report["end_joints"], [0, -30, 0, -120, 0, 90, 45],
                                atol=1e-9)  # fmt: skip
 
