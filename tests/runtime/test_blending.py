@@ -300,3 +300,44 @@ def test_foreign_approximation_words_get_the_hint(tmp_path):
         (diag,) = info.value.diagnostics
         assert diag.span.line == 6, statement
         assert "approximate positioning is written WITH APPROX := mm" in (diag.hint or "")
+
+
+DRIVES = """PROGRAM dc;
+ROBOT r := irb6_track;
+VAR
+  POSE: goal, third;
+BEGIN
+  goal := (-653.063, 934.597, 400, 135, 0, -90);
+  third := (-700, 1100, 400, 135, 0, -90);
+  MOVE PTP (400, 90, 0, 0, -45, 0);
+  MOVE LIN goal WITH SPEED := 60 WITH ACC := 250{approx};
+  MOVE LIN third WITH SPEED := 60 WITH ACC := 250;
+  WAIT 0.6 SEC;
+ENDPROGRAM
+"""
+
+
+def test_drives_judge_the_blended_path_as_commanded(tmp_path):
+    """With simulated drives the contour error is measured against the blended corner:
+    cutting the corner by ~10 mm is no path error (the error stays that of the drives)."""
+    runs = [
+        run_file(
+            _write(tmp_path, DRIVES.format(approx=a), f"d{i}"),
+            drives="decoupled",
+            path_tolerance=100.0,
+        )
+        for i, a in enumerate(("", " WITH APPROX := 10"))
+    ]
+    exact, blended = (r.report for r in runs)
+    (entry,) = blended["approximations"]
+    assert entry["blended"] and entry["used_mm"] > 5.0
+    # the programmed corner is ~used/√2 mm away from the blended path at its middle
+    assert blended["max_path_error_mm"] < exact["max_path_error_mm"] + 0.2
+    assert blended["max_path_error_mm"] < 0.5 * entry["used_mm"]
+    assert blended["duration_s"] < exact["duration_s"]
+
+
+def _write(tmp_path: Path, text: str, name: str) -> Path:
+    path = tmp_path / f"{name}.irl"
+    path.write_text(text, encoding="utf-8")
+    return path
