@@ -160,5 +160,9 @@ def _is_name(e: ast.Expr, name: str) -> bool:
 
 def _nonzero(e: ast.Expr) -> bool:
     """A constant 0 switches approximation off; anything else (a non-constant) on."""
-    value = e.const if e.const is not None else (e.value if isinstance(e, ast.Num) else None)
-    return not (isinstance(value, int | float) and value == 0)
+    const = getattr(e, "const", None)  # a folded constant: irdata.Value(type, (v,))
+    data = getattr(const, "data", None)
+    value = data[0] if isinstance(data, tuple) and len(data) == 1 else None
+    if value is None and isinstance(e, ast.Num):
+        value = e.value
+    return not (isinstance(value, int | float) and not isinstance(value, bool) and value == 0)
