@@ -18,6 +18,13 @@ exceeds the path tolerance ``R_PATH_TOL`` (start value ``tol_position``, 0.05 mm
 the line, the time and the binding constraint. Never a silent zero step: an unconverged
 cycle is treated the same way.
 
+**Approximate positioning** (``APPROX``, :mod:`~irlc.runtime.blending`). A segment whose
+point is approximated runs up to its last cycles within ``APPROX`` of the point and stays
+*pending*; the next segment is planned from that point and superposed on the pending
+tail (:meth:`SimulatedController._blend`). Statements that stop the advance run call
+:meth:`SimulatedController.flush` (exact stop). The report's ``approximations`` is
+:attr:`SimulatedController.blends`.
+
 **RECONFIGURATION k** (self-motion). The reference moves from the current configuration
 to ``k`` along a synchronised joint profile (PTP timing under the active limits and
 ``R_SPEED_PTP``/``R_ACC_PTP``) while the TCP is held; after the profile ends the

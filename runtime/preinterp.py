@@ -21,8 +21,9 @@ For each :class:`~irlc.runtime.controller.MotionCommand` it resolves
     time is the larger of the two times (orientation only counts when the robot's task
     controls it: not for a planar arm whose task is x, y);
   - CIRCLE: the same on the arc length and the start → target orientation angle;
-  - several LIN points / LIN PATH: consecutive segments, each stopping at its point
-    (no blending); ``WITH TIME`` is split over them in proportion to their minimum times;
+  - several LIN points / LIN PATH: consecutive segments, each profiled to stop at its
+    point (approximate positioning superposes them in the executor: :mod:`blending`);
+    ``WITH TIME`` is split over them in proportion to their minimum times;
   - ``WITH TIME t``: the profile is stretched to ``t``; shorter than the limits allow is
     a RunFailure.
 
