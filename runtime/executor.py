@@ -205,7 +205,7 @@ class SimulatedController:
         reserve = 0
         if approx > 0.0:
             d_own = limit_distance(approx, length, length)
-            reserve = tail_cycles(self._remaining(run, seg.cycles + 1), d_own)
+            reserve = tail_cycles(self._remaining(run, d_own), d_own)
         pending, self._pending = self._pending, None
         if pending is not None:
             overlap = self._blend(pending, run, length, reserve)
@@ -260,17 +260,16 @@ class SimulatedController:
             return float(np.linalg.norm(tcp(seg.path.q1)[:3, 3] - tcp(seg.path.q0)[:3, 3]))
         return float(getattr(seg.path, "length", 0.0))
 
-    def _remaining(self, run: _SegmentRun, count: int) -> list[float]:
-        """TCP distance to the segment's end ``i`` cycles before it, ``i = 0 … count−1``
-        (stops early once it exceeds half the segment)."""
+    def _remaining(self, run: _SegmentRun, d: float) -> list[float]:
+        """TCP distance to the segment's end ``i`` cycles before it, ``i = 0, 1, …``,
+        until it exceeds ``d``."""
         seg = run.seg
         end = self._seg_point(run, seg.cycles)
         out = []
-        half = 0.5 * self._seg_length(run) + 1e-12
-        for i in range(min(count, seg.cycles + 1)):
+        for i in range(seg.cycles + 1):
             dist = float(np.linalg.norm(self._seg_point(run, seg.cycles - i) - end))
             out.append(dist)
-            if dist > half:
+            if dist > d:
                 break
         return out
 
@@ -304,12 +303,16 @@ class SimulatedController:
             q1 = seg_a.path.q1
             qa = np.array([seg_a.setpoint(corner_k - i, a_run.dt)[1] - q1 if corner_k - i > 0
                            else seg_a.path.q0 - q1 for i in range(m_a + 1)])  # fmt: skip
-            qb = np.array([seg_b.setpoint(j, run.dt)[1] - q1 if j > 0 else 0.0 * q1
-                           for j in range(m_b + 1)])  # fmt: skip
             tcp = run.solver.kin.tcp
             p1 = tcp(q1)[:3, 3]
             a = np.array([tcp(q1 + x)[:3, 3] - p1 for x in qa])
-            b = np.array([tcp(q1 + x)[:3, 3] - p1 for x in qb])
+            qb_list, b_list = [0.0 * q1], [0.0 * p1]
+            for j in range(1, m_b + 1):  # B's start, until 2 cycles beyond d (limits check)
+                qb_list.append(seg_b.setpoint(j, run.dt)[1] - q1)
+                b_list.append(tcp(q1 + qb_list[-1])[:3, 3] - p1)
+                if len(b_list) > 3 and min(np.linalg.norm(x) for x in b_list[-3:]) > d:
+                    break
+            qb, b = np.array(qb_list), np.array(b_list)
             far: dict[int, float] = {}
 
             def check(m: int) -> bool:
@@ -327,8 +330,12 @@ class SimulatedController:
             return overlap
         corner = seg_a.path.at(1.0)[:3, 3]
         a = np.array([self._seg_point(a_run, corner_k - i) - corner for i in range(m_a + 1)])
-        b = np.array([self._seg_point(run, j) - corner for j in range(m_b + 1)])
-        return choose_overlap(a, b, d)
+        b_list = [0.0 * corner]
+        for j in range(1, m_b + 1):  # B's start, until it is farther than d
+            b_list.append(self._seg_point(run, j) - corner)
+            if np.linalg.norm(b_list[-1]) > d:
+                break
+        return choose_overlap(a, np.array(b_list), d)
 
     def reconfigure(
         self, target: JointTuple, line: int, settings: Settings, options: ModalOptions
