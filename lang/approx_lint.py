@@ -9,8 +9,6 @@ statements stop it, so the approximated point before them is reached with an exa
 * reading an input ``IN[n]`` (e.g. ``IF IN[1] THEN``) or ``R_ACT_POSE`` / ``R_ACT_JOINT``;
 * ``RECONFIGURATION``, and switching an option on or off (JOINTLIMIT …, CYCLIC,
   OBSTACLE, FREEZE);
-* a motion of the other family (PTP after LIN/CIRCLE or the reverse: joint and
-  Cartesian motion are not blended);
 * the end of the program (for an explicit ``WITH APPROX`` on the last motion).
 
 Writing a signal or WRITE does not stop it. The walk follows the statements in source
@@ -27,8 +25,6 @@ from dataclasses import dataclass, fields
 
 from irlc.lang import ast
 
-_PTP = ("PTP", "PTPINC")
-
 
 @dataclass
 class _Approximated:
@@ -43,7 +39,7 @@ def approx_warnings(body: list[ast.Stmt]) -> list[tuple[ast.Node, str, str]]:
     pending: _Approximated | None = None
     for s in _in_order(body):
         if pending is not None:
-            why = _stops(s, pending.move)
+            why = _stops(s)
             if why:
                 out.append(_warning(s, pending.move, why))
                 pending = None
@@ -75,8 +71,8 @@ def _approximated(m: ast.Move, modal: bool) -> _Approximated | None:
     return _Approximated(m, False) if modal else None
 
 
-def _stops(s: ast.Stmt, move: ast.Move) -> str | None:
-    """Why ``s`` stops the advance run after the approximated ``move`` (None: it does
+def _stops(s: ast.Stmt) -> str | None:
+    """Why ``s`` stops the advance run after an approximated motion (None: it does
     not)."""
     name = type(s).__name__
     if isinstance(s, ast.Wait | ast.WaitFor | ast.Pause | ast.Halt):
@@ -85,8 +81,6 @@ def _stops(s: ast.Stmt, move: ast.Move) -> str | None:
         return "RECONFIGURATION"
     if isinstance(s, ast.ModalOn | ast.ModalOff):
         return f"switching {s.option} {'on' if isinstance(s, ast.ModalOn) else 'off'}"
-    if isinstance(s, ast.Move) and (s.kind in _PTP) != (move.kind in _PTP):
-        return f"MOVE {s.kind} after MOVE {move.kind} (joint and Cartesian motion)"
     for e in _own_exprs(s):
         for node in _walk(e):
             if isinstance(node, ast.Input):

@@ -38,7 +38,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from irlc.robots.model import RobotModel
@@ -151,10 +151,16 @@ class SimulatedController:
         self.recorder.tol_position = settings.path_tol * units.MM  # R_PATH_TOL
         solver = self._solver(settings)
         approx = self._approx(cmd, settings)
-        context = (cmd.kind in ("PTP", "PTPINC"), options, solver.kin.tool.tobytes(),
-                   base_transform(settings).tobytes(), self._dt(settings))  # fmt: skip
+        context = (options, solver.kin.tool.tobytes(), base_transform(settings).tobytes(),
+                   self._dt(settings))  # fmt: skip
         if self._pending is not None and self._pending.context != context:
             self.flush(self._pending_reason(cmd, context))
+        joint = cmd.kind in ("PTP", "PTPINC")
+        if self._pending is not None and joint and not self._pending.run.seg.is_joint:
+            try:  # LIN/CIRCLE → PTP: plan the PTP from the Cartesian segment's end joints
+                self._joint_chain(self._pending)
+            except RunFailure:  # it cannot be followed: run it (and fail) at its own line
+                self.flush("the motion before cannot be followed")
         state = self._plan_state(settings, solver)
         self._settings = settings
         segments = self.pre.plan(cmd, settings, options, state)
@@ -188,12 +194,6 @@ class SimulatedController:
     def _pending_reason(self, cmd: MotionCommand, context) -> str:
         old = self._pending.context if self._pending is not None else context
         if old[0] != context[0]:
-            kinds = ("LIN/CIRCLE", "PTP")
-            return (
-                f"MOVE {cmd.kind} at line {cmd.line} follows a {kinds[old[0]]} motion: "
-                "blending between joint and Cartesian motion is not done (exact stop)"
-            )
-        if old[1] != context[1]:
             return f"the options changed before line {cmd.line} (exact stop)"
         return f"R_TOOL, R_BASE or R_IPO changed before line {cmd.line} (exact stop)"
 
@@ -299,43 +299,48 @@ class SimulatedController:
                 pending.limit_reason = "a neighbouring segment has no TCP path length"
             return NO_OVERLAP
         corner_k = seg_a.cycles
-        if seg_a.is_joint:
-            q1 = seg_a.path.q1
-            qa = np.array([seg_a.setpoint(corner_k - i, a_run.dt)[1] - q1 if corner_k - i > 0
-                           else seg_a.path.q0 - q1 for i in range(m_a + 1)])  # fmt: skip
-            tcp = run.solver.kin.tcp
-            p1 = tcp(q1)[:3, 3]
-            a = np.array([tcp(q1 + x)[:3, 3] - p1 for x in qa])
-            qb_list, b_list = [0.0 * q1], [0.0 * p1]
-            for j in range(1, m_b + 1):  # B's start, until 2 cycles beyond d (limits check)
-                qb_list.append(seg_b.setpoint(j, run.dt)[1] - q1)
-                b_list.append(tcp(q1 + qb_list[-1])[:3, 3] - p1)
-                if len(b_list) > 3 and min(np.linalg.norm(x) for x in b_list[-3:]) > d:
-                    break
-            qb, b = np.array(qb_list), np.array(b_list)
-            far: dict[int, float] = {}
-
-            def check(m: int) -> bool:
-                j = np.arange(1, m + 1)
-                blended = q1 + qa[m - j] + qb[j]
-                dist = max(float(np.linalg.norm(tcp(q)[:3, 3] - p1)) for q in blended)
-                far[m] = dist
-                return dist <= d + 1e-12 and self._joint_blend_ok(pending, run, qa, qb, q1, m)
-
-            overlap = choose_overlap(a, b, d, check, superposed=False)
-            if overlap.cycles:
-                overlap = dataclasses.replace(
-                    overlap, max_distance=max(overlap.max_distance, far[overlap.cycles])
-                )
-            return overlap
-        corner = seg_a.path.at(1.0)[:3, 3]
-        a = np.array([self._seg_point(a_run, corner_k - i) - corner for i in range(m_a + 1)])
+        if seg_b.is_joint:
+            return self._joint_overlap(pending, run, m_a, m_b, d)
+        corner = self._a_pose(pending, corner_k)[:3, 3]
+        a = np.array([self._a_pose(pending, corner_k - i)[:3, 3] - corner for i in range(m_a + 1)])
         b_list = [0.0 * corner]
         for j in range(1, m_b + 1):  # B's start, until it is farther than d
             b_list.append(self._seg_point(run, j) - corner)
             if np.linalg.norm(b_list[-1]) > d:
                 break
         return choose_overlap(a, np.array(b_list), d)
+
+    def _joint_overlap(self, pending: _Pending, run: _SegmentRun, m_a: int, m_b: int, d: float):
+        """The overlap into a PTP segment: joints superposed, TCP distances by FK, the
+        joint limits of both segments checked (:meth:`_joint_blend_ok`)."""
+        seg_b, big_k = run.seg, pending.run.seg.cycles
+        q1 = self._a_joints(pending, big_k)
+        qa = np.array([self._a_joints(pending, big_k - i) - q1 for i in range(m_a + 1)])
+        tcp = run.solver.kin.tcp
+        p1 = tcp(q1)[:3, 3]
+        a = np.array([tcp(q1 + x)[:3, 3] - p1 for x in qa])
+        qb_list, b_list = [0.0 * q1], [0.0 * p1]
+        for j in range(1, m_b + 1):  # B's start, until 2 cycles beyond d (limits check)
+            qb_list.append(seg_b.setpoint(j, run.dt)[1] - q1)
+            b_list.append(tcp(q1 + qb_list[-1])[:3, 3] - p1)
+            if len(b_list) > 3 and min(np.linalg.norm(x) for x in b_list[-3:]) > d:
+                break
+        qb, b = np.array(qb_list), np.array(b_list)
+        far: dict[int, float] = {}
+
+        def check(m: int) -> bool:
+            j = np.arange(1, m + 1)
+            blended = q1 + qa[m - j] + qb[j]
+            dist = max(float(np.linalg.norm(tcp(q)[:3, 3] - p1)) for q in blended)
+            far[m] = dist
+            return dist <= d + 1e-12 and self._joint_blend_ok(pending, run, qa, qb, q1, m)
+
+        overlap = choose_overlap(a, b, d, check, superposed=False)
+        if overlap.cycles:
+            overlap = dataclasses.replace(
+                overlap, max_distance=max(overlap.max_distance, far[overlap.cycles])
+            )
+        return overlap
 
     def reconfigure(
         self, target: JointTuple, line: int, settings: Settings, options: ModalOptions
@@ -465,25 +470,28 @@ class SimulatedController:
 
     def _blend_cycles(self, pending: _Pending, run: _SegmentRun, m: int) -> None:
         """The ``m`` overlapping cycles of the pending segment's end and the next
-        segment's start (blending.py); the samples carry the next statement's line."""
+        segment's start (blending.py); the samples carry the next statement's line. Into
+        a PTP segment the joints are superposed and set directly; into a Cartesian one
+        the poses (a PTP's by forward kinematics) are, followed by the inverse
+        transformation."""
         a_run = pending.run
-        seg_a, seg_b, dt = a_run.seg, run.seg, run.dt
-        big_k = seg_a.cycles
+        seg_b, dt = run.seg, run.dt
+        big_k = a_run.seg.cycles
         self._start(run)
         self._active_obstacles = run.obstacles
         k0 = len(self.recorder)
-        if seg_a.is_joint:
-            q1 = seg_a.path.q1
+        if seg_b.is_joint:
+            q1 = self._a_joints(pending, big_k)
             for j in range(1, m + 1):
-                qa = seg_a.setpoint(big_k - m + j, dt)[1]
+                qa = self._a_joints(pending, big_k - m + j)
                 _, qb = seg_b.setpoint(j, dt)
                 self._joint_cycle(seg_b, blend_joints(qa, qb, q1), j, 0.0, dt, run.solver, False)
             self._last_reference = None
         else:
-            corner = seg_a.path.at(1.0)
+            corner = self._a_pose(pending, big_k)
             opts, reference = run.cycle_opts, run.reference
             for j in range(1, m + 1):
-                xa = seg_a.setpoint(big_k - m + j, dt)[1]
+                xa = self._a_pose(pending, big_k - m + j)
                 s, xb = seg_b.setpoint(j, dt)
                 if reference is not None:
                     opts.reference = reference.at(s)
@@ -495,6 +503,44 @@ class SimulatedController:
             speeds = np.linalg.norm(np.diff(tcp, axis=0), axis=1) / dt
             pending.min_speed = float(speeds.min()) if speeds.size else 0.0
             pending.start_time = float(self.recorder._times[max(k0 - 1, 0)])
+
+    def _a_joints(self, pending: _Pending, k: int) -> np.ndarray:
+        """Joints of the pending segment at its cycle ``k``: a PTP's setpoint, else the
+        inverse transformation's (:meth:`_joint_chain`)."""
+        seg = pending.run.seg
+        if seg.is_joint:
+            return seg.setpoint(k, pending.run.dt)[1] if k > 0 else seg.path.q0
+        return pending.chain[k]
+
+    def _a_pose(self, pending: _Pending, k: int) -> np.ndarray:
+        """World TCP pose of the pending segment at its cycle ``k`` (a PTP's by FK)."""
+        seg = pending.run.seg
+        if seg.is_joint:
+            return pending.run.solver.kin.tcp(self._a_joints(pending, k))
+        return seg.setpoint(k, pending.run.dt)[1] if k > 0 else seg.path.at(0.0)
+
+    def _joint_chain(self, pending: _Pending) -> None:
+        """The joints the inverse transformation will give for the pending Cartesian
+        segment's remaining cycles (it is deterministic: the same steps from the same
+        state), so that a PTP can be planned from its end and blended in joint space."""
+        run = pending.run
+        seg, dt = run.seg, run.dt
+        self._start(run)
+        opts, reference = run.cycle_opts, run.reference
+        saved = opts.reference
+        q, q_prev = self.q.copy(), self.q_prev.copy()
+        chain = {run.done: q}
+        try:
+            for k in range(run.done + 1, seg.cycles + 1):
+                s, target = seg.setpoint(k, dt)
+                if reference is not None:
+                    opts.reference = reference.at(s)
+                res = run.solver.ik.step(q, q_prev, target, dt, opts)
+                q_prev, q = q, res.q
+                chain[k] = q
+        finally:
+            opts.reference = saved
+        pending.chain = chain
 
     def _joint_blend_ok(self, pending, run, qa, qb, q1, m: int) -> bool:
         """Joint blend ``m`` within the position, speed and acceleration limits of both
@@ -693,12 +739,15 @@ class SimulatedController:
     def _plan_state(self, settings: Settings, solver: _Solver) -> PlanState:
         """Where the next motion starts: here, or at the pending segment's point."""
         q, tcp = self.q.copy(), None
-        if self._pending is not None:
-            seg = self._pending.run.seg
+        pending = self._pending
+        if pending is not None:
+            seg = pending.run.seg
             if seg.is_joint:
                 q = seg.path.q1.copy()
             else:
                 tcp = seg.path.at(1.0).copy()
+                if pending.chain:  # LIN/CIRCLE → PTP: its end joints (_joint_chain)
+                    q = pending.chain[seg.cycles].copy()
         if tcp is None:
             tcp = solver.kin.tcp(q)
         return PlanState(q, tcp, self._dt(settings), base_transform(settings))
@@ -751,6 +800,7 @@ class _Pending:
     limit: float = 0.0  # m, d = min(APPROX, L_A/2, L_B/2)
     limit_reason: str = ""
     min_speed: float = 0.0  # m/s, lowest TCP speed during the blend
+    chain: dict = field(default_factory=dict)  # cycle → joints (Cartesian A before a PTP)
     start_time: float = 0.0  # s, the blend's first sample's predecessor
 
     def entry(self, overlap: Overlap | None, dt: float, reason: str) -> dict:

@@ -215,15 +215,48 @@ def test_advance_run_stops_end_the_approximation(tmp_path):
     assert np.linalg.norm(p - [400.0, 100.0, 500.0], axis=1).min() < 1e-6  # exact stop
 
 
-def test_joint_and_cartesian_motion_are_not_blended(tmp_path):
-    text = PTP.format(approx=40).replace(
-        "  MOVE PTP (30, 0, 0, -90, 0, 90, 45);", "  MOVE LIN POSE(400, 0, 500, 0, 0, 180);"
-    )
-    run = _run(tmp_path, text)
-    entry = run.report["approximations"][0]
-    assert entry["line"] == 6 and not entry["blended"]
-    assert "blending between joint and Cartesian motion is not done" in entry["note"]
-    assert any("joint and Cartesian motion" in d.message for d in run.diagnostics)
+MIXED = """PROGRAM mx;
+ROBOT r := panda;
+BEGIN
+  R_SPEED := 250;
+  MOVE PTP (0, -30, 0, -120, 0, 90, 45);
+  R_APPROX := {approx};
+  MOVE PTP (20, -20, 0, -110, 0, 90, 45);
+  MOVE LIN POSE(450, 100, 500, 0, 0, 180);
+  MOVE LIN POSE(450, -100, 500, 0, 0, 180);
+  MOVE PTP (-10, -30, 0, -120, 0, 90, 45);
+  MOVE CIRCLE POSE(400, 50, 450, 0, 0, 180), POSE(350, 0, 500, 0, 0, 180);
+  MOVE PTP (0, -30, 0, -120, 0, 90, 45) WITH APPROX := 0;
+ENDPROGRAM
+"""
+
+
+def test_joint_and_cartesian_motion_blend_into_each_other(tmp_path):
+    """PTP → LIN, LIN → LIN, LIN → PTP, PTP → CIRCLE, CIRCLE → PTP: every point blended,
+    within APPROX, not stopping, the Cartesian parts still on their path, shorter."""
+    exact = _run(tmp_path, MIXED.format(approx=0), "e")
+    run = _run(tmp_path, MIXED.format(approx=30), "b")
+    entries = run.report["approximations"]
+    assert [(e["line"], e["kind"]) for e in entries] == [
+        (7, "ptp"), (8, "lin"), (9, "lin"), (10, "ptp"), (11, "circle")
+    ]  # fmt: skip
+    for e in entries:
+        assert e["blended"] and e["max_distance_mm"] <= 30.0 + 1e-9
+        assert e["min_speed_mm_s"] > 5.0
+    # shorter (not by exactly the overlaps: the redundant arm reaches the LIN's end in
+    # another configuration after a blend, so the next PTP's time differs)
+    assert run.report["duration_s"] < exact.report["duration_s"] - 0.5
+    assert run.report["max_path_error_mm"] < 1e-3
+    np.testing.assert_allclose(run.report["end_joints"], [0, -30, 0, -120, 0, 90, 45],
+                               atol=1e-9)  # fmt: skip
+    assert not run.diagnostics  # nothing stops the advance run here
+    model = run.model
+    for j, row in enumerate(run.report["joints"]):  # the robot's limits hold
+        assert row["max_abs_speed"] <= math.degrees(model.speed_limits[j, 1]) * (1 + 1e-6)
+        assert row["max_abs_accel"] <= math.degrees(model.accel_limits[j, 1]) * (1 + 1e-6)
+    # the trace has no jump: TCP steps stay below the largest programmed speed's step
+    p = _positions_mm(run)
+    assert np.linalg.norm(np.diff(p, axis=0), axis=1).max() < 0.01 * 1000.0
 
 
 def test_a_blend_the_limits_forbid_is_shortened(tmp_path):
