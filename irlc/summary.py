@@ -90,6 +90,9 @@ def overview_table(report: dict) -> Table:
             f"min clearance {_num(o.get('min_distance_mm'), '.1f')} mm"
             + (f" at t = {o['at_time_s']:.2f} s" if o.get("at_time_s") is not None else ""),
         )
+    approximated = _approximations(report)
+    if approximated:
+        table.add_row("approximated points", approximated)
     drives = report.get("drives_summary")
     if drives:
         table.add_row(
@@ -108,6 +111,30 @@ def overview_table(report: dict) -> Table:
         where = f"line {error.get('line')}, t = {_num(error.get('time_s'), '.3f')} s"
         table.add_row("error", Text(f"{where}: {error['message']}", style="red"))
     return table
+
+
+def _approximations(report: dict) -> str:
+    """``5 blended (used 38.1–40 mm, saved 1.0 s), 1 exact stop (line 17: the program
+    ends)``; empty without approximate positioning."""
+    entries = report.get("approximations") or []
+    if not entries:
+        return ""
+    blended = [e for e in entries if e["blended"]]
+    parts = []
+    if blended:
+        used = [e["used_mm"] for e in blended]
+        saved = sum(e["saved_s"] for e in blended)
+        span = f"{min(used):.3g}–{max(used):.3g}" if min(used) != max(used) else f"{used[0]:.3g}"
+        parts.append(f"{len(blended)} blended (used {span} mm, saved {saved:.3g} s)")
+    stops = [e for e in entries if not e["blended"]]
+    if stops:
+        first = stops[0]
+        more = f" and {len(stops) - 1} more" if len(stops) > 1 else ""
+        parts.append(
+            f"{len(stops)} exact stop{'s' if len(stops) > 1 else ''} "
+            f"(line {first['line']}: {first['note']}{more})"
+        )
+    return ", ".join(parts)
 
 
 def _path_error(report: dict) -> str:

@@ -374,3 +374,11 @@ def _write(tmp_path: Path, text: str, name: str) -> Path:
     path = tmp_path / f"{name}.irl"
     path.write_text(text, encoding="utf-8")
     return path
+
+
+def test_summary_lists_the_approximated_points(exact_and_blended):
+    from irlc.summary import _approximations
+
+    exact, blended = exact_and_blended
+    assert _approximations(exact.report) == ""
+    assert _approximations(blended.report) == "1 blended (used 20 mm, saved 0.2 s)"
