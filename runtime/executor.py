@@ -482,6 +482,8 @@ class SimulatedController:
         k0 = len(self.recorder)
         if seg_b.is_joint:
             q1 = self._a_joints(pending, big_k)
+            if pending.chain and m:
+                self._check_chain(pending, big_k - m, seg_b.line)
             for j in range(1, m + 1):
                 qa = self._a_joints(pending, big_k - m + j)
                 _, qb = seg_b.setpoint(j, dt)
@@ -503,6 +505,16 @@ class SimulatedController:
             speeds = np.linalg.norm(np.diff(tcp, axis=0), axis=1) / dt
             pending.min_speed = float(speeds.min()) if speeds.size else 0.0
             pending.start_time = float(self.recorder._times[max(k0 - 1, 0)])
+
+    def _check_chain(self, pending: _Pending, k: int, line: int) -> None:
+        """The joints computed ahead for a Cartesian segment are those it reached (the
+        inverse transformation is deterministic); a difference would be a jump."""
+        gap = float(np.max(np.abs(self.q - pending.chain[k])))
+        if gap > 1e-9:
+            self.recorder.warnings.append(
+                f"line {line}: the blend into the PTP starts {gap:.3g} (rad | m) away from "
+                "the joints computed ahead for the motion before it"
+            )
 
     def _a_joints(self, pending: _Pending, k: int) -> np.ndarray:
         """Joints of the pending segment at its cycle ``k``: a PTP's setpoint, else the
