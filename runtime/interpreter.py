@@ -1068,6 +1068,7 @@ class Interpreter:
 
     def _op_opton(self, args) -> None:
         option, rest = args[0], args[1:]
+        self._stop_advance(f"{option} switched on at line {self._line()}")
         opts = self.state.options
         if option in _LIMIT_OPTIONS:
             hi = self.stack.pop()
@@ -1122,6 +1123,7 @@ class Interpreter:
 
     def _op_optoff(self, args) -> None:
         option, rest = args[0], args[1:]
+        self._stop_advance(f"{option} switched off at line {self._line()}")
         opts = self.state.options
         if option in _LIMIT_OPTIONS:
             attr = _LIMIT_OPTIONS[option][0]

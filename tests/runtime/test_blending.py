@@ -382,3 +382,25 @@ def test_summary_lists_the_approximated_points(exact_and_blended):
     exact, blended = exact_and_blended
     assert _approximations(exact.report) == ""
     assert _approximations(blended.report) == "1 blended (used 20 mm, saved 0.2 s)"
+
+
+@pytest.mark.parametrize(
+    "program", ["planar4_obstacle", "combined", "mobile8_freeze", "planar3_cyclic"]
+)
+def test_every_option_program_runs_blended_and_shorter(tmp_path, program):
+    """R_APPROX := 50 at the start of the chapter programs with OBSTACLE, FREEZE, CYCLIC,
+    RECONFIGURATION and the limit sets: still ok (every option and limit held by the
+    inverse transformation), shorter, and switching an option ends the approximation."""
+    text = (PROGRAMS / f"{program}.irl").read_text(encoding="utf-8")
+    i = text.rindex("BEGIN") + len("BEGIN")
+    run = _run(tmp_path, text[:i] + "\n  R_APPROX := 50;" + text[i:], program,
+               datalist_path=[PROGRAMS])  # fmt: skip
+    exact = run_file(PROGRAMS / f"{program}.irl")
+    entries = run.report["approximations"]
+    assert any(e["blended"] for e in entries)
+    assert run.report["duration_s"] < exact.report["duration_s"]
+    assert run.report["max_path_error_mm"] <= 0.05
+    for e in entries:
+        assert e["blended"] or e["note"], e  # an exact stop always says why
+    for name, o in run.report["obstacles"].items():
+        assert o["min_distance_mm"] >= min(0.0, exact.report["obstacles"][name]["min_distance_mm"])
