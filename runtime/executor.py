@@ -27,7 +27,6 @@ seconds (a warning).
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -37,13 +36,15 @@ from irlc.robots.model import RobotModel
 from irlc.runtime import spatial, units
 from irlc.runtime.controller import ModalOptions, MotionCommand, Settings, setting_error
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.ik import cause
 from irlc.runtime.ik.freeze import FrozenJoints
 from irlc.runtime.ik.newton import InverseTransformation
 from irlc.runtime.ik.params import CycleOptions, IKParams
-from irlc.runtime.ik.pose import solve_pose
+from irlc.runtime.ik.reach import Reach, check_targets, unreachable_failure
 from irlc.runtime.ik.self_motion import reconfiguration_done
 from irlc.runtime.interpolator import JointLine, ReferencePath, Segment
 from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.naming import JointNaming
 from irlc.runtime.preinterp import (
     Limits3,
     PlanState,
@@ -85,13 +86,16 @@ class SimulatedController:
         obstacles: dict[str, object] | None = None,
         options: ExecutionOptions | None = None,
         progress: Callable[[float, int], None] | None = None,
+        naming: JointNaming | None = None,
     ):
         self.model = model
+        self.naming = naming or JointNaming.for_model(model)  # joints in failure messages
         self.opts = options or ExecutionOptions()
         self.ik_params = self.opts.ik or IKParams.for_robot(model)
         self.obstacles = dict(obstacles or {})
         self.recorder = Recorder(model.n, tuple(self.obstacles), self.ik_params.task_rows)
         self.pre = PreInterpolator(model, self._solve_pose, self.ik_params.task_rows)
+        self.pre.naming = self.naming
         self.progress = progress
         self.scale = units.joint_scale(model.joint_kinds)
         self._solvers: dict[bytes, _Solver] = {}
@@ -128,6 +132,10 @@ class SimulatedController:
         state = self._plan_state(settings, solver)
         self._settings = settings
         segments = self.pre.plan(cmd, settings, options, state)
+        cartesian = [seg for seg in segments if not seg.is_joint]
+        if cartesian:  # reachability of the end (and via) points, before anything moves
+            reach = self._reach(cartesian[0].limits[0], options, solver)
+            check_targets(reach, cartesian, self.q, cmd.line, self._t, f"MOVE {_shown(cmd)}")
         for seg in segments:
             self._run_segment(seg, settings, options, solver)
 
@@ -199,7 +207,7 @@ class SimulatedController:
         elif option == "FREEZE":
             frozen = FrozenJoints(self.model.n, self.pre.frozen_si(options))
             try:
-                frozen.check_task(self.model, len(self.ik_params.task_rows))
+                frozen.check_task(self.model, len(self.ik_params.task_rows), self.naming)
             except RunFailure as exc:
                 raise _located(exc, line, self._t) from None
 
@@ -215,6 +223,7 @@ class SimulatedController:
                     line,
                     self._t,
                     f"obstacle {name}",
+                    cause="obstacle",
                 )
 
     def log_event(self, kind: str, line: int, **data) -> None:
@@ -238,7 +247,7 @@ class SimulatedController:
             s, target = seg.setpoint(k, dt)
             if reference is not None:
                 cycle_opts.reference = reference.at(s)
-            self._ik_cycle(seg, target, dt, cycle_opts, solver)
+            self._ik_cycle(seg, target, dt, cycle_opts, solver, s)
         self._last_reference = None if cycle_opts.reference is None else cycle_opts.reference
 
     def _blended_reference(self, path: ReferencePath | None, constant: np.ndarray | None):
@@ -272,7 +281,9 @@ class SimulatedController:
             active_obstacles=frozenset(options.obstacles),
         )
 
-    def _ik_cycle(self, seg: Segment, target, dt, opts: CycleOptions, solver: _Solver) -> None:
+    def _ik_cycle(
+        self, seg: Segment, target, dt, opts: CycleOptions, solver: _Solver, s: float = 0.0
+    ) -> None:
         t = _advance(self._t, dt)
         sample_manip = self._cycles % self._manip_every == 0
         opts.jacobian = sample_manip
@@ -308,7 +319,7 @@ class SimulatedController:
         if res.relaxed or not res.converged:
             rec.note_relaxed(seg.line, t, dt, pos_err, ori_err, res.binding)
         if pos_err > self.opts.tol_position or ori_err > self.opts.tol_orientation:
-            raise self._deviation_failure(seg, t, pos_err, ori_err, res)
+            raise self._deviation_failure(seg, t, pos_err, ori_err, res, s, opts, solver)
         self._tick()
 
     def _joint_cycle(self, seg: Segment, q, k: int, s: float, dt: float, solver) -> None:
@@ -335,7 +346,11 @@ class SimulatedController:
             depth = f"{-distance / units.MM:.4g} mm deep, link {link}"
             if name in active:
                 raise RunFailure(
-                    f"the arm collides with obstacle {name} ({depth})", line, t, f"obstacle {name}"
+                    f"the arm collides with obstacle {name} ({depth})",
+                    line,
+                    t,
+                    f"obstacle {name}",
+                    cause="obstacle",
                 )
             if name not in self._collision_warned:
                 self._collision_warned.add(name)
@@ -345,17 +360,27 @@ class SimulatedController:
                 )
 
     def _ptp_active(self, seg: Segment, k: int, dt: float) -> dict[int, str] | None:
-        """The joint that sets a PTP segment's time is at its acceleration bound while
-        ramping and at its speed bound while cruising at the full speed."""
+        """The joint that sets a PTP segment's time is limit-active only where its motion
+        reaches a bound: while ramping if its acceleration equals the active acceleration
+        limit (not at ``R_ACC_PTP`` < 100 %), while cruising if its speed equals the
+        speed limit (not at ``R_SPEED_PTP`` < 100 % or a stretched profile). The bound
+        is the one in the direction of the joint's acceleration (``max`` when it speeds
+        up in the positive direction or brakes a negative motion)."""
         j = seg.limiting_joint
         if j < 0:
             return None
+        up = seg.path.q1[j] >= seg.path.q0[j]
         phase = int(seg.profile.phase((k - 0.5) * dt))
         if phase != 0:
-            return {j: "accel max" if phase > 0 else "accel min"}
-        vmax = seg.limits[1][j, 1] if seg.path.q1[j] >= seg.path.q0[j] else -seg.limits[1][j, 0]
+            positive = (phase > 0) == up  # the sign of the joint's acceleration
+            acc = seg.limits[2][j]
+            bound = acc[1] if positive else -acc[0]
+            if seg.info["joint_accel"][j] >= bound * (1.0 - 1e-9):
+                return {j: "accel max" if positive else "accel min"}
+            return None
+        vmax = seg.limits[1][j, 1] if up else -seg.limits[1][j, 0]
         if seg.info["joint_speed"][j] >= vmax * (1.0 - 1e-9):
-            return {j: "speed max"}
+            return {j: "speed max" if up else "speed min"}
         return None
 
     def _record_initial(self) -> None:
@@ -379,7 +404,9 @@ class SimulatedController:
         if self.progress is not None and self._cycles % self.opts.progress_every == 0:
             self.progress(self._t, self._line)
 
-    def _deviation_failure(self, seg, t, pos_err, ori_err, res) -> RunFailure:
+    def _deviation_failure(self, seg, t, pos_err, ori_err, res, s, opts, solver) -> RunFailure:
+        """The deviation beyond tolerance, with its cause (:mod:`ik.cause`) for a path
+        segment; a held TCP (RECONFIGURATION) reports the binding bound."""
         what = (
             f"the path cannot be followed: TCP deviation {pos_err / units.MM:.4g} mm, "
             f"{ori_err / units.DEG:.4g} deg (tolerance {self.opts.tol_position / units.MM:g} mm, "
@@ -387,6 +414,9 @@ class SimulatedController:
         )
         if res.binding:
             what += f"; bound by {res.binding}"
+        if hasattr(seg.path, "length"):
+            reach = self._reach(seg.limits[0], None, solver, opts.frozen)
+            return cause.classify(what, res, seg, s, self.q, reach, solver.kin, seg.line, t)
         if res.singular or (math.isfinite(res.sigma_min) and res.sigma_min < 1e-6):
             what += f"; near a singular configuration (σ_min = {res.sigma_min:.3g})"
         return RunFailure(what, seg.line, t, res.binding or None)
@@ -406,7 +436,8 @@ class SimulatedController:
         solver = self._solvers.get(key)
         if solver is None:
             kin = Kinematics(self.model, tool)
-            solver = _Solver(kin, InverseTransformation(self.model, kin, self.ik_params))
+            ik = InverseTransformation(self.model, kin, self.ik_params, self.naming)
+            solver = _Solver(kin, ik)
             self._solvers[key] = solver
         return solver
 
@@ -422,28 +453,32 @@ class SimulatedController:
     def _program_pose(world: np.ndarray, settings: Settings) -> Pose:
         return units.pose_value_from_si(spatial.inverse(base_transform(settings)) @ world)
 
+    def _reach(
+        self, position: np.ndarray, options: ModalOptions | None, solver: _Solver, frozen=None
+    ) -> Reach:
+        """The pose search's context: active position limits, frozen joints, tool."""
+        return Reach(
+            self.model,
+            position,
+            self.pre.frozen_si(options) if frozen is None else dict(frozen),
+            solver.kin.tool,
+            self.ik_params.task_rows,
+            self.naming,
+            self.opts.tol_position,
+            self.opts.tol_orientation,
+        )
+
     def _solve_pose(
         self, target, seed, frozen: dict[int, float], lims: Limits3, line: int
     ) -> np.ndarray:
         """PTP to a POSE: joints for ``target`` from the current configuration, within
-        the active position limits and with frozen joints held."""
-        pos = lims[0].copy()
-        for j, v in frozen.items():
-            pos[j] = (v, v)
-        model = _with_position_limits(self.model, pos)
-        tool = self._solver(self._settings).kin.tool
-        sol = solve_pose(model, target, seed, tool=tool)
+        the active position limits and with frozen joints held (the search of
+        :mod:`ik.reach`; the PTP needs the exact pose, so the result must converge)."""
+        reach = self._reach(lims[0], None, self._solver(self._settings), frozen)
+        sol = reach.solve(target, seed)
         if not sol.converged:
-            raise RunFailure(f"MOVE PTP: {sol.message}", line, self._t)
+            raise unreachable_failure(reach, target, seed, sol, line, self._t, "MOVE PTP")
         return sol.q
-
-
-def _with_position_limits(model: RobotModel, position: np.ndarray) -> RobotModel:
-    joints = tuple(
-        dataclasses.replace(j, limits=dataclasses.replace(j.limits, position=tuple(position[i])))
-        for i, j in enumerate(model.joints)
-    )
-    return dataclasses.replace(model, joints=joints)
 
 
 _NAN = float("nan")
@@ -452,6 +487,11 @@ _NAN = float("nan")
 def _advance(t: float, dt: float) -> float:
     """The next sample time, rounded to 1 ns so that time stamps do not drift."""
     return round(t + dt, 9)
+
+
+def _shown(cmd: MotionCommand) -> str:
+    """The statement as a user wrote it: ``LIN``, ``LIN PATH``, ``CIRCLE``, ``_INC LIN``."""
+    return {"LINPATH": "LIN PATH", "LININC": "_INC LIN"}.get(cmd.kind, cmd.kind)
 
 
 def _located(exc: RunFailure, line: int, t: float) -> RunFailure:

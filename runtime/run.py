@@ -31,6 +31,7 @@ from irlc.runtime import units
 from irlc.runtime.controller import Settings, setting_error
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.executor import ExecutionOptions, SimulatedController
+from irlc.runtime.naming import JointNaming
 from irlc.runtime.recorder import RecordedRun
 
 from irlc.files import read_user_text
@@ -182,8 +183,9 @@ def run_code(
     opts = options or ExecutionOptions()
     if ipo is not None:
         opts.ipo = float(ipo)
+    naming = JointNaming.for_model(model, code.joint_names)  # joints in failure messages
     controller = SimulatedController(
-        model, q0, obstacles=obstacles, options=opts, progress=progress
+        model, q0, obstacles=obstacles, options=opts, progress=progress, naming=naming
     )
     settings = Settings(ipo=opts.ipo) if opts.ipo is not None else Settings()
     execution = _interpret(code, controller, settings, output)

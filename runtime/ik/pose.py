@@ -41,6 +41,7 @@ from irlc.runtime.ik.newton_step import NewtonStep
 from irlc.runtime.ik.params import task_rows_for
 from irlc.runtime.ik.qp import QuadprogSolver
 from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.naming import JointNaming
 
 
 @dataclass
@@ -65,8 +66,11 @@ def solve_pose(
     task_rows: tuple[int, ...] | None = None,
     max_step: float = 0.3,
     max_step_prismatic: float = 0.1,
+    naming: JointNaming | None = None,
 ) -> PoseSolution:
-    """Solve ``f(q) = target`` (4×4 world pose, m) starting from ``seed`` (SI)."""
+    """Solve ``f(q) = target`` (4×4 world pose, m) starting from ``seed`` (SI); messages
+    name joints by ``naming`` (default ``a1 … aN``)."""
+    naming = naming if naming is not None else JointNaming.for_model(model)
     target = np.asarray(target, dtype=float)
     q = np.array(seed, dtype=float)
     if target.shape != (4, 4) or not np.all(np.isfinite(target)):
@@ -78,7 +82,7 @@ def solve_pose(
     kin = Kinematics(model, tool)
     rows = np.array(task_rows if task_rows is not None else task_rows_for(model), dtype=int)
     pos_rows, ori_rows = np.flatnonzero(rows < 3), np.flatnonzero(rows >= 3)
-    problem = seed_problem(model, q)
+    problem = seed_problem(model, q, naming)
     if problem is not None:  # the errors are those of the seed
         F = spatial.pose_error(kin.tcp(q), target)[rows]
         return PoseSolution(q, False, _norm(F[pos_rows]), _norm(F[ori_rows]), 0, problem)
@@ -106,7 +110,7 @@ def solve_pose(
             break
         history.append(pe + oe)
         if last is not None and last.relaxed and _stalled(last.dtheta, history):
-            text = _unreachable(model, q, pe, oe) + _coupled_reached(coupled, A, b, q)
+            text = _unreachable(model, q, pe, oe, naming) + _coupled_reached(coupled, A, b, q)
             return PoseSolution(q, False, pe, oe, it, text)
         J = kin.jacobian_at(frames, tcp[:3, 3])[rows]
         lower = np.maximum(limits[:, 0] - q, -step)
@@ -132,7 +136,9 @@ def solve_pose(
     )
 
 
-def seed_problem(model: RobotModel, q: np.ndarray) -> str | None:
+def seed_problem(
+    model: RobotModel, q: np.ndarray, naming: JointNaming | None = None
+) -> str | None:
     """Why ``q`` (SI) cannot seed the solver — outside a position limit (joint, value,
     limit) or violating a coupled limit — or ``None``."""
     limits = model.position_limits
@@ -140,8 +146,9 @@ def seed_problem(model: RobotModel, q: np.ndarray) -> str | None:
     if outside.size:
         j = int(outside[0])
         side = 0 if q[j] < limits[j, 0] else 1
+        name = (naming or JointNaming.for_model(model)).label(j)
         return (
-            f"seed joint {model.joints[j].name} = {format_joint_value(model, j, q[j], 0)} is "
+            f"seed joint {name} = {format_joint_value(model, j, q[j], 0)} is "
             f"outside its position {('min', 'max')[side]} "
             f"{format_joint_value(model, j, limits[j, side], 0)}"
         )
@@ -179,7 +186,7 @@ def _coupled_reached(coupled, A, b, q) -> str:
     return f" (coupled limits reached: {', '.join(rows[i] for i in at)})"
 
 
-def _unreachable(model, q, pe, oe) -> str:
+def _unreachable(model, q, pe, oe, naming: JointNaming) -> str:
     text = (
         f"target not reachable: the closest pose found is {pe * 1e3:.4g} mm and "
         f"{np.degrees(oe):.4g} deg away"
@@ -188,7 +195,7 @@ def _unreachable(model, q, pe, oe) -> str:
     at = [j for j in range(model.n) if q[j] <= limits[j, 0] + 1e-9 or q[j] >= limits[j, 1] - 1e-9]
     if at:
         names = ", ".join(
-            f"{model.joints[j].name} at position "
+            f"{naming.label(j)} at position "
             f"{'min' if q[j] <= limits[j, 0] + 1e-9 else 'max'} "
             f"{format_joint_value(model, j, q[j], 0)}"
             for j in at

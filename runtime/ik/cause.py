@@ -1,0 +1,213 @@
+"""Why a Cartesian motion could not be followed: the cause, from the solver's state.
+
+When a cycle's TCP deviation exceeds the tolerance, the relaxed step has touched some
+bound, but that bound is a symptom: near a singularity or past the workspace every
+joint runs into its speed bound, and lowering the speed would not help. The cause is
+decided in this order:
+
+1. **singular** — the failing cycle's task Jacobian ``J`` (free joints, controlled rows)
+   has ``σ_min/σ_max < SINGULAR_RATIO`` (or no well-conditioned basis was found).
+   With ``J = UΣVᵀ`` the last left singular vector ``u_m`` is the task direction the TCP
+   has lost, the right one ``v_m`` the joint combination that no longer moves it: the
+   joints with ``|v_m,j| ≥ 0.3·max|v_m|`` are named.
+2. The rest of the segment is **walked** (:func:`reach.walk`, ≤ 10 mm / 2 deg steps,
+   the pose search of the pre-check). A pose the walk cannot reach: **freeze** if it is
+   reachable with the frozen joints free, **position_limit** if joints stop at their
+   position limits, else **unreachable**.
+3. Along the walk, ``σ_min/σ_max`` below ``SINGULAR_RATIO`` → **singular** (there).
+4. Otherwise the joint path ``q(s)`` gives the demand: with ``ṡ ≤ v`` (the profile's
+   cruise, 1/s) and ``s̈ ≤ a``, joint speed ``|q'|·v`` and acceleration
+   ``|q''|·v² + |q'|·a`` (``q'``, ``q''``: finite differences over ``s``). Scaling the
+   path speed by ``c`` scales ``v`` by ``c``, so the bounds hold for
+
+       c_v = min_j θ̇max_j / max_s |q'_j|·v,
+       c_a = min_j √((θ̈max_j − max_s |q'_j|·a) / max_s |q''_j|·v²)
+
+   The smaller factor names the cause (**speed_limit** or **accel_limit**); the
+   suggested speed is ``SAFETY·min(c_v, c_a)`` times the segment's cruise speed
+   (``R_SPEED`` in mm/s, or ``R_SPEED_ORI`` in deg/s when the orientation sets the
+   segment's time), rounded down to two significant digits. A factor ``< MIN_FACTOR``
+   (a path through a near-singularity) counts as **singular**; when even ``c → 0``
+   leaves the acceleration bound violated (``|q'|·a > θ̈max``) the message says that
+   ``R_ACC`` must be lowered.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from irlc.runtime import units
+from irlc.runtime.errors import RunFailure
+from irlc.runtime.ik.reach import Reach, walk
+from irlc.runtime.kinematics import Kinematics
+
+SINGULAR_RATIO = 1e-3
+MIN_FACTOR = 1e-2
+SAFETY = 0.8
+DIAG_LENGTH = 0.01  # m per walk step of the diagnosis
+DIAG_ANGLE = 2.0 * units.DEG
+MAX_STEPS = 400
+TASK_NAMES = ("x", "y", "z", "rx", "ry", "rz")
+
+
+def classify(
+    message: str,
+    res,
+    seg,
+    s_now: float,
+    q_now: np.ndarray,
+    reach: Reach,
+    kin: Kinematics,
+    line: int,
+    time_s: float,
+) -> RunFailure:
+    """The :class:`RunFailure` of a deviation beyond tolerance, with its cause."""
+    constraint = res.binding or None
+    free = np.array([j for j in range(reach.model.n) if j not in reach.frozen], dtype=int)
+    jac = res._jac
+    if jac is not None:
+        sing = _singular(jac, reach, free)
+        if res.singular or sing[0] < SINGULAR_RATIO:
+            return _singular_failure(message, sing, reach, line, time_s, constraint, "here")
+    timed = any(r >= 3 for r in reach.task_rows)
+    path = seg.path
+    rest = 1.0 - s_now
+    per_step = max(path.length / DIAG_LENGTH, _angle(path, timed) / DIAG_ANGLE)
+    steps = min(max(2, math.ceil(rest * per_step)), MAX_STEPS)
+    s_vals, configs, failed = walk(reach, path.at, q_now, s_now, steps)
+    if failed is not None:
+        return _off_workspace(message, reach, path, s_vals, configs, q_now, failed, line, time_s)
+    s_all = np.concatenate(([s_now], s_vals))
+    q_all = np.vstack([q_now, *configs])
+    along = [_singular(_task_jacobian(kin, q, reach), reach, free) for q in q_all]
+    worst = min(along, key=lambda x: x[0])
+    if worst[0] < SINGULAR_RATIO:
+        return _singular_failure(message, worst, reach, line, time_s, constraint, "on the path")
+    return _speed_failure(message, seg, s_all, q_all, reach, constraint, line, time_s, worst)
+
+
+def _angle(path, timed: bool) -> float:
+    return path.angle if timed else 0.0
+
+
+def _task_jacobian(kin: Kinematics, q: np.ndarray, reach: Reach) -> np.ndarray:
+    return kin.jacobian(q)[list(reach.task_rows)]
+
+
+def _singular(jac: np.ndarray, reach: Reach, free: np.ndarray):
+    """``(σ_min/σ_max, σ_min, joints, task directions)`` of a task Jacobian. ``jac`` has
+    the free joints' columns (the cycle's) or all columns (then restricted here)."""
+    J = jac if jac.shape[1] == free.size else jac[:, free]
+    m = J.shape[0]
+    if J.shape[1] < m:
+        return 0.0, 0.0, [], []
+    U, s, Vt = np.linalg.svd(J)
+    smin = float(s[m - 1])
+    ratio = smin / float(s[0]) if s[0] > 0 else 0.0
+    v = np.abs(Vt[m - 1])
+    joints = [int(free[j]) for j in np.flatnonzero(v >= 0.3 * v.max())]
+    u = np.abs(U[:, m - 1])
+    rows = [TASK_NAMES[reach.task_rows[i]] for i in np.flatnonzero(u >= 0.3 * u.max())]
+    return ratio, smin, joints, rows
+
+
+def _singular_failure(message, sing, reach, line, time_s, constraint, where) -> RunFailure:
+    ratio, smin, joints, rows = sing
+    naming = reach.naming
+    names = naming.labels(joints)
+    text = (
+        f"{message}; cause: singular configuration {where} (σ_min = {smin:.3g}, "
+        f"σ_min/σ_max = {ratio:.3g}): the TCP cannot move along {'/'.join(rows) or '—'}"
+        f"{'; joints involved: ' + names if joints else ''}; a lower speed does not help"
+    )
+    details = {
+        "sigma_min": smin,
+        "sigma_ratio": ratio,
+        "joints": [naming.name(j) for j in joints],
+        "lost_directions": rows,
+    }
+    return RunFailure(text, line, time_s, constraint, cause="singular", details=details)
+
+
+def _off_workspace(message, reach, path, s_vals, configs, q_now, failed, line, time_s):
+    s_bad = float(s_vals[len(configs)]) if len(configs) < len(s_vals) else 1.0
+    where = f"{s_bad * path.length / units.MM:.4g} mm along the segment"
+    details = {
+        "distance_mm": failed.position_error / units.MM,
+        "distance_deg": failed.orientation_error / units.DEG,
+    }
+    seed = configs[-1] if configs else q_now
+    if reach.frozen:
+        free = reach.solve(path.at(s_bad), seed, frozen=False)
+        if reach.reached(free):
+            names = reach.naming.labels(sorted(reach.frozen))
+            return RunFailure(
+                f"{message}; cause: FREEZE of joints {names} leaves too few free joints: the "
+                f"path {where} is out of reach with them held (closest pose "
+                f"{failed.position_error / units.MM:.4g} mm away), reachable with them free",
+                line,
+                time_s,
+                f"FREEZE {names}",
+                cause="freeze",
+                details=details,
+            )
+    cause = "position_limit" if "limits reached" in failed.message else "unreachable"
+    text = failed.message.replace("target not reachable", f"the path {where} is not reachable")
+    return RunFailure(f"{message}; cause: {text}", line, time_s, None, cause=cause, details=details)
+
+
+def _speed_failure(message, seg, s, q, reach, constraint, line, time_s, worst) -> RunFailure:
+    prof = seg.profile
+    v, a = prof.cruise, prof.accel
+    ds = np.diff(s)
+    dq = np.diff(q, axis=0) / ds[:, None]  # q'(s) between walk points
+    spd, acc = seg.limits[1], seg.limits[2]
+    vlim = np.where(dq >= 0.0, spd[:, 1], -spd[:, 0])
+    need_v = np.abs(dq) * v
+    c_v = float(np.min(vlim / np.maximum(need_v, 1e-300)))
+    c_a = math.inf
+    acc_hopeless = False
+    if dq.shape[0] >= 2:
+        mid = 0.5 * (s[1:] + s[:-1])
+        d2 = np.diff(dq, axis=0) / np.diff(mid)[:, None]
+        alim = np.minimum(acc[:, 1], -acc[:, 0])
+        slope = np.maximum(np.abs(dq[1:]), np.abs(dq[:-1])) * a
+        room = alim - slope
+        acc_hopeless = bool(np.any(room <= 0.0))
+        curv = np.abs(d2) * v * v
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(curv > 0.0, np.maximum(room, 0.0) / curv, math.inf)
+        c_a = math.sqrt(float(np.min(ratio)))
+    factor = min(c_v, c_a)
+    if factor < MIN_FACTOR:
+        return _singular_failure(message, worst, reach, line, time_s, constraint, "on the path")
+    cause = "speed_limit" if c_v <= c_a else "accel_limit"
+    if constraint and not acc_hopeless and (" accel " in constraint or " braking " in constraint):
+        cause = "accel_limit" if c_a < 1.0 or c_v >= 1.0 else cause
+    factor = min(factor, 1.0) * SAFETY
+    orientation = seg.limiting == "orientation speed"
+    if orientation:
+        now = v * seg.path.angle / units.DEG
+        name, unit, key = "R_SPEED_ORI", "deg/s", "suggested_speed_ori_deg_s"
+    else:
+        now = v * seg.path.length / units.MM
+        name, unit, key = "R_SPEED", "mm/s", "suggested_speed_mm_s"
+    suggested = _round_down(now * factor)
+    what = "speed" if cause == "speed_limit" else "acceleration"
+    text = (
+        f"{message}; cause: a joint {what} bound; a lower speed resolves it: "
+        f"{name} ≤ {suggested:g} {unit} (now {now:.4g} {unit})"
+    )
+    if acc_hopeless:
+        text += "; the path acceleration R_ACC must be lowered too"
+    details = {key: suggested}
+    return RunFailure(text, line, time_s, constraint, cause=cause, details=details)
+
+
+def _round_down(x: float) -> float:
+    """Two significant digits, rounded down (a speed that is at most ``x``)."""
+    if x <= 0.0 or not math.isfinite(x):
+        return 0.0
+    step = 10.0 ** (math.floor(math.log10(x)) - 1)
+    return math.floor(x / step) * step
