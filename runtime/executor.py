@@ -414,7 +414,7 @@ class SimulatedController:
         )
         if res.binding:
             what += f"; bound by {res.binding}"
-        if hasattr(seg.path, "length"):
+        if hasattr(getattr(seg, "path", None), "length"):
             reach = self._reach(seg.limits[0], None, solver, opts.frozen)
             return cause.classify(what, res, seg, s, self.q, reach, solver.kin, seg.line, t)
         if res.singular or (math.isfinite(res.sigma_min) and res.sigma_min < 1e-6):
@@ -476,6 +476,8 @@ class SimulatedController:
         :mod:`ik.reach`; the PTP needs the exact pose, so the result must converge)."""
         reach = self._reach(lims[0], None, self._solver(self._settings), frozen)
         sol = reach.solve(target, seed)
+        if not sol.converged:  # stalled: the restarts of the pre-check's search
+            sol = reach.search(target, seed)
         if not sol.converged:
             raise unreachable_failure(reach, target, seed, sol, line, self._t, "MOVE PTP")
         return sol.q

@@ -139,7 +139,7 @@ def _off_workspace(message, reach, path, s_vals, configs, q_now, failed, line, t
     }
     seed = configs[-1] if configs else q_now
     if reach.frozen:
-        free = reach.solve(path.at(s_bad), seed, frozen=False)
+        free = reach.search(path.at(s_bad), seed, frozen=False)
         if reach.reached(free):
             names = reach.naming.labels(sorted(reach.frozen))
             return RunFailure(

@@ -64,6 +64,21 @@ class Reach:
             self.naming,
         )
 
+    def search(self, target: np.ndarray, seed: np.ndarray, *, frozen: bool = True) -> PoseSolution:
+        """:meth:`solve` from ``seed``; if that stalls, again from restarts (:func:`restarts`:
+        the seed moved off a possible singularity, the robot's home, the middle of the
+        limits). The first solution that reaches the pose, else the closest one."""
+        best = self.solve(target, seed, frozen=frozen)
+        if self.reached(best):
+            return best
+        for start in restarts(self.model, seed, self.position):
+            sol = self.solve(target, start, frozen=frozen)
+            if self.reached(sol):
+                return sol
+            if _residual(sol) < _residual(best):
+                best = sol
+        return best
+
     def reached(self, sol: PoseSolution) -> bool:
         return sol.converged or (
             sol.position_error <= self.tol_position
@@ -89,6 +104,23 @@ def solve_within(
     seed = np.clip(seed, pos[:, 0], pos[:, 1])  # a frozen joint's rounding (≤ 1e-9)
     limited = _with_position_limits(model, pos)
     return solve_pose(limited, target, seed, tool=tool, task_rows=task_rows, naming=naming)
+
+
+def restarts(model: RobotModel, seed: np.ndarray, position: np.ndarray) -> list[np.ndarray]:
+    """Other starts for a stalled search, in this order: the seed moved by ±0.2 rad
+    (±50 mm prismatic; alternating signs, off a singular stretched or folded pose), the
+    robot's home, the middle of the position limits (all inside the limits)."""
+    lo, hi = position[:, 0], position[:, 1]
+    step = np.array([0.2 if j.kind == "revolute" else 0.05 for j in model.joints])
+    sign = np.where(np.arange(model.n) % 2 == 0, 1.0, -1.0)
+    mid = np.where(np.isfinite(lo + hi), 0.5 * (lo + hi), np.clip(0.0, lo, hi))
+    home = model.home if model.home is not None else mid
+    starts = [np.asarray(seed) + sign * step, np.asarray(home, dtype=float), mid]
+    return [np.clip(q, lo, hi) for q in starts]
+
+
+def _residual(sol: PoseSolution) -> float:
+    return sol.position_error + sol.orientation_error
 
 
 def _with_position_limits(model: RobotModel, position: np.ndarray) -> RobotModel:
@@ -149,8 +181,14 @@ def check_targets(
             if not reach.reached(sol):
                 sol = _walked(reach, seg.path, q, s_prev, s, sol, timed)
             if not reach.reached(sol):
+                sol = _closer(reach.search(target, q), sol)
+            if not reach.reached(sol):
                 raise unreachable_failure(reach, target, q, sol, line, time_s, what, s < 1.0)
             q, s_prev = sol.q, s
+
+
+def _closer(a: PoseSolution, b: PoseSolution) -> PoseSolution:
+    return a if _residual(a) <= _residual(b) else b
 
 
 def _walked(reach: Reach, path, seed, s0: float, s1: float, direct, timed) -> PoseSolution:
@@ -172,32 +210,20 @@ def unreachable_failure(
         "distance_mm": sol.position_error / units.MM,
         "distance_deg": sol.orientation_error / units.DEG,
     }
-    if reach.frozen:
-        free = reach.solve(target, seed, frozen=False)
-        if not reach.reached(free):
-            free = _retry_free(reach, target, seed, free)
-        if reach.reached(free):
-            names = reach.naming.labels(sorted(reach.frozen))
-            details["joints"] = [reach.naming.name(j) for j in sorted(reach.frozen)]
-            return RunFailure(
-                f"{what}: FREEZE of joints {names} leaves too few free joints to reach the "
-                f"{point}: with them held the closest pose is "
-                f"{sol.position_error / units.MM:.4g} mm and "
-                f"{sol.orientation_error / units.DEG:.4g} deg away (it is reachable with "
-                "them free)",
-                line,
-                time_s,
-                f"FREEZE {names}",
-                cause="freeze",
-                details=details,
-            )
+    if reach.frozen and reach.reached(reach.search(target, seed, frozen=False)):
+        names = reach.naming.labels(sorted(reach.frozen))
+        details["joints"] = [reach.naming.name(j) for j in sorted(reach.frozen)]
+        return RunFailure(
+            f"{what}: FREEZE of joints {names} leaves too few free joints to reach the "
+            f"{point}: with them held the closest pose is "
+            f"{sol.position_error / units.MM:.4g} mm and "
+            f"{sol.orientation_error / units.DEG:.4g} deg away (it is reachable with "
+            "them free)",
+            line,
+            time_s,
+            f"FREEZE {names}",
+            cause="freeze",
+            details=details,
+        )
     text = sol.message.replace("target not reachable", f"{point} not reachable", 1)
     return RunFailure(f"{what}: {text}", line, time_s, cause="unreachable", details=details)
-
-
-def _retry_free(reach: Reach, target, seed, first: PoseSolution) -> PoseSolution:
-    """Without the freeze, also try from the robot's home (a far target may need the
-    frozen joints far from where they are held)."""
-    home = reach.model.home if reach.model.home is not None else np.zeros(reach.model.n)
-    other = reach.solve(target, np.asarray(home, dtype=float), frozen=False)
-    return other if reach.reached(other) else first
