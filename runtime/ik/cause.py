@@ -157,51 +157,65 @@ def _off_workspace(message, reach, path, s_vals, configs, q_now, failed, line, t
     return RunFailure(f"{message}; cause: {text}", line, time_s, None, cause=cause, details=details)
 
 
+def _demand(seg, s: np.ndarray, q: np.ndarray):
+    """``(|q'|, |q''|, speed limits, acceleration limits)`` along the walk: ``q'`` per
+    interval (``(k, n)``), ``q''`` per inner point (``(k − 1, n)``), limits in the
+    direction of motion."""
+    dq = np.diff(q, axis=0) / np.diff(s)[:, None]
+    spd, acc = seg.limits[1], seg.limits[2]
+    vlim = np.where(dq >= 0.0, spd[:, 1], -spd[:, 0])
+    alim = np.minimum(acc[:, 1], -acc[:, 0])
+    if dq.shape[0] >= 2:
+        mid = 0.5 * (s[1:] + s[:-1])
+        d2 = np.abs(np.diff(dq, axis=0) / np.diff(mid)[:, None])
+    else:
+        d2 = np.zeros((0, q.shape[1]))
+    return np.abs(dq), d2, vlim, alim
+
+
+def _factors(dq, d2, vlim, alim, v: float, a: float) -> tuple[float, float, float]:
+    """``(c_v, c_a, k_a)``: path-speed factors for the speed and acceleration bounds, and
+    the factor on the path acceleration (``R_ACC``) needed first (1 when the ramp term
+    ``|q'|·a`` uses at most half of ``θ̈max``)."""
+    c_v = float(np.min(vlim / np.maximum(dq * v, 1e-300)))
+    if d2.shape[0] == 0:
+        return c_v, math.inf, 1.0
+    slope = np.maximum(dq[1:], dq[:-1])  # |q'| around each inner point
+    k_a = float(min(1.0, np.min(0.5 * alim / np.maximum(slope * a, 1e-300))))
+    room = alim - slope * a * k_a
+    curv = d2 * v * v
+    ratio = np.where(curv > 0.0, room / np.maximum(curv, 1e-300), math.inf)
+    return c_v, math.sqrt(float(np.min(ratio))), k_a
+
+
 def _speed_failure(message, seg, s, q, reach, constraint, line, time_s, worst) -> RunFailure:
     prof = seg.profile
     v, a = prof.cruise, prof.accel
-    ds = np.diff(s)
-    dq = np.diff(q, axis=0) / ds[:, None]  # q'(s) between walk points
-    spd, acc = seg.limits[1], seg.limits[2]
-    vlim = np.where(dq >= 0.0, spd[:, 1], -spd[:, 0])
-    need_v = np.abs(dq) * v
-    c_v = float(np.min(vlim / np.maximum(need_v, 1e-300)))
-    c_a = math.inf
-    acc_hopeless = False
-    if dq.shape[0] >= 2:
-        mid = 0.5 * (s[1:] + s[:-1])
-        d2 = np.diff(dq, axis=0) / np.diff(mid)[:, None]
-        alim = np.minimum(acc[:, 1], -acc[:, 0])
-        slope = np.maximum(np.abs(dq[1:]), np.abs(dq[:-1])) * a
-        room = alim - slope
-        acc_hopeless = bool(np.any(room <= 0.0))
-        curv = np.abs(d2) * v * v
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.where(curv > 0.0, np.maximum(room, 0.0) / curv, math.inf)
-        c_a = math.sqrt(float(np.min(ratio)))
+    c_v, c_a, k_a = _factors(*_demand(seg, s, q), v, a)
     factor = min(c_v, c_a)
     if factor < MIN_FACTOR:
         return _singular_failure(message, worst, reach, line, time_s, constraint, "on the path")
-    cause = "speed_limit" if c_v <= c_a else "accel_limit"
-    if constraint and not acc_hopeless and (" accel " in constraint or " braking " in constraint):
-        cause = "accel_limit" if c_a < 1.0 or c_v >= 1.0 else cause
+    cause = "speed_limit" if c_v <= c_a and k_a == 1.0 else "accel_limit"
     factor = min(factor, 1.0) * SAFETY
-    orientation = seg.limiting == "orientation speed"
-    if orientation:
-        now = v * seg.path.angle / units.DEG
-        name, unit, key = "R_SPEED_ORI", "deg/s", "suggested_speed_ori_deg_s"
+    if seg.limiting == "orientation speed":
+        size, unit, name, key = seg.path.angle / units.DEG, "deg/s", "R_SPEED_ORI", "speed_ori"
+        key += "_deg_s"
     else:
-        now = v * seg.path.length / units.MM
-        name, unit, key = "R_SPEED", "mm/s", "suggested_speed_mm_s"
-    suggested = _round_down(now * factor)
+        size, unit, name, key = seg.path.length / units.MM, "mm/s", "R_SPEED", "speed_mm_s"
+    now, suggested = v * size, _round_down(v * size * factor)
     what = "speed" if cause == "speed_limit" else "acceleration"
     text = (
         f"{message}; cause: a joint {what} bound; a lower speed resolves it: "
-        f"{name} ≤ {suggested:g} {unit} (now {now:.4g} {unit})"
+        f"{name} ≤ {suggested:g} {unit} (the segment peaks at {now:.4g} {unit} now)"
     )
-    if acc_hopeless:
-        text += "; the path acceleration R_ACC must be lowered too"
-    details = {key: suggested}
+    details = {f"suggested_{key}": suggested}
+    if k_a < 1.0:
+        acc_now = a * size
+        acc_ok = _round_down(acc_now * k_a * SAFETY)
+        acc_name = "R_ACC" if name == "R_SPEED" else "R_SPEED_ORI·R_ACC/R_SPEED"
+        text += f" and {acc_name} ≤ {acc_ok:g} {unit}² (now {acc_now:.4g} {unit}²)"
+        if name == "R_SPEED":
+            details["suggested_acc_mm_s2"] = acc_ok
     return RunFailure(text, line, time_s, constraint, cause=cause, details=details)
 
 
