@@ -107,6 +107,7 @@ class SimulatedController:
         self._manip_every = max(1, self.opts.manipulability_every)
         self._collision_warned: set[str] = set()
         self._last_reference: np.ndarray | None = None  # θ⁰ of the last IK cycle
+        self._segment_start = self.q.copy()
         self._active_obstacles: frozenset[str] = frozenset()
         self.dt_used = self.opts.ipo if self.opts.ipo is not None else Settings().ipo
         self._record_initial()
@@ -242,12 +243,13 @@ class SimulatedController:
             self._last_reference = None
             return
         cycle_opts = self._cycle_options(seg, options)
+        self._segment_start = self.q.copy()  # for the cause of a failure (ik.cause)
         reference = self._blended_reference(seg.reference, cycle_opts.reference)
         for k in range(1, seg.cycles + 1):
             s, target = seg.setpoint(k, dt)
             if reference is not None:
                 cycle_opts.reference = reference.at(s)
-            self._ik_cycle(seg, target, dt, cycle_opts, solver, s)
+            self._ik_cycle(seg, target, dt, cycle_opts, solver)
         self._last_reference = None if cycle_opts.reference is None else cycle_opts.reference
 
     def _blended_reference(self, path: ReferencePath | None, constant: np.ndarray | None):
@@ -281,9 +283,7 @@ class SimulatedController:
             active_obstacles=frozenset(options.obstacles),
         )
 
-    def _ik_cycle(
-        self, seg: Segment, target, dt, opts: CycleOptions, solver: _Solver, s: float = 0.0
-    ) -> None:
+    def _ik_cycle(self, seg: Segment, target, dt, opts: CycleOptions, solver: _Solver) -> None:
         t = _advance(self._t, dt)
         sample_manip = self._cycles % self._manip_every == 0
         opts.jacobian = sample_manip
@@ -319,7 +319,7 @@ class SimulatedController:
         if res.relaxed or not res.converged:
             rec.note_relaxed(seg.line, t, dt, pos_err, ori_err, res.binding)
         if pos_err > self.opts.tol_position or ori_err > self.opts.tol_orientation:
-            raise self._deviation_failure(seg, t, pos_err, ori_err, res, s, opts, solver)
+            raise self._deviation_failure(seg, t, pos_err, ori_err, res, opts, solver)
         self._tick()
 
     def _joint_cycle(self, seg: Segment, q, k: int, s: float, dt: float, solver) -> None:
@@ -360,28 +360,19 @@ class SimulatedController:
                 )
 
     def _ptp_active(self, seg: Segment, k: int, dt: float) -> dict[int, str] | None:
-        """The joint that sets a PTP segment's time is limit-active only where its motion
-        reaches a bound: while ramping if its acceleration equals the active acceleration
-        limit (not at ``R_ACC_PTP`` < 100 %), while cruising if its speed equals the
-        speed limit (not at ``R_SPEED_PTP`` < 100 % or a stretched profile). The bound
-        is the one in the direction of the joint's acceleration (``max`` when it speeds
-        up in the positive direction or brakes a negative motion)."""
-        j = seg.limiting_joint
-        if j < 0:
-            return None
-        up = seg.path.q1[j] >= seg.path.q0[j]
+        """The joints of a PTP segment that are at a bound in cycle ``k``: while ramping,
+        those whose acceleration equals their active acceleration limit (none at
+        ``R_ACC_PTP`` < 100 %); while cruising, those whose speed equals their speed
+        limit (none at ``R_SPEED_PTP`` < 100 % or on a stretched profile). The side is
+        that of the joint's acceleration (``max`` when it speeds up in the positive
+        direction or brakes a negative motion) or speed."""
         phase = int(seg.profile.phase((k - 0.5) * dt))
+        at_accel, at_speed = _ptp_bounds(seg)
         if phase != 0:
-            positive = (phase > 0) == up  # the sign of the joint's acceleration
-            acc = seg.limits[2][j]
-            bound = acc[1] if positive else -acc[0]
-            if seg.info["joint_accel"][j] >= bound * (1.0 - 1e-9):
-                return {j: "accel max" if positive else "accel min"}
-            return None
-        vmax = seg.limits[1][j, 1] if up else -seg.limits[1][j, 0]
-        if seg.info["joint_speed"][j] >= vmax * (1.0 - 1e-9):
-            return {j: "speed max" if up else "speed min"}
-        return None
+            out = {j: "accel max" if (phase > 0) == up else "accel min" for j, up in at_accel}
+        else:
+            out = {j: "speed max" if up else "speed min" for j, up in at_speed}
+        return out or None
 
     def _record_initial(self) -> None:
         """The sample at t = 0 (with the clearances of the start configuration)."""
@@ -404,7 +395,7 @@ class SimulatedController:
         if self.progress is not None and self._cycles % self.opts.progress_every == 0:
             self.progress(self._t, self._line)
 
-    def _deviation_failure(self, seg, t, pos_err, ori_err, res, s, opts, solver) -> RunFailure:
+    def _deviation_failure(self, seg, t, pos_err, ori_err, res, opts, solver) -> RunFailure:
         """The deviation beyond tolerance, with its cause (:mod:`ik.cause`) for a path
         segment; a held TCP (RECONFIGURATION) reports the binding bound."""
         what = (
@@ -416,7 +407,8 @@ class SimulatedController:
             what += f"; bound by {res.binding}"
         if hasattr(getattr(seg, "path", None), "length"):
             reach = self._reach(seg.limits[0], None, solver, opts.frozen)
-            return cause.classify(what, res, seg, s, self.q, reach, solver.kin, seg.line, t)
+            q0 = self._segment_start
+            return cause.classify(what, res, seg, q0, reach, solver.kin, seg.line, t)
         if res.singular or (math.isfinite(res.sigma_min) and res.sigma_min < 1e-6):
             what += f"; near a singular configuration (σ_min = {res.sigma_min:.3g})"
         return RunFailure(what, seg.line, t, res.binding or None)
@@ -489,6 +481,26 @@ _NAN = float("nan")
 def _advance(t: float, dt: float) -> float:
     """The next sample time, rounded to 1 ns so that time stamps do not drift."""
     return round(t + dt, 9)
+
+
+def _ptp_bounds(seg: Segment) -> tuple[list, list]:
+    """``(joints at their acceleration bound, joints at their speed bound)`` of a PTP
+    segment, each as ``(joint, moves up)``, within a relative 1e-9 (cached per segment)."""
+    cached = seg.info.get("at_bounds")
+    if cached is None:
+        path, (_, spd, acc) = seg.path, seg.limits
+        accel, speed = seg.info.get("joint_accel"), seg.info.get("joint_speed")
+        at_accel, at_speed = [], []
+        for j in range(len(path.q0)):
+            up = bool(path.q1[j] >= path.q0[j])
+            if path.q1[j] == path.q0[j] or accel is None:
+                continue
+            if accel[j] >= min(acc[j, 1], -acc[j, 0]) * (1.0 - 1e-9):
+                at_accel.append((j, up))
+            if speed[j] >= (spd[j, 1] if up else -spd[j, 0]) * (1.0 - 1e-9):
+                at_speed.append((j, up))
+        cached = seg.info["at_bounds"] = (at_accel, at_speed)
+    return cached
 
 
 def _shown(cmd: MotionCommand) -> str:

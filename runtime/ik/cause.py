@@ -35,6 +35,7 @@ decided in this order:
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from irlc.runtime import units
@@ -55,36 +56,100 @@ def classify(
     message: str,
     res,
     seg,
-    s_now: float,
-    q_now: np.ndarray,
+    q_start: np.ndarray,
     reach: Reach,
     kin: Kinematics,
     line: int,
     time_s: float,
 ) -> RunFailure:
-    """The :class:`RunFailure` of a deviation beyond tolerance, with its cause."""
+    """The :class:`RunFailure` of a deviation beyond tolerance in segment ``seg`` (which
+    started at ``q_start``), with its cause."""
     constraint = res.binding or None
-    free = np.array([j for j in range(reach.model.n) if j not in reach.frozen], dtype=int)
-    jac = res._jac
-    if jac is not None:
-        sing = _singular(jac, reach, free)
+    free = _free(reach, frozen=True)
+    if res._jac is not None:
+        sing = _singular(res._jac, reach, free)
         if res.singular or sing[0] < SINGULAR_RATIO:
+            if (
+                reach.frozen
+                and _singular(_task_jacobian(kin, res.q, reach), reach, _free(reach, frozen=False))[
+                    0
+                ]
+                >= SINGULAR_RATIO
+            ):
+                return _freeze_failure(message, reach, "are singular here", line, time_s)
             return _singular_failure(message, sing, reach, line, time_s, constraint, "here")
+    held = _survey(reach, seg, q_start, kin, frozen=True)
+    if held.failed is not None:
+        return _off_workspace(message, reach, seg.path, held, q_start, line, time_s)
+    if reach.frozen and (held.factor < 1.0 or held.worst[0] < SINGULAR_RATIO):
+        freed = _survey(reach, seg, q_start, kin, frozen=False)
+        fine = freed.factor >= 1.0 and freed.k_a == 1.0 and freed.worst[0] >= SINGULAR_RATIO
+        if freed.failed is None and fine:
+            what = (
+                "pass a singular configuration on the path"
+                if held.worst[0] < SINGULAR_RATIO or held.factor < MIN_FACTOR
+                else f"need {_speed_text(seg, held)} on this path"
+            )
+            return _freeze_failure(message, reach, what, line, time_s)
+    if held.worst[0] < SINGULAR_RATIO or held.factor < MIN_FACTOR:
+        return _singular_failure(
+            message, held.worst, reach, line, time_s, constraint, "on the path"
+        )
+    return _speed_failure(message, seg, held, constraint, line, time_s)
+
+
+@dataclass
+class _Survey:
+    """The segment walked from its start: ``s``, configurations (rows), the failed pose
+    search (or ``None``), the most singular point, and the factors of :func:`_factors`."""
+
+    s: np.ndarray
+    q: np.ndarray
+    failed: object
+    worst: tuple = (math.inf, math.inf, [], [])
+    c_v: float = math.inf
+    c_a: float = math.inf
+    k_a: float = 1.0
+
+    @property
+    def factor(self) -> float:
+        return min(self.c_v, self.c_a)
+
+
+def _survey(reach: Reach, seg, q_start, kin, *, frozen: bool) -> _Survey:
     timed = any(r >= 3 for r in reach.task_rows)
     path = seg.path
-    rest = 1.0 - s_now
     per_step = max(path.length / DIAG_LENGTH, _angle(path, timed) / DIAG_ANGLE)
-    steps = min(max(2, math.ceil(rest * per_step)), MAX_STEPS)
-    s_vals, configs, failed = walk(reach, path.at, q_now, s_now, steps)
+    steps = min(max(2, math.ceil(per_step)), MAX_STEPS)
+    s_vals, configs, failed = walk(reach, path.at, q_start, 0.0, steps, frozen=frozen)
+    s_all = np.concatenate(([0.0], s_vals))
+    q_all = np.vstack([q_start, *configs])
     if failed is not None:
-        return _off_workspace(message, reach, path, s_vals, configs, q_now, failed, line, time_s)
-    s_all = np.concatenate(([s_now], s_vals))
-    q_all = np.vstack([q_now, *configs])
+        return _Survey(s_all, q_all, failed)
+    free = _free(reach, frozen)
     along = [_singular(_task_jacobian(kin, q, reach), reach, free) for q in q_all]
     worst = min(along, key=lambda x: x[0])
-    if worst[0] < SINGULAR_RATIO:
-        return _singular_failure(message, worst, reach, line, time_s, constraint, "on the path")
-    return _speed_failure(message, seg, s_all, q_all, reach, constraint, line, time_s, worst)
+    prof = seg.profile
+    c_v, c_a, k_a = _factors(*_demand(seg, s_all, q_all), prof.cruise, prof.accel)
+    return _Survey(s_all, q_all, None, worst, c_v, c_a, k_a)
+
+
+def _free(reach: Reach, frozen: bool) -> np.ndarray:
+    held = reach.frozen if frozen else {}
+    return np.array([j for j in range(reach.model.n) if j not in held], dtype=int)
+
+
+def _freeze_failure(message, reach: Reach, what: str, line, time_s) -> RunFailure:
+    names = reach.naming.labels(sorted(reach.frozen))
+    return RunFailure(
+        f"{message}; cause: FREEZE of joints {names} leaves too few free joints: the "
+        f"others {what}; with them free the path can be followed as programmed",
+        line,
+        time_s,
+        f"FREEZE {names}",
+        cause="freeze",
+        details={"joints": [reach.naming.name(j) for j in sorted(reach.frozen)]},
+    )
 
 
 def _angle(path, timed: bool) -> float:
@@ -130,28 +195,28 @@ def _singular_failure(message, sing, reach, line, time_s, constraint, where) -> 
     return RunFailure(text, line, time_s, constraint, cause="singular", details=details)
 
 
-def _off_workspace(message, reach, path, s_vals, configs, q_now, failed, line, time_s):
-    s_bad = float(s_vals[len(configs)]) if len(configs) < len(s_vals) else 1.0
-    where = f"{s_bad * path.length / units.MM:.4g} mm along the segment"
+def _off_workspace(message, reach, path, survey: _Survey, q_start, line, time_s):
+    failed = survey.failed
+    s_bad = float(min(1.0, survey.s[-1] + 1.0 / max(1, len(survey.s))))
+    where = f"about {s_bad * path.length / units.MM:.4g} mm along the segment"
     details = {
         "distance_mm": failed.position_error / units.MM,
         "distance_deg": failed.orientation_error / units.DEG,
     }
-    seed = configs[-1] if configs else q_now
-    if reach.frozen:
-        free = reach.search(path.at(s_bad), seed, frozen=False)
-        if reach.reached(free):
-            names = reach.naming.labels(sorted(reach.frozen))
-            return RunFailure(
-                f"{message}; cause: FREEZE of joints {names} leaves too few free joints: the "
-                f"path {where} is out of reach with them held (closest pose "
-                f"{failed.position_error / units.MM:.4g} mm away), reachable with them free",
-                line,
-                time_s,
-                f"FREEZE {names}",
-                cause="freeze",
-                details=details,
-            )
+    seed = survey.q[-1]
+    if reach.frozen and reach.reached(reach.search(path.at(s_bad), seed, frozen=False)):
+        names = reach.naming.labels(sorted(reach.frozen))
+        details["joints"] = [reach.naming.name(j) for j in sorted(reach.frozen)]
+        return RunFailure(
+            f"{message}; cause: FREEZE of joints {names} leaves too few free joints: the "
+            f"path {where} is out of reach with them held (closest pose "
+            f"{failed.position_error / units.MM:.4g} mm away), reachable with them free",
+            line,
+            time_s,
+            f"FREEZE {names}",
+            cause="freeze",
+            details=details,
+        )
     cause = "position_limit" if "limits reached" in failed.message else "unreachable"
     text = failed.message.replace("target not reachable", f"the path {where} is not reachable")
     return RunFailure(f"{message}; cause: {text}", line, time_s, None, cause=cause, details=details)
@@ -188,21 +253,29 @@ def _factors(dq, d2, vlim, alim, v: float, a: float) -> tuple[float, float, floa
     return c_v, math.sqrt(float(np.min(ratio))), k_a
 
 
-def _speed_failure(message, seg, s, q, reach, constraint, line, time_s, worst) -> RunFailure:
-    prof = seg.profile
-    v, a = prof.cruise, prof.accel
-    c_v, c_a, k_a = _factors(*_demand(seg, s, q), v, a)
-    factor = min(c_v, c_a)
-    if factor < MIN_FACTOR:
-        return _singular_failure(message, worst, reach, line, time_s, constraint, "on the path")
-    cause = "speed_limit" if c_v <= c_a and k_a == 1.0 else "accel_limit"
-    factor = min(factor, 1.0) * SAFETY
+def _speed_setting(seg) -> tuple[float, str, str, str]:
+    """``(size of the segment in program units, unit, setting, report key)``: the path
+    length and ``R_SPEED``, or the angle and ``R_SPEED_ORI`` when it sets the time."""
     if seg.limiting == "orientation speed":
-        size, unit, name, key = seg.path.angle / units.DEG, "deg/s", "R_SPEED_ORI", "speed_ori"
-        key += "_deg_s"
-    else:
-        size, unit, name, key = seg.path.length / units.MM, "mm/s", "R_SPEED", "speed_mm_s"
-    now, suggested = v * size, _round_down(v * size * factor)
+        return seg.path.angle / units.DEG, "deg/s", "R_SPEED_ORI", "speed_ori_deg_s"
+    return seg.path.length / units.MM, "mm/s", "R_SPEED", "speed_mm_s"
+
+
+def _suggested(seg, survey: _Survey) -> float:
+    size = _speed_setting(seg)[0]
+    return _round_down(seg.profile.cruise * size * min(survey.factor, 1.0) * SAFETY)
+
+
+def _speed_text(seg, survey: _Survey) -> str:
+    _, unit, name, _ = _speed_setting(seg)
+    return f"{name} ≤ {_suggested(seg, survey):g} {unit}"
+
+
+def _speed_failure(message, seg, survey: _Survey, constraint, line, time_s) -> RunFailure:
+    c_v, c_a, k_a = survey.c_v, survey.c_a, survey.k_a
+    cause = "speed_limit" if c_v <= c_a and k_a == 1.0 else "accel_limit"
+    size, unit, name, key = _speed_setting(seg)
+    now, suggested = seg.profile.cruise * size, _suggested(seg, survey)
     what = "speed" if cause == "speed_limit" else "acceleration"
     text = (
         f"{message}; cause: a joint {what} bound; a lower speed resolves it: "
@@ -210,9 +283,9 @@ def _speed_failure(message, seg, s, q, reach, constraint, line, time_s, worst) -
     )
     details = {f"suggested_{key}": suggested}
     if k_a < 1.0:
-        acc_now = a * size
+        acc_now = seg.profile.accel * size
         acc_ok = _round_down(acc_now * k_a * SAFETY)
-        acc_name = "R_ACC" if name == "R_SPEED" else "R_SPEED_ORI·R_ACC/R_SPEED"
+        acc_name = "R_ACC" if name == "R_SPEED" else "the orientation acceleration"
         text += f" and {acc_name} ≤ {acc_ok:g} {unit}² (now {acc_now:.4g} {unit}²)"
         if name == "R_SPEED":
             details["suggested_acc_mm_s2"] = acc_ok
