@@ -217,8 +217,11 @@ def _off_workspace(message, reach, path, survey: _Survey, q_start, line, time_s)
             cause="freeze",
             details=details,
         )
-    cause = "position_limit" if "limits reached" in failed.message else "unreachable"
-    text = failed.message.replace("target not reachable", f"the path {where} is not reachable")
+    if "limits reached" in failed.message:  # the branch followed runs into a limit
+        cause, what = "position_limit", f"the path {where} needs a joint beyond its limit"
+    else:
+        cause, what = "unreachable", f"the path {where} is out of reach"
+    text = failed.message.replace("target not reachable", what)
     return RunFailure(f"{message}; cause: {text}", line, time_s, None, cause=cause, details=details)
 
 

@@ -106,17 +106,43 @@ def solve_within(
     return solve_pose(limited, target, seed, tool=tool, task_rows=task_rows, naming=naming)
 
 
-def restarts(model: RobotModel, seed: np.ndarray, position: np.ndarray) -> list[np.ndarray]:
+def restarts(
+    model: RobotModel, seed: np.ndarray, position: np.ndarray, spread: int = 8
+) -> list[np.ndarray]:
     """Other starts for a stalled search, in this order: the seed moved by ±0.2 rad
     (±50 mm prismatic; alternating signs, off a singular stretched or folded pose), the
-    robot's home, the middle of the position limits (all inside the limits)."""
+    robot's home, the middle of the position limits, then ``spread`` points of a Halton
+    sequence spread over the limits (infinite ranges: ±π rad, ±1 m) — a deterministic
+    cover of the configuration space, so that a branch the seed cannot slide to (across
+    a joint limit) is still found. All inside the limits."""
     lo, hi = position[:, 0], position[:, 1]
-    step = np.array([0.2 if j.kind == "revolute" else 0.05 for j in model.joints])
+    revolute = np.array([j.kind == "revolute" for j in model.joints])
+    step = np.where(revolute, 0.2, 0.05)
     sign = np.where(np.arange(model.n) % 2 == 0, 1.0, -1.0)
-    mid = np.where(np.isfinite(lo + hi), 0.5 * (lo + hi), np.clip(0.0, lo, hi))
+    wide = np.where(revolute, math.pi, 1.0)
+    lo_f, hi_f = np.maximum(lo, -wide), np.minimum(hi, wide)
+    lo_f, hi_f = np.minimum(lo_f, hi), np.maximum(hi_f, lo)  # ranges outside ±wide
+    mid = 0.5 * (lo_f + hi_f)
     home = model.home if model.home is not None else mid
     starts = [np.asarray(seed) + sign * step, np.asarray(home, dtype=float), mid]
+    starts += [lo_f + u * (hi_f - lo_f) for u in _halton(spread, model.n)]
     return [np.clip(q, lo, hi) for q in starts]
+
+
+def _halton(count: int, dim: int) -> np.ndarray:
+    """The first ``count`` points (from index 1) of the Halton sequence in ``[0, 1)^dim``."""
+    primes = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53]
+    out = np.zeros((count, dim))
+    for d in range(dim):
+        base = primes[d % len(primes)]
+        for i in range(count):
+            k, f, x = i + 1, 1.0, 0.0
+            while k:
+                f /= base
+                x += f * (k % base)
+                k //= base
+            out[i, d] = x
+    return out
 
 
 def _residual(sol: PoseSolution) -> float:
