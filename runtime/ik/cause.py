@@ -5,6 +5,9 @@ bound, but that bound is a symptom: near a singularity or past the workspace eve
 joint runs into its speed bound, and lowering the speed would not help. The cause is
 decided in this order:
 
+0. **position_limit** — the binding bound is a position or braking bound and a joint
+   is within 0.5 deg (1 mm) of its active position limit: the path (as the cycles
+   follow it) needs that joint beyond its limit; slower does not help.
 1. **singular** — the failing cycle's task Jacobian ``J`` (free joints, controlled rows)
    has ``σ_min/σ_max < SINGULAR_RATIO`` (or no well-conditioned basis was found).
    With ``J = UΣVᵀ`` the last left singular vector ``u_m`` is the task direction the TCP
@@ -40,10 +43,12 @@ from dataclasses import dataclass
 import numpy as np
 from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.ik.limits import format_joint_value
 from irlc.runtime.ik.reach import Reach, walk
 from irlc.runtime.kinematics import Kinematics
 
 SINGULAR_RATIO = 1e-3
+LIMIT_MARGIN = (1e-3, 0.5 * units.DEG)  # (prismatic m, revolute rad): "at" a position limit
 MIN_FACTOR = 1e-2
 SAFETY = 0.8
 DIAG_LENGTH = 0.01  # m per walk step of the diagnosis
@@ -78,13 +83,15 @@ def classify(
             ):
                 return _freeze_failure(message, reach, "are singular here", line, time_s)
             return _singular_failure(message, sing, reach, line, time_s, constraint, "here")
+    at_limit = _at_position_limit(res.q, reach)
+    if at_limit and constraint and (" position " in constraint or " braking " in constraint):
+        return _position_failure(message, reach, res.q, at_limit, constraint, line, time_s)
     held = _survey(reach, seg, q_start, kin, frozen=True)
     if held.failed is not None:
         return _off_workspace(message, reach, seg.path, held, q_start, line, time_s)
-    if reach.frozen and (held.factor < 1.0 or held.worst[0] < SINGULAR_RATIO):
+    if reach.frozen and not held.feasible:
         freed = _survey(reach, seg, q_start, kin, frozen=False)
-        fine = freed.factor >= 1.0 and freed.k_a == 1.0 and freed.worst[0] >= SINGULAR_RATIO
-        if freed.failed is None and fine:
+        if freed.failed is None and freed.feasible:
             what = (
                 "pass a singular configuration on the path"
                 if held.worst[0] < SINGULAR_RATIO or held.factor < MIN_FACTOR
@@ -115,6 +122,17 @@ class _Survey:
     def factor(self) -> float:
         return min(self.c_v, self.c_a)
 
+    @property
+    def feasible(self) -> bool:
+        """The estimate says the path can be followed as programmed: no speed factor
+        below 1, the ramp term within the acceleration limit, not singular."""
+        return (
+            self.failed is None
+            and self.factor >= 1.0
+            and 2.0 * self.k_a >= 1.0
+            and self.worst[0] >= SINGULAR_RATIO
+        )
+
 
 def _survey(reach: Reach, seg, q_start, kin, *, frozen: bool) -> _Survey:
     timed = any(r >= 3 for r in reach.task_rows)
@@ -132,6 +150,35 @@ def _survey(reach: Reach, seg, q_start, kin, *, frozen: bool) -> _Survey:
     prof = seg.profile
     c_v, c_a, k_a = _factors(*_demand(seg, s_all, q_all), prof.cruise, prof.accel)
     return _Survey(s_all, q_all, None, worst, c_v, c_a, k_a)
+
+
+def _at_position_limit(q: np.ndarray, reach: Reach) -> list[tuple[int, int]]:
+    """Joints within ``LIMIT_MARGIN`` (0.5 deg, 1 mm) of an active position limit, as
+    ``(joint, side)`` with side 0 = min, 1 = max."""
+    margin = np.array([LIMIT_MARGIN[j.kind == "revolute"] for j in reach.model.joints])
+    lo, hi = reach.position[:, 0], reach.position[:, 1]
+    out = [(j, 0) for j in np.flatnonzero(q - lo <= margin)]
+    out += [(j, 1) for j in np.flatnonzero(hi - q <= margin)]
+    return sorted((int(j), side) for j, side in out)
+
+
+def _position_failure(message, reach: Reach, q, at_limit, constraint, line, time_s):
+    model, naming = reach.model, reach.naming
+    parts = [
+        f"{naming.label(j)} at its position {('min', 'max')[side]} "
+        f"{format_joint_value(model, j, reach.position[j, side], 0)}"
+        for j, side in at_limit
+    ]
+    return RunFailure(
+        f"{message}; cause: a joint position limit on this path ({', '.join(parts)}); a "
+        "lower speed does not resolve it (another start configuration or a CYCLIC / WITH "
+        "RECONFIGURATION reference may)",
+        line,
+        time_s,
+        constraint,
+        cause="position_limit",
+        details={"joints": [naming.name(j) for j, _ in at_limit]},
+    )
 
 
 def _free(reach: Reach, frozen: bool) -> np.ndarray:
