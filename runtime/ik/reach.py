@@ -169,7 +169,8 @@ def walk(
     """Solve the poses ``at(s)`` for ``s`` from ``s0`` to 1 in ``steps`` equal steps, each
     seeded with the previous solution (where that stalls, :meth:`Reach.search`'s restarts:
     the configurations may then jump to another branch, which shows as a large ``dq/ds``).
-    Returns the ``s`` reached, the configurations, and the failed solution (``None`` when the walk reached ``s = 1``)."""
+    Returns the ``s`` reached, the configurations, and the failed solution (``None``
+    when the walk reached ``s = 1``)."""
     s_values = np.linspace(s0, 1.0, steps + 1)[1:]
     configs: list[np.ndarray] = []
     q = np.asarray(seed, dtype=float)
