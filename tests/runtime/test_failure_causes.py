@@ -216,3 +216,17 @@ def test_message_joint_names_are_the_summarys(tmp_path):
     for program, own in pairs:
         assert robot.index(own) == names.index(program)
     assert len(re.findall(r"panda_joint\d", msg)) == len(pairs)  # never the robot name alone
+
+
+def test_interpreter_limit_messages_follow_the_naming_rule(tmp_path):
+    # mobile8's fifth joint is "A3" in the robot file and a5 in the program and summary
+    body = (
+        "  MOVE PTP home;\n"
+        "  JOINTLIMIT (-1000, -1000, -90, -90, -90, -90, -90, -90),"
+        " (1000, 1000, 90, 90, 50, 90, 90, 90);\n"
+        "  JOINTLIMITEND;\n"
+    )
+    run = _run(tmp_path, "jl", body, "mobile8", MOBILE8_CELL)
+    err = run.report["error"]
+    assert "joint a5 (A3) is at 60" in err["message"], err
+    assert run.report["joint_names"][4] == "a5"
