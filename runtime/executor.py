@@ -411,7 +411,8 @@ class SimulatedController:
             return cause.classify(what, res, seg, q0, reach, solver.kin, seg.line, t)
         if res.singular or (math.isfinite(res.sigma_min) and res.sigma_min < 1e-6):
             what += f"; near a singular configuration (σ_min = {res.sigma_min:.3g})"
-        return RunFailure(what, seg.line, t, res.binding or None)
+            return RunFailure(what, seg.line, t, res.binding or None, cause="singular")
+        return RunFailure(what, seg.line, t, res.binding or None, cause.of_bound(res.binding))
 
     # ------------------------------------------------------------------ helpers
     def _dt(self, settings: Settings) -> float:

@@ -199,6 +199,20 @@ def _freeze_failure(message, reach: Reach, what: str, line, time_s) -> RunFailur
     )
 
 
+def of_bound(binding: str) -> str | None:
+    """The cause a bound's label names by itself (``"a4 (J4) speed max 120 deg/s"`` →
+    ``speed_limit``), for a held TCP (RECONFIGURATION), where no path is walked."""
+    for word, name in (
+        (" position ", "position_limit"),
+        (" braking ", "position_limit"),
+        (" speed ", "speed_limit"),
+        (" accel ", "accel_limit"),
+    ):
+        if word in f" {binding} ":
+            return name
+    return None
+
+
 def _angle(path, timed: bool) -> float:
     return path.angle if timed else 0.0
 
