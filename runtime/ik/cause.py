@@ -13,26 +13,29 @@ decided in this order:
    With ``J = UΣVᵀ`` the last left singular vector ``u_m`` is the task direction the TCP
    has lost, the right one ``v_m`` the joint combination that no longer moves it: the
    joints with ``|v_m,j| ≥ 0.3·max|v_m|`` are named.
-2. The rest of the segment is **walked** (:func:`reach.walk`, ≤ 10 mm / 2 deg steps,
-   the pose search of the pre-check). A pose the walk cannot reach: **freeze** if it is
-   reachable with the frozen joints free, **position_limit** if joints stop at their
-   position limits, else **unreachable**.
-3. Along the walk, ``σ_min/σ_max`` below ``SINGULAR_RATIO`` → **singular** (there).
-4. Otherwise the joint path ``q(s)`` gives the demand: with ``ṡ ≤ v`` (the profile's
+2. The whole segment is **walked** from its start configuration (:func:`reach.walk`,
+   ≤ 10 mm / 2 deg steps, at most 400, the pose search of the pre-check with its
+   restarts). A pose the walk cannot reach: **freeze** if it is reachable with the
+   frozen joints free, **position_limit** if joints stop at their position limits,
+   else **unreachable**.
+3. With frozen joints, if the estimate below says the held joints cannot follow the
+   path as programmed but the same walk with them free can: **freeze**.
+4. Along the walk, ``σ_min/σ_max`` below ``SINGULAR_RATIO`` → **singular** (there).
+5. Otherwise the joint path ``q(s)`` gives the demand: with ``ṡ ≤ v`` (the profile's
    cruise, 1/s) and ``s̈ ≤ a``, joint speed ``|q'|·v`` and acceleration
    ``|q''|·v² + |q'|·a`` (``q'``, ``q''``: finite differences over ``s``). Scaling the
    path speed by ``c`` scales ``v`` by ``c``, so the bounds hold for
 
        c_v = min_j θ̇max_j / max_s |q'_j|·v,
-       c_a = min_j √((θ̈max_j − max_s |q'_j|·a) / max_s |q''_j|·v²)
+       c_a = min_j √((θ̈max_j − k_a·max_s |q'_j|·a) / max_s |q''_j|·v²)
 
-   The smaller factor names the cause (**speed_limit** or **accel_limit**); the
-   suggested speed is ``SAFETY·min(c_v, c_a)`` times the segment's cruise speed
-   (``R_SPEED`` in mm/s, or ``R_SPEED_ORI`` in deg/s when the orientation sets the
-   segment's time), rounded down to two significant digits. A factor ``< MIN_FACTOR``
-   (a path through a near-singularity) counts as **singular**; when even ``c → 0``
-   leaves the acceleration bound violated (``|q'|·a > θ̈max``) the message says that
-   ``R_ACC`` must be lowered.
+   where ``k_a ≤ 1`` scales the path acceleration so that the ramp term uses at most
+   half of ``θ̈max`` (``k_a < 1``: the message also suggests ``R_ACC``). The smaller
+   factor names the cause (**speed_limit** or **accel_limit**); the suggested speed is
+   ``SAFETY·min(c_v, c_a)`` times the segment's peak speed (``R_SPEED`` in mm/s, or
+   ``R_SPEED_ORI`` in deg/s when the orientation sets the segment's time), rounded
+   down to two significant digits. A factor ``< MIN_FACTOR`` (a path through a
+   near-singularity, or a jump between branches) counts as **singular**.
 """
 
 from __future__ import annotations
