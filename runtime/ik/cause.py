@@ -251,7 +251,7 @@ def _singular_failure(message, sing, reach, line, time_s, constraint, where) -> 
         f"{'; joints involved: ' + names if joints else ''}; a lower speed does not help"
     )
     details = {
-        "sigma_min": smin,
+        "sigma_min_si": smin,  # of the SI Jacobian (m/rad position rows, rad/rad)
         "sigma_ratio": ratio,
         "joints": [naming.name(j) for j in joints],
         "lost_directions": rows,

@@ -112,7 +112,7 @@ def test_singular_path_names_singular_and_sigma_min(tmp_path):
     run = _run(tmp_path, "stretched", body, "planar3")
     err = run.report["error"]
     assert err["line"] == 6 and err["cause"] == "singular", err
-    assert err["sigma_min"] == pytest.approx(0.0, abs=1e-9)
+    assert err["sigma_min_si"] == pytest.approx(0.0, abs=1e-9)
     assert "σ_min" in err["message"] and "lower speed does not help" in err["message"]
     assert err["lost_directions"] == ["x"]
 
