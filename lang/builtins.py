@@ -22,6 +22,7 @@ SYSTEM_VARIABLES: dict[str, tuple[T.Type | None, bool]] = {
     "R_TOOL": (T.POSE, True),
     "R_BASE": (T.POSE, True),
     "R_IPO": (T.REAL, True),
+    "R_PATH_TOL": (T.REAL, True),
     "R_ACT_POSE": (T.POSE, False),
     "R_ACT_JOINT": (None, False),
 }

@@ -34,6 +34,7 @@ SYSTEM_VARIABLES = (
     "R_TOOL",
     "R_BASE",
     "R_IPO",
+    "R_PATH_TOL",
     "R_ACT_POSE",
     "R_ACT_JOINT",
 )

@@ -50,6 +50,7 @@ class Settings:
     tool: Pose = field(default_factory=lambda: Pose(Position(0.0, 0.0, 0.0), IDENTITY))
     base: Pose = field(default_factory=lambda: Pose(Position(0.0, 0.0, 0.0), IDENTITY))
     ipo: float = 0.01  # R_IPO, s
+    path_tol: float = 0.05  # R_PATH_TOL, mm (the run's --path-tolerance sets the start value)
 
 
 @dataclass(frozen=True)
@@ -82,6 +83,7 @@ SETTING_RANGES: dict[str, SettingRange] = {
     "acc_ptp": SettingRange(0.0, 100.0, "%"),
     "time": SettingRange(0.0, math.inf, "s"),
     "ipo": SettingRange(1e-5, 1.0, "s", closed=True),
+    "path_tol": SettingRange(0.0, math.inf, "mm"),
 }
 
 

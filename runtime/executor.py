@@ -13,9 +13,10 @@ For each command the pre-interpolator (:mod:`preinterp`) makes segments; every I
 
 **Path deviation.** When the hard problem is infeasible the inverse transformation
 returns a relaxed cycle. Its TCP error is recorded with time and line (a warning); if it
-exceeds ``tol_position`` (default 0.05 mm) or ``tol_orientation`` (default 0.01°) the run
-fails (:class:`RunFailure`, exit 2) naming the line, the time and the binding
-constraint. Never a silent zero step: an unconverged cycle is treated the same way.
+exceeds the path tolerance ``R_PATH_TOL`` (start value ``tol_position``, 0.05 mm) or
+``tol_orientation`` (default 0.01°) the run fails (:class:`RunFailure`, exit 2) naming
+the line, the time and the binding constraint. Never a silent zero step: an unconverged
+cycle is treated the same way.
 
 **RECONFIGURATION k** (self-motion). The reference moves from the current configuration
 to ``k`` along a synchronised joint profile (PTP timing under the active limits and
@@ -110,6 +111,8 @@ class SimulatedController:
         self._segment_start = self.q.copy()
         self._active_obstacles: frozenset[str] = frozenset()
         self.dt_used = self.opts.ipo if self.opts.ipo is not None else Settings().ipo
+        self.recorder.tol_position = self.opts.tol_position
+        self._start_tool = b""  # the tool (bytes) the start sample was stamped with
         self._record_initial()
 
     # ------------------------------------------------------------------ protocol
@@ -129,6 +132,7 @@ class SimulatedController:
 
     def move(self, cmd: MotionCommand, settings: Settings, options: ModalOptions) -> None:
         self._line = cmd.line
+        self.recorder.tol_position = settings.path_tol * units.MM  # R_PATH_TOL
         solver = self._solver(settings)
         state = self._plan_state(settings, solver)
         self._settings = settings
@@ -144,6 +148,7 @@ class SimulatedController:
         self, target: JointTuple, line: int, settings: Settings, options: ModalOptions
     ) -> None:
         self._line = line
+        self.recorder.tol_position = settings.path_tol * units.MM  # R_PATH_TOL
         solver = self._solver(settings)
         state = self._plan_state(settings, solver)
         lims = self.pre.limits((None, None, None), options, line)
@@ -318,7 +323,7 @@ class SimulatedController:
             self._check_collisions(res.clearances, opts.active_obstacles, seg.line, t)
         if res.relaxed or not res.converged:
             rec.note_relaxed(seg.line, t, dt, pos_err, ori_err, res.binding)
-        if pos_err > self.opts.tol_position or ori_err > self.opts.tol_orientation:
+        if pos_err > rec.tol_position or ori_err > self.opts.tol_orientation:
             raise self._deviation_failure(seg, t, pos_err, ori_err, res, opts, solver)
         self._tick()
 
@@ -375,12 +380,20 @@ class SimulatedController:
         return out or None
 
     def _record_initial(self) -> None:
-        """The sample at t = 0 (with the clearances of the start configuration)."""
-        solver = self._solver(Settings())
+        """The sample at t = 0 (with the clearances of the start configuration), with the
+        default tool; :meth:`_solver` re-stamps it with the program's tool while it is the
+        only sample (``R_TOOL`` set before the first motion holds from t = 0)."""
+        self._stamp_start(self._solver(Settings()))
+
+    def _stamp_start(self, solver: _Solver) -> None:
         frames = solver.kin.link_frames(self.q)
         tcp = solver.kin.tcp_from_frames(frames)
         clear = self._clearances(solver, frames)
-        self.recorder.add(self._t, 0, self.q, tcp, None, clearances=clear)
+        if len(self.recorder) == 0:
+            self.recorder.add(self._t, 0, self.q, tcp, None, clearances=clear)
+        else:
+            self.recorder.restamp_first(tcp, clear)
+        self._start_tool = solver.kin.tool.tobytes()
 
     def _clearances(self, solver: _Solver, frames) -> dict[str, tuple[float, int]] | None:
         if not self.obstacles:
@@ -400,7 +413,8 @@ class SimulatedController:
         segment; a held TCP (RECONFIGURATION) reports the binding bound."""
         what = (
             f"the path cannot be followed: TCP deviation {pos_err / units.MM:.4g} mm, "
-            f"{ori_err / units.DEG:.4g} deg (tolerance {self.opts.tol_position / units.MM:g} mm, "
+            f"{ori_err / units.DEG:.4g} deg "
+            f"(tolerance {self.recorder.tol_position / units.MM:g} mm, "
             f"{self.opts.tol_orientation / units.DEG:g} deg)"
         )
         if res.binding:
@@ -432,6 +446,8 @@ class SimulatedController:
             ik = InverseTransformation(self.model, kin, self.ik_params, self.naming)
             solver = _Solver(kin, ik)
             self._solvers[key] = solver
+        if len(self.recorder) == 1 and key != self._start_tool:
+            self._stamp_start(solver)  # a tool set before the first motion holds from t = 0
         return solver
 
     def _plan_state(self, settings: Settings, solver: _Solver) -> PlanState:
@@ -457,7 +473,7 @@ class SimulatedController:
             solver.kin.tool,
             self.ik_params.task_rows,
             self.naming,
-            self.opts.tol_position,
+            self.recorder.tol_position,
             self.opts.tol_orientation,
         )
 

@@ -155,6 +155,7 @@ _SETTINGS_FIELDS = {
     "R_TOOL": "tool",
     "R_BASE": "base",
     "R_IPO": "ipo",
+    "R_PATH_TOL": "path_tol",
 }
 _MOVE_NUMBERS = {
     "SPEED": "speed",

@@ -170,8 +170,13 @@ def run_code(
     output: Callable[[str], None] | None = None,
     options: ExecutionOptions | None = None,
     trace_every_step: bool = False,
+    path_tolerance: float | None = None,
+    orientation_tolerance: float | None = None,
 ) -> RunResult:
-    """Execute compiled ``code`` (see the module doc)."""
+    """Execute compiled ``code`` (see the module doc). ``path_tolerance`` (mm, the start
+    value of ``R_PATH_TOL``) and ``orientation_tolerance`` (deg) override ``options``'
+    ``tol_position`` / ``tol_orientation``; a path deviation beyond them fails the run —
+    with drives, of the actual motion (:mod:`irlc.runtime.verdict`)."""
     if drives not in DRIVE_LEVELS:
         raise RunSetupError(f"unknown drive level {drives!r} (known: {', '.join(DRIVE_LEVELS)})")
     if ipo is not None and setting_error("ipo", ipo):
@@ -184,14 +189,31 @@ def run_code(
     if ipo is not None:
         opts.ipo = float(ipo)
     naming = JointNaming.for_model(model, code.joint_names)  # joints in failure messages
+    tol_mm = opts.tol_position / units.MM
+    if path_tolerance is not None:
+        tol_mm = _positive("--path-tolerance", path_tolerance, "mm")
+        opts.tol_position = tol_mm * units.MM
+    if orientation_tolerance is not None:
+        deg = _positive("--orientation-tolerance", orientation_tolerance, "deg")
+        opts.tol_orientation = deg * units.DEG
     controller = SimulatedController(
         model, q0, obstacles=obstacles, options=opts, progress=progress, naming=naming
     )
-    settings = Settings(ipo=opts.ipo) if opts.ipo is not None else Settings()
+    settings = Settings(path_tol=tol_mm)  # R_PATH_TOL's start value, as given
+    if opts.ipo is not None:
+        settings.ipo = opts.ipo
     execution = _interpret(code, controller, settings, output)
     from irlc.runtime.results import assemble
 
     return assemble(code, model, controller, obstacles, execution, opts, drives, trace_every_step)
+
+
+def _positive(option: str, value, unit: str) -> float:
+    """``value`` as a float if it is a finite number > 0, else :class:`RunSetupError`."""
+    ok = isinstance(value, int | float) and not isinstance(value, bool)
+    if not ok or not (math.isfinite(value) and value > 0.0):
+        raise RunSetupError(f"{option} must be a positive number of {unit}, got {value!r}")
+    return float(value)
 
 
 def _interpret(code, controller, settings, output: Callable[[str], None] | None):

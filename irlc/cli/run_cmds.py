@@ -59,6 +59,21 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
     help="Drive simulation level after the kinematic run.",
 )
 @click.option(
+    "--path-tolerance",
+    "path_tolerance",
+    type=float,
+    default=None,
+    help="Path tolerance in mm (start value of R_PATH_TOL; default 0.05). A larger TCP "
+    "deviation fails the run; with --drives, that of the actual motion.",
+)
+@click.option(
+    "--orientation-tolerance",
+    "orientation_tolerance",
+    type=float,
+    default=None,
+    help="Orientation tolerance in deg (default 0.01).",
+)
+@click.option(
     "--report",
     "report_path",
     type=click.Path(path_type=Path, dir_okay=False),
@@ -113,6 +128,8 @@ def run_cmd(
     datalist_path,
     ipo,
     drives,
+    path_tolerance,
+    orientation_tolerance,
     report_path,
     trace_path,
     trace_every_step,
@@ -140,8 +157,12 @@ def run_cmd(
         program,
         robot,
         datalist_path,
-        ipo,
-        drives,
+        dict(
+            ipo=ipo,
+            drives=drives,
+            path_tolerance=path_tolerance,
+            orientation_tolerance=orientation_tolerance,
+        ),
         seed,
         trace_every_step,
         live and sys.stdout.isatty(),
@@ -170,7 +191,7 @@ def run_cmd(
     return code
 
 
-def _run(program, robot, datalist_path, ipo, drives, seed, every_step, show_progress, echo, err):
+def _run(program, robot, datalist_path, options, seed, every_step, show_progress, echo, err):
     """Compile and run; returns the RunResult, or an exit code after printing the error."""
     from irlc.lang.diagnostics import CompileError
     from irlc.robots import RobotFileError
@@ -183,12 +204,11 @@ def _run(program, robot, datalist_path, ipo, drives, seed, every_step, show_prog
             program,
             robot=robot,
             datalist_path=datalist_path,
-            ipo=ipo,
-            drives=drives,
             seed_config=seed,
             progress=progress,
             output=echo,
             trace_every_step=every_step,
+            **options,
         )
     except CompileError as exc:
         stop()
