@@ -90,13 +90,13 @@ class SimulatedController:
         naming: JointNaming | None = None,
     ):
         self.model = model
-        self.naming = naming or JointNaming.for_model(model)  # joints in failure messages
+        self._naming = naming or JointNaming.for_model(model)  # joints in failure messages
         self.opts = options or ExecutionOptions()
         self.ik_params = self.opts.ik or IKParams.for_robot(model)
         self.obstacles = dict(obstacles or {})
         self.recorder = Recorder(model.n, tuple(self.obstacles), self.ik_params.task_rows)
         self.pre = PreInterpolator(model, self._solve_pose, self.ik_params.task_rows)
-        self.pre.naming = self.naming
+        self.pre.naming = self._naming
         self.progress = progress
         self.scale = units.joint_scale(model.joint_kinds)
         self._solvers: dict[bytes, _Solver] = {}
@@ -116,6 +116,19 @@ class SimulatedController:
         self._record_initial()
 
     # ------------------------------------------------------------------ protocol
+    @property
+    def naming(self) -> JointNaming:
+        """How failure messages name joints (the program's names; the REPL may set it
+        when a session's MAIN_JOINT names change): passed to the pre-interpolator and
+        every solver."""
+        return self._naming
+
+    @naming.setter
+    def naming(self, value: JointNaming) -> None:
+        self._naming = self.pre.naming = value
+        for solver in self._solvers.values():
+            solver.ik.naming = value
+
     @property
     def time(self) -> float:
         return self._t
