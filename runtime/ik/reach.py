@@ -234,7 +234,9 @@ def unreachable_failure(
     reach: Reach, target, seed, sol, line, time_s, what: str, via: bool = False
 ) -> RunFailure:
     """The pre-check's (and PTP's) failure for a pose the search did not reach: cause
-    ``freeze`` when it is reachable with the frozen joints free, else ``unreachable``."""
+    ``freeze`` when it is reachable with the frozen joints free, ``position_limit`` when
+    it is reachable within the robot's own position limits (a JOINTLIMIT excludes it),
+    else ``unreachable``."""
     point = "via point" if via else "target"
     details = {
         "distance_mm": sol.position_error / units.MM,
@@ -256,4 +258,16 @@ def unreachable_failure(
             details=details,
         )
     text = sol.message.replace("target not reachable", f"{point} not reachable", 1)
+    own = reach.model.position_limits
+    if not np.array_equal(reach.position, own):  # JOINTLIMIT narrows the robot's limits
+        wide = dataclasses.replace(reach, position=own)
+        if wide.reached(wide.search(target, seed)):
+            return RunFailure(
+                f"{what}: {text}; within the robot's own position limits it is reachable: "
+                "the active JOINTLIMIT excludes it",
+                line,
+                time_s,
+                cause="position_limit",
+                details=details,
+            )
     return RunFailure(f"{what}: {text}", line, time_s, cause="unreachable", details=details)

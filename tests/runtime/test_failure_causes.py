@@ -230,3 +230,19 @@ def test_interpreter_limit_messages_follow_the_naming_rule(tmp_path):
     err = run.report["error"]
     assert "joint a5 (A3) is at 60" in err["message"], err
     assert run.report["joint_names"][4] == "a5"
+
+
+def test_target_excluded_by_jointlimit_names_the_position_limit(tmp_path):
+    # (0, 2500) mm needs a1 well above 20 deg on planar3 (|p| = 2.5 m with the other
+    # links bent ≤ 180 deg): reachable with the robot's limits, not within the JOINTLIMIT
+    body = (
+        "  MOVE PTP (0, 90, -90);\n"
+        "  JOINTLIMIT (-20, -180, -180), (20, 180, 180);\n"
+        "  MOVE LIN (0, 2500, 0, 0, 0, 0);\n"
+        "  JOINTLIMITEND;\n"
+    )
+    run = _run(tmp_path, "jl_far", body, "planar3")
+    err = run.report["error"]
+    assert err["cause"] == "position_limit" and err["line"] == 6, err
+    assert "JOINTLIMIT excludes it" in err["message"]
+    assert 6 not in set(run.lines.tolist())
