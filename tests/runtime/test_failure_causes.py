@@ -246,3 +246,11 @@ def test_target_excluded_by_jointlimit_names_the_position_limit(tmp_path):
     assert err["cause"] == "position_limit" and err["line"] == 6, err
     assert "JOINTLIMIT excludes it" in err["message"]
     assert 6 not in set(run.lines.tolist())
+
+
+def test_obstacle_failure_names_obstacle():
+    from pathlib import Path
+
+    folder = Path(__file__).resolve().parents[1] / "runtime_acceptance" / "failing"
+    run = run_file(folder / "f05_obstacle_inside.irl")
+    assert run.report["error"]["cause"] == "obstacle", run.report["error"]
