@@ -14,10 +14,13 @@ search converges or leaves less than the run's path tolerance (``tol_position``,
 ``tol_orientation``: what the motion itself would accept). When the direct search
 from the seed stalls, the path is walked (:func:`walk`) in short steps (≤ 50 mm,
 ≤ 10 deg) with each solution seeding the next — the way the cycle-by-cycle motion
-follows it — so a far but reachable target is not rejected because the direct search
-met a local minimum. A target neither search reaches fails at its line, before the
-robot moves (cause ``unreachable``, with the distance of the closest pose found);
-if it is reachable with the frozen joints released, the cause is ``freeze``.
+follows it — and from restarts (:meth:`Reach.search`: the seed moved off a possible
+singularity, home, mid-range, a Halton spread over the limits), so that a far but
+reachable target is not rejected because the direct search met a local minimum or a
+joint limit. A target none of these reaches fails at its line, before the robot moves
+(cause ``unreachable``, with the distance of the closest pose found); if it is
+reachable with the frozen joints released the cause is ``freeze``, if it is reachable
+within the robot's own position limits (not the JOINTLIMIT) ``position_limit``.
 """
 
 from __future__ import annotations
