@@ -11,13 +11,15 @@ The robot's position limits always hold, and so do its coupled limits
 them is reported like a seed outside its box); the trust box ``s`` (``max_step`` rad for
 revolute, ``max_step_prismatic`` m for prismatic joints) keeps steps short for far
 targets, where the hard step is infeasible and the relaxed step (damped Gauss–Newton
-inside the box) walks towards the target. Near the solution the hard step is plain
-Newton–Raphson (quadratic convergence) and the cost picks, among the configurations
-reaching the pose, one close to the seed. If the relaxed steps stall away from the
-target (the step vanishes, or the error falls by less than 0.1 % over ten steps), the
-target is out of reach (or behind a joint limit): the result says how far the closest
-pose is and which limits are reached. In relaxed steps the seed pull is dropped (pure
-damped least squares), so it cannot bias where the iteration stops.
+inside the box) walks towards the target; a relaxed step that increases the error
+(Gauss–Newton overshooting near a singular, stretched arm) is taken back and the trust
+box halved, so the walk ends at the closest pose instead of oscillating around it. Near
+the solution the hard step is plain Newton–Raphson (quadratic convergence) and the cost
+picks, among the configurations reaching the pose, one close to the seed. If the relaxed
+steps stall away from the target (the step vanishes, or the error falls by less than 0.1
+% over ten steps), the target is out of reach (or behind a joint limit): the result says
+how far the closest pose is and which limits are reached. In relaxed steps the seed pull
+is dropped (pure damped least squares), so it cannot bias where the iteration stops.
 """
 
 from __future__ import annotations
@@ -99,6 +101,8 @@ def solve_pose(
     pe = oe = np.inf
     last = None
     history: list[float] = []
+    before: tuple | None = None  # (q, error) before the last relaxed step
+    scale = 1.0  # trust-box scale: halved when a relaxed step overshoots
     for it in range(max_iter + 1):
         frames = kin.link_frames(q)
         tcp = kin.tcp_from_frames(frames)
@@ -108,13 +112,16 @@ def solve_pose(
             return PoseSolution(q, True, pe, oe, it, f"converged in {it} iterations")
         if it == max_iter:
             break
+        if before is not None and pe + oe > before[1] and scale > 1e-6:
+            q, scale, before = before[0], 0.5 * scale, None  # overshoot: back, shorter
+            continue
         history.append(pe + oe)
         if last is not None and last.relaxed and _stalled(last.dtheta, history):
             text = _unreachable(model, q, pe, oe, naming) + _coupled_reached(coupled, A, b, q)
             return PoseSolution(q, False, pe, oe, it, text)
         J = kin.jacobian_at(frames, tcp[:3, 3])[rows]
-        lower = np.maximum(limits[:, 0] - q, -step)
-        upper = np.minimum(limits[:, 1] - q, step)
+        lower = np.maximum(limits[:, 0] - q, -scale * step)
+        upper = np.minimum(limits[:, 1] - q, scale * step)
         ineq = (A, b - A @ q) if b.size else None  # coupled limits: A(q + Δθ) ≥ b
         try:  # the seed pull acts in the null space only; the relaxed step is pure DLS
             last = stepper.hard(J, F, H, w * (q - seed), lower, upper, ineq) or stepper.relaxed(
@@ -124,6 +131,7 @@ def solve_pose(
             return PoseSolution(q, False, pe, oe, it, f"solver failure: {exc}")
         if not np.all(np.isfinite(last.dtheta)):
             return PoseSolution(q, False, pe, oe, it, "solver produced a non-finite step")
+        before = (q, pe + oe) if last.relaxed else None
         q = np.clip(q + last.dtheta, limits[:, 0], limits[:, 1])  # rounding only (≤ 1e-12)
     return PoseSolution(
         q,
