@@ -213,6 +213,7 @@ RUN_OPTIONS = (  # docs/golden.md
     "seed_config",
     "robot",
     "datalist_path",
+    "instruction_budget",
 )
 
 

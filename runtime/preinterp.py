@@ -36,6 +36,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from irlc.lang.settings import BY_FIELD, reconfiguration_counts, setting_message
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
 from irlc.runtime.controller import ModalOptions, MotionCommand, Settings
@@ -62,6 +63,20 @@ from irlc.runtime.profiles import (
 from irlc.runtime.values import JointTuple, Pose
 
 Limits3 = tuple[np.ndarray, np.ndarray, np.ndarray]
+
+
+def _setting(cmd: MotionCommand, settings: Settings, name: str) -> float:
+    """The statement's WITH value of setting ``name``, else the system variable's; checked
+    against the one range table (lang/settings.py) — the interpreter checks both when they
+    are set, this guards controllers driven directly with hand-made settings."""
+    row = BY_FIELD[name]
+    value, what = getattr(cmd, name), f"WITH {row.with_word}"
+    if value is None:
+        value, what = getattr(settings, name), str(row.system_variable)
+    message = setting_message(name, value, what)
+    if message is not None:
+        raise RunFailure(message, cmd.line)
+    return float(value)
 
 
 def tool_transform(model: RobotModel, settings: Settings) -> np.ndarray:
@@ -230,14 +245,8 @@ class PreInterpolator:
     def _ptp_segment(self, cmd, settings, q0, q1, lims, dt, npts) -> Segment:
         _, spd, acc = lims
         delta = q1 - q0
-        pct_v = (cmd.speed_ptp if cmd.speed_ptp is not None else settings.speed_ptp) / 100.0
-        pct_a = (cmd.acc_ptp if cmd.acc_ptp is not None else settings.acc_ptp) / 100.0
-        if not (0.0 < pct_v <= 1.0 and 0.0 < pct_a <= 1.0):
-            raise RunFailure(
-                f"PTP speed/acceleration must be in (0, 100] %, got {pct_v * 100:g} / "
-                f"{pct_a * 100:g}",
-                cmd.line,
-            )
+        pct_v = _setting(cmd, settings, "speed_ptp") / 100.0
+        pct_a = _setting(cmd, settings, "acc_ptp") / 100.0
         vmax = np.where(delta >= 0.0, spd[:, 1], -spd[:, 0]) * pct_v
         amax = np.minimum(acc[:, 1], -acc[:, 0]) * pct_a
         for j in np.flatnonzero(np.abs(delta) > 0.0):
@@ -293,13 +302,9 @@ class PreInterpolator:
         return self._cartesian_segments(cmd, settings, state, lims, [arc], "circle")
 
     def _cartesian_segments(self, cmd, settings, state, lims, paths, kind) -> list[Segment]:
-        speed = (cmd.speed if cmd.speed is not None else settings.speed) * units.MM
-        acc = (cmd.acc if cmd.acc is not None else settings.acc) * units.MM
-        w = (cmd.speed_ori if cmd.speed_ori is not None else settings.speed_ori) * units.DEG
-        if not (speed > 0.0 and acc > 0.0 and w > 0.0):
-            raise RunFailure(
-                "path speed, acceleration and orientation speed must be positive", cmd.line
-            )
+        speed = _setting(cmd, settings, "speed") * units.MM
+        acc = _setting(cmd, settings, "acc") * units.MM
+        w = _setting(cmd, settings, "speed_ori") * units.DEG
         w_acc = w * acc / speed
         bounds = []
         for path in paths:
@@ -334,21 +339,19 @@ class PreInterpolator:
         if not cmd.reconfiguration:
             return [None] * len(paths)
         configs = [self.joints_si(k) for k in cmd.reconfiguration]
+        if len(configs) not in reconfiguration_counts(cmd.kind, len(cmd.targets)):
+            raise RunFailure(
+                f"WITH RECONFIGURATION gives {len(configs)} configurations for "
+                f"{len(cmd.targets)} points",
+                cmd.line,
+            )
         if isinstance(paths[0], CartesianArc):
-            arc = paths[0]
-            if len(configs) == 1:
-                return [ReferencePath(np.array([0.0, 1.0]), np.array([q_start, configs[0]]))]
-            knots = np.array([0.0, arc.via_fraction, 1.0])
+            knots = np.array([0.0, paths[0].via_fraction, 1.0])
             return [ReferencePath(knots, np.array([q_start, configs[0], configs[-1]]))]
-        if len(configs) == 1 and len(paths) > 1:  # one target: spread along the path
+        if len(configs) == 1 and len(paths) > 1:  # one for the whole LIN: spread by arc length
             lengths = np.array([max(p.length, 1e-12) for p in paths])
             frac = np.cumsum(lengths) / lengths.sum()
             configs = [q_start + f * (configs[0] - q_start) for f in frac]
-        if len(configs) != len(paths):
-            raise RunFailure(
-                f"WITH RECONFIGURATION gives {len(configs)} configurations for {len(paths)} points",
-                cmd.line,
-            )
         out, prev = [], q_start
         for k in configs:
             out.append(ReferencePath(np.array([0.0, 1.0]), np.array([prev, k])))

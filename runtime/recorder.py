@@ -169,6 +169,8 @@ class Recorder:
         if self._k != 1:
             raise ValueError("only the start sample can be re-stamped, before the next one")
         self._tcp[0] = tcp
+        if not self._on_path[0]:  # off a path the desired pose is the sample's own
+            self._desired[0] = tcp
         if self.obstacle_names:
             self._last_clearance = [float("inf")] * len(self.obstacle_names)
             self._add_clearances(0, clearances)

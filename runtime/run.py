@@ -172,15 +172,19 @@ def run_code(
     trace_every_step: bool = False,
     path_tolerance: float | None = None,
     orientation_tolerance: float | None = None,
+    instruction_budget: int | None = None,
 ) -> RunResult:
     """Execute compiled ``code`` (see the module doc). ``path_tolerance`` (mm, the start
     value of ``R_PATH_TOL``) and ``orientation_tolerance`` (deg) override ``options``'
     ``tol_position`` / ``tol_orientation``; a path deviation beyond them fails the run —
-    with drives, of the actual motion (:mod:`irlc.runtime.verdict`)."""
+    with drives, of the actual motion (:mod:`irlc.runtime.verdict`). ``instruction_budget``:
+    the endless-loop guard (instructions without motion; default
+    :data:`~irlc.runtime.interpreter.DEFAULT_INSTRUCTION_BUDGET`)."""
     if drives not in DRIVE_LEVELS:
         raise RunSetupError(f"unknown drive level {drives!r} (known: {', '.join(DRIVE_LEVELS)})")
     if ipo is not None and setting_error("ipo", ipo):
-        raise RunSetupError(f"--ipo must be between 1e-5 and 1 s, got {ipo!r}")
+        raise RunSetupError(f"--ipo {ipo!r}: {setting_error('ipo', ipo)}")
+    budget = _budget(instruction_budget)
     base = Path(base_dir) if base_dir is not None else None
     model = resolve_model(code, robot, base)
     obstacles = obstacle_shapes(code)
@@ -202,7 +206,7 @@ def run_code(
     settings = Settings(path_tol=tol_mm)  # R_PATH_TOL's start value, as given
     if opts.ipo is not None:
         settings.ipo = opts.ipo
-    execution = _interpret(code, controller, settings, output)
+    execution = _interpret(code, controller, settings, output, budget)
     from irlc.runtime.results import assemble
 
     return assemble(code, model, controller, obstacles, execution, opts, drives, trace_every_step)
@@ -216,11 +220,24 @@ def _positive(option: str, value, unit: str) -> float:
     return float(value)
 
 
-def _interpret(code, controller, settings, output: Callable[[str], None] | None):
+def _budget(budget: int | None) -> int:
+    """The endless-loop budget: ``None`` → the default; else a positive whole number."""
+    from irlc.runtime.interpreter import DEFAULT_INSTRUCTION_BUDGET
+
+    if budget is None:
+        return DEFAULT_INSTRUCTION_BUDGET
+    if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
+        raise RunSetupError(f"--instruction-budget must be a positive integer, got {budget!r}")
+    return budget
+
+
+def _interpret(code, controller, settings, output: Callable[[str], None] | None, budget: int):
     """Run the interpreter; its result carries output, events, warnings and the error."""
     from irlc.runtime.interpreter import Interpreter
 
-    interp = Interpreter(code, controller, settings=settings, output=output)
+    interp = Interpreter(
+        code, controller, settings=settings, output=output, instruction_budget=budget
+    )
     result = interp.run(check=False)
     if result.error is not None and result.error.time_s is None:
         result.error.time_s = controller.time

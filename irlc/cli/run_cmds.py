@@ -52,6 +52,14 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
 )
 @click.option("--ipo", type=float, default=None, help="IPO cycle in seconds (overrides R_IPO).")
 @click.option(
+    "--instruction-budget",
+    "instruction_budget",
+    type=int,
+    default=None,
+    help="Endless-loop guard: instructions without motion before the run fails "
+    "(a cycle of waiting counts as 25).  [default: 500000]",
+)
+@click.option(
     "--drives",
     type=click.Choice(DRIVE_CHOICES),
     default="ideal",
@@ -127,6 +135,7 @@ def run_cmd(
     robot,
     datalist_path,
     ipo,
+    instruction_budget,
     drives,
     path_tolerance,
     orientation_tolerance,
@@ -162,6 +171,7 @@ def run_cmd(
             drives=drives,
             path_tolerance=path_tolerance,
             orientation_tolerance=orientation_tolerance,
+            instruction_budget=instruction_budget,
         ),
         seed,
         trace_every_step,

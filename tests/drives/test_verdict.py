@@ -125,27 +125,36 @@ def test_report_path_error_is_fk_of_the_actual_joints_against_the_commanded_path
         [(kin.tcp(joints_to_si(row[joint_cols], kinds)) @ tool)[:3] for row in run.trace]
     )
     # the commanded path: each LIN is a straight segment, from the ideal run's TCP where the
-    # line starts to where it ends; the path error is the distance to it (contour error)
+    # line starts to where it ends; the path error is the distance to the nearest of those
+    # run so far
+    # (contour error); the lag is the distance to the set point of the same instant
     assert np.allclose(ideal.trace[:, 0], run.trace[:, 0])
     xyz = [cols.index(c) for c in ("x_mm", "y_mm", "z_mm")]
     commanded = ideal.trace[:, xyz]
+    lines = [np.flatnonzero(run.trace[:, 1] == line) for line in (LIN_LINE, LIN_LINE + 2)]
+    segments = [(commanded[rows[0] - 1], commanded[rows[-1]]) for rows in lines]
     error = np.zeros(len(run.trace))
     lag = np.zeros(len(run.trace))
-    for line in (LIN_LINE, LIN_LINE + 2):
-        rows = np.flatnonzero(run.trace[:, 1] == line)
-        a, b = commanded[rows[0] - 1], commanded[rows[-1]]
-        rel = actual[rows] * 1000.0 - a
-        s = np.clip(rel @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0)
-        error[rows] = np.linalg.norm(rel - np.outer(s, b - a), axis=1)
-        lag[rows] = np.linalg.norm(actual[rows] * 1000.0 - commanded[rows], axis=1)
+    for i, rows in enumerate(lines):  # the path so far: this line and the ones before it
+        p = actual[rows] * 1000.0
+        error[rows] = np.min([_distance_to_segment(p, a, b) for a, b in segments[: i + 1]], 0)
+        lag[rows] = np.linalg.norm(p - commanded[rows], axis=1)
     assert error.max() > 0.5  # the drives leave the line by more than the default tolerance
     # the set point of the same instant lies on the line: its distance (the lag, a timing
     # error) bounds the path error, which is smaller where the TCP lags along the line
     assert np.all(error <= lag + 1e-9) and lag.max() > error.max() + 1.0
-    assert run.report["max_path_error_mm"] == pytest.approx(error.max(), abs=1e-4)
-    assert np.allclose(run.trace[:, cols.index("path_error_mm")], error, atol=1e-4)
+    # the way back ends at `start` as printed (3 decimals), 1.6e-4 mm beside where the way
+    # out began: which of the two nearly equal lines is nearest differs by up to that much
+    assert run.report["max_path_error_mm"] == pytest.approx(error.max(), abs=5e-4)
+    assert np.allclose(run.trace[:, cols.index("path_error_mm")], error, atol=5e-4)
     # pose columns: the actual TCP (from the first motion on: R_TOOL is set at line 9)
     assert np.allclose(run.trace[1:, xyz], actual[1:] * 1000.0, atol=1e-6)
+
+
+def _distance_to_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Closed form: the distance of each row of ``p`` to the segment ``a b``."""
+    s = np.clip((p - a) @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0)
+    return np.linalg.norm(p - a - np.outer(s, b - a), axis=1)
 
 
 def test_ratings_beyond_the_drive_data_are_warnings(tmp_path, capsys):

@@ -128,12 +128,12 @@ def test_limit_excluding_the_state_is_an_error_naming_joint_value_and_bound(koch
     ik = InverseTransformation(koch11, kin)
     q = koch11.home_q()
     pos = koch11.position_limits.copy()
-    pos[10, 1] = 30 * units.DEG  # J11 is at 39.975 deg
+    pos[10, 1] = 20 * units.DEG  # J11 is at 21.119 deg
     with pytest.raises(LimitViolationError) as info:
         ik.step(q, q, kin.tcp(q), 0.01, CycleOptions(position=pos))
     assert info.value.violation.joint == 10
-    assert "a11 (J11) position max 30 deg" in info.value.message
-    assert "39.975 deg" in info.value.message
+    assert "a11 (J11) position max 20 deg" in info.value.message
+    assert "21.119 deg" in info.value.message
 
 
 def test_speed_limit_below_current_speed_is_an_error(koch11):
