@@ -435,7 +435,10 @@ class SimulatedController:
         if hasattr(getattr(seg, "path", None), "length"):
             reach = self._reach(seg.limits[0], None, solver, opts.frozen)
             q0 = self._segment_start
-            return cause.classify(what, res, seg, q0, reach, solver.kin, seg.line, t)
+            try:
+                return cause.classify(what, res, seg, q0, reach, solver.kin, seg.line, t)
+            except (ValueError, np.linalg.LinAlgError, FloatingPointError) as exc:
+                what += f"; the cause could not be determined ({exc})"  # (numerics)
         if res.singular or (math.isfinite(res.sigma_min) and res.sigma_min < 1e-6):
             what += f"; near a singular configuration (σ_min = {res.sigma_min:.3g})"
             return RunFailure(what, seg.line, t, res.binding or None, cause="singular")
