@@ -198,9 +198,7 @@ class CycleResult:
             return describe_box_bound(self._model, self._box, j, r >= nf, self._naming)
         if self.active:
             j, what = next(iter(self.active.items()))
-            return describe_box_bound(
-                self._model, self._box, j, what.endswith("max"), self._naming
-            )
+            return describe_box_bound(self._model, self._box, j, what.endswith("max"), self._naming)
         return ""
 
     @cached_property

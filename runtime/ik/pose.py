@@ -144,9 +144,7 @@ def solve_pose(
     )
 
 
-def seed_problem(
-    model: RobotModel, q: np.ndarray, naming: JointNaming | None = None
-) -> str | None:
+def seed_problem(model: RobotModel, q: np.ndarray, naming: JointNaming | None = None) -> str | None:
     """Why ``q`` (SI) cannot seed the solver — outside a position limit (joint, value,
     limit) or violating a coupled limit — or ``None``."""
     limits = model.position_limits
