@@ -242,22 +242,44 @@ class SimulatedController:
     # ------------------------------------------------------------------ blending
     def _blend(self, pending: _Pending, run: _SegmentRun, length: float, reserve: int):
         """Runs the pending segment's rest and the blend into ``run``. A blend the inverse
-        transformation cannot follow within the limits (a RunFailure in its cycles) is
-        undone and tried again with half the distance, down to an exact stop."""
-        cap = math.inf
+        transformation cannot follow within the limits and options (a RunFailure in its
+        cycles) is undone and shortened: the longest distance that works is bisected
+        between 0 (an exact stop) and the one that failed (``_BISECTIONS`` trials, each
+        undone), then run; a failure of the exact stop itself is the motion's own."""
+        overlap = self._overlap(pending, run, length, reserve)
+        failure = self._try_blend(pending, run, overlap, keep=True)
+        if failure is None:
+            return overlap
+        pending.limit_reason = f"shortened: the longer blend failed ({failure.message})"
+        good, bad = 0.0, overlap.used
+        for _ in range(_BISECTIONS):
+            cap = 0.5 * (good + bad)
+            trial = self._overlap(pending, run, length, reserve, cap)
+            if trial.cycles and self._try_blend(pending, run, trial, keep=False) is not None:
+                bad = cap
+            else:
+                good = cap
         while True:
-            overlap = self._overlap(pending, run, length, reserve, cap)
-            state = self._mark(pending.run, run)
-            try:
-                self._run_cycles(pending.run, pending.run.seg.cycles - overlap.cycles)
-                self._blend_cycles(pending, run, overlap.cycles)
-                return overlap
-            except RunFailure as exc:
-                if overlap.cycles == 0:
-                    raise
-                self._rewind(state, pending.run, run)
-                cap = 0.5 * overlap.used if overlap.used > 2.0 * _MIN_BLEND else 0.0
-                pending.limit_reason = f"shortened: the longer blend failed ({exc.message})"
+            final = self._overlap(pending, run, length, reserve, good if good > _MIN_BLEND else 0.0)
+            if self._try_blend(pending, run, final, keep=True) is None:
+                return final
+            good = 0.5 * final.used  # not reproduced (never seen): keep halving
+
+    def _try_blend(self, pending: _Pending, run: _SegmentRun, overlap: Overlap, *, keep: bool):
+        """Runs the rest of A and the blend; ``None`` if it worked (undone unless
+        ``keep``), else the failure, undone. An exact stop's failure is raised."""
+        state = self._mark(pending.run, run)
+        try:
+            self._run_cycles(pending.run, pending.run.seg.cycles - overlap.cycles)
+            self._blend_cycles(pending, run, overlap.cycles)
+        except RunFailure as exc:
+            if overlap.cycles == 0:
+                raise
+            self._rewind(state, pending.run, run)
+            return exc
+        if not keep:
+            self._rewind(state, pending.run, run)
+        return None
 
     def _mark(self, a_run: _SegmentRun, b_run: _SegmentRun) -> tuple:
         return (self.q.copy(), self.q_prev.copy(), self._t, self._cycles, self._last_reference,
@@ -897,6 +919,7 @@ def _mm(x: float) -> float:
 
 _NAN = float("nan")
 _MIN_BLEND = 1e-4  # m: a blend shortened below this is an exact stop
+_BISECTIONS = 5  # trials when a blend must be shortened (1/32 of the failed distance)
 
 
 def _advance(t: float, dt: float) -> float:
