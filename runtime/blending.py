@@ -95,12 +95,16 @@ def choose_overlap(
     check: Check | None = None,
     *,
     superposed: bool = True,
+    speed_cap: float | None = None,
+    dt: float = 0.0,
 ) -> Overlap:
     """The largest admissible overlap (module doc). ``a[i]`` (``i = 0 … M_A``) and
     ``b[j]`` (``j = 0 … M_B``) are the TCP offsets from the corner (rows, position);
     ``check(m)`` may reject an overlap for other reasons (limits). With ``superposed``
     the blended TCP offset is ``a[m−j] + b[j]`` (Cartesian blends); otherwise (joint
-    blends, whose TCP is not the sum) ``check`` measures it."""
+    blends, whose TCP is not the sum) ``check`` measures it. ``speed_cap`` (m/s, with the
+    IPO cycle ``dt``) bounds the blended TCP speed — the faster segment's programmed
+    speed: superposing two cruising segments would otherwise add their speeds."""
     m_max = min(len(a), len(b)) - 1
     if d <= 0.0:
         return NO_OVERLAP
@@ -113,10 +117,23 @@ def choose_overlap(
         far = float(np.linalg.norm(a[m - j] + b[j], axis=1).max()) if superposed else 0.0
         if far > d + tol:
             continue
+        if superposed and speed_cap is not None and not _speed_ok(a, b, m, speed_cap, dt):
+            continue
         if check is not None and not check(m):
             continue
         return Overlap(m, float(na[m]), float(nb[m]), max(far, float(na[m])))
     return NO_OVERLAP
+
+
+def _speed_ok(a: np.ndarray, b: np.ndarray, m: int, cap: float, dt: float) -> bool:
+    """Finite-difference TCP speed of the blend of ``m`` cycles (one cycle either side
+    included) within ``cap`` (relative tolerance 1e-6)."""
+    j = np.arange(1, m + 1)
+    rows = [a[m + 1]] if m + 1 < len(a) else []
+    rows += [a[m], *(a[m - j] + b[j])]
+    rows += [b[m + 1]] if m + 1 < len(b) else []
+    speed = np.linalg.norm(np.diff(np.array(rows), axis=0), axis=1) / dt
+    return bool(speed.max() <= cap * (1.0 + 1e-6))
 
 
 def within_joint_limits(

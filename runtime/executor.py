@@ -353,7 +353,14 @@ class SimulatedController:
             b_list.append(self._seg_point(run, j) - corner)
             if np.linalg.norm(b_list[-1]) > d:
                 break
-        return choose_overlap(a, np.array(b_list), d)
+        b = np.array(b_list)
+        if seg_a.is_joint:  # a PTP has no programmed path speed: its TCP's in this tail
+            v_a = float(np.max(np.linalg.norm(np.diff(a, axis=0), axis=1), initial=0.0))
+            v_a /= run.dt
+        else:
+            v_a = _peak_speed(seg_a, a_run.dt)
+        cap = max(v_a, _peak_speed(seg_b, run.dt))
+        return choose_overlap(a, b, d, speed_cap=cap, dt=run.dt)
 
     def _joint_overlap(self, pending: _Pending, run: _SegmentRun, m_a: int, m_b: int, d: float):
         """The overlap into a PTP segment: joints superposed, TCP distances by FK, the
@@ -911,6 +918,15 @@ class _Pending:
             "blended": o.cycles > 0,
             "note": reason if (reason or not o.cycles) else "",
         }
+
+
+def _peak_speed(seg: Segment, dt: float) -> float:
+    """The largest TCP path speed of a Cartesian segment (m/s): its profile's largest
+    ``Δs/Δt`` on the IPO grid times its path length (any profile shape)."""
+    s = [seg.setpoint(k, dt)[0] for k in range(seg.cycles + 1)] if seg.cycles else [0.0]
+    s[0] = 0.0
+    steps = np.diff(np.array(s))
+    return float(steps.max(initial=0.0)) / dt * float(getattr(seg.path, "length", 0.0))
 
 
 def _mm(x: float) -> float:

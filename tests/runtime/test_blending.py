@@ -261,22 +261,26 @@ def test_joint_and_cartesian_motion_blend_into_each_other(tmp_path):
 
 def test_a_blend_the_limits_forbid_is_shortened(tmp_path):
     """A 3R arm whose J3 is held near 0 and J2 kept in [30, 150] deg cannot bring the TCP
-    nearer than √(5 + 4·cos 150°) ≈ 1.24 m to its base: the 1 m blend of the corner
-    (1.3, 1.3) m would cut inside that circle, so it is shortened until it can be followed."""
+    nearer than √(5 + 4·cos 150°) ≈ 1.24 m to its base. The corner (1.25, 1.25) m of two
+    3 m sides (triangular profiles: 1.5 m ramps) with APPROX 1500 mm would pass
+    √2·(1.25 − 1.5/4) ≈ 1.237 m from the base (half-way offsets d/4): inside that circle.
+    The blend is shortened (bisected) until the inverse transformation can follow it."""
     text = """PROGRAM sh;
 ROBOT r := planar3;
 BEGIN
   R_SPEED := 300;
-  MOVE PTP (-130.6, 117.87, 0);
+  R_ACC := 30;
+  MOVE PTP (-122.26, 95.38, 0);
   JOINTLIMIT (-180, 30, -0.5), (180, 150, 0.5);
-  MOVE LIN POSE(1300, 1300, 0, 0, 0, 0) WITH APPROX := 1000;
-  MOVE LIN POSE(-1200, 1300, 0, 0, 0, 0);
+  MOVE LIN POSE(1250, 1250, 0, 0, 0, 0) WITH APPROX := 1500;
+  MOVE LIN POSE(-1750, 1250, 0, 0, 0, 0);
   JOINTLIMITEND;
 ENDPROGRAM
 """
     run = _run(tmp_path, text)
     (entry,) = run.report["approximations"]
-    assert entry["blended"] and 500.0 < entry["used_mm"] < 1000.0  # bisected, not halved
+    assert entry["limit_mm"] < 1500.0 - 10.0 and entry["used_mm"] <= entry["limit_mm"]
+    assert entry["blended"] and entry["used_mm"] > 1000.0  # bisected, not halved
     assert entry["note"].startswith("shortened: the longer blend failed")
     q = np.degrees(run.recorded.q)
     assert q[:, 1].min() >= 30.0 - 1e-6 and q[:, 1].max() <= 150.0 + 1e-6
@@ -404,3 +408,32 @@ def test_every_option_program_runs_blended_and_shorter(tmp_path, program):
         assert e["blended"] or e["note"], e  # an exact stop always says why
     for name, o in run.report["obstacles"].items():
         assert o["min_distance_mm"] >= min(0.0, exact.report["obstacles"][name]["min_distance_mm"])
+
+
+def test_collinear_points_keep_the_programmed_speed(tmp_path):
+    """Three points on one straight line at R_SPEED 100 mm/s (ramps 5 mm at 1000 mm/s²):
+    superposing two cruising segments would double the speed, so the blend stays within
+    the ramps — the path speed never exceeds R_SPEED and never drops to zero."""
+    text = """PROGRAM col;
+ROBOT r := panda;
+BEGIN
+  R_SPEED := 100;
+  R_ACC := 1000;
+  MOVE PTP (0, -30, 0, -120, 0, 90, 45);
+  MOVE LIN POSE(400, -100, 500, 0, 0, 180);
+  MOVE LIN PATH (POSE(400, 0, 500, 0, 0, 180), POSE(400, 100, 500, 0, 0, 180))
+    WITH APPROX := 30;
+  MOVE LIN POSE(400, 200, 500, 0, 0, 180);
+ENDPROGRAM
+"""
+    run = _run(tmp_path, text, "col")
+    entries = run.report["approximations"]
+    assert len(entries) == 2 and all(e["blended"] for e in entries)
+    t = run.recorded.times
+    p = _positions_mm(run)
+    line = t > t[np.flatnonzero(np.abs(p[:, 1] + 100.0) < 1e-6)[-1]]  # after (400, -100)
+    speed = np.linalg.norm(np.diff(p, axis=0), axis=1) / np.diff(t)
+    moving = speed[line[1:]]
+    assert moving.max() <= 100.0 * (1 + 1e-6)
+    inner = line[1:] & (p[1:, 1] > -90.0) & (p[1:, 1] < 190.0)  # between the end ramps
+    assert speed[inner].min() > 99.0  # the points are passed at full speed
