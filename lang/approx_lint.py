@@ -7,8 +7,8 @@ statements stop it, so the approximated point before them is reached with an exa
 
 * ``WAIT … SEC`` and ``WAIT FOR`` (any), ``PAUSE``, ``HALT``;
 * reading an input ``IN[n]`` (e.g. ``IF IN[1] THEN``) or ``R_ACT_POSE`` / ``R_ACT_JOINT``;
-* ``RECONFIGURATION``, and switching an option on or off (JOINTLIMIT …, CYCLIC,
-  OBSTACLE, FREEZE);
+* ``RECONFIGURATION``, switching an option on or off (JOINTLIMIT …, CYCLIC,
+  OBSTACLE, FREEZE), and assigning ``R_TOOL``, ``R_BASE`` or ``R_IPO``;
 * the end of the program (for an explicit ``WITH APPROX`` on the last motion).
 
 Writing a signal or WRITE does not stop it. The walk follows the statements in source
@@ -79,6 +79,10 @@ def _stops(s: ast.Stmt) -> str | None:
         return {"Wait": "WAIT", "WaitFor": "WAIT FOR", "Pause": "PAUSE", "Halt": "HALT"}[name]
     if isinstance(s, ast.Reconfigure):
         return "RECONFIGURATION"
+    if isinstance(s, ast.Assign) and isinstance(s.target, ast.Name):
+        name = s.target.name.upper()
+        if name in ("R_TOOL", "R_BASE", "R_IPO"):
+            return f"changing {name}"
     if isinstance(s, ast.ModalOn | ast.ModalOff):
         return f"switching {s.option} {'on' if isinstance(s, ast.ModalOn) else 'off'}"
     for e in _own_exprs(s):
