@@ -120,5 +120,11 @@ class Controller(Protocol):
         impossible option (arm already inside the obstacle, too few free joints) fails at
         its own statement. Controllers without it are checked at the next motion."""
 
+    def flush(self, reason: str) -> None:
+        """Optional: the advance run stops here (WAIT, WAIT FOR, an input or R_ACT_*
+        read, an option switched, the end of the program): a pending approximated motion
+        ends with an exact stop at its point; ``reason`` is reported with the point.
+        Controllers without approximate positioning need not have it."""
+
     def log_event(self, kind: str, line: int, **data) -> None:
         """Signals, PAUSE, HALT and other timestamped events for the report."""
