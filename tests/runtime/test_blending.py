@@ -437,3 +437,30 @@ ENDPROGRAM
     assert moving.max() <= 100.0 * (1 + 1e-6)
     inner = line[1:] & (p[1:, 1] > -90.0) & (p[1:, 1] < 190.0)  # between the end ramps
     assert speed[inner].min() > 99.0  # the points are passed at full speed
+
+
+def test_signal_between_approximated_motions_switches_on_entering_the_region(tmp_path):
+    """gripper := TRUE between two approximated LINs (no advance-run stop): the event is
+    stamped when the TCP enters the 20 mm region of the corner — 20 mm before it on the
+    deceleration ramp of side A, t = t_corner − √(2·20/1000) s = t_corner − 0.2 s, where
+    t_corner is side A's own end (1.05 s after it starts)."""
+    text = (
+        CORNER.format(approx=" WITH APPROX := 20", x2=600)
+        .replace(
+            "PROGRAM corner;\nROBOT r := panda;\n",
+            "PROGRAM corner;\nROBOT r := panda;\nVAR\n  SIGNAL: gripper;\n",
+        )
+        .replace("  MOVE LIN POSE(600", "  gripper := TRUE;\n  MOVE LIN POSE(600")
+    )
+    run = _run(tmp_path, text, "sig")
+    (event,) = [e for e in run.report["events"] if e["kind"] == "signal"]
+    (entry,) = run.report["approximations"]
+    assert entry["blended"] and not run.diagnostics
+    lines = run.recorded.lines
+    t = run.recorded.times
+    side_a_start = t[np.flatnonzero(lines == 10)[0] - 1]  # the sample before side A
+    t_corner = side_a_start + 1.05
+    assert event["time_s"] == pytest.approx(t_corner - 0.2, abs=1e-9)
+    p = _positions_mm(run)
+    k = int(np.flatnonzero(np.abs(t - event["time_s"]) < 1e-9)[0])
+    assert np.linalg.norm(p[k] - [400.0, 100.0, 500.0]) == pytest.approx(20.0, abs=1e-3)
