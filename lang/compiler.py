@@ -17,6 +17,7 @@ from irlc.lang.checker import Checker
 from irlc.lang.codegen import generate
 from irlc.lang.diagnostics import Diagnostic, Span
 from irlc.lang.irdata import Code
+from irlc.lang.nesting import nesting_error
 from irlc.lang.parser import parse
 from irlc.lang.signature import RobotResolver, RobotSignature, kind_letters
 
@@ -59,6 +60,9 @@ def compile_source(
     program, diags = parse(text, filename)
     result.diagnostics += diags
     if program is None:
+        return result
+    if too_deep := nesting_error(program, filename):
+        result.diagnostics.append(too_deep)
         return result
     robot, robot_text, robot_var = _robot(program, filename, resolve_robot, robot_override, result)
     if robot is None:  # every joint check depends on the robot: report only its diagnostic

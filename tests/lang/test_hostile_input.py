@@ -6,7 +6,10 @@ Each test reproduces one crash or hang the adversarial run found; the fuzz tests
 
 from __future__ import annotations
 
+import sys
 import time
+
+import pytest
 
 from .conftest import compile_text
 
@@ -29,3 +32,43 @@ def test_syntax_error_after_a_long_word_is_reported_in_linear_time() -> None:
     assert time.perf_counter() - start < 2.0
     assert err.span is not None and err.span.line == 1
     assert "unexpected name 'x'" in err.message
+
+
+_HEAD = "PROGRAM p; ROBOT r := koch11; VAR REAL: x; BOOLEAN: b; BEGIN "
+
+
+def _nested(kind: str, n: int) -> str:
+    bodies = {
+        "sum": "x := " + " + ".join(["x"] * n) + ";",
+        "minus": "x := " + "-" * n + "x;",
+        "not": "b := " + "NOT " * n + "b;",
+        "and": "b := " + " AND ".join(["b"] * n) + ";",
+        "sqrt": "x := " + "SQRT(" * n + "x" + ")" * n + ";",
+        "if": "IF b THEN " * n + "x := 1;" + " ENDIF;" * n,
+        "while": "WHILE b DO " * n + "x := 1;" + " ENDWHILE;" * n,
+        "case": "CASE 1 OF 1: " * n + "x := 1;" + " ENDCASE;" * n,
+    }
+    return _HEAD + bodies[kind] + " ENDPROGRAM"
+
+
+@pytest.mark.parametrize("kind", ["sum", "minus", "not", "and", "sqrt", "if", "while", "case"])
+def test_nesting_beyond_the_bound_is_a_positioned_error(kind: str) -> None:
+    # 600 levels ended in RecursionError in the checker (~495 was the limit).
+    err = _only_error(_nested(kind, 600))
+    assert "nested more than 200 levels deep" in err.message
+    assert err.span is not None and err.span.line == 1 and err.span.column > len(_HEAD)
+
+
+@pytest.mark.parametrize("kind", ["sum", "minus", "if", "while"])
+def test_nesting_within_the_bound_compiles_with_room_to_spare(kind: str) -> None:
+    # The bound leaves the recursive passes (checker, code generator) a wide margin.
+    limit = sys.getrecursionlimit()
+    sys.setrecursionlimit(700)
+    try:
+        assert compile_text(_nested(kind, 190), "t.irl").ok
+    finally:
+        sys.setrecursionlimit(limit)
+
+
+def test_deep_parentheses_add_no_level() -> None:
+    assert compile_text(_HEAD + "x := " + "(" * 1000 + "x" + ")" * 1000 + "; ENDPROGRAM").ok
