@@ -60,6 +60,24 @@ def integer_overflow(x: int) -> str | None:
     return f"INTEGER overflow ({x} is outside the 64-bit range)"
 
 
+_DECIMAL = re.compile(r"[+-]?[0-9]+")
+_ECHO_DIGITS = 40  # a longer literal is named by its length in messages, not echoed
+
+
+def parse_integer(text: str) -> int | str:
+    """A decimal integer literal ``[+-]?[0-9]+``: its value, or the overflow message.
+
+    Leading zeros are dropped first and a literal of more than 40 significant digits (far
+    outside ``[INT_MIN, INT_MAX]``) is refused before ``int()``, which refuses strings of
+    over 4,300 digits; its message names its length instead of echoing it.
+    """
+    sign = "-" if text.startswith("-") else ""
+    digits = text.lstrip("+-").lstrip("0") or "0"
+    if len(digits) > _ECHO_DIGITS:
+        return f"INTEGER overflow (a {len(digits)}-digit number is outside the 64-bit range)"
+    return integer_overflow(value := int(sign + digits)) or value
+
+
 # Operand signatures: i = integer, w = word, t = jump target, * = any number of int/word.
 OPCODES: dict[str, str] = {
     "PUSHC": "i", "PUSHG": "i", "POPG": "i", "PUSHL": "i", "POPL": "i",
@@ -306,8 +324,12 @@ class _Reader:
 
     def index(self, word: str, col: int, lineno: int, op: str) -> int | None:
         """A table index operand (a non-negative integer), or ``None`` after an error."""
-        if re.fullmatch(r"\d+", word):
-            return int(word)
+        if re.fullmatch(r"[0-9]+", word):
+            value = parse_integer(word)
+            if isinstance(value, int):
+                return value
+            self.error(lineno, col, f"{op}: {value}")
+            return None
         self.error(lineno, col, f"{op}: expected an index, got {word!r}")
         return None
 
@@ -321,13 +343,28 @@ class _Reader:
 
 
 def _parse_number(tok: str) -> float | int | None:
-    if re.fullmatch(r"[+-]?\d+", tok):
-        return int(tok)
+    """An integer inside the 64-bit range, else a finite float, else ``None``."""
+    if _DECIMAL.fullmatch(tok) and isinstance(value := parse_integer(tok), int):
+        return value
     try:
         v = float(tok)
     except ValueError:
         return None
     return v if v == v and v not in (float("inf"), float("-inf")) else None
+
+
+def _decimal_after(tok: str, prefix: str) -> int | None:
+    """``<prefix><digits>`` (a record or line number): the number, ``None`` if malformed or
+    outside the 64-bit range (``@1.5``, ``@-0.0``, ``@4.9e-324``, ``L²`` are malformed)."""
+    if not tok.startswith(prefix) or not re.fullmatch(r"[0-9]+", tok[len(prefix) :]):
+        return None
+    value = parse_integer(tok[len(prefix) :])
+    return value if isinstance(value, int) else None
+
+
+def _record_number(tok: str) -> int | None:
+    """A jump target or routine entry ``@<record>``; ``None`` if malformed."""
+    return _decimal_after(tok, "@")
 
 
 def _parse_bool(tok: str) -> bool | None:
@@ -490,10 +527,11 @@ def _read_header_record(r: _Reader, code: Code, op, toks, lineno, pending) -> No
         routine = Routine(index, words[2], words[3], -1)
         code.routines.append(routine)
         rec = words[6]
-        if not rec.startswith("@") or _parse_number(rec[1:]) is None:
+        entry = _record_number(rec)
+        if entry is None:
             r.error(lineno, col_of[6], f"ROUTINE: expected an entry @record, got {rec!r}")
         else:
-            pending.append((routine, int(rec[1:]), lineno, col_of[6]))
+            pending.append((routine, entry, lineno, col_of[6]))
     elif op in ("PARAM", "LOCAL") and need(5):
         routine = next((x for x in code.routines if x.index == _parse_number(words[1])), None)
         if routine is None:
@@ -538,18 +576,19 @@ def _read_value(r: _Reader, words, cols, lineno) -> Value | None:
             r.error(lineno, cols[0], "BOOLEAN: expected TRUE or FALSE")
             return None
         return Value(ty, (b,))
+    if ty == "INTEGER" and len(rest) == 1 and _DECIMAL.fullmatch(rest[0]):
+        value = parse_integer(rest[0])
+        if isinstance(value, str):
+            r.error(lineno, cols[1], f"INTEGER: {value}")
+            return None
+        return Value(ty, (value,))
     nums = [_parse_number(t) for t in rest]
     if any(n is None for n in nums):
         r.error(lineno, cols[0], f"{ty}: expected numbers")
         return None
     if ty == "INTEGER":
-        if len(nums) != 1 or not isinstance(nums[0], int):
-            r.error(lineno, cols[0], "INTEGER: expected one integer")
-            return None
-        if overflow := integer_overflow(nums[0]):
-            r.error(lineno, cols[1], f"INTEGER: {overflow}")
-            return None
-        return Value(ty, (nums[0],))
+        r.error(lineno, cols[0], "INTEGER: expected one integer")
+        return None
     if not nums:
         r.error(lineno, cols[0], f"{ty}: expected numbers")
         return None
@@ -557,10 +596,10 @@ def _read_value(r: _Reader, words, cols, lineno) -> Value | None:
 
 
 def _read_instruction(r: _Reader, toks, lineno, idx, fixups) -> Instruction | None:
-    if len(toks) < 2 or not re.fullmatch(r"L\d+", toks[0][0]):
+    line = _decimal_after(toks[0][0], "L") if toks else None
+    if len(toks) < 2 or line is None:
         r.error(lineno, toks[0][1] if toks else 1, "expected a source line 'L<n>' and an opcode")
         return None
-    line = int(toks[0][0][1:])
     op, col = toks[1]
     sig = OPCODES.get(op)
     if sig is None:
@@ -576,16 +615,21 @@ def _read_instruction(r: _Reader, toks, lineno, idx, fixups) -> Instruction | No
     for k, (tok, c) in enumerate(operands):
         kind = fixed[k] if k < len(fixed) else "*"
         if kind == "t":
-            if not tok.startswith("@") or not tok[1:].isdigit():
+            rec = _record_number(tok)
+            if rec is None:
                 r.error(lineno, c, f"{op}: expected a jump target '@<record>', got {tok!r}")
                 return None
-            fixups.append((idx, k, int(tok[1:]), lineno, c))
+            fixups.append((idx, k, rec, lineno, c))
             args.append(Target(-1))
-        elif kind == "i" or (kind == "*" and re.fullmatch(r"-?\d+", tok)):
-            if not re.fullmatch(r"-?\d+", tok):
+        elif kind == "i" or (kind == "*" and re.fullmatch(r"-?[0-9]+", tok)):
+            if not re.fullmatch(r"-?[0-9]+", tok):
                 r.error(lineno, c, f"{op}: expected an integer, got {tok!r}")
                 return None
-            args.append(int(tok))
+            value = parse_integer(tok)
+            if isinstance(value, str):
+                r.error(lineno, c, f"{op}: {value}")
+                return None
+            args.append(value)
         else:
             args.append(tok)
     return Instruction(op, tuple(args), line)

@@ -18,7 +18,8 @@ from importlib import resources
 import lark
 from irlc.lang import ast
 from irlc.lang.diagnostics import Diagnostic, Span
-from irlc.lang.types import INT_MAX, integer_overflow
+from irlc.lang.irdata import parse_integer
+from irlc.lang.types import INT_MAX
 from lark import Lark, Token, Transformer
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
@@ -907,11 +908,11 @@ class _Builder(Transformer):
         if not _NUMBER_RE.fullmatch(text):  # NUMBER swallows trailing letters: '1e', '12abc'
             raise _malformed_number(tok)
         if re.fullmatch(r"\d+", text):
-            value = int(text)
-            if overflow := integer_overflow(value):
+            value = parse_integer(text)
+            if isinstance(value, str):
                 raise _BuildError(
                     _span(tok),
-                    overflow,
+                    value,
                     f"INTEGER literals go up to {INT_MAX} (write {-INT_MAX} - 1 for the "
                     "smallest INTEGER); a larger number needs a REAL literal such as 1e20",
                 )

@@ -72,3 +72,16 @@ def test_nesting_within_the_bound_compiles_with_room_to_spare(kind: str) -> None
 
 def test_deep_parentheses_add_no_level() -> None:
     assert compile_text(_HEAD + "x := " + "(" * 1000 + "x" + ")" * 1000 + "; ENDPROGRAM").ok
+
+
+@pytest.mark.parametrize("digits", [41, 4301, 100_000])
+def test_a_long_integer_literal_is_an_overflow_at_its_position(digits: int) -> None:
+    # int() refuses more than 4,300 digits: the literal was a ValueError in number().
+    text = _HEAD + "x := " + "9" * digits + "; ENDPROGRAM"
+    err = _only_error(text)
+    assert err.message == f"INTEGER overflow (a {digits}-digit number is outside the 64-bit range)"
+    assert (err.span.line, err.span.column) == (1, len(_HEAD) + 6)
+
+
+def test_leading_zeros_do_not_count_towards_the_integer_range() -> None:
+    assert compile_text(_HEAD + "x := " + "0" * 5000 + "7; ENDPROGRAM").ok
