@@ -56,7 +56,7 @@ class Trapezoid:
         if t <= 0.0:
             return 0.0
         a, vc = self.accel, self.cruise
-        ta = vc / a
+        ta = vc / a if a > 0.0 else 0.0  # a = 0: a hold (nothing moves), as in t_acc
         if t <= ta:
             return 0.5 * a * t * t
         if t >= T - ta:
