@@ -49,6 +49,34 @@ OBSTACLE_KEYS: dict[str, tuple[tuple[str, int, bool], ...]] = {
     "plane": (("point", 3, True), ("normal", 3, True)),
 }
 OBSTACLE_KINDS = tuple(OBSTACLE_KEYS)
+# The physical range of obstacle geometry (mm): coordinates within ±1 km of the world origin,
+# lengths (radius, box size) from 1 µm to 1 km. Far outside it a distance (a clearance in the
+# trace) or a squared length overflows a float.
+GEOMETRY_MAX_MM = 1e6
+GEOMETRY_MIN_LENGTH_MM = 1e-3
+_OBSTACLE_LENGTHS = ("radius", "size")
+_OBSTACLE_POINTS = ("center", "a", "b", "point")
+
+
+def obstacle_range_problem(key: str, nums: tuple[float, ...]) -> str | None:
+    """Why an obstacle field's numbers (finite, positive where required) are outside the
+    physical range, or ``None``; the one rule for the data-list loader and the runtime."""
+    if key in _OBSTACLE_LENGTHS:
+        bad = [x for x in nums if not GEOMETRY_MIN_LENGTH_MM <= x <= GEOMETRY_MAX_MM]
+        if bad:
+            return (
+                f"{bad[0]:g} mm is outside the physical range of a length "
+                f"({GEOMETRY_MIN_LENGTH_MM:g} to {GEOMETRY_MAX_MM:g} mm)"
+            )
+    elif key in _OBSTACLE_POINTS:
+        bad = [x for x in nums if abs(x) > GEOMETRY_MAX_MM]
+        if bad:
+            return (
+                f"{bad[0]:g} mm is outside the physical range of a coordinate "
+                f"(within ±{GEOMETRY_MAX_MM:g} mm)"
+            )
+    return None
+
 
 INT_MIN, INT_MAX = -(2**63), 2**63 - 1  # INTEGER is signed 64-bit, as in the runtime
 
