@@ -21,7 +21,7 @@ from irlc.lang import types as T
 from irlc.lang.builtins import BUILTINS, POSE_FROM_NUMBERS, POSE_FROM_PARTS, SYSTEM_VARIABLES
 from irlc.lang.datalist import Datalist
 from irlc.lang.diagnostics import Diagnostic, Span
-from irlc.lang.irdata import ObstacleDef, Slot, Value
+from irlc.lang.irdata import ObstacleDef, Slot, Value, string_too_long
 from irlc.lang.signature import RobotSignature
 
 MAX_ARRAY = 1_000_000
@@ -545,6 +545,9 @@ class Checker:
         return T.REAL
 
     def e_str(self, e: ast.Str, want) -> T.Type:
+        if too_long := string_too_long(len(e.value)):
+            self.error(e.span, too_long)
+            return T.ERROR
         if len(e.value) == 1 and want == T.CHAR:
             e.const = Value("CHAR", (e.value,))
             return T.CHAR

@@ -79,6 +79,16 @@ def obstacle_range_problem(key: str, nums: tuple[float, ...]) -> str | None:
 
 
 INT_MIN, INT_MAX = -(2**63), 2**63 - 1  # INTEGER is signed 64-bit, as in the runtime
+MAX_STRING = 65_535
+"""The most characters a STRING holds: a longer literal, .ird constant or concatenation
+result is an error (a loop doubling a string would otherwise fill the memory)."""
+
+
+def string_too_long(n: int) -> str | None:
+    """The words for a STRING of ``n`` characters beyond :data:`MAX_STRING`; else ``None``."""
+    if n <= MAX_STRING:
+        return None
+    return f"a STRING of {n} characters is too long (at most {MAX_STRING})"
 
 
 def integer_overflow(x: int) -> str | None:
@@ -596,6 +606,9 @@ def _read_value(r: _Reader, words, cols, lineno) -> Value | None:
         s = _unquote(rest[0]) if rest else None
         if s is None:
             r.error(lineno, cols[0], f"{ty}: expected a quoted string")
+            return None
+        if too_long := string_too_long(len(s)):
+            r.error(lineno, cols[1], f"{ty}: {too_long}")
             return None
         return Value(ty, (s,))
     if ty == "BOOLEAN":

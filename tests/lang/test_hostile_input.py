@@ -10,6 +10,7 @@ import sys
 import time
 
 import pytest
+from irlc.lang.irdata import MAX_STRING
 
 from .conftest import compile_text
 
@@ -85,3 +86,11 @@ def test_a_long_integer_literal_is_an_overflow_at_its_position(digits: int) -> N
 
 def test_leading_zeros_do_not_count_towards_the_integer_range() -> None:
     assert compile_text(_HEAD + "x := " + "0" * 5000 + "7; ENDPROGRAM").ok
+
+
+def test_a_string_literal_longer_than_the_maximum_is_an_error() -> None:
+    text = "PROGRAM p; ROBOT r := koch11; VAR STRING: s; BEGIN s := '"
+    err = _only_error(text + "a" * (MAX_STRING + 1) + "'; ENDPROGRAM")
+    assert err.message == f"a STRING of {MAX_STRING + 1} characters is too long (at most 65535)"
+    assert (err.span.line, err.span.column) == (1, len(text))
+    assert compile_text(text + "a" * MAX_STRING + "'; ENDPROGRAM").ok

@@ -80,6 +80,12 @@ def test_the_uncorrupted_code_reads_back(ird: str) -> None:
             12,
             "REAL: expected numbers",
         ),
+        (  # STRING holds at most 65,535 characters (issue 11)
+            r"(\d+ CONST 3 STRING) 'x'",
+            r"\1 '" + "x" * 65536 + "'",
+            18,
+            "STRING: a STRING of 65536 characters is too long (at most 65535)",
+        ),
         (r"(\d+ CONST) 1 (INTEGER 0)", r"\1 7 \2", 9, "CONST: expected index 1, got 7"),
         (r"(\d+ CONST) 1 (INTEGER 0)", r"\1 one \2", 9, "CONST: expected an index, got 'one'"),
         (r"(\d+ CONST) 1 INTEGER 0", r"\1 1", 9, "CONST: expected at least 2 operands"),
