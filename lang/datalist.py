@@ -76,9 +76,17 @@ def find(
     for folder in folders:
         candidate = folder / f"{name}.toml"
         searched.append(str(folder) if str(folder) else ".")
-        if candidate.is_file():
+        if _is_file(candidate):
             return candidate, searched
     return None, searched
+
+
+def _is_file(path: Path) -> bool:
+    """``path.is_file()``, ``False`` for a name the system refuses (e.g. ENAMETOOLONG)."""
+    try:
+        return path.is_file()
+    except OSError:
+        return False
 
 
 def shown_path(path: Path, program_dir: Path) -> str:

@@ -89,3 +89,25 @@ def test_a_huge_plane_normal_is_normalised_without_overflow() -> None:
         "o", {"kind": "plane", "point": (0, 0, 0), "normal": (1e308, 1e308, 0.0)}
     )
     assert plane.normal == pytest.approx([0.5**0.5, 0.5**0.5, 0.0])
+
+
+def test_a_300_character_data_list_name_is_not_found_at_its_clause(tmp_path: Path) -> None:
+    # Path.is_file() raised OSError (ENAMETOOLONG) in datalist.find.
+    name = "d" * 300
+    src = f"PROGRAM t;\nROBOT r := six;\nIMPORT DATALIST {name};\nBEGIN\nENDPROGRAM\n"
+    result = compile_text(src, str(tmp_path / "t.irl"))
+    (err,) = result.errors
+    assert (err.line, err.column) == (3, 17)
+    assert err.message == f"data list '{name}.toml' not found"
+
+
+@pytest.mark.parametrize("robot", ["d" * 300, "'" + "d" * 300 + ".toml'"])
+def test_a_300_character_robot_name_is_an_error_at_the_robot_clause(robot: str) -> None:
+    from irlc.lang import compile_source
+    from irlc.robots import resolver
+
+    src = f"PROGRAM t;\nROBOT r := {robot};\nBEGIN\nENDPROGRAM\n"
+    result = compile_source(src, "t.irl", resolve_robot=resolver("."))
+    (err,) = result.errors
+    assert (err.line, err.column) == (2, 12)
+    assert err.message.startswith("cannot use robot 'ddd")
