@@ -233,8 +233,24 @@ def _num(v: float | int) -> str:
     return repr(float(v))
 
 
+# The characters str.splitlines() breaks a line at: a string holding one is written in the
+# escaped form E'…', where each of them is \uXXXX and a backslash is \\ (docs/irdata.md).
+_LINE_BREAKS = "\n\r\x0b\x0c\x1c\x1d\x1e\x85\u2028\u2029"
+_NEEDS_ESCAPE = re.compile(f"[{_LINE_BREAKS}]")
+_ESCAPED = re.compile(f"[\\\\{_LINE_BREAKS}]")
+_UNESCAPE = re.compile(r"\\(\\|u[0-9a-f]{4})")
+
+
 def _quote(s: str) -> str:
-    return "'" + s.replace("'", "''") + "'"
+    """``'text'`` (a quote doubled), or ``E'text'`` with escapes when a line break is in it."""
+    body = s.replace("'", "''")
+    if not _NEEDS_ESCAPE.search(s):
+        return "'" + body + "'"
+    return "E'" + _ESCAPED.sub(lambda m: _escape(m.group()), body) + "'"
+
+
+def _escape(ch: str) -> str:
+    return "\\\\" if ch == "\\" else f"\\u{ord(ch):04x}"
 
 
 def format_value(v: Value) -> str:
@@ -347,7 +363,7 @@ def _routine_of_instruction(code: Code) -> list[Routine | None]:
 
 # --------------------------------------------------------------------------- reader
 
-_TOKEN = re.compile(r"'(?:[^']|'')*'|[^\s']+")
+_TOKEN = re.compile(r"E?'(?:[^']|'')*'|[^\s']+")
 
 
 class _Reader:
@@ -410,9 +426,18 @@ def _parse_bool(tok: str) -> bool | None:
 
 
 def _unquote(tok: str) -> str | None:
+    """The text of ``'…'`` or of the escaped form ``E'…'``; ``None`` if ``tok`` is neither."""
+    if len(tok) >= 3 and tok[0] == "E" and tok[1] == tok[-1] == "'":
+        body = _UNESCAPE.sub(_unescape, tok[2:-1])
+        return body.replace("''", "'")
     if len(tok) >= 2 and tok[0] == tok[-1] == "'":
         return tok[1:-1].replace("''", "'")
     return None
+
+
+def _unescape(m: re.Match) -> str:
+    code = m.group(1)
+    return "\\" if code == "\\" else chr(int(code[1:], 16))
 
 
 def read_code(text: str, filename: str = "<irdata>") -> Code:

@@ -10,6 +10,7 @@ import sys
 import time
 
 import pytest
+from irlc.lang import read_code, write_code
 from irlc.lang.irdata import MAX_STRING
 
 from .conftest import compile_text
@@ -94,3 +95,31 @@ def test_a_string_literal_longer_than_the_maximum_is_an_error() -> None:
     assert err.message == f"a STRING of {MAX_STRING + 1} characters is too long (at most 65535)"
     assert (err.span.line, err.span.column) == (1, len(text))
     assert compile_text(text + "a" * MAX_STRING + "'; ENDPROGRAM").ok
+
+
+LINE_BREAKS = ["\u2028", "\u2029", "\x85", "\x0b", "\x0c", "\x1c", "\x1d", "\x1e", "\r"]
+
+
+@pytest.mark.parametrize("ch", LINE_BREAKS, ids=[f"U+{ord(c):04X}" for c in LINE_BREAKS])
+def test_strings_with_line_breaks_survive_the_ird_round_trip(ch: str) -> None:
+    # The reader splits lines with str.splitlines(): the writer escapes these (E'…').
+    text = f"a{ch}b\\u000b''c\\\\"  # also a backslash and a literal '\\u000b' to keep
+    src = (
+        "PROGRAM p; ROBOT r := koch11; VAR STRING: s; CHAR: c; BEGIN "
+        f"s := '{text}'; c := '{ch}'; WRITELN(s, c); ENDPROGRAM"
+    )
+    result = compile_text(src)
+    assert result.ok, [d.header() for d in result.diagnostics]
+    ird = write_code(result.code)
+    assert len(ird.splitlines()) == ird.count("\n")  # no line break inside a record
+    back = read_code(ird, "t.ird")
+    assert write_code(back) == ird
+    strings = [v.data[0] for v in back.consts if v.type in ("STRING", "CHAR")]
+    assert strings == [text.replace("''", "'"), ch]
+
+
+def test_strings_without_line_breaks_are_written_as_before() -> None:
+    result = compile_text(
+        "PROGRAM p; ROBOT r := koch11; VAR STRING: s; BEGIN s := 'a\\b''c'; ENDPROGRAM"
+    )
+    assert "CONST 0 STRING 'a\\b''c'\n" in write_code(result.code)
