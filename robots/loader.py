@@ -659,6 +659,29 @@ def _read_reachability(rd: Reader, value: Any, n: int) -> dict:
 # ----------------------------------------------------------------------------- geometry
 
 
+def geometry_problem(what: str, values_m, unit: str = "m") -> str | None:
+    """Why robot geometry (SI metres) is outside the physical range of geometry that
+    obstacles share (``irdata.GEOMETRY_*``: points within ±1 km, lengths 1 µm … 1 km),
+    else ``None``; the message speaks ``unit`` (the file's length unit). ``what`` is
+    ``"point"`` or ``"length"``. Beyond it the inertia of a solid (r⁵) overflows or its
+    volume underflows to zero."""
+    from irlc.lang.irdata import GEOMETRY_MAX_MM, GEOMETRY_MIN_LENGTH_MM
+
+    top, low, scale = GEOMETRY_MAX_MM * 1e-3, GEOMETRY_MIN_LENGTH_MM * 1e-3, LENGTH_UNITS[unit]
+    for v in np.asarray(values_m, dtype=float).ravel():
+        if what == "length" and not low <= v <= top:
+            return (
+                f"{v / scale:g} {unit} is outside the physical range of a length "
+                f"({low / scale:g} to {top / scale:g} {unit})"
+            )
+        if what == "point" and not abs(v) <= top:
+            return (
+                f"{v / scale:g} {unit} is outside the physical range of a coordinate "
+                f"(within ±{top / scale:g} {unit})"
+            )
+    return None
+
+
 def _read_geometry(rd: Reader, value: Any, n: int, assumed: dict) -> list[Capsule | Sphere]:
     rows = rd.array_of_tables(value, "geometry")
     out: list[Capsule | Sphere] = []
@@ -670,19 +693,29 @@ def _read_geometry(rd: Reader, value: Any, n: int, assumed: dict) -> list[Capsul
         link = _link_index(rd, row.get("link"), f"{key}.link", n)
         shape = rd.string(row.get("shape"), f"{key}.shape", ("capsule", "sphere"))
         radius = rd.positive(row.get("radius"), f"{key}.radius") * rd.length
+        _in_range(rd, f"{key}.radius", "length", radius)
         if shape == "capsule":
             for k in ("a", "b"):
                 if k not in row:
                     raise rd.fail(f"{key}.{k}", "missing; expected 3 numbers (segment end)")
             a = rd.vector(row["a"], f"{key}.a", 3) * rd.length
             b = rd.vector(row["b"], f"{key}.b", 3) * rd.length
+            _in_range(rd, f"{key}.a", "point", a)
+            _in_range(rd, f"{key}.b", "point", b)
             out.append(Capsule(link, a, b, radius))
         else:
             if "center" not in row:
                 raise rd.fail(f"{key}.center", "missing; expected 3 numbers")
             c = rd.vector(row["center"], f"{key}.center", 3) * rd.length
+            _in_range(rd, f"{key}.center", "point", c)
             out.append(Sphere(link, c, radius))
     return out
+
+
+def _in_range(rd: Reader, key: str, what: str, values_m) -> None:
+    unit = next(name for name, scale in LENGTH_UNITS.items() if scale == rd.length)
+    if problem := geometry_problem(what, np.atleast_1d(values_m), unit):
+        raise rd.fail(key, problem)
 
 
 def _link_index(rd: Reader, value: Any, key: str, n: int) -> int:
