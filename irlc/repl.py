@@ -264,8 +264,30 @@ class Session:
 
     def enter(self, text: str, line: int | None = None) -> Entry:
         """Run one entry; ``line``: where it starts in a script (positions are then
-        ``<stdin>:LINE:COL``), None at the terminal (``<input>:LINE:COL`` in the entry)."""
+        ``<stdin>:LINE:COL``), None at the terminal (``<input>:LINE:COL`` in the entry).
+
+        The session survives any entry: a failure that escapes the compiler and the
+        interpreter (a robot or data file, the environment: 3; anything else, a bug: 4)
+        is reported for this entry and the session goes on with its state."""
         self.origin = line
+        try:
+            return self._enter(text)
+        except RecursionError:
+            return Entry([f"{self._entry_file()}: error: the entry nests too deeply"], 1)
+        except Exception as e:
+            return Entry([self._escaped_failure(e)], _failure_status(e))
+
+    def _escaped_failure(self, e: Exception) -> str:
+        where = self._entry_file() + (f":{self.origin}" if self.origin is not None else "")
+        if _failure_status(e) == 2:
+            return f"{where}: run-time error: {getattr(e, 'message', e)}"
+        if _failure_status(e) == 3:
+            return f"{where}: error: {e}"
+        return (
+            f"{where}: internal error: {type(e).__name__}: {e} (a bug in irlc; the session goes on)"
+        )
+
+    def _enter(self, text: str) -> Entry:
         kind = classify(text)
         if kind == "empty":
             return Entry()
@@ -523,6 +545,33 @@ class Session:
         return sorted(set(keywords()) | self.names) + metas
 
 
+def _failure_status(e: Exception) -> int:
+    """The exit status a failure escaping an entry stands for (interfaces.md)."""
+    from irlc.robots import RobotFileError
+    from irlc.runtime.errors import RunFailure
+    from irlc.runtime.run import RunSetupError
+
+    if isinstance(e, RunFailure):
+        return 2
+    if isinstance(e, RunSetupError | RobotFileError | OSError):
+        return 3
+    return 4
+
+
+def unclosed_block(text: str) -> tuple[str, int] | None:
+    """The innermost block left open in ``text``: its opening word and the line (1 = the
+    first line of ``text``) it is on; ``None`` when every block closes."""
+    closers = {v: k for k, v in BLOCKS.items()}
+    stack: list[tuple[str, int]] = []
+    for m in _TOKEN.finditer(text):
+        word = m.group().upper()
+        if word in BLOCKS:
+            stack.append((word, text.count("\n", 0, m.start()) + 1))
+        elif word in closers and stack:
+            stack.pop()
+    return stack[-1] if stack else None
+
+
 @functools.cache
 def _controller_class() -> type:
     """The simulated controller, counting the motion it is asked for (a MOVE to where the
@@ -599,12 +648,27 @@ def run_plain(session: Session, stream, echo: Callable[[str], None]) -> int:
     for line, entry in numbered_entries(iter(stream.readline, "")):
         if entry.strip().lower() in (":quit", ":q", ":exit"):
             break
-        result = session.enter(entry, line)
+        if not entry.strip().startswith(":") and not is_complete(entry):
+            result = _unfinished(entry, line)  # the input ended inside a block or comment
+        else:
+            result = session.enter(entry, line)
         for line in result.lines:
             echo(line)
         if result.failure and not status:
             status = result.failure
     return status
+
+
+def _unfinished(entry: str, first: int) -> Entry:
+    """The entry the input ended in: name the block (or comment) left open and its line."""
+    block = unclosed_block(entry)
+    if block is not None:
+        word, local = block
+        what = f"{word} on line {first + local - 1} is not closed (expected {BLOCKS[word]})"
+    else:
+        what = "a comment is not closed"
+    end = first + entry.count("\n")
+    return Entry([f"{SCRIPT_NAME}:{end}: error: the input ends inside a block: {what}"], 1)
 
 
 def history_file() -> Path:
