@@ -63,6 +63,7 @@ class ExecutionOptions:
     tol_position: float = 5e-5  # m: a path deviation beyond this fails the run
     tol_orientation: float = 0.01 * units.DEG  # rad
     reconf_settle_s: float = 10.0  # s after the reference arrived before giving up
+    max_time_s: float = 86_400.0  # simulated-time budget of a run (``--max-time``): 24 h
     progress_every: int = 200  # cycles between progress callbacks
     manipulability_every: int = 10  # cycles between manipulability samples (an SVD each)
     ik: IKParams | None = None
@@ -92,6 +93,7 @@ class SimulatedController:
         self.obstacles = dict(obstacles or {})
         self.recorder = Recorder(model.n, tuple(self.obstacles), self.ik_params.task_rows)
         self.pre = PreInterpolator(model, self._solve_pose, self.ik_params.task_rows)
+        self.pre.max_duration = self.opts.max_time_s
         self.progress = progress
         self.scale = units.joint_scale(model.joint_kinds)
         self._solvers: dict[bytes, _Solver] = {}
@@ -128,6 +130,7 @@ class SimulatedController:
         state = self._plan_state(settings, solver)
         self._settings = settings
         segments = self.pre.plan(cmd, settings, options, state)
+        self._within_budget(sum(seg.cycles for seg in segments) * state.dt, cmd.line, "the motion")
         for seg in segments:
             self._run_segment(seg, settings, options, solver)
 
@@ -142,12 +145,14 @@ class SimulatedController:
         k = self.pre.joints_si(target)
         # reference profile: a synchronised joint move from here to k (PTP timing)
         cmd = MotionCommand("PTP", (target,), line)
+        self.pre.check_inside(k, lims[0], line, "RECONFIGURATION target")
         ref_seg = self.pre._ptp_segment(cmd, settings, self.q, k, lims, state.dt, 1)
         hold = self.pre.hold("reconf", line, state, 0, lims)
         dt = state.dt
         cycle_opts = self._cycle_options(hold, options)
         cycle_opts.self_motion = True
         settle = max(1, math.ceil(self.opts.reconf_settle_s / dt))
+        self._within_budget((ref_seg.cycles + settle) * dt, line, "the RECONFIGURATION")
         k_cyc = 0
         while True:
             k_cyc += 1
@@ -174,6 +179,7 @@ class SimulatedController:
             raise RunFailure(f"WAIT needs a finite time ≥ 0 s, got {seconds!r}", line, self._t)
         self._line = line
         dt = self._dt(settings)
+        self._within_budget(seconds, line, "the WAIT")
         n = round(seconds / dt)
         if abs(n * dt - seconds) > 1e-9 * max(1.0, seconds):
             n = math.ceil(seconds / dt)
@@ -373,6 +379,20 @@ class SimulatedController:
 
         cps = critical_points(solver.kin, frames, tuple(self.obstacles.values()))
         return {cp.name: (cp.distance, cp.link) for cp in cps}
+
+    def _within_budget(self, seconds: float, line: int, what: str) -> None:
+        """:class:`RunFailure` (line, time) when ``seconds`` more would take the run past
+        its simulated-time budget (``ExecutionOptions.max_time_s``), checked before any
+        cycle of the statement is simulated (so a WAIT 1e9 SEC fails at once)."""
+        budget = self.opts.max_time_s
+        if self._t + seconds <= budget:
+            return
+        raise RunFailure(
+            f"{what} would take {seconds:.6g} s and the run past its simulated-time budget "
+            f"of {budget:g} s (at t = {self._t:.3f} s; raise it with --max-time)",
+            line,
+            self._t,
+        )
 
     def _tick(self) -> None:
         self._cycles += 1

@@ -32,10 +32,12 @@ configuration at the start of the statement (or the previous point's) to each po
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from irlc.lang.irdata import GEOMETRY_MAX_MM
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
 from irlc.runtime.controller import ModalOptions, MotionCommand, Settings
@@ -61,6 +63,20 @@ from irlc.runtime.profiles import (
 from irlc.runtime.values import JointTuple, Pose
 
 Limits3 = tuple[np.ndarray, np.ndarray, np.ndarray]
+
+
+def check_coordinates(frame: np.ndarray, what: str, line: int | None) -> None:
+    """:class:`RunFailure` unless the translation of ``frame`` (4×4, SI) is finite and
+    inside the physical range of a coordinate (``irdata.GEOMETRY_MAX_MM``, ±1 km): beyond
+    it a path length or a normalised speed overflows or underflows."""
+    top = GEOMETRY_MAX_MM * units.MM
+    for axis, v in zip("xyz", frame[:3, 3], strict=True):
+        if not abs(v) <= top:
+            raise RunFailure(
+                f"{what}: {axis} = {v / units.MM:g} mm is outside the physical range of a "
+                f"coordinate (within ±{GEOMETRY_MAX_MM:g} mm)",
+                line,
+            )
 
 
 def tool_transform(model: RobotModel, settings: Settings) -> np.ndarray:
@@ -101,6 +117,7 @@ class PreInterpolator:
         self.kinds = model.joint_kinds
         self.scale = units.joint_scale(self.kinds)
         self.solve_pose = solve_pose
+        self.max_duration = math.inf  # s: the run's simulated-time budget (the controller's)
 
     # ------------------------------------------------------------------ units
     def joints_si(self, values: Sequence[float] | JointTuple) -> np.ndarray:
@@ -165,6 +182,8 @@ class PreInterpolator:
             (cmd.joint_limits, cmd.speed_limits, cmd.accel_limits), options, cmd.line
         )
         self.check_inside(state.q, lims[0], cmd.line, "the limits exclude the current state")
+        check_coordinates(units.pose_value_to_si(settings.tool), "R_TOOL", cmd.line)
+        check_coordinates(state.base, "R_BASE", cmd.line)
         kind = cmd.kind
         if kind in ("PTP", "PTPINC"):
             return self._plan_ptp(cmd, settings, options, state, lims)
@@ -220,7 +239,7 @@ class PreInterpolator:
         if isinstance(target, Pose):
             if self.solve_pose is None:
                 raise RunFailure("MOVE PTP to a POSE needs the pose solver", cmd.line)
-            world = self._world(target, state)
+            world = self._world(target, state, cmd.line)
             return self.solve_pose(world, q0, frozen, lims, cmd.line)
         raise RunFailure(f"MOVE PTP: unsupported target {type(target).__name__}", cmd.line)
 
@@ -271,8 +290,10 @@ class PreInterpolator:
     def _plan_lin(self, cmd, settings, state: PlanState, lims) -> list[Segment]:
         if cmd.kind == "LININC":
             poses = [state.tcp @ units.pose_value_to_si(t) for t in cmd.targets]
+            for p in poses:
+                check_coordinates(p, "MOVE_INC LIN target", cmd.line)
         else:
-            poses = [self._world(t, state) for t in cmd.targets]
+            poses = [self._world(t, state, cmd.line) for t in cmd.targets]
         paths, start = [], state.tcp
         for p in poses:
             paths.append(CartesianLine(start.copy(), p))
@@ -282,7 +303,7 @@ class PreInterpolator:
     def _plan_circle(self, cmd, settings, state: PlanState, lims) -> list[Segment]:
         if len(cmd.targets) != 2:
             raise RunFailure("MOVE CIRCLE needs a via point and a target", cmd.line)
-        via, target = (self._world(t, state) for t in cmd.targets)
+        via, target = (self._world(t, state, cmd.line) for t in cmd.targets)
         try:
             arc = CartesianArc(state.tcp.copy(), via[:3, 3].copy(), target)
         except CircleError as exc:
@@ -353,10 +374,13 @@ class PreInterpolator:
         return out
 
     # helpers --------------------------------------------------------------
-    def _world(self, pose: Pose, state: PlanState) -> np.ndarray:
+    def _world(self, pose: Pose, state: PlanState, line: int | None = None) -> np.ndarray:
         if not isinstance(pose, Pose):
             raise RunFailure(f"expected a POSE target, got {type(pose).__name__}")
-        return state.base @ units.pose_value_to_si(pose)
+        check_coordinates(units.pose_value_to_si(pose), "MOVE target", line)
+        world = state.base @ units.pose_value_to_si(pose)
+        check_coordinates(world, "MOVE target in the world (with R_BASE)", line)
+        return world
 
     def _time(self, cmd, npts: int, t_min: float) -> float | None:
         if cmd.time is None:
@@ -381,12 +405,31 @@ class PreInterpolator:
         return [total * t / tsum for t in tmins]
 
     def _profile(self, v, a, duration, dt, line) -> Trapezoid:
-        """The trapezoid (stretched to ``duration`` if given), rounded up to whole cycles."""
+        """The trapezoid (stretched to ``duration`` if given), rounded up to whole cycles.
+
+        A motion longer than the run's simulated-time budget (``max_duration``; a speed or
+        acceleration so small that the motion never arrives has ``T_min = ∞``) fails here,
+        before a cycle is simulated."""
+        if duration is not None and not duration <= self.max_duration:
+            raise RunFailure(
+                f"WITH TIME := {duration:g} s is longer than the run's simulated-time budget "
+                f"of {self.max_duration:g} s (raise it with --max-time)",
+                line,
+            )
         if v == np.inf:  # nothing moves
             n = cycles(duration or 0.0, dt)
             return Trapezoid(n * dt, 0.0, 0.0) if n else Trapezoid(0.0, np.inf, np.inf)
+        t_min = minimum_time(v, a)
+        if not t_min <= self.max_duration:
+            raise RunFailure(
+                f"the motion would take {t_min:.6g} s at the active speed and acceleration, "
+                f"longer than the run's simulated-time budget of {self.max_duration:g} s "
+                "(a speed or acceleration too small for the distance?)",
+                line,
+            )
         try:
             base = trapezoid(v, a, duration)
             return trapezoid(v, a, cycles(base.duration, dt) * dt)
         except ProfileError as exc:
-            raise RunFailure(f"WITH TIME: {exc}", line) from None
+            prefix = "WITH TIME: " if duration is not None else ""
+            raise RunFailure(f"{prefix}{exc}", line) from None

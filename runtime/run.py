@@ -169,8 +169,10 @@ def run_code(
     output: Callable[[str], None] | None = None,
     options: ExecutionOptions | None = None,
     trace_every_step: bool = False,
+    max_time: float | None = None,
 ) -> RunResult:
-    """Execute compiled ``code`` (see the module doc)."""
+    """Execute compiled ``code`` (see the module doc). ``max_time``: the simulated-time
+    budget in s (default ``ExecutionOptions.max_time_s``, 24 h); beyond it the run fails."""
     if drives not in DRIVE_LEVELS:
         raise RunSetupError(f"unknown drive level {drives!r} (known: {', '.join(DRIVE_LEVELS)})")
     if ipo is not None and setting_error("ipo", ipo):
@@ -179,9 +181,13 @@ def run_code(
     model = resolve_model(code, robot, base)
     obstacles = obstacle_shapes(code)
     q0 = start_configuration(code, model, seed_config)
+    if max_time is not None and not (max_time > 0.0 and math.isfinite(max_time)):
+        raise RunSetupError(f"--max-time must be a positive number of seconds, got {max_time!r}")
     opts = options or ExecutionOptions()
     if ipo is not None:
         opts.ipo = float(ipo)
+    if max_time is not None:
+        opts.max_time_s = float(max_time)
     controller = SimulatedController(
         model, q0, obstacles=obstacles, options=opts, progress=progress
     )

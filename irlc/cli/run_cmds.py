@@ -52,6 +52,13 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
 )
 @click.option("--ipo", type=float, default=None, help="IPO cycle in seconds (overrides R_IPO).")
 @click.option(
+    "--max-time",
+    "max_time",
+    type=float,
+    default=None,
+    help="Simulated-time budget of the run in seconds (default 86400 = 24 h).",
+)
+@click.option(
     "--drives",
     type=click.Choice(DRIVE_CHOICES),
     default="ideal",
@@ -112,6 +119,7 @@ def run_cmd(
     robot,
     datalist_path,
     ipo,
+    max_time,
     drives,
     report_path,
     trace_path,
@@ -140,7 +148,7 @@ def run_cmd(
         program,
         robot,
         datalist_path,
-        ipo,
+        (ipo, max_time),
         drives,
         seed,
         trace_every_step,
@@ -170,8 +178,10 @@ def run_cmd(
     return code
 
 
-def _run(program, robot, datalist_path, ipo, drives, seed, every_step, show_progress, echo, err):
-    """Compile and run; returns the RunResult, or an exit code after printing the error."""
+def _run(program, robot, datalist_path, timing, drives, seed, every_step, show_progress, echo, err):
+    """Compile and run; returns the RunResult, or an exit code after printing the error.
+    ``timing``: ``(ipo, max_time)`` from the command line (``None``: the defaults)."""
+    ipo, max_time = timing
     from irlc.lang.diagnostics import CompileError
     from irlc.robots import RobotFileError
     from irlc.runtime.results import DriveSetupError
@@ -184,6 +194,7 @@ def _run(program, robot, datalist_path, ipo, drives, seed, every_step, show_prog
             robot=robot,
             datalist_path=datalist_path,
             ipo=ipo,
+            max_time=max_time,
             drives=drives,
             seed_config=seed,
             progress=progress,

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from irlc.lang.irdata import MAX_STRING
 
 from irlc.cli import main
@@ -49,3 +50,50 @@ def test_string_doubling_stops_at_the_maximum_length(tmp_path, capsys) -> None:
         f"string concatenation: a STRING of 65536 characters is too long (at most {MAX_STRING})"
         in err
     )
+
+
+RANGE = "is outside the physical range of a coordinate (within ±1e+06 mm)"
+BUDGET = "the run's simulated-time budget of 86400 s"
+
+
+@pytest.mark.parametrize(
+    ("body", "line", "message"),
+    [
+        # OverflowError in cycles() / executor.wait (ceil of an infinite cycle count)
+        ("WAIT 1e308 SEC;", 4, "the WAIT would take 1e+308 s and the run past its simulated"),
+        # MemoryError after 40 s: one trace sample per IPO cycle of a 30-year wait
+        ("WAIT 1e9 SEC;", 4, "the WAIT would take 1e+09 s and the run past its simulated"),
+        # ZeroDivisionError in minimum_time: the normalised speed underflowed to 0
+        ("MOVE LIN POSE(-1e308, 0, 0, 0, 0, 0);", 4, f"MOVE target: x = -1e+308 mm {RANGE}"),
+        ("MOVE_INC LIN POSE(1e308, 0, 0, 0, 0, 0);", 4, "MOVE_INC LIN target: x = 1e+308 mm"),
+        ("R_TOOL := POSE(1e300, 0, 0, 0, 0, 0);\nMOVE PTP (10, 10, 10);", 5, "R_TOOL: x = 1e+300"),
+        (
+            "R_BASE := POSE(0, 1e300, 0, 0, 0, 0);\nMOVE LIN POSE(1500, 500, 0, 0, 0, 0);",
+            5,
+            f"R_BASE: y = 1e+300 mm {RANGE}",
+        ),
+        # not finished after 60 s
+        ("R_ACC := 1e-320;\nMOVE LIN POSE(1500, 500, 0, 0, 0, 0);", 5, BUDGET),
+        ("MOVE PTP (10, 10, 10) WITH SPEED_PTP := 1e-300;", 4, BUDGET),
+        ("MOVE PTP (10, 10, 10) WITH TIME := 1e6;", 4, "WITH TIME := 1e+06 s is longer than"),
+        ("RECONFIGURATION (1e300, 0, 0);", 4, "RECONFIGURATION target: joint J1 = 1e+300 deg"),
+        # exited 0: a reconfiguration target outside the limits
+        ("RECONFIGURATION (0, 200, -200);", 4, "RECONFIGURATION target: joint J2 = 200 deg is"),
+    ],
+)
+def test_hostile_motion_is_a_run_failure_at_its_line(tmp_path, capsys, body, line, message):
+    code, _, err = run(tmp_path, capsys, body)
+    assert code == 2, err
+    assert f"p.irl:{line}:1: error: run-time failure at t = 0.000 s" in err
+    assert message in err
+
+
+def test_the_simulated_time_budget_is_settable(tmp_path, capsys) -> None:
+    code, _, err = run(tmp_path, capsys, "WAIT 0.5 SEC;\nWAIT 1 SEC;", "planar3", "--max-time", "1")
+    assert code == 2
+    assert "p.irl:5:1: error: run-time failure at t = 0.500 s: the WAIT would take 1 s" in err
+    assert "budget of 1 s" in err
+    code, _, err = run(tmp_path, capsys, "WAIT 0.5 SEC;", "planar3", "--max-time", "1")
+    assert code == 0, err
+    code, _, err = run(tmp_path, capsys, "WAIT 0.5 SEC;", "planar3", "--max-time", "-1")
+    assert code == 3 and "--max-time must be a positive number of seconds" in err

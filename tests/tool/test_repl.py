@@ -316,3 +316,11 @@ def test_the_session_survives_an_entry_that_escapes_the_interpreter(monkeypatch)
         assert result.lines[0].startswith("<stdin>:5: ")
         monkeypatch.setattr(Interpreter, "run", real_run)
     assert session.enter("WRITELN(x + 1);").lines == ["42.0"]  # the state survived
+
+
+@pytest.mark.skipif(not _compiler_available(), reason="compiler/runtime not installed")
+def test_a_scripted_session_goes_on_after_a_failing_line():
+    proc = _session("VAR REAL: x;\nx := 2;\nWAIT 1e308 SEC;\nWRITELN(x * 21);\n")
+    assert "internal error" not in proc.stdout + proc.stderr
+    assert proc.returncode in (2, 3), proc.stdout
+    assert proc.stdout.strip().splitlines()[-1] == "42.0"
