@@ -54,6 +54,10 @@ from irlc.runtime.preinterp import (
 from irlc.runtime.recorder import Recorder
 from irlc.runtime.values import JointTuple, Pose
 
+WAIT_SAMPLED_CYCLES = 1000
+"""A WAIT records one sample per IPO cycle for this many cycles, then only its last cycle:
+the robot stands still, and a long WAIT must not fill the memory with equal samples."""
+
 
 @dataclass
 class ExecutionOptions:
@@ -188,9 +192,15 @@ class SimulatedController:
         self.q_prev = self.q.copy()  # standing still: q, and so the sample, do not change
         tcp = self._solver(settings).kin.tcp(self.q)
         rec = self.recorder
-        for _ in range(n):
+        t0, sampled = self._t, min(n, WAIT_SAMPLED_CYCLES)
+        for _ in range(sampled):
             self._t = _advance(self._t, dt)
             rec.add(self._t, line, self.q, tcp, None)
+            self._tick()
+        if n > sampled:  # the rest of a long WAIT: its last cycle stands for all of them
+            self._t = round(t0 + n * dt, 9)
+            rec.add(self._t, line, self.q, tcp, None)
+            self._cycles += n - sampled - 1
             self._tick()
 
     def check_switch_on(
