@@ -13,7 +13,7 @@ import pytest
 from irlc.lang import read_code, write_code
 from irlc.lang.irdata import MAX_STRING
 
-from .conftest import compile_text
+from .conftest import compile_text, fake_resolver
 
 
 def _only_error(text: str):
@@ -123,3 +123,25 @@ def test_strings_without_line_breaks_are_written_as_before() -> None:
         "PROGRAM p; ROBOT r := koch11; VAR STRING: s; BEGIN s := 'a\\b''c'; ENDPROGRAM"
     )
     assert "CONST 0 STRING 'a\\b''c'\n" in write_code(result.code)
+
+
+def test_a_byte_order_mark_is_accepted(tmp_path) -> None:
+    from irlc.lang import compile_file
+
+    path = tmp_path / "bom.irl"
+    path.write_bytes(b"\xef\xbb\xbfPROGRAM p;\nROBOT r := koch11;\nBEGIN\nENDPROGRAM\n")
+    result = compile_file(path, resolve_robot=fake_resolver)
+    assert result.ok, [d.header() for d in result.diagnostics]
+
+
+def test_a_byte_that_is_not_utf8_is_reported_at_its_line_and_column(tmp_path) -> None:
+    # It was "cannot read the program: 'utf-8' codec can't decode byte 0x80 in position 52".
+    from irlc.lang import compile_file
+
+    path = tmp_path / "bad.irl"
+    path.write_bytes(
+        b"PROGRAM p;\nROBOT r := koch11;\nBEGIN\n  WRITELN('\xc3\xa9\x80');\nENDPROGRAM\n"
+    )
+    (err,) = compile_file(path, resolve_robot=fake_resolver).errors
+    assert (err.file, err.line, err.column) == (str(path), 4, 13)
+    assert err.message == "the program is not UTF-8 text (byte 0x80)"
