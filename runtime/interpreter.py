@@ -235,8 +235,8 @@ class Interpreter:
             self._running = True
             status = self._execute()
         except RunFailure as e:
-            if e.line is None and self._running:
-                e.line = self._lines[self._cur]
+            if not e.line and self._running:
+                e.line = self._nearest_line(self._cur) or e.line
             if e.time_s is None:
                 e.time_s = self._time()
             error = e
@@ -294,6 +294,14 @@ class Interpreter:
 
     def _line(self) -> int:
         return self._lines[self._cur]
+
+    def _nearest_line(self, index: int) -> int:
+        """The source line of instruction ``index``, else of the nearest instruction before
+        it that records one (code read from a hand-made .ird may say ``L0``); 0 if none."""
+        for k in range(min(index, len(self._lines) - 1), -1, -1):
+            if self._lines[k] > 0:
+                return self._lines[k]
+        return 0
 
     def _ctl(self, fn: Callable, *args, **kwargs):
         """Call the controller; its own RunFailures pass, other exceptions are bugs there."""

@@ -224,6 +224,8 @@ def _render_failure(program: Path, code, error) -> str:
     from irlc.lang.diagnostics import Diagnostic, Span, render
 
     when = f" at t = {error.time_s:.3f} s" if error.time_s is not None else ""
+    if not error.line:
+        when += " (the code records no source line for it)"
     span = Span(error.line, 1) if error.line else None
     source = _source_file(program, code)
     hint = f"binding constraint: {error.constraint}" if error.constraint else None

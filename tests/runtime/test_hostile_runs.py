@@ -97,3 +97,35 @@ def test_the_simulated_time_budget_is_settable(tmp_path, capsys) -> None:
     assert code == 0, err
     code, _, err = run(tmp_path, capsys, "WAIT 0.5 SEC;", "planar3", "--max-time", "-1")
     assert code == 3 and "--max-time must be a positive number of seconds" in err
+
+
+def _ird_with_lines(tmp_path, capsys, relabel) -> tuple[int, str]:
+    prog = tmp_path / "w.irl"
+    prog.write_text(
+        "PROGRAM w;\nROBOT r := planar3;\nVAR REAL: t;\nBEGIN\n  t := -1;\n  WAIT t SEC;\n"
+        "ENDPROGRAM\n",
+        "utf-8",
+    )
+    ird = tmp_path / "w.ird"
+    assert main(["compile", str(prog), "-o", str(ird)]) == 0
+    prog.unlink()  # the run reports against the .ird itself
+    ird.write_text(relabel(ird.read_text("utf-8")), "utf-8")
+    code = main(["run", str(ird), "-q"])
+    out = capsys.readouterr()
+    assert "Traceback" not in out.err and "internal error" not in out.err, out.err
+    return code, " ".join(out.err.split())
+
+
+def test_a_failure_in_code_without_a_line_names_the_nearest_line(tmp_path, capsys) -> None:
+    # A hand-made .ird whose failing instruction says L0: the failure named no line.
+    code, err = _ird_with_lines(tmp_path, capsys, lambda t: t.replace(" L6 ", " L0 "))
+    assert code == 2
+    assert "w.ird:5:1: error: run-time failure at t = 0.000 s: WAIT -1.0 SEC: the time" in err
+
+
+def test_a_failure_in_code_without_any_line_says_so(tmp_path, capsys) -> None:
+    import re
+
+    code, err = _ird_with_lines(tmp_path, capsys, lambda t: re.sub(r" L\d+ ", " L0 ", t))
+    assert code == 2
+    assert "(the code records no source line for it): WAIT -1.0 SEC" in err
