@@ -141,3 +141,20 @@ def test_a_failed_runs_trace_says_it_is_partial(tmp_path, capsys) -> None:
     assert len(load_run(tmp_path / "t.csv").trace) == len(rows) - 2  # header and note
     code, _, _ = run(tmp_path, capsys, "WAIT 0.05 SEC;")
     assert code == 0 and not (tmp_path / "t.csv").read_text("utf-8").count("#")
+
+
+def test_library_noise_does_not_reach_stderr(capsys, caplog) -> None:
+    import logging
+    import warnings
+
+    import numpy as np
+
+    from irlc.cli import _quiet_libraries
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a warning that got through would raise here
+        with _quiet_libraries():
+            assert np.isinf(np.float64(1e308) * np.float64(10.0))
+            logging.getLogger("yourdfpy.urdf").warning("unknown tag <bogus>")
+    assert "unknown tag" not in caplog.text + capsys.readouterr().err
+    assert logging.getLogger("yourdfpy").level == logging.NOTSET  # restored
