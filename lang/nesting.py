@@ -11,6 +11,7 @@ add no node. The first node deeper than the bound is reported at its position.
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 from irlc.lang import ast
 from irlc.lang.diagnostics import Diagnostic
@@ -19,16 +20,21 @@ MAX_NESTING = 200
 """The deepest nesting of expressions, statements and types (syntax-tree levels)."""
 
 
-def _children(obj: object) -> list[object]:
-    """The syntax-tree values held by a node (its init fields; the checker's own are skipped)."""
-    return [getattr(obj, f.name) for f in dataclasses.fields(obj) if f.init]  # type: ignore[arg-type]
+@functools.cache
+def _init_fields(cls: type) -> tuple[str, ...]:
+    """The init fields of a node class (the checker's own, ``init=False``, are skipped)."""
+    return tuple(f.name for f in dataclasses.fields(cls) if f.init)
 
 
 def nesting_error(program: ast.Program, filename: str) -> Diagnostic | None:
     """A diagnostic at the first node nested deeper than :data:`MAX_NESTING`, else ``None``."""
     stack: list[tuple[object, int]] = [(program, 0)]
+    tree = (ast.Node, ast.Decls, list, tuple)
     while stack:
         obj, depth = stack.pop()
+        if isinstance(obj, list | tuple):
+            stack.extend((c, depth) for c in obj if isinstance(c, tree))
+            continue
         if isinstance(obj, ast.Node):
             depth += 1
             if depth > MAX_NESTING:
@@ -41,9 +47,8 @@ def nesting_error(program: ast.Program, filename: str) -> Diagnostic | None:
                     "procedures (expressions, statements and types nest at most "
                     f"{MAX_NESTING} levels)",
                 )
-            stack.extend((c, depth) for c in _children(obj))
-        elif isinstance(obj, ast.Decls):
-            stack.extend((c, depth) for c in _children(obj))
-        elif isinstance(obj, (list, tuple)):
-            stack.extend((c, depth) for c in obj)
+        for name in _init_fields(type(obj)):
+            child = getattr(obj, name)
+            if isinstance(child, tree):
+                stack.append((child, depth))
     return None
