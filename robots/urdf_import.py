@@ -219,6 +219,8 @@ def _joint(j, file: str, origin: np.ndarray, assumed: dict) -> Joint:
     _check_point(file, f"joint '{j.name}'.origin", origin[:3, 3])
     _check_finite(file, f"joint '{j.name}'.origin", origin)
     axis = np.array([1.0, 0.0, 0.0]) if j.axis is None else np.asarray(j.axis, dtype=float)
+    if axis.shape != (3,):
+        raise RobotFileError(file, f"joint '{j.name}'.axis", "expected 3 numbers")
     _check_finite(file, f"joint '{j.name}'.axis", axis)
     axis = axis / max(float(np.max(np.abs(axis))), 1e-300)  # no overflow in the norm below
     norm = float(np.linalg.norm(axis))

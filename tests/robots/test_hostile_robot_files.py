@@ -82,6 +82,11 @@ def test_robot_geometry_outside_the_physical_range(tmp_path, extra, key, words) 
             "link 'a'.collision.sphere.radius",
             "outside the physical range",
         ),
+        (  # an empty axis: a ValueError in the axis normalisation (found by the fuzz test)
+            SERIAL.replace('<axis xyz="0 0 1"/>', '<axis xyz=""/>'),
+            "joint 'ja'.axis",
+            "expected 3 numbers",
+        ),
         (
             SERIAL.replace('lower="-1"', 'lower="nan"'),
             "joint 'ja'.limit",
