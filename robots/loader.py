@@ -170,6 +170,7 @@ class Reader:
             m = np.array([self.vector(r, f"{key}.matrix[{i}]", 4) for i, r in enumerate(rows)])
             m[:3, 3] *= self.length
             _check_rigid(self, m, _join(key, "matrix"))
+            _in_range(self, _join(key, "matrix"), "point", m[:3, 3])
             return m
         out = np.eye(4)
         if "zyx" in t:
@@ -177,6 +178,7 @@ class Reader:
             out[:3, :3] = _rz(a) @ _ry(b) @ _rx(c)
         if "xyz" in t:
             out[:3, 3] = self.vector(t["xyz"], _join(key, "xyz"), 3) * self.length
+            _in_range(self, _join(key, "xyz"), "point", out[:3, 3])
         return out
 
     def assumption(self, t: dict, key: str) -> tuple[bool, str]:
@@ -411,9 +413,11 @@ def _dh_row(rd: Reader, row: dict, key: str, kind: str):
             raise rd.fail(f"{key}.dh.{k}", "missing; expected a number")
     alpha = rd.number(dh["alpha"], f"{key}.dh.alpha") * rd.angle
     a = rd.number(dh["a"], f"{key}.dh.a") * rd.length
+    _in_range(rd, f"{key}.dh.a", "point", a)
     d = theta = 0.0
     if kind == "revolute":
         d = rd.number(dh.get("d", 0.0), f"{key}.dh.d") * rd.length
+        _in_range(rd, f"{key}.dh.d", "point", d)
     else:
         theta = rd.number(dh.get("theta", 0.0), f"{key}.dh.theta") * rd.angle
     after = _trans((0.0, 0.0, d)) @ _rot4(_rz(theta)) @ _trans((a, 0.0, 0.0)) @ _rot4(_rx(alpha))
@@ -432,12 +436,14 @@ def _axes_row(rd: Reader, row: dict, key: str):
         axis = np.array(AXIS_NAMES[raw])
     else:
         axis = rd.vector(raw, f"{key}.axis", 3)
+        axis = axis / max(float(np.max(np.abs(axis))), 1e-300)  # the norm cannot overflow
         norm = float(np.linalg.norm(axis))
         if norm < 1e-9:
             raise rd.fail(f"{key}.axis", "expected a non-zero vector")
         axis = axis / norm
     this_origin = rd.transform(row["origin"], f"{key}.origin") if "origin" in row else np.eye(4)
     link = rd.vector(row.get("link", [0.0, 0.0, 0.0]), f"{key}.link", 3) * rd.length
+    _in_range(rd, f"{key}.link", "point", link)
     return axis, this_origin, _trans(link)
 
 

@@ -38,11 +38,17 @@ INERTIAL = '[[inertials]]\nlink = 1\nmass = 1.0\ninertia = "from_geometry"\n'
             "geometry[1].b",
             r"1e\+300 m is outside the physical range of a coordinate",
         ),
+        (  # the trace writer met a non-finite x_mm (NonFiniteError, exit 4)
+            "link = [1.0, 0.0, 0.0] => link = [1e308, 0.0, 0.0]",
+            "joints[1].link",
+            r"1e\+308 m is outside the physical range of a coordinate",
+        ),
+        ("[tool]\nxyz = [0, 0, 1e300]\n", "tool.xyz", r"1e\+300 m is outside"),
     ],
 )
 def test_robot_geometry_outside_the_physical_range(tmp_path, extra, key, words) -> None:
     p = tmp_path / "tiny.toml"
-    p.write_text(GOOD + extra)
+    p.write_text(GOOD + extra if extra.startswith("[") else GOOD.replace(*extra.split(" => ")))
     with pytest.raises(RobotFileError, match=words) as err:
         load_robot(str(p))
     assert err.value.file == str(p) and err.value.key == key
@@ -100,3 +106,10 @@ def test_malformed_urdf_names_file_and_key(tmp_path, text, key, words) -> None:
     with pytest.raises(RobotFileError, match=words) as err:
         load_robot(str(p))
     assert err.value.file == str(p) and err.value.key == key
+
+
+def test_a_huge_axis_vector_is_normalised_without_overflow(tmp_path) -> None:
+    p = tmp_path / "tiny.toml"
+    p.write_text(GOOD.replace("axis = [0.0, 0.0, 1.0]", "axis = [0.0, 1e308, 1e308]"))
+    axis = load_robot(str(p)).joints[1].axis
+    assert axis == pytest.approx([0.0, 0.5**0.5, 0.5**0.5])
