@@ -99,3 +99,29 @@ def test_fuzz_data_lists(tmp_path_factory, section, data, values) -> None:
     result = compile_source(SOURCE, str(folder / "t.irl"), resolve_robot=lambda n: ROBOT)
     for d in result.errors:
         assert d.file.endswith(("cell.toml", "t.irl")), d
+
+
+FIELDS = [
+    ("link = [1.0, 0.0, 0.0]", "link = [{v}, 0.0, 0.0]"),
+    ("speed = 90.0", "speed = {v}"),
+    ("accel = 500.0", "accel = {v}"),
+    ("position = [-90.0, 90.0]", "position = [-{v}, {v}]"),
+    ("home = [0.0, 0.0]", "home = [{v}, 0.0]"),
+    ("axis = [0.0, 0.0, 1.0]", "axis = [0.0, {v}, {v}]"),
+]
+PROGRAM = (
+    "PROGRAM p;\nROBOT r := 'tiny.toml';\nBEGIN\n  MOVE PTP (10, 0.1);\n"
+    "  MOVE LIN POSE(0.5, 0.2, 0.1, 0, 0, 0);\nENDPROGRAM\n"
+)
+
+
+@fuzz_settings(12)
+@given(st.sampled_from(FIELDS), st.sampled_from(["1e308", "1e-320", "1e300", "0.0", "1e6"]))
+def test_fuzz_robot_numbers_through_a_run(tmp_path_factory, field, value) -> None:
+    from irlc.cli import main
+
+    folder = tmp_path_factory.mktemp("run")
+    (folder / "tiny.toml").write_text(GOOD.replace(field[0], field[1].format(v=value)))
+    (folder / "p.irl").write_text(PROGRAM)
+    code = main(["run", str(folder / "p.irl"), "-q", "--trace", str(folder / "t.csv")])
+    assert code in (0, 1, 2, 3)
