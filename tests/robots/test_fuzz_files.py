@@ -57,7 +57,7 @@ def test_fuzz_robot_geometry(tmp_path_factory, link, shape, key, value, r, inert
     _load(tmp_path_factory.mktemp("robot"), "tiny.toml", text)
 
 
-@fuzz_settings(80)
+@fuzz_settings(200)
 @given(st.lists(st.tuples(st.integers(0, 10**6), st.sampled_from(URDF_VALUES)), max_size=4))
 def test_fuzz_urdf_attributes(tmp_path_factory, edits) -> None:
     pytest.importorskip("yourdfpy")
@@ -81,7 +81,7 @@ SECTIONS = {
 KINDS = ['"sphere"', '"box"', '"capsule"', '"plane"', '"point"', "[1, 2]", "1", '"cone"']
 
 
-@fuzz_settings(120)
+@fuzz_settings(300)
 @given(
     st.sampled_from(sorted(SECTIONS)),
     st.data(),
@@ -115,7 +115,7 @@ PROGRAM = (
 )
 
 
-@fuzz_settings(12)
+@fuzz_settings(25)
 @given(st.sampled_from(FIELDS), st.sampled_from(["1e308", "1e-320", "1e300", "0.0", "1e6"]))
 def test_fuzz_robot_numbers_through_a_run(tmp_path_factory, field, value) -> None:
     from irlc.cli import main

@@ -37,7 +37,7 @@ HOSTILE = st.sampled_from(
 )
 
 
-@fuzz_settings(25)
+@fuzz_settings(80)
 @given(st.lists(st.tuples(st.integers(0, 10**6), st.integers(0, 5), HOSTILE), max_size=3))
 def test_fuzz_hostile_values_in_motion(edits) -> None:
     lines = IRD.split("\n")

@@ -32,7 +32,7 @@ def session_class():
     return Session
 
 
-@fuzz_settings(30)
+@fuzz_settings(100)
 @given(st.lists(st.sampled_from(LINES) | st.text(max_size=12), min_size=1, max_size=6))
 def test_fuzz_repl_lines(session_class, lines: list[str]) -> None:
     session = session_class("planar3")
