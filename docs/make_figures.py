@@ -21,7 +21,8 @@ IMG = ROOT / "docs" / "img"
 # (output name, program, compared program or None, figure of write_plots)
 FIGURES = [
     ("square_path_speed.png", "square", None, "tcp_path_speed.png"),
-    ("square_j11_positions_7-11.png", "square", "square_j11", "joint_positions_7-11.png"),
+    ("square_j11_positions_7-11.png", "square_limits", "square_j11",
+     "joint_positions_7-11.png"),
     ("square_speed_speeds_7-11.png", "square_limits", "square_speed", "joint_speeds_7-11.png"),
     ("obstacle_positions_7-11.png", "obstacle_line", "obstacle_line_avoid",
      "joint_positions_7-11.png"),

@@ -14,6 +14,8 @@ Projection: orbit camera around the scene centre ``c`` with yaw ψ, pitch φ, di
 eye ``e = c + r·(cos φ cos ψ, cos φ sin ψ, sin φ)``, and to the screen
 ``(W/2 + f·u/w, H/2 − f·v/w)``. Primitives are painted far to near (painter's algorithm).
 
+The embedded data names its units (``units``: lengths mm, joint values deg | mm, times
+s) and the joints by the naming rule (``joint_labels``: ``a4 (panda_joint4)``).
 Numbers are millimetres rounded to integers; at most :data:`MAX_FRAMES` frames are kept
 (uniform decimation, the last sample always included).
 """
@@ -110,15 +112,22 @@ def animation_data(run: Any) -> dict:
         raise ValueError("the animation needs the robot model (link frames); the run has none")
     kin = Kinematics(d.model)
     idx = frame_indices(d.k)
-    points = [_mm(_frame_points(kin, d.q[i])) for i in idx]
-    tcp = d.tcp[idx] if d.tcp is not None else np.array([p[kin.n + 1] for p in points]) * units.MM
+    frames = [_frame_points(kin, d.q[i]) for i in idx]
+    if d.tcp is not None:  # the run's TCP: with the program's tool (R_TOOL), not the file's
+        for pts, i in zip(frames, idx, strict=True):
+            pts[kin.n + 1] = d.tcp[i]
+    points = [_mm(pts) for pts in frames]
+    tcp = np.array([pts[kin.n + 1] for pts in frames])
     lines = d.lines[idx].tolist() if d.lines is not None else [0] * len(idx)
     return {
         "program": d.report.get("program") or d.label,
         "robot": d.report.get("robot") or d.model.name,
         "status": d.report.get("status", "ok"),
         "n": d.n,
+        "units": {"length": "mm", "angle": "deg", "time": "s"},
         "joint_names": list(d.joint_names),
+        "robot_joint_names": list(d.robot_joint_names),
+        "joint_labels": [d.joint_label(j) for j in range(d.n)],
         "shapes": _shapes(d.model),
         "obstacles": [s for s in (_obstacle(o) for o in d.obstacles) if s is not None],
         "t": [round(float(d.times[i]), 3) for i in idx],
@@ -299,7 +308,7 @@ function draw(){
   g.globalAlpha=1;
   info.textContent = "t = " + D.t[frame].toFixed(2) + " s   line " + D.line[frame]
     + "   frame " + (frame+1) + "/" + N;
-  jointsEl.textContent = D.joint_names
+  jointsEl.textContent = D.joint_labels
     .map((nm,i) => nm + " " + D.joints[frame][i].toFixed(2)).join("\\n");
   slider.value = frame;
 }

@@ -56,7 +56,9 @@ def run_program(program: str | Path | Code, **options):
     """Compile (``.irl``) or read (``.ird``) and simulate a program; or run given ``Code``.
 
     Options are those of :func:`irlc.runtime.run.run_code` / ``run_file`` (``robot``,
-    ``ipo``, ``drives``, ``seed_config``, ``datalist_path``…). Returns a ``RunResult``
+    ``ipo``, ``drives``, ``path_tolerance`` (mm), ``orientation_tolerance`` (deg),
+    ``seed_config``, ``datalist_path``, ``instruction_budget`` — the endless-loop guard…).
+    Returns a ``RunResult``
     whose ``status`` is ``"ok"`` or ``"failed"`` (with ``error``); raises
     :class:`~irlc.lang.diagnostics.CompileError` if the program does not compile.
     """

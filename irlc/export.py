@@ -10,7 +10,10 @@ When the trace has no speed / acceleration columns they are the finite differenc
 the positions, ``q̇ ≈ np.gradient(q, t)`` (central inside, one-sided at the ends).
 
 :func:`write_trajectory` writes a JSON document shaped like ROS ``trajectory_msgs/
-JointTrajectory``: ``joint_names`` and ``points`` with ``positions``, ``velocities``,
+JointTrajectory``: ``joint_names`` — the robot file's own names (URDF names for a URDF
+robot, e.g. ``panda_joint4``), so that the file drops into ROS tooling without renaming;
+the program's names ``a1 … aN`` are beside them in ``program_joint_names`` — and
+``points`` with ``positions``, ``velocities``,
 ``accelerations`` (rad | m, per second, per second²) and ``time_from_start``
 ``{sec, nanosec}``. Velocities and accelerations there are derivatives *at* the sample
 times (:func:`sample_derivatives`), not the trace's backward differences.
@@ -28,6 +31,7 @@ import numpy as np
 from irlc.errors import UsageError
 from irlc.files import atomic_write_bytes, atomic_write_text  # noqa: F401 (plots imports it here)
 from irlc.runtime import units
+from irlc.runtime.naming import default_names, joint_label
 
 TRAJECTORY_FORMAT = "irlc-joint-trajectory 1"
 _POSE_AXES = {"x", "y", "z", "a", "b", "c"}
@@ -39,7 +43,7 @@ class RunData:
     """One run as arrays; ``k`` samples, ``n`` joints; SI unless named otherwise."""
 
     times: np.ndarray  # (k,) s
-    joint_names: tuple[str, ...]
+    joint_names: tuple[str, ...]  # program names (a1 … aN or MAIN_JOINT's)
     joint_kinds: tuple[str, ...]  # "revolute" | "prismatic"
     q: np.ndarray  # (k, n) rad | m
     qd: np.ndarray  # (k, n) /s
@@ -53,6 +57,7 @@ class RunData:
     model: Any = None  # RobotModel | None
     obstacles: tuple = ()
     label: str = ""
+    robot_joint_names: tuple[str, ...] = ()  # the robot file's names (() when unknown)
 
     @property
     def k(self) -> int:
@@ -61,6 +66,11 @@ class RunData:
     @property
     def n(self) -> int:
         return len(self.joint_names)
+
+    def joint_label(self, j: int) -> str:
+        """Joint ``j`` by the naming rule: ``a4 (panda_joint4)``."""
+        robot = self.robot_joint_names[j] if len(self.robot_joint_names) == self.n else None
+        return joint_label(self.joint_names[j], robot)
 
     def program_units(self, values: np.ndarray) -> np.ndarray:
         """SI joint values → deg | mm (per joint kind)."""
@@ -115,7 +125,7 @@ def _joint_names_kinds(run: Any, report: dict, model: Any, table) -> tuple[tuple
         kinds = tuple(units.PRISMATIC if r.get("unit") == "mm" else units.REVOLUTE for r in rows)
         return names, kinds
     if model is not None:
-        names = tuple(_get(run, "joint_names", default=None) or model.joint_names)
+        names = tuple(_get(run, "joint_names", default=None) or default_names(model.n))
         return names, tuple(model.joint_kinds)
     names, kinds = [], []
     for col in table:
@@ -125,6 +135,19 @@ def _joint_names_kinds(run: Any, report: dict, model: Any, table) -> tuple[tuple
                 names.append(stem)
                 kinds.append(kind)
     return tuple(names), tuple(kinds)
+
+
+def _robot_joint_names(report: dict, model: Any, n: int) -> tuple[str, ...]:
+    """The robot file's joint names: from the report (``robot_joint_names``, or the
+    ``robot_name`` of its joint rows), else from the model; ``()`` when unknown."""
+    names = report.get("robot_joint_names")
+    if not names:
+        rows = report.get("joints") or []
+        names = [r.get("robot_name") for r in rows] if rows else None
+    if (not names or not all(names)) and model is not None:
+        names = model.joint_names
+    names = tuple(str(v) for v in names or ())
+    return names if len(names) == n else ()
 
 
 def _joint_columns(table, names, kinds, middle: str, derivative: int) -> np.ndarray | None:
@@ -198,6 +221,7 @@ def run_data(run: Any, label: str = "") -> RunData:
         model=model,
         obstacles=tuple(_get(run, "obstacles", default=()) or ()),
         label=label or str(report.get("program", "")),
+        robot_joint_names=_robot_joint_names(report, model, len(names)),
     )
 
 
@@ -287,7 +311,8 @@ def trajectory_document(run: Any) -> dict:
         "header": {"frame_id": "world", "stamp": {"sec": 0, "nanosec": 0}},
         "robot": d.report.get("robot", getattr(d.model, "name", "")),
         "program": d.report.get("program", ""),
-        "joint_names": list(d.joint_names),
+        "joint_names": list(d.robot_joint_names or d.joint_names),
+        "program_joint_names": list(d.joint_names),
         "joint_kinds": list(d.joint_kinds),
         "units": {"revolute": "rad", "prismatic": "m", "time": "s"},
         "points": points,

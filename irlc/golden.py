@@ -21,6 +21,8 @@ from irlc.files import atomic_write_text, read_user_text
 
 GOLDEN_FORMAT = "irlc-golden 1"
 USER_KEYS = ("options", "tolerances")  # kept as written by the user on --update
+UNITS = {"length": "mm", "angle": "deg", "time": "s"}  # of the reduced report's numbers
+NEWER_KEYS = ("units",)  # added later: an expectation written before may lack them
 # Rounding quantum per key (the key's last path component, or its first for joints).
 QUANTA = {
     "duration_s": 0.001,
@@ -72,6 +74,7 @@ def reduce_report(report: dict) -> dict:
     error = report.get("error") or {}
     out: dict[str, Any] = {
         "format": GOLDEN_FORMAT,
+        "units": dict(UNITS),
         "status": report.get("status"),
         "error_line": error.get("line"),
         "duration_s": _q(report.get("duration_s"), QUANTA["duration_s"]),
@@ -140,7 +143,7 @@ def _compare(exp: Any, act: Any, path: str, tolerances: dict, out: list) -> None
             else:
                 _compare(exp[key], act[key], sub, tolerances, out)
         for key in act:
-            if key not in exp:
+            if key not in exp and not (key in NEWER_KEYS and not path):
                 out.append(Mismatch(f"{path}.{key}" if path else key, "(missing)", act[key]))
         return
     if path.endswith(BOUND_SUFFIX) and _is_num(exp) and _is_num(act):
@@ -202,7 +205,16 @@ class ExpectationError(ValueError):
     """An expected file cannot be used: ``FILE: key 'K': reason``."""
 
 
-RUN_OPTIONS = ("ipo", "drives", "seed_config", "robot", "datalist_path")  # docs/golden.md
+RUN_OPTIONS = (  # docs/golden.md
+    "ipo",
+    "drives",
+    "path_tolerance",
+    "orientation_tolerance",
+    "seed_config",
+    "robot",
+    "datalist_path",
+    "instruction_budget",
+)
 
 
 def load_expectation(path: Path) -> dict:

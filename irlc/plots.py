@@ -101,7 +101,7 @@ def _series(d: RunData, what) -> np.ndarray | None:
 
 def _axis_label(d: RunData, j: int, what) -> str:
     unit = "A" if what == "current" else d.unit(j, 0 if what == "error" else what)
-    return f"{d.joint_names[j]} [{unit}]"
+    return f"{d.joint_label(j)} [{unit}]"
 
 
 def _joint_figures(plt, out: Path, stem, d: RunData, c, what, title) -> list[Path]:

@@ -39,6 +39,7 @@ import numpy as np
 
 from irlc.lang import types as T
 from irlc.runtime import units
+from irlc.runtime.naming import JointNaming
 
 INPUT_NAME = "<input>"  # an entry typed at the terminal
 SCRIPT_NAME = "<stdin>"  # a script piped in
@@ -433,11 +434,21 @@ class Session:
     def _program_units(self, q_si: np.ndarray) -> list[float]:
         return [float(v) for v in units.joints_from_si(q_si, self.model.joint_kinds)]
 
-    def joint_names(self) -> tuple[str, ...]:
+    def naming(self) -> JointNaming:
+        """Program names (the session's MAIN_JOINT names, default ``a1 … aN``) beside the
+        robot file's (:mod:`irlc.runtime.naming`)."""
         code = self.last_code
-        if code is not None and len(code.joint_names) == self.model.n:
-            return tuple(code.joint_names)
-        return tuple(f"a{i + 1}" for i in range(self.model.n))
+        return JointNaming.for_model(self.model, code.joint_names if code is not None else None)
+
+    def joint_names(self) -> tuple[str, ...]:
+        return self.naming().program
+
+    def _names_line(self) -> list[str]:
+        """``names a1 (panda_joint1), …`` where the robot file names a joint differently."""
+        naming = self.naming()
+        if all(naming.label(j) == naming.name(j) for j in range(self.model.n)):
+            return []
+        return [f"  names  {naming.labels(range(self.model.n))}"]
 
     def where(self, short: bool = False) -> list[str]:
         pose = self.controller.pose(self.state.settings)
@@ -449,6 +460,7 @@ class Session:
         return [
             f"{prefix}t = {self.controller.time:.3f} s  pose ({pose_text})  [mm, deg ZYX]",
             f"  joints {joints}",
+            *([] if short else self._names_line()),
         ]
 
     def _meta_robot(self, arg: str) -> Entry:
@@ -462,16 +474,35 @@ class Session:
             return Entry([f"robot {self.model.name}: a new session (declarations cleared)"])
         m = self.model
         out = [f"robot {m.name}: {m.n} joints  {m.description}".rstrip()]
-        for name, j in zip(self.joint_names(), m.joints, strict=True):
-            out.append(f"  {name:6} {j.kind:9} [{units.joint_unit(j.kind)}]  ({j.name})")
+        naming = self.naming()
+        for i, j in enumerate(m.joints):
+            out.append(f"  {naming.label(i):20} {j.kind:9} [{units.joint_unit(j.kind)}]")
+        tool = ", ".join(_fmt(v) for v in units.pose_from_si(m.tool))
+        out.append(f"  tool ({tool}) [mm, deg]; R_TOOL is composed after it")
         return Entry(out)
+
+    def _tool_line(self) -> str:
+        """The active tool: the robot file's, then R_TOOL (mm, deg ZYX)."""
+
+        def pose(t) -> str:
+            return "(" + ", ".join(_fmt(v) for v in units.pose_from_si(t)) + ")"
+
+        file_tool = self.model.tool
+        r_tool = units.pose_value_to_si(self.state.settings.tool)
+        return (
+            f"R_TOOL {pose(r_tool)} after the robot file's tool {pose(file_tool)}: "
+            f"TCP tool {pose(file_tool @ r_tool)}  [mm, deg]"
+        )
 
     def limits(self) -> list[str]:
         m, opts = self.model, self.state.options
-        out = ["joint   position min..max    speed max    accel max   program position"]
+        naming = self.naming()
+        width = max(len(naming.label(j)) for j in range(m.n))
+        out = [f"{'joint':{width}}  position min..max    speed max    accel max   program position"]
         scale = units.joint_scale(m.joint_kinds)
         prog = opts.joint_limits
-        for j, (name, joint) in enumerate(zip(self.joint_names(), m.joints, strict=True)):
+        for j, joint in enumerate(m.joints):
+            name = f"{naming.label(j):{width}}"
             lo, hi = (v / scale[j] for v in joint.limits.position)
             sp = joint.limits.speed[1] / scale[j]
             ac = joint.limits.accel[1] / scale[j]
@@ -495,12 +526,15 @@ class Session:
         for name in o.obstacles:
             out.append(f"OBSTACLE {name}")
         if o.frozen:
-            frozen = ", ".join(f"{j + 1}={_fmt(v)}" for j, v in sorted(o.frozen.items()))
+            naming = self.naming()
+            frozen = ", ".join(f"{naming.name(j)}={_fmt(v)}" for j, v in sorted(o.frozen.items()))
             out.append(f"FREEZE {frozen}")
         s = self.state.settings
         out.append(f"R_SPEED {_fmt(s.speed)}  R_ACC {_fmt(s.acc)}  R_SPEED_ORI {_fmt(s.speed_ori)}"
-                   f"  R_SPEED_PTP {_fmt(s.speed_ptp)}  R_IPO {_fmt(s.ipo)}")  # fmt: skip
-        return out if len(out) > 1 else ["no modal options active", *out]
+                   f"  R_SPEED_PTP {_fmt(s.speed_ptp)}  R_IPO {_fmt(s.ipo)}"
+                   f"  R_PATH_TOL {_fmt(s.path_tol)}")  # fmt: skip
+        out.append(self._tool_line())
+        return out if len(out) > 2 else ["no modal options active", *out]
 
     # ------------------------------------------------------------------ files
 
@@ -782,5 +816,7 @@ def main(robot: str | None = None, datalist_path=(), plain: bool = False) -> int
             interactive = False
     if interactive:
         echo(f"irlc repl on {session.model.name} ({session.model.n} joints). :help for help.")
+        for line in session._names_line():
+            echo(line.strip())
         return run_terminal(session, echo)
     return run_plain(session, sys.stdin, echo)

@@ -9,11 +9,14 @@ from rich.panel import Panel
 from rich.table import Table
 from rich.text import Text
 
+from irlc.runtime.naming import joint_label
+
 
 def _num(v, fmt: str = ".4g") -> str:
     return "—" if v is None else format(v, fmt)
 
 
+MAX_WIDTH = 120  # columns of the summary written to a file or pipe
 _SHORT = {"position": "pos", "speed": "speed", "accel": "acc", "braking": "brake"}
 
 
@@ -33,17 +36,21 @@ def joints_table(report: dict) -> Table:
     table = Table(
         title="joints (deg | mm, /s, /s²)", title_justify="left", show_edge=False, pad_edge=False
     )
-    table.add_column("joint")
+    labels = [
+        f"{joint_label(j['name'], j.get('robot_name'))} [{j['unit']}]" for j in report["joints"]
+    ]
+    longest = max((len(w) for label in labels for w in label.split()), default=5)
+    table.add_column("joint", min_width=longest)  # a narrow terminal wraps names, cuts none
     for name in ("min", "max", "end", "|v|max", "|a|max"):
-        table.add_column(name, justify="right")
-    table.add_column("limit active", no_wrap=True)
+        table.add_column(name, justify="right", no_wrap=True)
+    table.add_column("limit active")
     following = any(j.get("max_following_error") is not None for j in report["joints"])
     if following:
-        table.add_column("follow err", justify="right")
+        table.add_column("follow err", justify="right", no_wrap=True)
     end = report.get("end_joints") or []
     for i, j in enumerate(report["joints"]):
         cells: list = [
-            Text(f"{j['name']} [{j['unit']}]"),
+            Text(labels[i]),
             _num(j["min"], ".2f"),
             _num(j["max"], ".2f"),
             _num(end[i] if i < len(end) else None, ".2f"),
@@ -70,11 +77,7 @@ def overview_table(report: dict) -> Table:
         f"{_num(report['duration_s'], '.3f')} s, {report['samples']} samples at "
         f"IPO {_num(report['ipo_s'] * 1e3, '.3g')} ms, drives {report['drives']}",
     )
-    table.add_row(
-        "path error",
-        f"max {_num(report['max_path_error_mm'], '.3g')} mm, "
-        f"{_num(report['max_orientation_error_deg'], '.3g')} deg",
-    )
+    table.add_row("path error", _path_error(report))
     ik = report.get("ik") or {}
     table.add_row(
         "inverse transformation",
@@ -94,11 +97,69 @@ def overview_table(report: dict) -> Table:
             f"{drives['level']}, step {_num(drives['step_s'] * 1e3, '.3g')} ms, "
             + ("could follow" if drives["could_follow"] else "[red]could NOT follow[/red]"),
         )
+    if report.get("verdict"):
+        table.add_row("verdict criteria", _criteria(report["verdict"]))
+    tool = report.get("tool")
+    if tool:
+        for label, text in zip(("tool (at the end)", ""), tool_text(tool), strict=True):
+            table.add_row(label, text)
     error = report.get("error")
     if error:
         where = f"line {error.get('line')}, t = {_num(error.get('time_s'), '.3f')} s"
         table.add_row("error", Text(f"{where}: {error['message']}", style="red"))
     return table
+
+
+def _path_error(report: dict) -> str:
+    """``max … mm, … deg``; with drives ``(actual motion; ideal …)`` and the tolerances."""
+    text = (
+        f"max {_num(report['max_path_error_mm'], '.3g')} mm, "
+        f"{_num(report['max_orientation_error_deg'], '.3g')} deg"
+    )
+    ideal = report.get("ideal")
+    if not ideal:
+        return text
+    text += (
+        f" (actual motion; ideal {_num(ideal.get('max_path_error_mm'), '.3g')} mm, "
+        f"{_num(ideal.get('max_orientation_error_deg'), '.3g')} deg)"
+    )
+    tol = report.get("tolerances") or {}
+    if tol:
+        text += f", tolerance {_num(tol.get('path_mm'), 'g')} mm, "
+        text += f"{_num(tol.get('orientation_deg'), 'g')} deg"
+    return text
+
+
+def _criteria(verdict: dict) -> str:
+    """The drive verdict's criteria in one line: tolerances, bounds, ratings."""
+    c = verdict.get("criteria") or {}
+    parts = [
+        f"path ≤ {_num(c.get('path_tolerance_mm'), 'g')} mm",
+        f"orientation ≤ {_num(c.get('orientation_tolerance_deg'), 'g')} deg",
+    ]
+    bounds = {
+        f"{_num(b['bound'], '.3g')} {b['unit']}" for b in c.get("following_error_bound") or []
+    }
+    if bounds:
+        parts.append(f"following error ≤ {' | '.join(sorted(bounds))}")
+    for key, what in (("current_peak_A", "peak current"), ("torque_rating", "gear torque")):
+        rated = [r for r in c.get(key) or [] if r.get("value") is not None]
+        parts.append(f"{what} {'rated' if rated else 'not rated'}")
+    return "; ".join(parts)
+
+
+def _pose_text(pose) -> str:
+    return "(" + ", ".join(_num(v, ".6g") for v in pose) + ")"
+
+
+def tool_text(tool: dict) -> tuple[str, str]:
+    """The active tool, and how it is composed: the robot file's tool, then ``R_TOOL``."""
+    active = f"{_pose_text(tool['active'])} mm, deg"
+    if not any(tool.get("r_tool") or []):
+        return active, "= the robot file's tool (R_TOOL not set)"
+    return active, (
+        f"= robot file's {_pose_text(tool['robot_file'])} · R_TOOL {_pose_text(tool['r_tool'])}"
+    )
 
 
 def render_summary(report: dict, console: Console) -> None:
@@ -111,7 +172,15 @@ def render_summary(report: dict, console: Console) -> None:
         more = len(warnings) - len(shown)
         body = "\n".join(f"• {w}" for w in shown) + (f"\n… and {more} more" if more else "")
         parts += [Text(""), Text("warnings", style="bold yellow"), Text(body, style="yellow")]
-    console.print(Panel(Group(*parts), title="irlc run", expand=False))
+    panel = Panel(Group(*parts), title="irlc run", expand=False)
+    if not console.is_terminal:  # a file or pipe: the natural width, nothing squeezed
+        wide = console.options.update_width(1000)
+        width = min(console.measure(panel, options=wide).maximum, MAX_WIDTH)
+        if width > console.width:
+            console = Console(
+                file=console.file, width=width, highlight=False, soft_wrap=False, no_color=True
+            )
+    console.print(panel)
 
 
 def _metrics(report: dict | None, loaded) -> dict:

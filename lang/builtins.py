@@ -9,21 +9,14 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from irlc.lang import types as T
+from irlc.lang.settings import SYSTEM_VARIABLES as SETTING_SYSTEM_VARIABLES
 
 Sig = Callable[[list[T.Type], int], "T.Type | str"]  # (argument types, joint count)
 
+_SYSVAR_TYPES: dict[str | None, T.Type | None] = {"REAL": T.REAL, "POSE": T.POSE, None: None}
+# name: (type, writable); None = MAIN_JOINT of the robot. The names: lang/settings.py.
 SYSTEM_VARIABLES: dict[str, tuple[T.Type | None, bool]] = {
-    # name: (type, writable); None = MAIN_JOINT of the robot
-    "R_SPEED": (T.REAL, True),
-    "R_ACC": (T.REAL, True),
-    "R_SPEED_ORI": (T.REAL, True),
-    "R_SPEED_PTP": (T.REAL, True),
-    "R_ACC_PTP": (T.REAL, True),
-    "R_TOOL": (T.POSE, True),
-    "R_BASE": (T.POSE, True),
-    "R_IPO": (T.REAL, True),
-    "R_ACT_POSE": (T.POSE, False),
-    "R_ACT_JOINT": (None, False),
+    v.name: (_SYSVAR_TYPES[v.type_name], v.writable) for v in SETTING_SYSTEM_VARIABLES.values()
 }
 
 

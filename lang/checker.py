@@ -22,6 +22,12 @@ from irlc.lang.builtins import BUILTINS, POSE_FROM_NUMBERS, POSE_FROM_PARTS, SYS
 from irlc.lang.datalist import Datalist
 from irlc.lang.diagnostics import Diagnostic, Span
 from irlc.lang.irdata import ObstacleDef, Slot, Value, string_too_long
+from irlc.lang.settings import (
+    BY_SYSTEM_VARIABLE,
+    BY_WITH_WORD,
+    reconfiguration_counts,
+    setting_message,
+)
 from irlc.lang.signature import RobotSignature
 
 MAX_ARRAY = 1_000_000
@@ -46,9 +52,7 @@ _END_WORD = {
     "OBSTACLE": "OBSTACLEEND",
     "FREEZE": "FREEZEEND",
 }
-_PATH_PARAMS = ("SPEED", "ACC", "SPEED_ORI")
-_PTP_PARAMS = ("SPEED_PTP", "ACC_PTP")
-_WITH_PARAMS = (*_PATH_PARAMS, *_PTP_PARAMS, "TIME")
+_WITH_PARAMS = tuple(BY_WITH_WORD)  # SPEED ACC SPEED_ORI SPEED_PTP ACC_PTP TIME
 
 
 @dataclass(eq=False)
@@ -1026,7 +1030,9 @@ class Checker:
             self.expr(s.value, None)
             return
         got = self.expr(s.value, want)
-        self.require(s.value, want, got, f"cannot assign to '{_describe(s.target, sym)}'")
+        ok = self.require(s.value, want, got, f"cannot assign to '{_describe(s.target, sym)}'")
+        if ok and s.target is root and sym.name in BY_SYSTEM_VARIABLE and sym.kind == "sysvar":
+            self.constant_setting(BY_SYSTEM_VARIABLE[sym.name].field, s.value, sym.name)
 
     def target_type(self, target: ast.Expr, sym: Symbol) -> T.Type | None:
         if isinstance(target, ast.Name):
@@ -1257,37 +1263,50 @@ class Checker:
             )
             self.expr(c.args[0], None)
             return
-        if ptp and c.kind in _PATH_PARAMS:
+        row = BY_WITH_WORD[c.kind]
+        if ptp and s.kind not in row.kinds:
             self.error(
                 c.span, f"WITH {c.kind} sets a path speed; PTP motion uses SPEED_PTP / ACC_PTP (%)"
             )
-        elif not ptp and c.kind in _PTP_PARAMS:
+        elif not ptp and s.kind not in row.kinds:
             self.error(c.span, f"WITH {c.kind} is for PTP motion; path motion uses SPEED / ACC")
         t = self.expr(c.args[0], T.REAL)
-        if not self.require(c.args[0], T.REAL, t, f"WITH {c.kind}"):
-            return
-        k = _num(c.args[0].const)
-        if k is not None and k <= 0:
-            self.error(c.args[0].span, f"WITH {c.kind} must be positive, got {k}")
-        elif k is not None and c.kind in _PTP_PARAMS and k > 100:
-            self.error(c.args[0].span, f"WITH {c.kind} is a percentage (0 < value <= 100), got {k}")
+        if self.require(c.args[0], T.REAL, t, f"WITH {c.kind}"):
+            self.constant_setting(row.field, c.args[0], f"WITH {c.kind}")
+
+    def constant_setting(self, field_name: str, value: ast.Expr, what: str) -> None:
+        """A constant setting outside its range (lang/settings.py) is an error at the value,
+        in the run-time words; a non-constant one is checked when it runs."""
+        k = _num(value.const)
+        message = setting_message(field_name, k, what) if k is not None else None
+        if message is not None:
+            self.error(value.span, message)
 
     def reconf_clause(self, s: ast.Move, c: ast.WithClause) -> None:
         joint = T.JointTuple("MAIN_JOINT", self.n)
         npts = len(s.targets)
         configs = c.args
-        if len(configs) == 1 and isinstance(configs[0], ast.Tuple) and npts > 1:
-            configs = configs[0].items
+        if (
+            len(configs) == 1
+            and isinstance(configs[0], ast.Tuple)
+            and npts > 1
+            and not self._numbers_only(configs[0])
+        ):
+            configs = configs[0].items  # (k1, k2, k3): one configuration per point
         c.args = list(configs)
         for k in configs:
             got = self.expr(k, joint)
             self.require(k, joint, got, "WITH RECONFIGURATION")
-        if len(configs) != npts:
+        allowed = reconfiguration_counts(s.kind, npts)
+        if len(configs) not in allowed:
+            plural = "s" if len(configs) != 1 else ""
             self.error(
                 c.span,
-                f"WITH RECONFIGURATION gives {len(configs)} configuration"
-                f"{'s' if len(configs) != 1 else ''} for {npts} point{'s' if npts != 1 else ''}",
-                "give one MAIN_JOINT configuration per point, in order",
+                f"WITH RECONFIGURATION gives {len(configs)} configuration{plural}"
+                f" for {npts} point{'s' if npts != 1 else ''}",
+                "give one MAIN_JOINT configuration for the whole move, or one per point, in order"
+                if len(allowed) > 1
+                else "give one MAIN_JOINT configuration per point, in order",
             )
         if s.kind in ("PTP", "PTPINC") and s.targets and s.targets[0].ty == joint:
             self.error(
@@ -1295,6 +1314,16 @@ class Checker:
                 "WITH RECONFIGURATION needs a POSE target",
                 "a MAIN_JOINT target already fixes the configuration",
             )
+
+    def _numbers_only(self, t: ast.Tuple) -> bool:
+        """Whether every item of ``t`` is a number (then ``t`` is one configuration, not a
+        list of them). Typed quietly: the items are typed again, with diagnostics, after."""
+        mark = len(self.diags)
+        numeric = all(
+            not isinstance(item, ast.Tuple) and self.expr(item, None).is_numeric for item in t.items
+        )
+        del self.diags[mark:]
+        return numeric
 
     def limit_pair(self, option: str, lo: ast.Expr, hi: ast.Expr, what: str) -> None:
         lo_name, hi_name = _LIMIT_TYPES[option]

@@ -10,6 +10,8 @@ import re
 from dataclasses import dataclass, field
 
 from irlc.lang.diagnostics import CompileError, Diagnostic, Span
+from irlc.lang.settings import ALL_KINDS
+from irlc.lang.settings import SYSTEM_VARIABLES as _SYSTEM_VARIABLES
 
 FORMAT_VERSION = 1
 MAGIC = f"IRDATA {FORMAT_VERSION}"
@@ -25,19 +27,8 @@ JOINT_TUPLE_TYPES = (
 )
 SCALAR_TYPES = ("INTEGER", "REAL", "BOOLEAN", "CHAR", "STRING")
 GEOMETRIC_TYPES = ("POSITION", "ORIENTATION", "POSE")
-SYSTEM_VARIABLES = (
-    "R_SPEED",
-    "R_ACC",
-    "R_SPEED_ORI",
-    "R_SPEED_PTP",
-    "R_ACC_PTP",
-    "R_TOOL",
-    "R_BASE",
-    "R_IPO",
-    "R_ACT_POSE",
-    "R_ACT_JOINT",
-)
-MOVE_KINDS = ("PTP", "LIN", "CIRCLE", "LINPATH", "PTPINC", "LININC")
+SYSTEM_VARIABLES = tuple(_SYSTEM_VARIABLES)  # names; their rows: lang/settings.py
+MOVE_KINDS = ALL_KINDS
 MODAL_OPTIONS = ("JOINTLIMIT", "JOINTSPEEDLIMIT", "JOINTACCELLIMIT", "CYCLIC", "OBSTACLE", "FREEZE")
 # The OBSTACLE record's keys per kind, in record order: (key, number count, required).
 # The data-list loader and the runtime both validate against this one table.

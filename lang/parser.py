@@ -353,6 +353,10 @@ def _syntax_diagnostic(e: UnexpectedInput, text: str, filename: str) -> Diagnost
             return Diagnostic("error", "'}' without an opening '{'", filename, span)
         shown = repr(ch) if ch.isprintable() else f"U+{ord(ch):04X}" if ch else "end of file"
         return Diagnostic("error", f"unexpected character {shown}", filename, span)
+    if isinstance(e, UnexpectedEOF) or (isinstance(e, UnexpectedToken) and e.token.type == "$END"):
+        typo = _misspelled_last_word(text, filename)  # `END_PROGRAM` at the end of the file
+        if typo is not None:
+            return typo
     if isinstance(e, UnexpectedEOF):
         expected = set(e.expected)
         return Diagnostic(
@@ -445,6 +449,12 @@ _MISSPELLED = {
     "END_IF": "ENDIF",
     "END_WHILE": "ENDWHILE",
     "END_FOR": "ENDFOR",
+    "END_CASE": "ENDCASE",
+    "END_PROC": "ENDPROC",
+    "END_PROCEDURE": "ENDPROC",
+    "END_FCT": "ENDFCT",
+    "END_FUNCTION": "ENDFCT",
+    "END_PROGRAM": "ENDPROGRAM",
     "CYCLIC_START": "CYCLICSTART",
     "CYCLIC_END": "CYCLICEND",
     "FREEZE_START": "FREEZESTART",
@@ -452,6 +462,22 @@ _MISSPELLED = {
     "JOINTLIMIT_END": "JOINTLIMITEND",
     "ENDCYCLIC": "CYCLICEND",
 }
+
+
+def _misspelled_last_word(text: str, filename: str) -> Diagnostic | None:
+    """The typo diagnostic when the text ends in a misspelled keyword (``END_PROGRAM``)."""
+    end = _end_of_text(text)
+    prev = _previous_token(text, end.line, end.column)
+    if prev is None or prev[0].upper() not in _MISSPELLED:
+        return None
+    word, span = prev
+    return Diagnostic(
+        "error",
+        f"'{word}' is not a keyword of this dialect",
+        filename,
+        span,
+        f"write {_MISSPELLED[word.upper()]}",
+    )
 
 
 def _eof_hint(expected: set[str]) -> str | None:
@@ -713,6 +739,13 @@ class _Builder(Transformer):
         return ast.Assign(target.span, target, value)
 
     def call_noargs(self, c):
+        word = c[0].value.upper()
+        if word in _MISSPELLED:  # `END_IF;` parses as a call: the typo's hint, at the typo
+            raise _BuildError(
+                _span(c[0]),
+                f"'{c[0].value}' is not a keyword of this dialect",
+                f"write {_MISSPELLED[word]}",
+            )
         return ast.CallStmt(_span(c[0]), c[0].value, [])
 
     def call(self, c):

@@ -94,6 +94,17 @@ class RobotFileError(LookupError):
         super().__init__(f"{file}: key '{key}': {message}" if key else f"{file}: {message}")
 
 
+class MissingExtraError(RobotFileError):
+    """The file needs an optional extra of irlc that is not installed (``extra``: its name,
+    as in ``pip install 'irlc[EXTRA]'``)."""
+
+    def __init__(self, file: str, extra: str, package: str, what: str):
+        self.extra, self.package = extra, package
+        super().__init__(
+            file, "", f"{what} needs the optional package {package}: pip install 'irlc[{extra}]'"
+        )
+
+
 class Reader:
     """Typed access to a parsed TOML tree with error messages that name file and key."""
 

@@ -1,4 +1,4 @@
-"""Import a serial robot from URDF (needs the optional ``yourdfpy``: ``pip install irlc[urdf]``).
+"""Import a serial robot from URDF (needs the optional ``yourdfpy``: ``irlc[urdf]``).
 
 The chain runs from the root link to a tip link (``tip``; default: the one leaf reached
 through the most movable joints). Conversion into :class:`RobotModel` (SI throughout):
@@ -27,27 +27,25 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from irlc.robots.loader import RobotFileError, geometry_problem
+from irlc.robots.loader import MissingExtraError, RobotFileError, geometry_problem
 from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
 
 MOVABLE = {"revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"}
 ACCEL_PER_VELOCITY = 5.0  # 1/s: assumed acceleration limit = 5 × velocity limit
 
 
-def _yourdfpy():
+def _yourdfpy(file: str):
     try:
         import yourdfpy
     except ImportError:
-        raise RobotFileError(
-            "URDF", "", "URDF import needs the optional package yourdfpy: pip install irlc[urdf]"
-        ) from None
+        raise MissingExtraError(file, "urdf", "yourdfpy", "URDF import") from None
     return yourdfpy
 
 
 def load_urdf(path: str | Path, tip: str | None = None, name: str | None = None) -> RobotModel:
     """Load a serial chain from a URDF file (see the module docstring)."""
-    yourdfpy = _yourdfpy()
     file = str(path)
+    yourdfpy = _yourdfpy(file)
     try:
         urdf = yourdfpy.URDF.load(
             file,

@@ -14,13 +14,12 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from irlc.lang.irdata import string_too_long
+from irlc.lang.irdata import integer_overflow, string_too_long
 from irlc.runtime import units
 from irlc.runtime import values as V
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.values import JointTuple, Orientation, Pose, Position
 
-INT_MIN, INT_MAX = -(2**63), 2**63 - 1
 DOMAIN_TOLERANCE = 1e-12  # ASIN / ACOS accept |x| ≤ 1 + this (rounding of computed values)
 
 
@@ -39,8 +38,9 @@ def malformed(message: str) -> RunFailure:
 def checked(x: float | int, what: str = "arithmetic") -> float | int:
     """Reject integer overflow and non-finite reals."""
     if isinstance(x, int):
-        if not INT_MIN <= x <= INT_MAX:
-            raise RunFailure(f"{what}: INTEGER overflow ({x} is outside the 64-bit range)")
+        overflow = integer_overflow(x)  # the one INTEGER range: lang/irdata.py
+        if overflow is not None:
+            raise RunFailure(f"{what}: {overflow}")
         return x
     if not math.isfinite(x):
         raise RunFailure(f"{what}: the result is not a finite number")

@@ -13,12 +13,15 @@ converts to SI with :mod:`irlc.runtime.units`.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Protocol
 
+from irlc.lang.settings import BY_FIELD, setting_message
+from irlc.lang.settings import SETTING_RANGES as SETTING_RANGES
+from irlc.lang.settings import SettingRange as SettingRange
+from irlc.lang.settings import setting_error as setting_error
 from irlc.runtime.errors import RunFailure
-from irlc.runtime.values import IDENTITY, JointTuple, Pose, Position, format_real
+from irlc.runtime.values import IDENTITY, JointTuple, Pose, Position
 
 
 @dataclass(frozen=True)
@@ -38,72 +41,37 @@ class MotionCommand:
     reconfiguration: tuple[JointTuple, ...] | None = None  # one, or one per point
 
 
+def _default(name: str) -> float:
+    value = BY_FIELD[name].default
+    assert value is not None, name
+    return value
+
+
 @dataclass
 class Settings:
-    """System variables (defaults for later motion)."""
+    """System variables (defaults for later motion); start values from lang/settings.py."""
 
-    speed: float = 500.0  # R_SPEED, mm/s
-    acc: float = 1000.0  # R_ACC, mm/s²
-    speed_ori: float = 45.0  # R_SPEED_ORI, deg/s
-    speed_ptp: float = 50.0  # R_SPEED_PTP, %
-    acc_ptp: float = 50.0  # R_ACC_PTP, %
+    speed: float = _default("speed")  # R_SPEED, mm/s
+    acc: float = _default("acc")  # R_ACC, mm/s²
+    speed_ori: float = _default("speed_ori")  # R_SPEED_ORI, deg/s
+    speed_ptp: float = _default("speed_ptp")  # R_SPEED_PTP, %
+    acc_ptp: float = _default("acc_ptp")  # R_ACC_PTP, %
     tool: Pose = field(default_factory=lambda: Pose(Position(0.0, 0.0, 0.0), IDENTITY))
     base: Pose = field(default_factory=lambda: Pose(Position(0.0, 0.0, 0.0), IDENTITY))
-    ipo: float = 0.01  # R_IPO, s
+    ipo: float = _default("ipo")  # R_IPO, s
+    path_tol: float = _default("path_tol")  # R_PATH_TOL, mm (start: --path-tolerance)
 
 
-@dataclass(frozen=True)
-class SettingRange:
-    """Admissible values of a numeric setting: ``(low, high]``, or ``[low, high]`` when
-    ``closed``."""
-
-    low: float
-    high: float
-    unit: str = ""
-    closed: bool = False
-
-    def __contains__(self, v: float) -> bool:
-        return (self.low <= v if self.closed else self.low < v) and v <= self.high
-
-    def __str__(self) -> str:
-        if self.high == math.inf and self.low == 0.0 and not self.closed:
-            return "positive"
-        left = "[" if self.closed else "("
-        return f"in {left}{self.low:g}, {self.high:g}]{' ' + self.unit if self.unit else ''}"
-
-
-# THE range table of the numeric settings (Settings fields; WITH TIME is a motion's own).
-# R_IPO: below 10 µs a run would take millions of cycles per simulated second.
-SETTING_RANGES: dict[str, SettingRange] = {
-    "speed": SettingRange(0.0, math.inf, "mm/s"),
-    "acc": SettingRange(0.0, math.inf, "mm/s²"),
-    "speed_ori": SettingRange(0.0, math.inf, "deg/s"),
-    "speed_ptp": SettingRange(0.0, 100.0, "%"),
-    "acc_ptp": SettingRange(0.0, 100.0, "%"),
-    "time": SettingRange(0.0, math.inf, "s"),
-    "ipo": SettingRange(1e-5, 1.0, "s", closed=True),
-}
-
-
-def setting_error(field_name: str, value: object) -> str | None:
-    """``None`` if ``value`` is admissible for the setting, else why not
-    (``"the value must be in (0, 100] %"``)."""
-    allowed = SETTING_RANGES[field_name]
-    if isinstance(value, float | int) and not isinstance(value, bool) and value in allowed:
-        return None
-    return f"the value must be {allowed}"
+# The range table of the numeric settings is lang/settings.py (one row per setting; the
+# checker reads the same rows for constants). Re-exported here for the runtime.
 
 
 def check_setting(field_name: str, value: float, what: str) -> float:
     """``value`` if admissible for the setting ``field_name`` (see ``SETTING_RANGES``),
     else :class:`RunFailure` ``"<what> := <value>: the value must be …"``."""
-    error = setting_error(field_name, value)
-    if error is not None:
-        shown = repr(value)
-        if isinstance(value, float | int):  # as written in programs unless that rounds it
-            shown = format_real(float(value))
-            shown = shown if float(shown) == value else f"{value:g}"
-        raise RunFailure(f"{what} := {shown}: {error}")
+    message = setting_message(field_name, value, what)
+    if message is not None:
+        raise RunFailure(message)
     return value
 
 

@@ -47,6 +47,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from irlc.lang.irdata import JOINT_TUPLE_TYPES, Code, Routine, Slot, Target, Value
+from irlc.lang.settings import BY_WITH_WORD, SYSTEM_VARIABLES, reconfiguration_counts
 from irlc.runtime import builtins as B
 from irlc.runtime import units
 from irlc.runtime import values as V
@@ -60,6 +61,11 @@ from irlc.runtime.controller import (
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.values import ArrayValue, JointTuple, Orientation, Pose, Position, RecordValue
 
+# The endless-loop guard: at most this many instructions without motion (about 0.3 s of
+# CPython); a cycle of waiting counts as WAIT_CYCLE_COST instructions (about its run time),
+# so a loop that only waits is caught as fast. Users raise it: --instruction-budget.
+DEFAULT_INSTRUCTION_BUDGET = 500_000
+WAIT_CYCLE_COST = 25
 MAX_CALL_DEPTH = 10_000
 MAX_STACK = 1_000_000
 LIMIT_TOLERANCE = 1e-6  # deg | mm (per derivative) when checking a bound against the state
@@ -146,24 +152,10 @@ class _Frame:
 
 
 _ARRAY_TYPE = re.compile(r"ARRAY\[(-?\d+)\.\.(-?\d+)\]OF(.+)")
-_SETTINGS_FIELDS = {
-    "R_SPEED": "speed",
-    "R_ACC": "acc",
-    "R_SPEED_ORI": "speed_ori",
-    "R_SPEED_PTP": "speed_ptp",
-    "R_ACC_PTP": "acc_ptp",
-    "R_TOOL": "tool",
-    "R_BASE": "base",
-    "R_IPO": "ipo",
+_SETTINGS_FIELDS = {  # system variable → Settings field (rows: lang/settings.py)
+    name: v.field for name, v in SYSTEM_VARIABLES.items() if v.field is not None
 }
-_MOVE_NUMBERS = {
-    "SPEED": "speed",
-    "ACC": "acc",
-    "SPEED_ORI": "speed_ori",
-    "SPEED_PTP": "speed_ptp",
-    "ACC_PTP": "acc_ptp",
-    "TIME": "time",
-}
+_MOVE_NUMBERS = {word: s.field for word, s in BY_WITH_WORD.items()}  # WITH word → field
 _LIMIT_OPTIONS = {  # option → (field of MotionCommand / ModalOptions, derivative)
     "JOINTLIMIT": ("joint_limits", 0),
     "JOINTSPEEDLIMIT": ("speed_limits", 1),
@@ -187,7 +179,7 @@ class Interpreter:
         settings: Settings | None = None,
         output: Callable[[str], None] | list[str] | None = None,
         wait_timeout: float = 60.0,
-        instruction_budget: int = 50_000_000,
+        instruction_budget: int = DEFAULT_INSTRUCTION_BUDGET,
         state: MachineState | None = None,
     ):
         if not (wait_timeout > 0 and math.isfinite(wait_timeout)):
@@ -265,9 +257,7 @@ class Interpreter:
                 self.pc = cur + 1
                 self._steps += 1
                 if self._steps - self._progress_at > budget:
-                    raise RunFailure(
-                        f"more than {budget} instructions without motion or waiting — endless loop?"
-                    )
+                    raise self._budget_failure()
                 handler(args)
         except _Finished as f:
             return f.status
@@ -283,11 +273,29 @@ class Interpreter:
         return _malformed(f"{what} at instruction {self._cur} ({op})")
 
     def _progress(self) -> None:
-        """Restart the instruction budget if simulated time advanced (motion or waiting)."""
+        """Restart the instruction budget if simulated time advanced by motion."""
         t = self._time()
         if t > self._progress_time:
             self._progress_time = t
             self._progress_at = self._steps
+
+    def _waited(self, t_before: float) -> None:
+        """Charge the budget for the cycles a WAIT (or a WAIT FOR) stood still; fail at the
+        waiting statement once it is used up."""
+        t = self._time()
+        if t > t_before:
+            cycles = math.ceil((t - t_before) / self.state.settings.ipo - 1e-9)
+            self._progress_at -= WAIT_CYCLE_COST * cycles
+            self._progress_time = max(self._progress_time, t)
+            if self._steps - self._progress_at > self.budget:
+                raise self._budget_failure()
+
+    def _budget_failure(self) -> RunFailure:
+        return RunFailure(
+            f"more than {self.budget} instructions without motion (a cycle of waiting counts "
+            f"as {WAIT_CYCLE_COST}) — endless loop? If not, raise the budget: "
+            "--instruction-budget N (Python: instruction_budget=N)"
+        )
 
     def _time(self) -> float:
         return float(self.controller.time)
@@ -845,8 +853,9 @@ class Interpreter:
         if s < 0:
             raise RunFailure(f"WAIT {V.format_real(s)} SEC: the time must not be negative")
         if s > 0:
+            t_before = self._time()
             self._ctl(self.controller.wait, s, self._line(), *self._snapshot())
-            self._progress()
+            self._waited(t_before)
 
     def _now(self) -> float:
         return max(self._time(), self.state.input_clock)
@@ -892,11 +901,12 @@ class Interpreter:
                 f" {V.format_real(self.wait_timeout)} s"
                 f" (waiting since t = {V.format_real(start)} s)"
             )
-        dt = t_next - self._time()
+        t_before = self._time()
+        dt = t_next - t_before
         if dt > 0:
             self._ctl(self.controller.wait, dt, self._line(), *self._snapshot())
         self.state.input_clock = max(self.state.input_clock, t_next)
-        self._progress()
+        self._waited(t_before)
         self.pc = args[0]
 
     def _op_sigout(self, args) -> None:
@@ -966,7 +976,7 @@ class Interpreter:
         fields: dict[str, object] = {}
         for word, name, count in reversed(clauses):
             operands = self._pop_n(count)
-            fields[name] = self._move_clause(word, operands, npts)
+            fields[name] = self._move_clause(word, operands, kind, npts)
         targets = tuple(self._move_target(kind, t) for t in self._pop_n(npts))
         self._check_point_count(kind, npts)
         cmd = MotionCommand(kind, targets, self._line(), **fields)
@@ -989,13 +999,13 @@ class Interpreter:
             return t
         return self._main_joint(t, f"MOVE {kind} target")
 
-    def _move_clause(self, word: str, operands: list, npts: int) -> object:
+    def _move_clause(self, word: str, operands: list, kind: str, npts: int) -> object:
         if word in _MOVE_NUMBERS:
             what = f"WITH {word}"
             return check_setting(_MOVE_NUMBERS[word], self._number(operands[0], what), what)
         if word in _LIMIT_OPTIONS:
             return self._checked_limits(word, operands[0], operands[1])
-        if len(operands) not in (1, npts):
+        if len(operands) not in reconfiguration_counts(kind, npts):
             raise _malformed(f"{len(operands)} RECONFIGURATION targets for {npts} points")
         return tuple(self._main_joint(k, "RECONFIGURATION") for k in operands)
 
@@ -1010,11 +1020,19 @@ class Interpreter:
         kind = units.REVOLUTE if self.code.joint_kinds[i] == "R" else units.PRISMATIC
         return units.joint_unit_label(kind, derivative)
 
+    def _joint_labels(self) -> tuple[str, ...]:
+        """Joint names for messages (the naming rule: the program's name, the robot's in
+        parentheses where it differs), from the controller's naming when it has one."""
+        naming = getattr(self.controller, "naming", None)
+        if naming is None or len(naming.program) != len(self.code.joint_names):
+            return tuple(self.code.joint_names)
+        return tuple(naming.label(i) for i in range(len(naming.program)))
+
     def _checked_limits(self, option: str, lo: object, hi: object) -> tuple[JointTuple, JointTuple]:
         lo = self._joint_tuple(lo, f"{option} lower bounds")
         hi = self._joint_tuple(hi, f"{option} upper bounds")
         derivative = _LIMIT_OPTIONS[option][1]
-        names = self.code.joint_names
+        names = self._joint_labels()
         fmt = V.format_real
         for i, (a, b) in enumerate(zip(lo.values, hi.values, strict=True)):
             unit = self._joint_unit(i, derivative)
@@ -1038,7 +1056,7 @@ class Interpreter:
         q = self._ctl(self.controller.joints)
         fmt = V.format_real
         for i, (v, a, b) in enumerate(zip(q, lo.values, hi.values, strict=True)):
-            name, unit = self.code.joint_names[i], self._joint_unit(i, 0)
+            name, unit = self._joint_labels()[i], self._joint_unit(i, 0)
             if v < a - LIMIT_TOLERANCE or v > b + LIMIT_TOLERANCE:
                 below = v < a
                 side, bound = ("lower", a) if below else ("upper", b)

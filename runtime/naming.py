@@ -42,8 +42,15 @@ class JointNaming:
 
     def label(self, j: int) -> str:
         """``a4 (panda_joint4)``, or ``a4`` where both names agree (case-insensitively)."""
-        p, r = self.program[j], self.robot[j]
-        return p if p.lower() == r.lower() else f"{p} ({r})"
+        return joint_label(self.program[j], self.robot[j])
 
     def labels(self, joints: Sequence[int]) -> str:
         return ", ".join(self.label(j) for j in joints)
+
+
+def joint_label(program: str, robot: str | None) -> str:
+    """The rule for one joint: ``a4 (panda_joint4)``; ``a4`` where the robot file's name
+    agrees case-insensitively or is unknown (e.g. a report written before it was kept)."""
+    if not robot or program.lower() == robot.lower():
+        return program
+    return f"{program} ({robot})"

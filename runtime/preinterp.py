@@ -38,6 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from irlc.lang.irdata import GEOMETRY_MAX_MM
+from irlc.lang.settings import BY_FIELD, reconfiguration_counts, setting_message
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
 from irlc.runtime.controller import ModalOptions, MotionCommand, Settings
@@ -52,6 +53,7 @@ from irlc.runtime.interpolator import (
     ReferencePath,
     Segment,
 )
+from irlc.runtime.naming import JointNaming
 from irlc.runtime.profiles import (
     ProfileError,
     Trapezoid,
@@ -77,6 +79,20 @@ def check_coordinates(frame: np.ndarray, what: str, line: int | None) -> None:
                 f"coordinate (within ±{GEOMETRY_MAX_MM:g} mm)",
                 line,
             )
+
+
+def _setting(cmd: MotionCommand, settings: Settings, name: str) -> float:
+    """The statement's WITH value of setting ``name``, else the system variable's; checked
+    against the one range table (lang/settings.py) — the interpreter checks both when they
+    are set, this guards controllers driven directly with hand-made settings."""
+    row = BY_FIELD[name]
+    value, what = getattr(cmd, name), f"WITH {row.with_word}"
+    if value is None:
+        value, what = getattr(settings, name), str(row.system_variable)
+    message = setting_message(name, value, what)
+    if message is not None:
+        raise RunFailure(message, cmd.line)
+    return float(value)
 
 
 def tool_transform(model: RobotModel, settings: Settings) -> np.ndarray:
@@ -112,6 +128,7 @@ class PreInterpolator:
         task_rows: Sequence[int] = (0, 1, 2, 3, 4, 5),
     ):
         self.model = model
+        self.naming = JointNaming.for_model(model)  # the controller sets the program's
         # a task without orientation rows (a planar arm's x, y) does not time orientation
         self.timed_orientation = any(r >= 3 for r in task_rows)
         self.kinds = model.joint_kinds
@@ -153,7 +170,7 @@ class PreInterpolator:
                     bound[:, 1] = np.fmin(bound[:, 1], hi)
             progs.append(bound)
         try:
-            return intersect_limits(self.model, *progs)
+            return intersect_limits(self.model, *progs, naming=self.naming)
         except ValueError as exc:
             raise RunFailure(f"the active joint limits are contradictory: {exc}", line) from None
 
@@ -165,13 +182,14 @@ class PreInterpolator:
             side, bound = ("min", lo) if q[j] < lo - tol else ("max", hi)
             if lo - tol <= q[j] <= hi + tol:
                 continue
-            name = self.model.joints[j].name
+            name = self.naming.label(j)
             val = format_joint_value(self.model, j, q[j], 0)
             lim = format_joint_value(self.model, j, bound, 0)
             raise RunFailure(
                 f"{what}: joint {name} = {val} is outside the active position limit ({side} {lim})",
                 line,
                 constraint=f"{name} position {side} {lim}",
+                cause="limits" if what.startswith("the limits") else "position_limit",
             )
 
     # ------------------------------------------------------------------ planning
@@ -219,7 +237,7 @@ class PreInterpolator:
             self.check_inside(q1, lims[0], cmd.line, "PTP target")
             for j, v in frozen.items():
                 if abs(q1[j] - v) > 1e-9 * (1.0 + abs(v)):
-                    name = self.model.joints[j].name
+                    name = self.naming.label(j)
                     raise RunFailure(
                         f"PTP target moves the frozen joint {name} "
                         f"(held at {format_joint_value(self.model, j, v, 0)}, target "
@@ -246,19 +264,13 @@ class PreInterpolator:
     def _ptp_segment(self, cmd, settings, q0, q1, lims, dt, npts) -> Segment:
         _, spd, acc = lims
         delta = q1 - q0
-        pct_v = (cmd.speed_ptp if cmd.speed_ptp is not None else settings.speed_ptp) / 100.0
-        pct_a = (cmd.acc_ptp if cmd.acc_ptp is not None else settings.acc_ptp) / 100.0
-        if not (0.0 < pct_v <= 1.0 and 0.0 < pct_a <= 1.0):
-            raise RunFailure(
-                f"PTP speed/acceleration must be in (0, 100] %, got {pct_v * 100:g} / "
-                f"{pct_a * 100:g}",
-                cmd.line,
-            )
+        pct_v = _setting(cmd, settings, "speed_ptp") / 100.0
+        pct_a = _setting(cmd, settings, "acc_ptp") / 100.0
         vmax = np.where(delta >= 0.0, spd[:, 1], -spd[:, 0]) * pct_v
         amax = np.minimum(acc[:, 1], -acc[:, 0]) * pct_a
         for j in np.flatnonzero(np.abs(delta) > 0.0):
             if not (vmax[j] > 0.0 and amax[j] > 0.0):
-                name = self.model.joints[j].name
+                name = self.naming.label(j)
                 raise RunFailure(
                     f"PTP: joint {name} must move but its active speed/acceleration limits "
                     "do not allow motion in that direction",
@@ -269,7 +281,7 @@ class PreInterpolator:
         profile = self._profile(v, a, duration, dt, cmd.line)
         limiting = ""
         if slowest >= 0:
-            limiting = f"joint {self.model.joints[slowest].name} speed/acceleration"
+            limiting = f"joint {self.naming.label(slowest)} speed/acceleration"
         seg = Segment(
             "ptp",
             cmd.line,
@@ -311,12 +323,14 @@ class PreInterpolator:
         return self._cartesian_segments(cmd, settings, state, lims, [arc], "circle")
 
     def _cartesian_segments(self, cmd, settings, state, lims, paths, kind) -> list[Segment]:
-        speed = (cmd.speed if cmd.speed is not None else settings.speed) * units.MM
-        acc = (cmd.acc if cmd.acc is not None else settings.acc) * units.MM
-        w = (cmd.speed_ori if cmd.speed_ori is not None else settings.speed_ori) * units.DEG
-        if not (speed > 0.0 and acc > 0.0 and w > 0.0):
+        speed = _setting(cmd, settings, "speed") * units.MM
+        acc = _setting(cmd, settings, "acc") * units.MM
+        w = _setting(cmd, settings, "speed_ori") * units.DEG
+        if not (speed > 0.0 and acc > 0.0 and w > 0.0):  # a denormal setting underflowed in SI
             raise RunFailure(
-                "path speed, acceleration and orientation speed must be positive", cmd.line
+                "the path speed, acceleration or orientation speed is too small to move "
+                "(it underflows to zero in SI units)",
+                cmd.line,
             )
         w_acc = w * acc / speed
         bounds = []
@@ -352,21 +366,19 @@ class PreInterpolator:
         if not cmd.reconfiguration:
             return [None] * len(paths)
         configs = [self.joints_si(k) for k in cmd.reconfiguration]
+        if len(configs) not in reconfiguration_counts(cmd.kind, len(cmd.targets)):
+            raise RunFailure(
+                f"WITH RECONFIGURATION gives {len(configs)} configurations for "
+                f"{len(cmd.targets)} points",
+                cmd.line,
+            )
         if isinstance(paths[0], CartesianArc):
-            arc = paths[0]
-            if len(configs) == 1:
-                return [ReferencePath(np.array([0.0, 1.0]), np.array([q_start, configs[0]]))]
-            knots = np.array([0.0, arc.via_fraction, 1.0])
+            knots = np.array([0.0, paths[0].via_fraction, 1.0])
             return [ReferencePath(knots, np.array([q_start, configs[0], configs[-1]]))]
-        if len(configs) == 1 and len(paths) > 1:  # one target: spread along the path
+        if len(configs) == 1 and len(paths) > 1:  # one for the whole LIN: spread by arc length
             lengths = np.array([max(p.length, 1e-12) for p in paths])
             frac = np.cumsum(lengths) / lengths.sum()
             configs = [q_start + f * (configs[0] - q_start) for f in frac]
-        if len(configs) != len(paths):
-            raise RunFailure(
-                f"WITH RECONFIGURATION gives {len(configs)} configurations for {len(paths)} points",
-                cmd.line,
-            )
         out, prev = [], q_start
         for k in configs:
             out.append(ReferencePath(np.array([0.0, 1.0]), np.array([prev, k])))

@@ -5,7 +5,9 @@ Per sample ``k``: time ``t_k``, program line, joints ``θ_k``, actual TCP pose
 (norms of the position and orientation parts of ``f(θ_k) ⊖ x_d``, controlled components
 only: a planar arm's task is ``x, y``), Newton iterations, whether the
 cycle was relaxed, which joint limits were active, the clearance to every obstacle and
-the manipulability of the task Jacobian.
+the manipulability of the task Jacobian. Cartesian samples also keep the desired pose
+``x_d(t_k)`` and the path tolerance in effect (``R_PATH_TOL``), so that a drive run can
+judge its *actual* TCP against the commanded path (:mod:`irlc.runtime.actual_motion`).
 
 Samples go into preallocated arrays that double their capacity when full (no Python
 object per sample); :meth:`Recorder.arrays` returns copies of the filled rows.
@@ -66,6 +68,7 @@ class Recorder:
         self._k = 0
         self._alloc(max(1, capacity))
         self._last_clearance = [float("inf")] * len(self.obstacle_names)
+        self.tol_position = 5e-5  # m, the path tolerance in effect (R_PATH_TOL), per sample
 
     def _alloc(self, cap: int) -> None:
         """(Re)allocate the sample arrays with room for ``cap`` samples, keeping the
@@ -84,6 +87,9 @@ class Recorder:
             "dt": np.zeros(cap),
             "active": np.zeros((cap, n), dtype=np.int8),  # codes of ik.limits.active_codes
             "clearance": np.empty((cap, m)),
+            "desired": np.empty((cap, 4, 4)),  # x_d(t_k) where on_path
+            "on_path": np.zeros(cap, dtype=bool),  # a Cartesian path is commanded
+            "tol": np.empty(cap),  # m
         }
         for name, arr in new.items():
             if k:
@@ -137,6 +143,10 @@ class Recorder:
         if errors is None:
             errors = (0.0, 0.0) if desired is None else self.path_error(tcp, desired)
         self._pos_error[k], self._ori_error[k] = errors
+        on_path = desired is not None and np.shape(desired) == (4, 4)
+        self._on_path[k] = on_path
+        self._desired[k] = desired if on_path else tcp
+        self._tol[k] = self.tol_position
         self._iterations[k] = iterations
         self._relaxed[k] = relaxed
         self._manipulability[k] = manipulability
@@ -149,6 +159,21 @@ class Recorder:
         if self.obstacle_names:
             self._add_clearances(k, clearances)
         self._k = k + 1
+
+    def restamp_first(
+        self, tcp: np.ndarray, clearances: dict[str, tuple[float, int]] | None = None
+    ) -> None:
+        """Replace the TCP pose (and clearances) of the start sample while it is the only
+        one: the program set another tool (``R_TOOL``) before it first moved, and every
+        output uses the program's tool from t = 0."""
+        if self._k != 1:
+            raise ValueError("only the start sample can be re-stamped, before the next one")
+        self._tcp[0] = tcp
+        if not self._on_path[0]:  # off a path the desired pose is the sample's own
+            self._desired[0] = tcp
+        if self.obstacle_names:
+            self._last_clearance = [float("inf")] * len(self.obstacle_names)
+            self._add_clearances(0, clearances)
 
     @property
     def active_time(self) -> dict[tuple[int, str], float]:
@@ -214,6 +239,9 @@ class Recorder:
             clearance={
                 name: self._clearance[:k, i].copy() for i, name in enumerate(self.obstacle_names)
             },
+            desired=self._desired[:k].copy(),
+            on_path=self._on_path[:k].copy(),
+            tol_position=self._tol[:k].copy(),
         )
 
 
@@ -234,6 +262,9 @@ class RecordedRun:
     manipulability: np.ndarray
     active: np.ndarray  # (k, n) bool
     clearance: dict[str, np.ndarray]
+    desired: np.ndarray | None = None  # (k, 4, 4) x_d(t_k); the sample's TCP off the path
+    on_path: np.ndarray | None = None  # (k,) bool: a Cartesian path is commanded
+    tol_position: np.ndarray | None = None  # (k,) m, the path tolerance in effect
 
 
 def encode_label(label: str) -> int:

@@ -9,8 +9,13 @@ Trace columns (``interfaces.md``): ``t_s, line, <j>_<unit> …, <j>_speed_<unit>
 <j>_accel_<unit>_s2 …, x_mm, y_mm, z_mm, a_deg, b_deg, c_deg, path_error_mm``; with drives
 ``<j>_cmd_<unit> …, <j>_current_A …``; then the extras ``orientation_error_deg`` and
 ``clearance_<obstacle>_mm`` per obstacle. Joint names are the program's (MAIN_JOINT
-record), the pose is the world-frame TCP with ZYX angles. With drives the joint columns
-are the *actual* joints and speeds/accelerations are their backward differences.
+record; :mod:`naming`), the report's ``joints`` rows add the robot file's name as
+``robot_name``; the pose is the world-frame TCP with ZYX angles. With drives the joint columns
+are the *actual* joints and speeds/accelerations are their backward differences; the pose,
+``path_error_mm``, ``orientation_error_deg`` and the clearances are those of the actual
+motion against the commanded path (:mod:`irlc.runtime.actual_motion`), and the report's
+``verdict`` (:mod:`irlc.runtime.verdict`) decides whether the run failed; the kinematic
+figures are kept under ``ideal``.
 """
 
 from __future__ import annotations
@@ -22,6 +27,7 @@ from typing import Any
 import numpy as np
 from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.naming import JointNaming
 from irlc.runtime.recorder import RecordedRun, finite_differences
 
 ROUND = 9  # significant digits of report numbers
@@ -38,39 +44,54 @@ def rnd(x: float | None, digits: int = ROUND) -> float | None:
 
 
 def assemble(code, model, controller, obstacles, execution, opts, drives: str, every_step: bool):
+    """The :class:`RunResult`. With drives the report, the trace and the verdict are those
+    of the actual motion (:mod:`irlc.runtime.actual_motion`, :mod:`irlc.runtime.verdict`);
+    the first violated criterion fails the run (exit 2) unless it failed already."""
     from irlc.runtime.run import RunResult
 
     rec = controller.recorder.arrays()
     error = execution.error
-    names = tuple(code.joint_names) if len(code.joint_names) == model.n else model.joint_names
-    drive = None
-    q_actual = rec.q
-    if drives != "ideal" and len(rec.times) > 0:
-        drive = simulate(model, rec, drives, every_step)
+    names = JointNaming.for_model(model, code.joint_names).program
     warnings = list(controller.recorder.warnings) + list(execution.warnings)
     warnings += relaxed_warnings(controller.recorder)
-    if drive is not None:
-        warnings += list(drive.notes)
+    drive = actual = verdict = None
+    if drives != "ideal" and len(rec.times) > 0:
+        params = drive_data(model)
+        drive = simulate(model, rec, drives, every_step, params)
+        actual = measure_actual(
+            model, rec, controller, obstacles, rec.times, _at_times(drive, rec.times)
+        )
+        from irlc.runtime.verdict import judge
+
+        verdict = judge(model, names, rec, drive, actual, opts, params)
+        warnings += list(drive.notes) + verdict.warnings
         if error is None:
-            error = _drive_failure(model, names, rec, drive)
+            error = verdict.failure
     report = build_report(
-        code, model, rec, controller, error, names, opts, drives, drive, execution, warnings
+        code,
+        model,
+        rec,
+        controller,
+        error,
+        names,
+        opts,
+        drives,
+        drive,
+        execution,
+        warnings,
+        actual,
+        verdict,
     )
     if error is not None and error is not execution.error:  # a drive failure
         report["status"], report["error"] = "failed", _error_dict(error)
-    columns, table = build_trace(model, rec, names, drive, every_step)
+    trace_motion = actual
     if drive is not None and every_step:
-        times = drive.t
-        q_actual = drive.q_actual
-        from irlc.runtime.kinematics import Kinematics
-
-        kin = Kinematics(model)
-        tcp = np.array([kin.tcp(q) for q in q_actual])
-    elif drive is not None:
-        q_actual = _at_times(drive, rec.times)
-        times, tcp = rec.times, _tcp_of(model, q_actual)
+        trace_motion = measure_actual(model, rec, controller, obstacles, drive.t, drive.q_actual)
+    columns, table = build_trace(model, rec, names, drive, trace_motion)
+    if trace_motion is not None:
+        times, q_actual, tcp = trace_motion.times, trace_motion.q, trace_motion.tcp
     else:
-        times, tcp = rec.times, rec.tcp
+        times, q_actual, tcp = rec.times, rec.q, rec.tcp
     return RunResult(
         status="ok" if error is None else "failed",
         error=error,
@@ -90,11 +111,11 @@ def assemble(code, model, controller, obstacles, execution, opts, drives: str, e
     )
 
 
-def _tcp_of(model, q: np.ndarray) -> np.ndarray:
-    from irlc.runtime.kinematics import Kinematics
+def measure_actual(model, rec, controller, obstacles, times, q):
+    """:func:`irlc.runtime.actual_motion.measure` with the controller's task rows."""
+    from irlc.runtime.actual_motion import measure
 
-    kin = Kinematics(model)
-    return np.array([kin.tcp(qi) for qi in q]) if len(q) else np.zeros((0, 4, 4))
+    return measure(model, rec, times, q, controller.recorder.task_rows, obstacles)
 
 
 # --------------------------------------------------------------------------- drives
@@ -104,9 +125,10 @@ class DriveSetupError(Exception):
     """Drives requested but not available (module missing, robot without drive data)."""
 
 
-def simulate(model, rec: RecordedRun, level: str, every_step: bool):
+def drive_data(model):
+    """The robot's validated drive data (:func:`irlc.runtime.drives.drive_params`)."""
     try:
-        from irlc.runtime.drives import drive_params, simulate_drives
+        from irlc.runtime.drives import drive_params
     except ImportError as exc:  # pragma: no cover - the drives package ships with irlc
         raise DriveSetupError(f"the drive simulation is not available: {exc}") from None
     try:
@@ -117,6 +139,14 @@ def simulate(model, rec: RecordedRun, level: str, every_step: bool):
         raise DriveSetupError(
             f"robot {model.name} has no drive data ([drives] in its robot file); use --drives ideal"
         )
+    return params
+
+
+def simulate(model, rec: RecordedRun, level: str, every_step: bool, params=None):
+    from irlc.runtime.drives import simulate_drives
+    from irlc.runtime.verdict import following_bound
+
+    params = params if params is not None else drive_data(model)
     try:
         return simulate_drives(
             model,
@@ -124,38 +154,11 @@ def simulate(model, rec: RecordedRun, level: str, every_step: bool):
             rec.q,
             level=level,
             params=params,
+            tolerance=following_bound(model, params),
             record="step" if every_step else "ipo",
         )
     except ValueError as exc:
         raise DriveSetupError(f"drive simulation: {exc}") from None
-
-
-def _drive_failure(model, names, rec: RecordedRun, drive) -> RunFailure | None:
-    """A drive that could not follow (following error beyond its tolerance, lost steps)
-    fails the run (exit 2) at the time and line of its largest following error."""
-    bad = [a for a in drive.axes if not a.could_follow]
-    if not bad:
-        return None
-    worst = max(bad, key=lambda a: a.max_following_error / units.joint_scale([a.kind])[0])
-    j = worst.joint
-    err = np.abs(drive.following_error[:, j])
-    t = float(drive.t[int(np.argmax(err))])
-    idx = int(np.clip(np.searchsorted(rec.times, t, side="right") - 1, 0, len(rec.times) - 1))
-    unit = units.joint_unit(worst.kind)
-    scale = units.joint_scale([worst.kind])[0]
-    what = (
-        f"{worst.lost_steps} lost steps"
-        if worst.lost_steps
-        else (f"following error {worst.max_following_error / scale:.4g} {unit}")
-    )
-    others = ", ".join(names[a.joint] for a in bad if a.joint != j)
-    return RunFailure(
-        f"the drive of joint {names[j]} could not follow its setpoint ({what})"
-        + (f"; also {others}" if others else ""),
-        int(rec.lines[idx]),
-        round(t, 9),
-        f"drive {names[j]}",
-    )
 
 
 # --------------------------------------------------------------------------- report
@@ -189,14 +192,20 @@ def build_report(
     drive,
     execution,
     warnings,
+    actual=None,
+    verdict=None,
 ) -> dict:
+    """The report (``interfaces.md``). With drives (``actual`` given) the joints, path
+    errors and clearances are the actual motion's; the ideal ones are under ``ideal``."""
     kinds = model.joint_kinds
     scale = units.joint_scale(kinds)
     k = len(rec.times)
     q = rec.q / scale if k else np.zeros((0, model.n))
     speed, accel = rec.speed / scale, rec.accel / scale
-    if drive is not None:  # actual joints at the IPO samples
-        q_act = _at_times(drive, rec.times)
+    pos_err, ori_err, clearance = rec.pos_error, rec.ori_error, rec.clearance
+    if actual is not None:  # actual joints at the IPO samples
+        q_act = actual.q
+        pos_err, ori_err, clearance = actual.pos_error, actual.ori_error, actual.clearance
         q = q_act / scale
         sp, ac = finite_differences(rec.times, q_act)
         speed, accel = sp / scale, ac / scale
@@ -210,6 +219,7 @@ def build_report(
             {
                 "name": name,
                 "unit": units.joint_unit(kinds[j]),
+                "robot_name": model.joint_names[j],
                 "min": rnd(float(col.min())),
                 "max": rnd(float(col.max())),
                 "max_abs_speed": rnd(float(np.abs(speed[:, j]).max()) if k else 0.0),
@@ -236,9 +246,9 @@ def build_report(
         "joints": joints,
         "start_joints": [rnd(float(v)) for v in (q[0] if k else [])],
         "end_joints": [rnd(float(v)) for v in (q[-1] if k else [])],
-        "max_path_error_mm": rnd(float(rec.pos_error.max()) / units.MM if k else 0.0),
-        "max_orientation_error_deg": rnd(float(rec.ori_error.max()) / units.DEG if k else 0.0),
-        "obstacles": _obstacles(rec),
+        "max_path_error_mm": rnd(float(pos_err.max()) / units.MM if k else 0.0),
+        "max_orientation_error_deg": rnd(float(ori_err.max()) / units.DEG if k else 0.0),
+        "obstacles": _obstacles(rec.times, clearance),
         "ik": {
             "cycles": int(ik_mask.sum()),
             "iterations_mean": rnd(float(iters.mean()) if iters.size else 0.0, 6),
@@ -254,18 +264,46 @@ def build_report(
             "orientation_deg": rnd(opts.tol_orientation / units.DEG),
         },
         "joint_names": list(names),
+        "robot_joint_names": list(model.joint_names),
         "program_name": code.program,
+        "tool": tool_report(model, execution.state.settings.tool),
     }
     if drive is not None:
         from irlc.runtime.drives import report_axes
 
+        report["ideal"] = {  # the commanded (kinematic) motion, for comparison
+            "max_path_error_mm": rnd(float(rec.pos_error.max()) / units.MM if k else 0.0),
+            "max_orientation_error_deg": rnd(float(rec.ori_error.max()) / units.DEG if k else 0.0),
+            "obstacles": _obstacles(rec.times, rec.clearance),
+        }
+        could_follow = verdict.could_follow if verdict is not None else drive.could_follow
+        report["verdict"] = _clean(verdict.as_dict()) if verdict is not None else None
         report["drives_summary"] = {
             "level": drive.level,
             "step_s": rnd(drive.step),
-            "could_follow": bool(drive.could_follow),
-            "axes": [_clean(a) for a in report_axes(drive, model)],
+            "could_follow": bool(could_follow),
+            "axes": [
+                _clean({**row, "joint": names[a.joint], "robot_name": row["joint"]})
+                for a, row in zip(drive.axes, report_axes(drive, model), strict=True)
+            ],
         }
     return report
+
+
+def tool_report(model, r_tool) -> dict:
+    """The tool at the end of the run (mm, deg ZYX): the robot file's, the program's
+    ``R_TOOL``, and the active one ``tool_file · R_TOOL`` the TCP is computed with."""
+    file_tool = model.tool
+    program = units.pose_value_to_si(r_tool)
+
+    def pose(t: np.ndarray) -> list[float | None]:
+        return [rnd(v, 9) for v in units.pose_from_si(t)]
+
+    return {
+        "robot_file": pose(file_tool),
+        "r_tool": pose(program),
+        "active": pose(file_tool @ program),
+    }
 
 
 def _at_times(drive, times: np.ndarray) -> np.ndarray:
@@ -302,15 +340,15 @@ def _following(drive, model) -> list[float | None]:
     return [rnd(a.max_following_error / scale[a.joint]) for a in drive.axes]
 
 
-def _obstacles(rec: RecordedRun) -> dict:
+def _obstacles(times: np.ndarray, clearance: dict[str, np.ndarray]) -> dict:
     out = {}
-    for name in sorted(rec.clearance):
-        d = rec.clearance[name]
+    for name in sorted(clearance):
+        d = clearance[name]
         finite = d[np.isfinite(d)]
         idx = int(np.argmin(d)) if finite.size else None
         out[name] = {
             "min_distance_mm": rnd(float(finite.min()) / units.MM) if finite.size else None,
-            "at_time_s": rnd(float(rec.times[idx])) if idx is not None else None,
+            "at_time_s": rnd(float(times[idx])) if idx is not None else None,
         }
     return out
 
@@ -358,25 +396,22 @@ def trace_header(names, kinds, drives: bool, obstacles) -> list[str]:
     return cols
 
 
-def build_trace(model, rec: RecordedRun, names, drive, every_step: bool):
-    """``(columns, table)`` in program units; one row per IPO sample (per drive step with
-    ``every_step``)."""
+def build_trace(model, rec: RecordedRun, names, drive, actual=None):
+    """``(columns, table)`` in program units; one row per IPO sample, or per time of
+    ``actual`` (the measured actual motion of a drive run: IPO samples or drive steps)."""
     kinds = model.joint_kinds
     scale = units.joint_scale(kinds)
     cols = trace_header(names, kinds, drive is not None, rec.clearance)
     times, lines, q, tcp = rec.times, rec.lines, rec.q, rec.tcp
     pos_err, ori_err = rec.pos_error, rec.ori_error
     clearance = rec.clearance
-    if drive is not None:
-        if every_step:
-            times = drive.t
-            idx = np.clip(
-                np.searchsorted(rec.times, times, side="right") - 1, 0, len(rec.times) - 1
-            )
-            lines, pos_err, ori_err = rec.lines[idx], rec.pos_error[idx], rec.ori_error[idx]
-            clearance = {k: v[idx] for k, v in rec.clearance.items()}
-        q = drive.q_actual if every_step else _at_times(drive, times)
-        tcp = _tcp_of(model, q)
+    if actual is not None:
+        times, q, tcp = actual.times, actual.q, actual.tcp
+        lines = rec.lines[actual.sample]
+        pos_err, ori_err = actual.pos_error, actual.ori_error
+        clearance = {
+            name: actual.clearance.get(name, v[actual.sample]) for name, v in clearance.items()
+        }
     speed, accel = finite_differences(times, q)
     k = len(times)
     poses = np.array([units.pose_from_si(t) for t in tcp]) if k else np.zeros((0, 6))

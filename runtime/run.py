@@ -31,6 +31,7 @@ from irlc.runtime import units
 from irlc.runtime.controller import Settings, setting_error
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.executor import ExecutionOptions, SimulatedController
+from irlc.runtime.naming import JointNaming
 from irlc.runtime.recorder import RecordedRun
 
 from irlc.files import read_user_text
@@ -169,40 +170,80 @@ def run_code(
     output: Callable[[str], None] | None = None,
     options: ExecutionOptions | None = None,
     trace_every_step: bool = False,
+    path_tolerance: float | None = None,
+    orientation_tolerance: float | None = None,
+    instruction_budget: int | None = None,
     max_time: float | None = None,
 ) -> RunResult:
-    """Execute compiled ``code`` (see the module doc). ``max_time``: the simulated-time
-    budget in s (default ``ExecutionOptions.max_time_s``, 24 h); beyond it the run fails."""
+    """Execute compiled ``code`` (see the module doc). ``path_tolerance`` (mm, the start
+    value of ``R_PATH_TOL``) and ``orientation_tolerance`` (deg) override ``options``'
+    ``tol_position`` / ``tol_orientation``; a path deviation beyond them fails the run —
+    with drives, of the actual motion (:mod:`irlc.runtime.verdict`). ``instruction_budget``:
+    the endless-loop guard (instructions without motion; default
+    :data:`~irlc.runtime.interpreter.DEFAULT_INSTRUCTION_BUDGET`). ``max_time``: the
+    simulated-time budget in s (default ``ExecutionOptions.max_time_s``, 24 h)."""
     if drives not in DRIVE_LEVELS:
         raise RunSetupError(f"unknown drive level {drives!r} (known: {', '.join(DRIVE_LEVELS)})")
     if ipo is not None and setting_error("ipo", ipo):
-        raise RunSetupError(f"--ipo must be between 1e-5 and 1 s, got {ipo!r}")
+        raise RunSetupError(f"--ipo {ipo!r}: {setting_error('ipo', ipo)}")
+    budget = _budget(instruction_budget)
     base = Path(base_dir) if base_dir is not None else None
     model = resolve_model(code, robot, base)
     obstacles = obstacle_shapes(code)
     q0 = start_configuration(code, model, seed_config)
-    if max_time is not None and not (max_time > 0.0 and math.isfinite(max_time)):
-        raise RunSetupError(f"--max-time must be a positive number of seconds, got {max_time!r}")
+    if max_time is not None:
+        _positive("--max-time", max_time, "seconds")
     opts = options or ExecutionOptions()
     if ipo is not None:
         opts.ipo = float(ipo)
     if max_time is not None:
         opts.max_time_s = float(max_time)
+    naming = JointNaming.for_model(model, code.joint_names)  # joints in failure messages
+    tol_mm = opts.tol_position / units.MM
+    if path_tolerance is not None:
+        tol_mm = _positive("--path-tolerance", path_tolerance, "mm")
+        opts.tol_position = tol_mm * units.MM
+    if orientation_tolerance is not None:
+        deg = _positive("--orientation-tolerance", orientation_tolerance, "deg")
+        opts.tol_orientation = deg * units.DEG
     controller = SimulatedController(
-        model, q0, obstacles=obstacles, options=opts, progress=progress
+        model, q0, obstacles=obstacles, options=opts, progress=progress, naming=naming
     )
-    settings = Settings(ipo=opts.ipo) if opts.ipo is not None else Settings()
-    execution = _interpret(code, controller, settings, output)
+    settings = Settings(path_tol=tol_mm)  # R_PATH_TOL's start value, as given
+    if opts.ipo is not None:
+        settings.ipo = opts.ipo
+    execution = _interpret(code, controller, settings, output, budget)
     from irlc.runtime.results import assemble
 
     return assemble(code, model, controller, obstacles, execution, opts, drives, trace_every_step)
 
 
-def _interpret(code, controller, settings, output: Callable[[str], None] | None):
+def _positive(option: str, value, unit: str) -> float:
+    """``value`` as a float if it is a finite number > 0, else :class:`RunSetupError`."""
+    ok = isinstance(value, int | float) and not isinstance(value, bool)
+    if not ok or not (math.isfinite(value) and value > 0.0):
+        raise RunSetupError(f"{option} must be a positive number of {unit}, got {value!r}")
+    return float(value)
+
+
+def _budget(budget: int | None) -> int:
+    """The endless-loop budget: ``None`` → the default; else a positive whole number."""
+    from irlc.runtime.interpreter import DEFAULT_INSTRUCTION_BUDGET
+
+    if budget is None:
+        return DEFAULT_INSTRUCTION_BUDGET
+    if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
+        raise RunSetupError(f"--instruction-budget must be a positive integer, got {budget!r}")
+    return budget
+
+
+def _interpret(code, controller, settings, output: Callable[[str], None] | None, budget: int):
     """Run the interpreter; its result carries output, events, warnings and the error."""
     from irlc.runtime.interpreter import Interpreter
 
-    interp = Interpreter(code, controller, settings=settings, output=output)
+    interp = Interpreter(
+        code, controller, settings=settings, output=output, instruction_budget=budget
+    )
     result = interp.run(check=False)
     if result.error is not None and result.error.time_s is None:
         result.error.time_s = controller.time

@@ -1,7 +1,10 @@
 """Robot commands: ``irlc robots``, ``irlc robot NAME``, ``irlc fk``, ``irlc ik``.
 
-Program units on the command line and in the output (mm, deg, ZYX angles); the
-``fk --json`` matrix is in metres (``interfaces.md``).
+Program units on the command line and in the output (mm, deg, ZYX angles), also the
+translation of the ``fk --json`` matrix; every JSON names them in a ``units`` key. Joints
+follow the naming rule of :mod:`irlc.runtime.naming`: program names ``a1 … aN`` with the
+robot file's names beside them (``a4 (panda_joint4)``; in JSON ``joint_names`` and
+``robot_joint_names``).
 """
 
 from __future__ import annotations
@@ -11,6 +14,7 @@ import math
 
 import click
 import numpy as np
+from rich import box
 from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
@@ -18,9 +22,11 @@ from rich.table import Table
 from irlc.cli.app import cli
 from irlc.errors import EXIT_RUN, UsageError
 from irlc.robots import RobotFileError, list_robots, load_robot
+from irlc.robots.loader import MissingExtraError
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.naming import JointNaming
 from irlc.runtime.reachability import check_vertical_plane
 
 RAW = {"ignore_unknown_options": True}
@@ -51,7 +57,8 @@ def _joint_values(model: RobotModel, values: list[str], what: str = "joint value
     numbers = _numbers(values, what)
     if len(numbers) != model.n:
         raise UsageError(
-            f"robot {model.name} has {model.n} joints ({', '.join(model.joint_names)}); "
+            f"robot {model.name} has {model.n} joints "
+            f"({JointNaming.for_model(model).labels(range(model.n))}); "
             f"got {len(numbers)} {what}s"
         )
     return units.joints_to_si(numbers, model.joint_kinds)
@@ -65,25 +72,59 @@ def _print_json(data: dict) -> None:
     click.echo(json.dumps(data, indent=2))
 
 
+JSON_UNITS = {"length": "mm", "angle": "deg"}  # of every fk/ik JSON number
+
+
+def _joints_json(model: RobotModel) -> dict:
+    """The joints' names (program ``a1 … aN``, the robot file's) and units, for JSON."""
+    naming = JointNaming.for_model(model)
+    return {
+        "joint_names": list(naming.program),
+        "robot_joint_names": list(naming.robot),
+        "joint_units": [units.joint_unit(k) for k in model.joint_kinds],
+    }
+
+
+def _matrix_mm(t: np.ndarray) -> list[list[float]]:
+    """A 4×4 transform with its translation in mm (the pose's unit), rotation unitless."""
+    m = np.array(t, dtype=float)
+    m[:3, 3] /= units.MM
+    return [_fmt(row) for row in m]
+
+
 # ----------------------------------------------------------------------------- robots
+
+
+def _robot_row(name: str) -> tuple[str, str, str, str]:
+    """One row of ``irlc robots``; a robot that cannot load says why in its row (a missing
+    optional extra: the ``pip install`` that adds it) instead of failing the listing."""
+    try:
+        model = load_robot(name)
+    except MissingExtraError as e:
+        return name, "?", "?", f"needs the optional extra: pip install 'irlc[{e.extra}]'"
+    except RobotFileError as e:
+        return name, "?", "?", f"cannot load: {e}"
+    kinds = "".join("R" if k == "revolute" else "P" for k in model.joint_kinds)
+    return name, str(model.n), kinds, model.description
 
 
 @cli.command("robots")
 def robots_cmd() -> None:
-    """List the robots of the library."""
+    """List the robots of the library (every one, with what a robot that cannot load needs)."""
     table = Table(title="irlc robots")
     for col in ("name", "joints", "kinds", "description"):
         table.add_column(col)
     for name in list_robots():
-        model = _robot(name)
-        kinds = "".join("R" if k == "revolute" else "P" for k in model.joint_kinds)
-        table.add_row(name, str(model.n), kinds, model.description)
+        table.add_row(*(escape(cell) for cell in _robot_row(name)))
     Console().print(table)
 
 
 def _range(lo: float, hi: float, kind: str, scale: float = 1.0) -> str:
+    """``-166..166`` in program units (4 digits); ``±124.6`` for a symmetric range."""
     lo, hi = units.joints_from_si([lo * scale, hi * scale], [kind, kind])
-    return f"{lo:g} … {hi:g}"
+    if f"{-lo:.4g}" == f"{hi:.4g}":
+        return f"±{hi:.4g}"
+    return f"{lo:.4g}..{hi:.4g}"
 
 
 @cli.command("robot")
@@ -94,26 +135,33 @@ def robot_cmd(name: str) -> None:
     console = Console()
     console.print(f"[bold]{model.name}[/bold] — {model.description}")
     console.print(f"file: {model.source}")
-    table = Table(title="joints (program units: deg, mm; speeds /s, accelerations /s²)")
-    for col in ("#", "name", "kind", "unit", "position", "speed", "accel", "weight", "home"):
-        table.add_column(col, justify="right" if col in ("#", "weight", "home") else "left")
+    table = Table(
+        title="joints (deg: revolute, mm: prismatic; speeds /s, accelerations /s²)",
+        box=box.SIMPLE_HEAD,
+        pad_edge=False,
+    )
+    table.add_column("joint", no_wrap=True)
+    table.add_column("name in file", no_wrap=True)
+    for col in ("unit", "position", "speed", "accel", "weight", "home"):
+        table.add_column(col, justify="left" if col == "unit" else "right", no_wrap=True)
     home = units.joints_from_si(model.home_q(), model.joint_kinds)
-    for i, (j, h) in enumerate(zip(model.joints, home, strict=True), 1):
+    naming = JointNaming.for_model(model)
+    for i, (j, h) in enumerate(zip(model.joints, home, strict=True)):
         table.add_row(
-            str(i),
+            naming.name(i),
             j.name,
-            j.kind,
             units.joint_unit(j.kind),
             _range(*j.limits.position, j.kind),
             _range(*j.limits.speed, j.kind),
             _range(*j.limits.accel, j.kind),
             f"{j.weight:g}",
-            f"{h:g}",
+            f"{h:.4g}",
         )
     console.print(table)
     console.print(escape(f"gravity [m/s²]: {_fmt(model.gravity)}"))
     for label, t in (("tool (flange → TCP)", model.tool), ("base (in the world)", model.base)):
         console.print(escape(f"{label} [mm, deg]: {_fmt(units.pose_from_si(t))}"))
+    console.print("  a program's R_TOOL is composed after this tool: TCP = flange · tool · R_TOOL")
     for c in model.extra.get("coupled_limits", []):
         console.print(escape(f"coupled limit {c['name']}: {c['text'] or c['coeffs']}"))
     if model.limit_sets:
@@ -154,9 +202,11 @@ def fk_cmd(robot: str, q: tuple[str, ...], as_json: bool) -> None:
         _print_json(
             {
                 "robot": model.name,
+                "units": JSON_UNITS,
+                **_joints_json(model),
                 "joints": _fmt(joints),
                 "pose": _fmt(pose),
-                "matrix": [_fmt(row) for row in t],
+                "matrix": _matrix_mm(t),
             }
         )
         return
@@ -167,8 +217,9 @@ def _pose_table(model: RobotModel, joints, pose, title: str) -> None:
     table = Table(title=f"{model.name}: {title}")
     table.add_column("quantity")
     table.add_column("value")
-    for name, kind, v in zip(model.joint_names, model.joint_kinds, joints, strict=True):
-        table.add_row(escape(f"{name} [{units.joint_unit(kind)}]"), f"{v:.4f}")
+    naming = JointNaming.for_model(model)
+    for j, (kind, v) in enumerate(zip(model.joint_kinds, joints, strict=True)):
+        table.add_row(escape(f"{naming.label(j)} [{units.joint_unit(kind)}]"), f"{v:.4f}")
     for label, v in zip(
         ("x [mm]", "y [mm]", "z [mm]", "a [deg]", "b [deg]", "c [deg]"), pose, strict=True
     ):
@@ -235,7 +286,9 @@ def ik_cmd(robot: str, args: tuple[str, ...], as_json: bool) -> None:
         _print_json(
             {
                 "robot": model.name,
+                "units": JSON_UNITS,
                 "pose": _fmt(pose),
+                **_joints_json(model),
                 "joints": _fmt(joints),
                 "converged": bool(sol.converged),
                 "position_error_mm": pos_mm,

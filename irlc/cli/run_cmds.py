@@ -59,11 +59,34 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
     help="Simulated-time budget of the run in seconds (default 86400 = 24 h).",
 )
 @click.option(
+    "--instruction-budget",
+    "instruction_budget",
+    type=int,
+    default=None,
+    help="Endless-loop guard: instructions without motion before the run fails "
+    "(a cycle of waiting counts as 25).  [default: 500000]",
+)
+@click.option(
     "--drives",
     type=click.Choice(DRIVE_CHOICES),
     default="ideal",
     show_default=True,
     help="Drive simulation level after the kinematic run.",
+)
+@click.option(
+    "--path-tolerance",
+    "path_tolerance",
+    type=float,
+    default=None,
+    help="Path tolerance in mm (start value of R_PATH_TOL; default 0.05). A larger TCP "
+    "deviation fails the run; with --drives, that of the actual motion.",
+)
+@click.option(
+    "--orientation-tolerance",
+    "orientation_tolerance",
+    type=float,
+    default=None,
+    help="Orientation tolerance in deg (default 0.01).",
 )
 @click.option(
     "--report",
@@ -120,7 +143,10 @@ def run_cmd(
     datalist_path,
     ipo,
     max_time,
+    instruction_budget,
     drives,
+    path_tolerance,
+    orientation_tolerance,
     report_path,
     trace_path,
     trace_every_step,
@@ -148,8 +174,14 @@ def run_cmd(
         program,
         robot,
         datalist_path,
-        (ipo, max_time),
-        drives,
+        dict(
+            ipo=ipo,
+            drives=drives,
+            path_tolerance=path_tolerance,
+            orientation_tolerance=orientation_tolerance,
+            instruction_budget=instruction_budget,
+            max_time=max_time,
+        ),
         seed,
         trace_every_step,
         live and sys.stdout.isatty(),
@@ -178,10 +210,8 @@ def run_cmd(
     return code
 
 
-def _run(program, robot, datalist_path, timing, drives, seed, every_step, show_progress, echo, err):
-    """Compile and run; returns the RunResult, or an exit code after printing the error.
-    ``timing``: ``(ipo, max_time)`` from the command line (``None``: the defaults)."""
-    ipo, max_time = timing
+def _run(program, robot, datalist_path, options, seed, every_step, show_progress, echo, err):
+    """Compile and run; returns the RunResult, or an exit code after printing the error."""
     from irlc.lang.diagnostics import CompileError
     from irlc.robots import RobotFileError
     from irlc.runtime.results import DriveSetupError
@@ -193,13 +223,11 @@ def _run(program, robot, datalist_path, timing, drives, seed, every_step, show_p
             program,
             robot=robot,
             datalist_path=datalist_path,
-            ipo=ipo,
-            max_time=max_time,
-            drives=drives,
             seed_config=seed,
             progress=progress,
             output=echo,
             trace_every_step=every_step,
+            **options,
         )
     except CompileError as exc:
         stop()

@@ -55,7 +55,22 @@ STEPPER_KEYS = {
 }
 FRICTION_KEYS = {"static": "N·m", "running": "N·m", "viscous": "N·m·s/rad"}
 SLAVE_KEYS = {"T_pr": "s", "v_max": "rad/s", "a_max": "rad/s²"}
-TOP_KEYS = {"type", "axes", "ratio", "load_inertia", "dc", "stepper", "friction", "slave"}
+RATING_KEYS = {
+    "following_error_max": "following-error bound, joint side rad | m (default 5° | 10 mm)",
+    "torque_max": "gear's rated output torque | force, joint side N·m | N (a warning beyond)",
+}
+DC_RATING_KEYS = {"i_peak": "motor's peak current rating, A (a warning beyond)"}
+TOP_KEYS = {
+    "type",
+    "axes",
+    "ratio",
+    "load_inertia",
+    "dc",
+    "stepper",
+    "friction",
+    "slave",
+    *RATING_KEYS,
+}
 OPTIONAL_DC = {"u_ref_max": 5.0, "pwm_frequency": 8000.0}
 
 
@@ -77,6 +92,7 @@ class DcDrives:
     U: np.ndarray
     pwm_frequency: float
     J_m: np.ndarray
+    i_peak: np.ndarray | None = None  # motor peak current rating, A (optional)
 
 
 @dataclass(frozen=True)
@@ -125,6 +141,8 @@ class DriveParams:
     load_inertia: np.ndarray | None
     slave: Slave | None
     assumed: dict[str, str] = field(default_factory=dict)  # key → reason
+    following_error_max: np.ndarray | None = None  # joint side rad | m, per driven axis
+    torque_max: np.ndarray | None = None  # gear rating, joint side N·m | N, per driven axis
 
     @property
     def count(self) -> int:
@@ -249,7 +267,10 @@ def drive_params(model: RobotModel) -> DriveParams | None:
         v = rd.values(s.get("v_max", math.inf), "drives.slave.v_max")
         a = rd.values(s.get("a_max", math.inf), "drives.slave.a_max")
         slave = Slave(t_pr, v, a)
-    return DriveParams(kind, axes, chain, friction, ratio, load, slave, dict(rd.assumed))
+    rated = {
+        key: rd.values(raw[key], f"drives.{key}") if key in raw else None for key in RATING_KEYS
+    }
+    return DriveParams(kind, axes, chain, friction, ratio, load, slave, dict(rd.assumed), **rated)
 
 
 def _axes(raw: dict, model: RobotModel, file: str) -> tuple[int, ...]:
@@ -271,7 +292,10 @@ def _axes(raw: dict, model: RobotModel, file: str) -> tuple[int, ...]:
 
 
 def _dc(rd: _Reader, t: Any) -> DcDrives:
-    g = rd.group(t, "drives.dc", DC_KEYS, OPTIONAL_DC)
+    rd.table(t, "drives.dc", set(DC_KEYS) | set(DC_RATING_KEYS))
+    i_peak = rd.values(t["i_peak"], "drives.dc.i_peak") if "i_peak" in t else None
+    g = rd.group({k: v for k, v in t.items() if k != "i_peak"}, "drives.dc", DC_KEYS, OPTIONAL_DC)
+    g["i_peak"] = i_peak
     freq = g.pop("pwm_frequency")
     if np.ptp(freq) != 0.0:
         raise rd.fail("drives.dc.pwm_frequency", "one PWM frequency for all axes")

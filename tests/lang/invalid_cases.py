@@ -29,6 +29,50 @@ CASES: list[tuple[str, str, int, int, str]] = [
     ),
     ("stray_close_brace", body("  HALT; }"), 4, 9, "'}' without an opening '{'"),
     # ---------------------------------------------------------------- syntax
+    # END_ typos: the hint at the typo, with or without the ';' (with it, the word parses as
+    # a procedure call; it used to fail later, at ENDPROGRAM or at BEGIN)
+    (
+        "end_if_semicolon",
+        body("  IF TRUE THEN\n    HALT;\n  END_IF;"),
+        6,
+        3,
+        "'END_IF' is not a keyword",
+    ),
+    (
+        "end_if_no_semicolon",
+        body("  IF TRUE THEN\n    HALT;\n  END_IF"),
+        6,
+        3,
+        "'END_IF' is not a keyword",
+    ),
+    (
+        "end_for_semicolon",
+        body("  FOR i := 1 TO 3 DO\n    HALT;\n  END_FOR;", "VAR INTEGER: i;\n"),
+        7,
+        3,
+        "'END_FOR' is not a keyword of this dialect",
+    ),
+    (
+        "end_while_semicolon",
+        body("  WHILE FALSE DO\n    HALT;\n  END_WHILE;"),
+        6,
+        3,
+        "'END_WHILE' is not a keyword of this dialect",
+    ),
+    (
+        "endprocedure_semicolon",
+        H + "PROCEDURE p;\nBEGIN\n  HALT;\nENDPROCEDURE;\nBEGIN\n  p;\nENDPROGRAM\n",
+        6,
+        1,
+        "'ENDPROCEDURE' is not a keyword of this dialect",
+    ),
+    (
+        "endfunction_semicolon",
+        H + "FUNCTION f: REAL;\nBEGIN\n  RETURN 1.0;\nENDFUNCTION;\nBEGIN\n  HALT;\nENDPROGRAM\n",
+        6,
+        1,
+        "'ENDFUNCTION' is not a keyword of this dialect",
+    ),
     ("missing_semicolon", body("  HALT\n  PAUSE;"), 4, 7, "expected ';' after 'HALT'"),
     (
         "missing_semicolon_assign",
@@ -358,7 +402,32 @@ CASES: list[tuple[str, str, int, int, str]] = [
         body("  MOVE LIN p WITH SPEED := -3;", "VAR POSE: p;\n"),
         5,
         28,
-        "must be positive",
+        "WITH SPEED := -3.0: the value must be in (0, 100000] mm/s",
+    ),
+    # constant settings: the run-time range table (lang/settings.py), at compile time
+    ("r_speed_negative", body("  R_SPEED := -5;"), 4, 14, "R_SPEED := -5.0: the value must be"),
+    ("r_ipo_zero", body("  R_IPO := 0;"), 4, 12, "R_IPO := 0.0: the value must be in [1e-05, 1] s"),
+    ("r_path_tol_zero", body("  R_PATH_TOL := 0;"), 4, 17, "R_PATH_TOL := 0.0: the value must be"),
+    (
+        "r_speed_ptp_const_above_100",
+        body("  HALT;\n  R_SPEED_PTP := pct;", "CONST pct = 150;\n"),
+        6,
+        18,
+        "R_SPEED_PTP := 150.0: the value must be in (0, 100] %",
+    ),
+    (
+        "r_acc_folded_negative",
+        body("  R_ACC := 100 - 200;"),
+        4,
+        16,
+        "R_ACC := -100.0: the value must be in (0, 1000000] mm/s²",
+    ),
+    (
+        "with_time_above_a_day",
+        body("  MOVE LIN p WITH TIME := 1e6;", "VAR POSE: p;\n"),
+        5,
+        27,
+        "WITH TIME := 1000000.0: the value must be in (0, 86400] s",
     ),
     (
         "reconf_count",
@@ -369,6 +438,17 @@ CASES: list[tuple[str, str, int, int, str]] = [
         5,
         32,
         "gives 2 configurations for 3 points",
+    ),
+    (
+        "reconf_one_for_path",  # PATH and CIRCLE: one per point; LIN may give one for all
+        body(
+            "  MOVE LIN p, p WITH RECONFIGURATION k;\n"
+            "  MOVE LIN PATH (p, p) WITH RECONFIGURATION k;",
+            "VAR POSE: p; MAIN_JOINT: k;\n",
+        ),
+        6,
+        29,
+        "WITH RECONFIGURATION gives 1 configuration for 2 points",
     ),
     (
         "reconf_type",

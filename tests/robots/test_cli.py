@@ -20,17 +20,17 @@ def run(capsys, *args: str) -> tuple[int, str, str]:
 
 
 KONF0 = [
-    "2.158",
+    "-0.695",
     "-75",
     "-102",
-    "110.633",
-    "-91.115",
-    "-121.5",
-    "99.792",
-    "47.095",
-    "-76.742",
-    "18.11",
-    "39.975",
+    "115.205",
+    "-98.722",
+    "-76.097",
+    "-0.168",
+    "-21.813",
+    "-90.452",
+    "227.313",
+    "21.119",
 ]
 
 
@@ -38,11 +38,54 @@ def test_fk_json(capsys):
     code, out, _ = run(capsys, "fk", "koch11", *KONF0, "--json")
     assert code == 0
     data = json.loads(out)
-    assert set(data) == {"robot", "joints", "pose", "matrix"}
+    assert set(data) == {
+        "robot",
+        "units",
+        "joint_names",
+        "robot_joint_names",
+        "joint_units",
+        "joints",
+        "pose",
+        "matrix",
+    }
+    assert data["units"] == {"length": "mm", "angle": "deg"}
     assert data["robot"] == "koch11" and data["joints"] == [float(v) for v in KONF0]
+    assert data["joint_names"] == [f"a{i}" for i in range(1, 12)]
+    assert data["robot_joint_names"] == [f"J{i}" for i in range(1, 12)]
+    assert data["joint_units"][9] == "mm" and data["joint_units"][10] == "deg"
     assert np.allclose(data["pose"], [11500, 1000, 3500, 0, 0, 0], atol=0.1)
     m = np.array(data["matrix"])
-    assert m.shape == (4, 4) and np.allclose(m[:3, 3], [11.5, 1.0, 3.5], atol=1e-4)  # metres
+    # one number, one unit: the matrix translation is the pose's position, in mm
+    assert m.shape == (4, 4) and np.allclose(m[:3, 3], [11500, 1000, 3500], atol=0.1)
+    np.testing.assert_allclose(m[:3, 3], data["pose"][:3], atol=1e-6)
+    assert np.allclose(m[3], [0, 0, 0, 1])
+
+
+def test_fk_json_matrix_is_the_independent_fk_in_mm(capsys):
+    """panda's matrix equals Kinematics.tcp (metres) scaled by 1000 in the translation only."""
+    q = [10, -30, 5, -120, 15, 95, 40]
+    code, out, _ = run(capsys, "fk", "panda", *map(str, q), "--json")
+    assert code == 0
+    data = json.loads(out)
+    model = load_robot("panda")
+    t = Kinematics(model).tcp(units.joints_to_si(q, model.joint_kinds))
+    m = np.array(data["matrix"])
+    np.testing.assert_allclose(m[:3, :3], t[:3, :3], atol=1e-9)
+    np.testing.assert_allclose(m[:3, 3], t[:3, 3] * 1000.0, atol=1e-6)
+    assert data["robot_joint_names"][3] == "panda_joint4" and data["joint_names"][3] == "a4"
+
+
+def test_fk_and_robot_text_name_joints_by_the_one_rule(capsys):
+    """Program names a1 … aN first, the robot file's names beside them (mobile8: a5 is A3)."""
+    code, out, _ = run(capsys, "fk", "mobile8", "100", "0", "0", "-30", "60", "0", "-30", "0")
+    assert code == 0 and "a5 (A3) [deg]" in out and "a1 (X) [mm]" in out
+    code, out, _ = run(capsys, "robot", "panda")
+    assert code == 0
+    rows = [line.split() for line in out.splitlines()]
+    assert ["a4", "panda_joint4", "deg"] in [r[:3] for r in rows]
+    assert "R_TOOL is composed after this tool" in out
+    code, _, err = run(capsys, "fk", "mobile8", "1", "2")
+    assert code == 3 and "a1 (X), a2 (Y), a3 (A1)" in err
 
 
 def test_fk_planar3_values(capsys):
@@ -105,6 +148,9 @@ def test_ik_json_converges_to_an_fk_pose(capsys):
         "orientation_error_deg",
     }
     assert data["converged"] is True and data["position_error_mm"] < 1e-3
+    assert data["units"] == {"length": "mm", "angle": "deg"}
+    assert data["joint_names"] == ["a1", "a2", "a3"]
+    assert len(data["robot_joint_names"]) == 3
     reached = units.pose_from_si(
         Kinematics(model).tcp(units.joints_to_si(data["joints"], model.joint_kinds))
     )

@@ -85,33 +85,82 @@ def test_frames_are_not_shared_between_calls():
     assert np.allclose(a[-1][:3, 3], [2.0, 0.0, 0.0])
 
 
-def test_koch11_zero_pose_tcp_in_robot_frame():
-    model = load_robot("koch11")
+KOCH11_ARMS = np.array(
+    [[0, 0, 1.3], [-0.2, 0, 0.6], [6, 0, -0.3], [-4, 0, -0.3], [4, 0, -0.7], [-4.6, 0, -0.2],
+     [0, 0, 0.4], [0, 0, 0.6], [0, 0, 0], [0, 0, 0], [0, 1.0, 0], [0, 0, -1.5]]
+)  # the book's arm table (robots.md), arm 1 … arm 11, tool  # fmt: skip
+KONF0 = {  # deg; joint 10 in mm
+    "koch11": [-0.695, -75, -102, 115.205, -98.722, -76.097, -0.168, -21.813, -90.452, 227.313,
+               21.119],
+    "koch11_v1": [2.158, -75, -102, 110.633, -91.115, -121.5, 99.792, 47.095, -76.742, 18.11,
+                  39.975],
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("name", ["koch11", "koch11_v1"])
+def test_koch11_zero_pose_tcp_in_robot_frame(name):
+    model = load_robot(name)
     t = Kinematics(model).tcp(np.zeros(11))
     in_robot = spatial.inverse(model.base) @ t
     assert np.allclose(in_robot[:3, 3], [1.2, 1.0, -0.1], atol=1e-12)
     # sum of the arm table of robots.md plus the tool, independent of the loader's chain
-    arms = np.array(
-        [[0, 0, 1.3], [-0.2, 0, 0.6], [6, 0, -0.3], [-4, 0, -0.3], [4, 0, -0.7], [-4.6, 0, -0.2],
-         [0, 0, 0.4], [0, 0, 0.6], [0, 0, 0], [0, 0, 0], [0, 1.0, 0], [0, 0, -1.5]]
-    )  # fmt: skip
-    assert np.allclose(in_robot[:3, 3], arms.sum(axis=0))
+    assert np.allclose(in_robot[:3, 3], KOCH11_ARMS.sum(axis=0))
 
 
-def test_koch11_konf0_reaches_the_square_corner():
-    """konf_0 (robots.md, printed to 0.001°) → (11500, 1000, 3500) mm, (0, 0, 0)°.
+def test_koch11_zero_pose_tcp_in_the_world_is_the_books():
+    """The revised reconstruction has no base turn: the book's (1200, 1000, −100) mm."""
+    pose = units.pose_from_si(Kinematics(load_robot("koch11")).tcp(np.zeros(11)))
+    assert np.allclose(pose, [1200, 1000, -100, 0, 0, 0], atol=1e-9)
+
+
+def _rot(axis: np.ndarray, angle: float) -> np.ndarray:
+    """Rodrigues: R = I + sin θ K + (1 − cos θ) K²."""
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    return np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * k @ k
+
+
+def test_koch11_is_the_revised_reconstruction():
+    """An independent chain product of issue 16's description: joint i at the END of arm i
+    (arm 1 a fixed column), axes J1 +z, J2 +y, J3 +y, J4 −y, J5 −y, J6 +y, J7 +z, J8 +x,
+    J9 +y, J10 prismatic +y, J11 −z, tool hanging from J11; equals the loader's FK."""
+    x, y, z = np.eye(3)
+    axes = [z, y, y, -y, -y, y, z, x, y, y, -z]
+    model = load_robot("koch11")
+    kin = Kinematics(model)
+    for q in random_configs(model, 10):
+        r, p = np.eye(3), KOCH11_ARMS[0].astype(float)
+        for i, a in enumerate(axes):
+            if i == 9:
+                p = p + r @ (a * q[i])
+            else:
+                r = r @ _rot(a, q[i])
+            p = p + r @ KOCH11_ARMS[i + 1]
+        t = kin.tcp(q)
+        assert np.allclose(t[:3, 3], p, atol=1e-12)
+        assert np.allclose(t[:3, :3], r, atol=1e-12)
+
+
+@pytest.mark.parametrize("name", ["koch11", "koch11_v1"])
+def test_koch11_konf0_reaches_the_square_corner(name):
+    """konf_0 (printed to 0.001°) → (11500, 1000, 3500) mm, (0, 0, 0)°, and is the home.
 
     The residual with the printed digits is ≈ 0.06 mm and 0.001°; 0.0005° of rounding at a
     6 m lever is 0.05 mm, so we accept 0.1 mm / 0.002°."""
-    model = load_robot("koch11")
-    konf0 = units.joints_to_si(
-        [2.158, -75, -102, 110.633, -91.115, -121.5, 99.792, 47.095, -76.742, 18.11, 39.975],
-        model.joint_kinds,
-    )
+    model = load_robot(name)
+    konf0 = units.joints_to_si(KONF0[name], model.joint_kinds)
     pose = units.pose_from_si(Kinematics(model).tcp(konf0))
     assert np.allclose(pose[:3], [11500, 1000, 3500], atol=0.1)
     assert np.allclose(pose[3:], [0, 0, 0], atol=0.002)
     assert np.allclose(model.home_q(), konf0)
+
+
+def test_koch11_konf0_is_inside_the_base_set_with_the_books_constants():
+    """θ2 = −75°, θ3 = −102°, J11 ∈ [0, 60] and every joint inside set 6.1."""
+    model = load_robot("koch11")
+    q = units.joints_from_si(model.home_q(), model.joint_kinds)
+    assert q[1] == pytest.approx(-75) and q[2] == pytest.approx(-102) and 0 <= q[10] <= 60
+    box = np.array([lim.position for lim in model.limit_sets["base"]])
+    assert np.all(model.home_q() >= box[:, 0]) and np.all(model.home_q() <= box[:, 1])
 
 
 def test_irb6_wrist_point_closed_form():

@@ -161,7 +161,7 @@ def test_panda_against_pinocchio():
 
 
 def test_panda_merges_hand_and_converts_shapes():
-    model = load_robot("panda")
+    model = load_robot(ROBOTS_DIR / "urdf" / "panda.toml")  # the URDF-backed source
     link7 = next(i for i in model.inertials if i.link == 7)
     assert math.isclose(link7.mass, 0.735522 + 0.73)
     notes = model.extra["urdf_notes"]

@@ -351,8 +351,65 @@ def test_pause_logs_an_event_and_a_warning_and_continues():
 
 def test_endless_loop_hits_the_instruction_budget():
     err = failure(main_program("main: L9 JMP @main"), instruction_budget=1000)
-    assert err.message == "more than 1000 instructions without motion or waiting — endless loop?"
+    assert err.message == (
+        "more than 1000 instructions without motion (a cycle of waiting counts as 25) — "
+        "endless loop? If not, raise the budget: --instruction-budget N "
+        "(Python: instruction_budget=N)"
+    )
     assert err.line == 9
+
+
+def test_default_budget_is_small_enough_to_report_within_seconds():
+    """The default guard: 500 000 instructions (~0.3 s of CPython), not 50 M (~30 s)."""
+    from irlc.runtime.interpreter import DEFAULT_INSTRUCTION_BUDGET
+
+    assert DEFAULT_INSTRUCTION_BUDGET == 500_000
+    result = Interpreter(main_program("main: L9 JMP @main"), FakeController()).run(check=False)
+    assert "endless loop?" in result.error.message
+    assert result.instructions == DEFAULT_INSTRUCTION_BUDGET + 1
+
+
+def test_a_loop_that_only_waits_uses_up_the_budget_at_its_wait():
+    """Waiting is not motion: each IPO cycle waited counts 25 instructions, so
+    ``WHILE TRUE DO WAIT 0.5 SEC; ENDWHILE`` fails at the WAIT after budget / (50·25 + 3)
+    iterations — with 1000, in the first one of 0.5 s = 50 cycles (1250 > 1000)."""
+    code = main_program("main: L2 PUSHC 0\nL2 WAIT\nL3 JMP @main", consts="CONST 0 REAL 0.5")
+    ctl = FakeController(ipo=0.01)
+    result = Interpreter(code, ctl, instruction_budget=1000).run(check=False)
+    assert "endless loop?" in result.error.message
+    assert result.error.line == 2
+    assert len(ctl.waits) == 1
+    ctl = FakeController(ipo=0.01)
+    result = Interpreter(code, ctl, instruction_budget=100_000).run(check=False)
+    # 1253 per iteration (50 cycles · 25 + 3 instructions): at the k-th WAIT the count is
+    # 1253·k − 1, over 100 000 first at k = 80
+    assert result.error.line == 2 and len(ctl.waits) == 80
+
+
+def test_motion_after_waiting_restarts_the_budget():
+    """A WAIT then a MOVE per iteration: motion restarts the count, the loop runs on."""
+    consts = "CONST 0 REAL 0.5\nCONST 1 INTEGER 0\nCONST 2 INTEGER 1\nCONST 3 INTEGER 30"
+    consts += "\nCONST 4 MAIN_JOINT 1.0 2.0 3.0"
+    body = """main: L1 PUSHC 1
+    L1 POPG 0
+    top: L2 PUSHG 0
+    L2 PUSHC 3
+    L2 LT
+    L2 JF @done
+    L3 PUSHC 0
+    L3 WAIT
+    L4 PUSHC 4
+    L4 MOVE PTP 1
+    L5 PUSHG 0
+    L5 PUSHC 2
+    L5 ADD
+    L5 POPG 0
+    L5 JMP @top
+    done: L6 END"""
+    ctl = FakeController(ipo=0.01)
+    code = main_program(body, decls="GLOBAL 0 INTEGER i", consts=consts)
+    result = Interpreter(code, ctl, instruction_budget=3000).run(check=False)
+    assert result.error is None and len(ctl.waits) == 30
 
 
 def test_waiting_zero_seconds_is_no_progress():

@@ -19,3 +19,10 @@ def test_program_names_of_wrong_length_fall_back_to_defaults():
     naming = JointNaming.of(["J1", "J2"], ["only_one"])
     assert naming.program == ("a1", "a2")
     assert naming.name(1) == "a2"
+
+
+def test_joint_label_without_a_known_robot_name_is_the_program_name():
+    from irlc.runtime.naming import joint_label
+
+    assert joint_label("a5", "A3") == "a5 (A3)"
+    assert joint_label("a5", None) == "a5" and joint_label("a5", "") == "a5"

@@ -19,7 +19,9 @@ def _load(path):
 def test_document_structure(tmp_path, demo_run):
     path = write_trajectory(demo_run, tmp_path / "traj.json")
     doc = _load(path)
-    assert doc["joint_names"] == ["a1", "a2", "a3", "a4"]
+    assert doc["joint_names"] == ["J1", "J2", "J3", "J4"]  # the robot's own names (ROS)
+    assert doc["program_joint_names"] == ["a1", "a2", "a3", "a4"]
+    assert doc["units"] == {"revolute": "rad", "prismatic": "m", "time": "s"}
     assert doc["joint_kinds"] == ["revolute", "revolute", "prismatic", "revolute"]
     assert len(doc["points"]) == len(demo_run.times)
     for p in doc["points"]:

@@ -146,3 +146,12 @@ def test_failure_table_never_cuts_the_key():
     buf = io.StringIO()
     render_results([case], Console(file=buf, width=60, highlight=False, color_system=None))
     assert key in buf.getvalue(), buf.getvalue()
+
+
+def test_reduced_report_names_its_units_and_older_expectations_still_pass():
+    red = reduce_report(_report())
+    assert red["units"] == {"length": "mm", "angle": "deg", "time": "s"}
+    older = {k: v for k, v in red.items() if k != "units"}  # written before the key existed
+    assert compare(older, red) == []
+    wrong = {**red, "units": {"length": "m", "angle": "rad", "time": "s"}}
+    assert [m.path for m in compare(wrong, red)] == ["units.length", "units.angle"]

@@ -128,12 +128,12 @@ def test_modal_options_persist_and_runtime_errors_continue(tmp_path):
         [
             f"MAIN_JOINT_MIN: jmin := {jmin};",
             f"MAIN_JOINT_MAX: jmax := {jmax.format(a11=60)};",
-            f"MAIN_JOINT_MAX: tight := {jmax.format(a11=30)};",
+            f"MAIN_JOINT_MAX: tight := {jmax.format(a11=20)};",
             "JOINTLIMIT jmin, jmax;",
             "JOINTLIMIT jmin, jmax;",  # already on: a run-time error, the session goes on
             ":options",
             "JOINTLIMITEND;",
-            "JOINTLIMIT jmin, tight;",  # a11 is at 39.975 deg (home): excluded
+            "JOINTLIMIT jmin, tight;",  # a11 is at 21.119 deg (home): excluded
             "JOINTLIMIT jmin, jmax;",
             "MOVE LIN (11000, 1000, 3500, 0, 0, 0);",
             f":trace {tmp_path / 'session.csv'}",
@@ -147,7 +147,7 @@ def test_modal_options_persist_and_runtime_errors_continue(tmp_path):
     assert len(errors) == 2
     assert errors[0].startswith("<stdin>:5: ") and errors[1].startswith("<stdin>:8: ")
     assert "already on" in errors[0]
-    assert "a11" in errors[1] and "30" in errors[1]
+    assert "a11" in errors[1] and "20" in errors[1]
     assert res.returncode == 2
     active = next(line for line in out if line.startswith("JOINTLIMIT min"))
     assert active.endswith("max (180, 90, 60, 240, 0, 60, 240, 90, 180, 700, 60)")

@@ -11,7 +11,8 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-KONF_0 = (2.158, -75, -102, 110.633, -91.115, -121.5, 99.792, 47.095, -76.742, 18.11, 39.975)
+# koch11's home (its start configuration; robots/koch11.toml)
+KONF_0 = (-0.695, -75, -102, 115.205, -98.722, -76.097, -0.168, -21.813, -90.452, 227.313, 21.119)
 KONF_0_TEXT = ", ".join(str(v) for v in KONF_0)
 ANSI = re.compile(r"\x1b\[")
 NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"

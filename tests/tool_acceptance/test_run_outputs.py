@@ -143,7 +143,9 @@ def test_trajectory_export_si_and_velocities(runs):
     traj = json.loads((runs["out"] / "t.json").read_text())
     header, rows = read_trace(runs["out"] / "c.csv")
     col = {h: i for i, h in enumerate(header)}
-    assert traj["joint_names"] == ["a1", "a2", "a3"]
+    # the robot file's own names (ROS tooling), the program's beside them (issue 9 §3)
+    assert traj["joint_names"] == ["J1", "J2", "J3"]
+    assert traj["program_joint_names"] == ["a1", "a2", "a3"]
     points = traj["points"]
     assert len(points) == len(rows)
     times = [p["time_from_start"]["sec"] + 1e-9 * p["time_from_start"]["nanosec"] for p in points]

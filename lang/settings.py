@@ -1,0 +1,195 @@
+"""The motion settings: one row per setting, read by the checker, the IRDATA reader and the
+runtime (interpreter, controller, pre-interpolator).
+
+A numeric setting has a field (of ``runtime.controller.Settings`` and ``MotionCommand``),
+a system variable (``R_SPEED := v;``, IRDATA ``PUSHSYS/POPSYS R_SPEED``) with its value
+at program start, and/or a WITH word (``WITH SPEED := v``, IRDATA ``MOVE LIN 1 SPEED``), a
+unit (program units: mm, deg, s, %), the motion kinds that accept the WITH form, and its
+admissible range
+
+    v ∈ (low, high]      or, when ``closed``,      v ∈ [low, high].
+
+The same range is checked when a constant is compiled (``R_SPEED := -5;`` is a compile
+error at its line and column) and when a value is assigned or used at run time (a
+the runtime's ``RunFailure`` at its line), with the same words:
+``R_SPEED := -5.0: the value must be in (0, 100000] mm/s``. A new setting is one row here plus its
+behaviour in the controller.
+
+Upper bounds are physical sanity bounds (100 m/s, 1000 m/s², a day for one motion — far
+above any robot), not robot limits: the robot's own joint limits apply on top. ``R_IPO``
+below 10 µs would need millions of cycles per simulated second.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+ALL_KINDS = ("PTP", "LIN", "CIRCLE", "LINPATH", "PTPINC", "LININC")  # IRDATA motion kinds
+PTP_KINDS = ("PTP", "PTPINC")  # joint interpolation: SPEED_PTP, ACC_PTP (%)
+PATH_KINDS = ("LIN", "CIRCLE", "LINPATH", "LININC")  # Cartesian path: SPEED, ACC, SPEED_ORI
+
+
+@dataclass(frozen=True)
+class SettingRange:
+    """Admissible values of a numeric setting: ``(low, high]``, or ``[low, high]`` when
+    ``closed``."""
+
+    low: float
+    high: float
+    unit: str = ""
+    closed: bool = False
+
+    def __contains__(self, v: float) -> bool:
+        return (self.low <= v if self.closed else self.low < v) and v <= self.high
+
+    def __str__(self) -> str:
+        if self.high == math.inf and self.low == 0.0 and not self.closed:
+            return "positive"
+        return f"in {self.interval()}{' ' + self.unit if self.unit else ''}"
+
+    def interval(self) -> str:
+        """``(0, 100]``, ``[1e-05, 1]``, ``(0, ∞)``; a whole upper bound in digits."""
+        left = "[" if self.closed else "("
+        if self.high == math.inf:
+            return f"{left}{self.low:g}, ∞)"
+        high = f"{self.high:.0f}" if self.high.is_integer() else f"{self.high:g}"
+        return f"{left}{self.low:g}, {high}]"
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One numeric motion setting (see the module doc)."""
+
+    field: str  # Settings / MotionCommand field
+    system_variable: str | None  # R_… word (program and IRDATA), None: WITH only
+    with_word: str | None  # WITH … word (program and IRDATA MOVE clause), None: no WITH form
+    range: SettingRange  # admissible values, with the unit (program units)
+    kinds: tuple[str, ...] = ()  # motion kinds whose WITH form accepts it
+    meaning: str = ""
+    default: float | None = None  # the system variable's value at program start
+
+    @property
+    def unit(self) -> str:
+        return self.range.unit
+
+
+def _positive(unit: str, high: float) -> SettingRange:
+    return SettingRange(0.0, high, unit)
+
+
+# THE table of numeric settings (with their start values; runtime.controller.Settings
+# reads them).
+SETTINGS: tuple[Setting, ...] = (
+    Setting("speed", "R_SPEED", "SPEED", _positive("mm/s", 1e5), PATH_KINDS,
+            "path speed", 500.0),
+    Setting("acc", "R_ACC", "ACC", _positive("mm/s²", 1e6), PATH_KINDS,
+            "path acceleration", 1000.0),
+    Setting("speed_ori", "R_SPEED_ORI", "SPEED_ORI", _positive("deg/s", 1e5), PATH_KINDS,
+            "orientation speed", 45.0),
+    Setting("speed_ptp", "R_SPEED_PTP", "SPEED_PTP", _positive("%", 100.0), PTP_KINDS,
+            "PTP speed, % of each joint's maximum", 50.0),
+    Setting("acc_ptp", "R_ACC_PTP", "ACC_PTP", _positive("%", 100.0), PTP_KINDS,
+            "PTP acceleration, % of each joint's maximum", 50.0),
+    Setting("time", None, "TIME", _positive("s", 86400.0), ALL_KINDS,
+            "fixed motion time (overrides the speeds)"),
+    Setting("ipo", "R_IPO", None, SettingRange(1e-5, 1.0, "s", closed=True), (),
+            "interpolation (IPO) cycle", 0.01),
+    Setting("path_tol", "R_PATH_TOL", None, _positive("mm", math.inf), (),
+            "path tolerance (start value: --path-tolerance)", 0.05),
+)  # fmt: skip
+
+BY_FIELD: dict[str, Setting] = {s.field: s for s in SETTINGS}
+BY_SYSTEM_VARIABLE: dict[str, Setting] = {
+    s.system_variable: s for s in SETTINGS if s.system_variable
+}
+BY_WITH_WORD: dict[str, Setting] = {s.with_word: s for s in SETTINGS if s.with_word}
+SETTING_RANGES: dict[str, SettingRange] = {s.field: s.range for s in SETTINGS}
+
+
+@dataclass(frozen=True)
+class SystemVariable:
+    """A system variable: its IRL type (``None``: the robot's MAIN_JOINT), whether a program
+    may assign it, and the ``Settings`` field that holds it (``None``: read from the
+    controller)."""
+
+    name: str
+    type_name: str | None
+    writable: bool
+    field: str | None
+
+
+SYSTEM_VARIABLES: dict[str, SystemVariable] = {
+    v.name: v
+    for v in (
+        *(SystemVariable(s.system_variable, "REAL", True, s.field)
+          for s in SETTINGS if s.system_variable),
+        SystemVariable("R_TOOL", "POSE", True, "tool"),  # TCP in the flange frame
+        SystemVariable("R_BASE", "POSE", True, "base"),  # program base frame in the world
+        SystemVariable("R_ACT_POSE", "POSE", False, None),
+        SystemVariable("R_ACT_JOINT", None, False, None),
+    )
+}  # fmt: skip
+
+
+def setting_error(field_name: str, value: object) -> str | None:
+    """``None`` if ``value`` is admissible for the setting, else why not
+    (``"the value must be in (0, 100] %"``)."""
+    allowed = SETTING_RANGES[field_name]
+    if isinstance(value, float | int) and not isinstance(value, bool) and value in allowed:
+        return None
+    return f"the value must be {allowed}"
+
+
+def shown_value(value: object) -> str:
+    """A setting's value as a message shows it: as WRITE prints a REAL (6 decimals,
+    ``150.0``) unless that rounds it, then ``%g``."""
+    if not isinstance(value, float | int):
+        return repr(value)
+    r = round(float(value), 6)
+    shown = "0.0" if r == 0.0 else repr(r)
+    return shown if float(shown) == value else f"{value:g}"
+
+
+def setting_message(field_name: str, value: object, what: str) -> str | None:
+    """``None`` if admissible, else ``"<what> := <value>: the value must be …"`` (the one
+    wording of compile-time and run-time range errors)."""
+    error = setting_error(field_name, value)
+    return None if error is None else f"{what} := {shown_value(value)}: {error}"
+
+
+_KIND_WORDS = {
+    "PTP": "PTP",
+    "LIN": "LIN",
+    "CIRCLE": "CIRCLE",
+    "LINPATH": "LIN PATH",
+    "PTPINC": "MOVE_INC PTP",
+    "LININC": "MOVE_INC LIN",
+}
+
+
+def ranges_table() -> str:
+    """The settings and their ranges as a Markdown table (docs/language.md lists it)."""
+    rows = [
+        "| system variable | start value | WITH | unit | admissible values | WITH accepted by |",
+        "|---|---|---|---|---|---|",
+    ]
+    for s in SETTINGS:
+        kinds = ", ".join(_KIND_WORDS[k] for k in s.kinds) or "—"
+        kinds = "all motion" if s.kinds == ALL_KINDS else kinds
+        rows.append(
+            f"| {s.system_variable or '—'} | {'—' if s.default is None else f'{s.default:g}'} | "
+            f"{s.with_word or '—'} | {s.unit} | "
+            f"{s.range.interval()} | {kinds} |"
+        )
+    return "\n".join(rows) + "\n"
+
+
+def reconfiguration_counts(kind: str, points: int) -> tuple[int, ...]:
+    """How many configurations ``WITH RECONFIGURATION`` may give for a motion of ``kind``
+    through ``points`` points: one per point; a LIN through several points may also give
+    one for the whole move (its reference is spread along the path by arc length).
+    CIRCLE (via, target) and LIN PATH need one per point (language.md §5.1)."""
+    if kind == "LIN" and points > 1:
+        return (1, points)
+    return (points,)

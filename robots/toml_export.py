@@ -1,0 +1,193 @@
+"""Write a :class:`RobotModel` as a self-contained TOML description (``chain = "axes"``).
+
+Why: a robot imported from URDF needs the optional ``yourdfpy`` at every load; written
+out once in the core format, the same model loads on a core install. The writer is the
+inverse of :mod:`irlc.robots.loader` for the sections it covers, so
+``load_toml(write(m)) == m`` up to the round-off of the deg ↔ rad conversion (~1e-16).
+
+Mapping (file units: deg for angles, m for lengths, as every shipped robot file):
+
+* joint ``i``: ``origin`` = the model's ``origin_i`` (pose of joint ``i``'s frame in link
+  ``i−1``'s frame) as ``{xyz, zyx}`` with ``R = Rz(a)·Ry(b)·Rx(c)`` — or as a 4×4
+  ``matrix`` near the ZYX singularity ``|b| = 90°`` —, ``link = 0`` (the whole fixed
+  transform sits in the next joint's ``origin``), the unit ``axis``, limits, weight and
+  offset;
+* ``[flange]``, ``[tool]``, ``[base]``: the model's transforms; the loader composes
+  ``flange = Tz(link_n) · [flange]`` with ``link_n = 0``;
+* ``[[geometry]]`` (capsules, spheres) and ``[[inertials]]`` (mass, com, inertia about the
+  com as ``[ixx, iyy, izz, ixy, ixz, iyz]``) per link;
+* ``[assumptions]``: the model's ``extra["assumed"]`` and, for a URDF import, its
+  conversion notes.
+
+Limit sets, coupled limits, transmissions, drives, reachability and ``[ik]`` are not
+written (a model that has them raises :class:`ValueError`): the shipped URDF robot has none.
+
+Command line (regenerates the shipped core copy of a URDF robot; needs ``irlc[urdf]``)::
+
+    python -m irlc.robots.toml_export robots/urdf/panda.toml robots/panda.toml
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+from irlc.robots.model import Capsule, RobotModel
+from irlc.runtime.spatial import matrix_to_zyx
+
+DEG = 180.0 / math.pi
+NOT_WRITTEN = ("coupled_limits", "transmission", "drives", "reachability", "ik")
+
+
+def _num(x: float) -> str:
+    """Shortest exact text of a float (``repr``), valid TOML; no ``-0.0``."""
+    x = float(x) + 0.0
+    if not math.isfinite(x):
+        raise ValueError(f"cannot write the non-finite number {x}")
+    return repr(x)
+
+
+def _vec(values) -> str:
+    return "[" + ", ".join(_num(v) for v in values) + "]"
+
+
+def _str(text: str) -> str:
+    return json.dumps(text, ensure_ascii=False)  # a JSON string is a TOML basic string
+
+
+def _transform_items(t: np.ndarray) -> list[str]:
+    """A rigid transform as ``xyz``, ``zyx`` (deg) — or ``matrix`` near gimbal lock, where
+    ZYX angles lose digits."""
+    if abs(t[2, 0]) > 1.0 - 1e-6:
+        rows = ", ".join(_vec(row) for row in t)
+        return [f"matrix = [{rows}]"]
+    zyx = [a * DEG for a in matrix_to_zyx(t[:3, :3])]
+    return [f"xyz = {_vec(t[:3, 3])}", f"zyx = {_vec(zyx)}"]
+
+
+def _transform(t: np.ndarray) -> str:
+    return "{ " + ", ".join(_transform_items(t)) + " }"
+
+
+def _scale(kind: str) -> float:
+    return DEG if kind == "revolute" else 1.0
+
+
+def _robot_table(model: RobotModel) -> list[str]:
+    out = [
+        "[robot]",
+        f"name = {_str(model.name)}",
+        f"description = {_str(model.description)}",
+        'chain = "axes"',
+        'units = { angle = "deg", length = "m" }',
+        f"gravity = {_vec(model.gravity)}",
+    ]
+    if model.home is not None:
+        home = [h * _scale(j.kind) for h, j in zip(model.home, model.joints, strict=True)]
+        out.append(f"home = {_vec(home)}")
+    if "source" in model.extra:
+        out.append(f"source = {_str(model.extra['source'])}")
+    return out
+
+
+def _assumptions(model: RobotModel) -> list[str]:
+    assumed = dict(model.extra.get("assumed", {}))
+    notes = sorted(set(model.extra.get("urdf_notes", [])))
+    if notes:
+        assumed["urdf_conversion"] = "; ".join(notes)
+    if not assumed:
+        return []
+    return ["", "[assumptions]"] + [f"{_str(k)} = {_str(v)}" for k, v in sorted(assumed.items())]
+
+
+def _joints(model: RobotModel) -> list[str]:
+    out = []
+    for j in model.joints:
+        s = _scale(j.kind)
+        lim = j.limits
+        out += [
+            "",
+            "[[joints]]",
+            f"name = {_str(j.name)}",
+            f'kind = "{j.kind}"',
+            f"axis = {_vec(j.axis)}",
+            f"origin = {_transform(j.origin)}",
+            f"position = {_vec(np.array(lim.position) * s)}",
+            f"speed = {_vec(np.array(lim.speed) * s)}",
+            f"accel = {_vec(np.array(lim.accel) * s)}",
+            f"weight = {_num(j.weight)}",
+        ]
+        if j.offset != 0.0:
+            out.append(f"offset = {_num(j.offset * s)}")
+    return out
+
+
+def _geometry(model: RobotModel) -> list[str]:
+    out = []
+    for g in model.geometry:
+        out += ["", "[[geometry]]", f"link = {g.link}"]
+        if isinstance(g, Capsule):
+            out += ['shape = "capsule"', f"a = {_vec(g.a)}", f"b = {_vec(g.b)}"]
+        else:
+            out += ['shape = "sphere"', f"center = {_vec(g.center)}"]
+        out.append(f"radius = {_num(g.radius)}")
+    return out
+
+
+def _inertials(model: RobotModel) -> list[str]:
+    out = []
+    for m in model.inertials:
+        i = m.inertia
+        six = [i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]]
+        out += [
+            "",
+            "[[inertials]]",
+            f"link = {m.link}",
+            f"mass = {_num(m.mass)}",
+            f"com = {_vec(m.com)}",
+            f"inertia = {_vec(six)}",
+        ]
+        if m.assumed:
+            out += ["assumed = true", 'reason = "assumed in the source description"']
+    return out
+
+
+def model_to_toml(model: RobotModel, header: str = "") -> str:
+    """The TOML text of ``model`` (see the module doc); ``header``: leading comment lines."""
+    left = [k for k in NOT_WRITTEN if k in model.extra] + (["limit_sets"] * bool(model.limit_sets))
+    if left:
+        raise ValueError(f"robot {model.name}: cannot write {', '.join(left)} (not supported)")
+    lines = [f"# {line}".rstrip() for line in header.splitlines()] + [""] * bool(header)
+    lines += _robot_table(model) + _assumptions(model)
+    for label, t in (("base", model.base), ("flange", model.flange), ("tool", model.tool)):
+        lines += ["", f"[{label}]", *_transform_items(t)]
+    lines += _joints(model) + _geometry(model) + _inertials(model)
+    return "\n".join(lines) + "\n"
+
+
+def generated_header(source: Path, target: Path) -> str:
+    return (
+        f"{target.name}: GENERATED from {source} (do not edit: edit the source and run\n"
+        f"`python -m irlc.robots.toml_export {source} {target}` in the repository).\n"
+        "The same model in the core format, so it loads without the optional yourdfpy;\n"
+        "tests/robots/test_panda_core.py checks it equals the URDF import."
+    )
+
+
+def main(argv: list[str]) -> int:
+    from irlc.robots import load_robot
+
+    if len(argv) != 2:
+        print("usage: python -m irlc.robots.toml_export SOURCE.toml|.urdf OUT.toml")
+        return 3
+    source, target = Path(argv[0]), Path(argv[1])
+    text = model_to_toml(load_robot(source), generated_header(source, target))
+    target.write_text(text, encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main(sys.argv[1:]))

@@ -1,0 +1,105 @@
+"""The endless-loop guard end to end: ``irlc run`` on IRL loops without motion fails with
+exit 2 at the loop's line within a fraction of a second of interpretation (default budget
+500 000 instructions; a waited IPO cycle counts 25), and ``--instruction-budget`` /
+``instruction_budget=`` change it."""
+
+from __future__ import annotations
+
+import re
+import time
+from pathlib import Path
+
+import pytest
+from irlc.runtime.interpreter import DEFAULT_INSTRUCTION_BUDGET
+from irlc.runtime.run import RunSetupError, run_file
+
+from irlc.cli import main
+
+LOOPS = {  # body (from line 6), the lines the failure may name (inside the loop)
+    "empty": ("  WHILE TRUE DO\n  ENDWHILE;", (6, 7)),
+    "assignment": ("  WHILE TRUE DO\n    i := i + 1;\n    i := i - 1;\n  ENDWHILE;", (6, 9)),
+    "wait_zero": ("  WHILE TRUE DO\n    WAIT 0 SEC;\n  ENDWHILE;", (6, 8)),
+    "wait": ("  WHILE TRUE DO\n    WAIT 0.5 SEC;\n  ENDWHILE;", (7, 7)),  # at the WAIT
+    "repeat": ("  REPEAT\n    i := i + 1;\n  UNTIL i < 0;", (6, 8)),
+}
+
+
+def _program(tmp_path: Path, body: str) -> Path:
+    prog = tmp_path / "loop.irl"
+    prog.write_text(
+        f"PROGRAM loop;\nROBOT r := planar3;\nVAR INTEGER: i;\nBEGIN\n  i := 0;\n{body}\n"
+        "ENDPROGRAM\n"
+    )
+    return prog
+
+
+@pytest.mark.parametrize("name", sorted(LOOPS))
+def test_cli_reports_an_endless_loop_at_its_line(tmp_path, capsys, name):
+    body, (first, last) = LOOPS[name]
+    prog = _program(tmp_path, body)
+    start = time.perf_counter()
+    code = main(["run", "-q", str(prog)])
+    elapsed = time.perf_counter() - start
+    err = " ".join(capsys.readouterr().err.split())
+    assert code == 2, err
+    assert "Traceback" not in err
+    m = re.search(r"loop\.irl:(\d+):1: error: run-time failure at t = [\d.]+ s: more than "
+                  r"500000 instructions without motion", err)  # fmt: skip
+    assert m and first <= int(m.group(1)) <= last, err
+    assert "endless loop?" in err and "--instruction-budget N" in err
+    assert elapsed < 30  # was ~40 s at 50 M instructions; ~1-2 s now (shared machine: loose)
+
+
+def test_budget_option_and_api(tmp_path, capsys):
+    prog = _program(tmp_path, LOOPS["empty"][0])
+    assert main(["run", "-q", "--instruction-budget", "1000", str(prog)]) == 2
+    assert "more than 1000 instructions" in " ".join(capsys.readouterr().err.split())
+    run = run_file(prog, instruction_budget=5000)
+    assert run.status == "failed" and "more than 5000 instructions" in run.error.message
+    assert run.error.line == 6
+    assert main(["run", "-q", "--instruction-budget", "0", str(prog)]) == 3
+    assert "--instruction-budget must be a positive integer" in capsys.readouterr().err
+    with pytest.raises(RunSetupError):
+        run_file(prog, instruction_budget=-1)
+
+
+def test_a_long_computation_passes_with_a_raised_budget(tmp_path):
+    """300 000 iterations of ~8 instructions: over the default, fine when raised."""
+    body = "  WHILE i < 300000 DO\n    i := i + 1;\n  ENDWHILE;\n  WRITELN(i);"
+    prog = _program(tmp_path, body)
+    assert run_file(prog).status == "failed"
+    run = run_file(prog, instruction_budget=10 * DEFAULT_INSTRUCTION_BUDGET)
+    assert run.status == "ok" and run.output == ["300000"]
+
+
+def test_public_api_takes_the_budget(tmp_path):
+    from irlc import run_program
+
+    prog = _program(tmp_path, LOOPS["empty"][0])
+    run = run_program(prog, instruction_budget=2000)
+    assert run.status == "failed" and "more than 2000 instructions" in run.error.message
+
+
+def test_golden_options_take_the_budget(tmp_path):
+    import json
+
+    from irlc import golden
+
+    prog = _program(tmp_path, LOOPS["empty"][0])
+    expected = tmp_path / "loop.expected.json"
+    expected.write_text(json.dumps({"options": {"instruction_budget": 1000}}))
+    options = golden.load_expectation(expected)["options"]
+    report = golden.default_runner(prog, options)
+    assert report["status"] == "failed"
+    assert "more than 1000 instructions" in json.dumps(report)
+
+
+def test_cli_help_states_the_defaults():
+    from click.testing import CliRunner
+    from irlc.runtime.interpreter import WAIT_CYCLE_COST
+
+    from irlc.cli.app import cli
+
+    text = " ".join(CliRunner().invoke(cli, ["run", "--help"]).output.split())
+    assert f"[default: {DEFAULT_INSTRUCTION_BUDGET}]" in text
+    assert f"a cycle of waiting counts as {WAIT_CYCLE_COST}" in text

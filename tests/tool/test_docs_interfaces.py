@@ -1,0 +1,113 @@
+"""docs/interfaces.md lists exactly the report keys and trace columns a run writes.
+
+The tables of its "Report" and "Trace" sections are parsed (first column: the backticked
+keys, ``NAME`` standing for a joint name and ``OBSTACLE`` for an obstacle name); a row
+ending in ``<!-- pending: … -->`` documents planned work and may be absent. A run with drives
+(so the drive keys and columns appear) must write every documented key and column, in the
+documented order for the trace, and nothing undocumented.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+from irlc.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+PENDING_ROW = re.compile(r"<!-- pending[^>]*--> \|\s*$")  # the whole row is planned work
+DOC = ROOT / "docs" / "interfaces.md"
+PROGRAM = """PROGRAM s;
+ROBOT r := koch11;
+BEGIN
+  MOVE LIN (11400, 1000, 3500, 0, 0, 0);
+  WRITELN('done');
+ENDPROGRAM
+"""
+
+
+def _section(title: str) -> str:
+    text = DOC.read_text(encoding="utf-8")
+    start = text.index(f"\n## {title}")
+    end = text.find("\n## ", start + 1)
+    return text[start : end if end >= 0 else None]
+
+
+def _rows(text: str) -> list[tuple[list[str], bool]]:
+    """``(keys of the first column, pending)`` per table row of ``text``."""
+    out = []
+    for line in text.splitlines():
+        cells = line.split(" | ")
+        if not line.startswith("| `") or len(cells) < 2:
+            continue
+        keys = [k.strip() for chunk in re.findall(r"`([^`]+)`", cells[0]) for k in chunk.split(",")]
+        out.append((keys, PENDING_ROW.search(line) is not None))
+    return out
+
+
+def _tables(section: str) -> list[list[tuple[list[str], bool]]]:
+    """The tables of a section, in order (a blank line ends a table)."""
+    return [rows for block in section.split("\n\n") if (rows := _rows(block))]
+
+
+def _documented(rows) -> tuple[set[str], set[str]]:
+    keys = {k for ks, pending in rows if not pending for k in ks}
+    pending = {k for ks, p in rows if p for k in ks}
+    return keys, pending
+
+
+@pytest.fixture(scope="module")
+def run_files(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("interfaces")
+    program = folder / "s.irl"
+    program.write_text(PROGRAM, encoding="utf-8")
+    report, trace = folder / "r.json", folder / "t.csv"
+    # drives lag the path by millimetres: the run states its tolerances (docs/drives.md)
+    tolerances = ["--path-tolerance", "200", "--orientation-tolerance", "10"]
+    argv = [str(program), "--drives", "decoupled", *tolerances, "-q", "--report", str(report)]
+    assert main([*argv, "--trace", str(trace)]) == 0
+    header = trace.read_text(encoding="utf-8").splitlines()[0].split(",")
+    return json.loads(report.read_text(encoding="utf-8")), header
+
+
+def test_report_keys_are_the_documented_ones(run_files):
+    report, _ = run_files
+    top, per_joint = _tables(_section("Report"))[:2]
+    keys, pending = _documented(top)
+    assert keys <= set(report), f"documented but not written: {sorted(keys - set(report))}"
+    extra = set(report) - keys - pending
+    assert not extra, f"written but not in docs/interfaces.md: {sorted(extra)}"
+    order = [k for ks, p in top if not p for k in ks]
+    assert [k for k in report if k in keys] == order, "report keys not in the documented order"
+    keys, pending = _documented(per_joint)
+    joint = report["joints"][0]
+    assert keys <= set(joint), f"documented but not written: {sorted(keys - set(joint))}"
+    assert not set(joint) - keys - pending, sorted(set(joint) - keys - pending)
+
+
+def _pattern(doc_name: str, joints: list[str]) -> re.Pattern:
+    name = "(?:" + "|".join(map(re.escape, joints)) + ")"
+    text = re.escape(doc_name).replace("NAME", name).replace("OBSTACLE", r"\w+")
+    return re.compile(text + r"\Z")
+
+
+def test_trace_columns_are_the_documented_ones_in_order(run_files):
+    report, header = run_files
+    rows = _tables(_section("Trace"))[0]
+    joints = report["joint_names"]
+    row_of = []  # the documented row each column matches
+    for column in header:
+        found = [
+            i
+            for i, (ks, _) in enumerate(rows)
+            if any(_pattern(k, joints).match(column) for k in ks)
+        ]
+        assert found, f"trace column {column!r} is not in docs/interfaces.md"
+        row_of.append(found[0])
+    assert row_of == sorted(row_of), "trace columns are not in the documented order"
+    for i, (ks, pending) in enumerate(rows):
+        if not pending and not any("OBSTACLE" in k for k in ks):  # the run has no obstacle
+            assert i in row_of, f"documented trace columns {ks} are not written"
