@@ -6,8 +6,9 @@ joint runs into its speed bound, and lowering the speed would not help. The caus
 decided in this order:
 
 0. **position_limit** — the binding bound is a position or braking bound and a joint
-   is within 0.5 deg (1 mm) of its active position limit: the path (as the cycles
-   follow it) needs that joint beyond its limit; slower does not help.
+   is within 0.5 deg (1 mm) of its active position limit at the failing cycle (or,
+   after steps 2–4, anywhere on the walk): the path (as the cycles follow it) needs that
+   joint beyond its limit; slower does not help.
 1. **singular** — the failing cycle's task Jacobian ``J`` (free joints, controlled rows)
    has ``σ_min/σ_max < SINGULAR_RATIO`` (or no well-conditioned basis was found).
    With ``J = UΣVᵀ`` the last left singular vector ``u_m`` is the task direction the TCP
@@ -105,6 +106,11 @@ def classify(
         return _singular_failure(
             message, held.worst, reach, line, time_s, constraint, "on the path"
         )
+    pressed = _pressed_on_walk(held.q, reach)
+    if pressed and constraint and (" position " in constraint or " braking " in constraint):
+        # the walk itself needs a joint at its limit: the cycles, which cannot jump to the
+        # walk's configurations, would need it beyond; slower does not help
+        return _position_failure(message, reach, res.q, pressed, constraint, line, time_s)
     return _speed_failure(message, seg, held, constraint, line, time_s)
 
 
@@ -163,6 +169,12 @@ def _at_position_limit(q: np.ndarray, reach: Reach) -> list[tuple[int, int]]:
     out = [(j, 0) for j in np.flatnonzero(q - lo <= margin)]
     out += [(j, 1) for j in np.flatnonzero(hi - q <= margin)]
     return sorted((int(j), side) for j, side in out)
+
+
+def _pressed_on_walk(configs: np.ndarray, reach: Reach) -> list[tuple[int, int]]:
+    """``(joint, side)`` at an active position limit anywhere on the walk (its start
+    excluded: that is where the segment began)."""
+    return sorted({hit for q in configs[1:] for hit in _at_position_limit(q, reach)})
 
 
 def _position_failure(message, reach: Reach, q, at_limit, constraint, line, time_s):

@@ -254,3 +254,15 @@ def test_obstacle_failure_names_obstacle():
     folder = Path(__file__).resolve().parents[1] / "runtime_acceptance" / "failing"
     run = run_file(folder / "f05_obstacle_inside.irl")
     assert run.report["error"]["cause"] == "obstacle", run.report["error"]
+
+
+def test_path_needing_a_joint_past_its_limit_is_not_blamed_on_the_speed(tmp_path):
+    """The turn needs panda_joint7 beyond 166°: at 45 deg/s its braking bound binds a
+    little before the limit. Main blamed the acceleration and suggested R_SPEED_ORI ≤ 21,
+    where the run then failed on the position limit; both speeds must name the limit."""
+    body = "  R_TOOL := (0, 0, 150, 0, 0, 0);\n  MOVE LIN (400, 0, 400, 180, 0, 180);\n"
+    for speed in ("", "  R_SPEED_ORI := 21;\n"):
+        run = _run(tmp_path, "turn", speed + body, "panda")
+        err = run.report["error"]
+        assert run.status == "failed" and err["cause"] == "position_limit", err["message"]
+        assert err["joints"] == ["a7"] and "lower speed does not" in err["message"]
