@@ -51,9 +51,7 @@ def write_report(report: dict, path: str | Path) -> Path:
     return atomic_write_text(path, report_json(report))
 
 
-def trace_csv(columns: list[str], table: np.ndarray, note: str | None = None) -> str:
-    """The trace as CSV; ``note`` (e.g. that the trace is partial) becomes a final
-    ``# note`` row, which :func:`load_run` skips."""
+def trace_csv(columns: list[str], table: np.ndarray) -> str:
     table = np.asarray(table, dtype=float)
     if table.ndim != 2 or table.shape[1] != len(columns):
         raise ValueError(f"trace has {table.shape} values for {len(columns)} columns")
@@ -70,23 +68,11 @@ def trace_csv(columns: list[str], table: np.ndarray, note: str | None = None) ->
         if line_col >= 0:
             cells[line_col] = str(int(row[line_col]))
         out.write(",".join(cells) + "\n")
-    if note:
-        out.write("# " + " ".join(note.split()) + "\n")
     return out.getvalue()
 
 
-def write_trace(
-    columns: list[str], table: np.ndarray, path: str | Path, note: str | None = None
-) -> Path:
-    return atomic_write_text(path, trace_csv(columns, table, note))
-
-
-def partial_note(error) -> str:
-    """The final row of a failed run's trace: it is partial, and why."""
-    line = f", line {error.line}" if getattr(error, "line", None) else ""
-    t = getattr(error, "time_s", None)
-    when = f" at t = {t:.3f} s" if t is not None else ""
-    return f"partial trace: the run failed{when}{line}: {getattr(error, 'message', error)}"
+def write_trace(columns: list[str], table: np.ndarray, path: str | Path) -> Path:
+    return atomic_write_text(path, trace_csv(columns, table))
 
 
 def _check_finite(obj: Any, where: str) -> None:
@@ -147,7 +133,7 @@ def _read_csv(path: Path, text: str) -> tuple[list[str], np.ndarray]:
     columns = [c.strip() for c in rows[0]]
     data = []
     for i, row in enumerate(rows[1:], start=2):
-        if not row or row[0].startswith("#"):
+        if not row:
             continue
         if len(row) != len(columns):
             raise RunFileError(f"{path}:{i}: {len(row)} values for {len(columns)} columns")

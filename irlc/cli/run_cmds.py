@@ -270,14 +270,13 @@ def _source_file(program: Path, code) -> Path:
 
 
 def _write_outputs(run, report_path, trace_path) -> None:
-    from irlc.report import partial_note, write_report, write_trace
+    from irlc.report import write_report, write_trace
 
     try:
         if report_path is not None:
             write_report(run.report, report_path)
         if trace_path is not None:
-            note = partial_note(run.error) if run.error is not None else None
-            write_trace(run.trace_columns, run.trace, trace_path, note)
+            write_trace(run.trace_columns, run.trace, trace_path)
     except OSError as exc:
         raise UsageError(f"cannot write {exc.filename}: {exc.strerror}") from None
 

@@ -139,18 +139,6 @@ def test_a_failure_in_code_without_any_line_says_so(tmp_path, capsys) -> None:
     assert "(the code records no source line for it): WAIT -1.0 SEC" in err
 
 
-def test_a_failed_runs_trace_says_it_is_partial(tmp_path, capsys) -> None:
-    from irlc.report import load_run
-
-    code, _, _ = run(tmp_path, capsys, "WAIT 0.05 SEC;\nMOVE PTP (0, 200, 0);")
-    assert code == 2
-    rows = (tmp_path / "t.csv").read_text("utf-8").splitlines()
-    assert rows[-1].startswith("# partial trace: the run failed at t = 0.050 s, line 5: PTP")
-    assert len(load_run(tmp_path / "t.csv").trace) == len(rows) - 2  # header and note
-    code, _, _ = run(tmp_path, capsys, "WAIT 0.05 SEC;")
-    assert code == 0 and not (tmp_path / "t.csv").read_text("utf-8").count("#")
-
-
 def test_library_noise_does_not_reach_stderr(capsys, caplog) -> None:
     import logging
     import warnings
