@@ -76,6 +76,7 @@ JOINT_KEYS = {
     "position",
     "speed",
     "accel",
+    "jerk",
     "weight",
     "assumed",
     "reason",
@@ -477,7 +478,8 @@ def _read_joint_limits(rd: Reader, row: dict, key: str, kind: str) -> Limits:
             raise rd.fail(
                 f"{key}.{k}", "expected min < 0 < max (the joint must be able to move both ways)"
             )
-    return Limits(pos, speed, accel)
+    jerk = rd.positive(row["jerk"], f"{key}.jerk") * s if "jerk" in row else None
+    return Limits(pos, speed, accel, jerk)
 
 
 def _read_home(rd: Reader, robot: dict, joints: list[Joint], default) -> np.ndarray | None:
@@ -526,6 +528,7 @@ def _read_limit_sets(rd: Reader, table: Any, joints: list[Joint]) -> dict[str, t
                 per_kind["position"][i] if "position" in per_kind else j.limits.position,
                 per_kind["speed"][i] if "speed" in per_kind else j.limits.speed,
                 per_kind["accel"][i] if "accel" in per_kind else j.limits.accel,
+                j.limits.jerk,
             )
             for i, j in enumerate(joints)
         )

@@ -358,6 +358,8 @@ class SimulatedController:
         phase = int(seg.profile.phase((k - 0.5) * dt))
         if phase != 0:
             return {j: "accel max" if phase > 0 else "accel min"}
+        if float(seg.profile.speed((k - 0.5) * dt)) < seg.profile.cruise:
+            return None  # an S-curve's jerk phases: no speed or acceleration bound active
         vmax = seg.limits[1][j, 1] if seg.path.q1[j] >= seg.path.q0[j] else -seg.limits[1][j, 0]
         if seg.info["joint_speed"][j] >= vmax * (1.0 - 1e-9):
             return {j: "speed max"}
