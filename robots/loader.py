@@ -801,7 +801,7 @@ def _from_urdf(rd: Reader, robot: dict, folder: Path, doc: dict) -> tuple[list[J
 
         for i, row in enumerate(rows):
             key = f"joints[{i + 1}]"
-            rd.table(row, key, {"name", "weight", "accel", "assumed", "reason"})
+            rd.table(row, key, {"name", "weight", "accel", "jerk", "assumed", "reason"})
             rd.assumption(row, key)
             if "name" in row and row["name"] != joints[i].name:
                 raise rd.fail(f"{key}.name", f"expected {joints[i].name!r} (URDF order)")
@@ -812,6 +812,9 @@ def _from_urdf(rd: Reader, robot: dict, folder: Path, doc: dict) -> tuple[list[J
                 limits = replace(joints[i].limits, accel=accel)
                 joints[i] = replace(joints[i], limits=limits)
                 model.extra["assumed"].pop(f"joint '{joints[i].name}' acceleration", None)
+            if "jerk" in row:
+                jerk = rd.positive(row["jerk"], f"{key}.jerk") * _scale(rd, joints[i].kind)
+                joints[i] = replace(joints[i], limits=replace(joints[i].limits, jerk=jerk))
     fixed = {
         "urdf_extra": model.extra,
         "flange": model.flange,
