@@ -55,34 +55,38 @@ class SCurve:
     jerk: float
     accel_bound: float
 
+    def __post_init__(self) -> None:  # the phase times, once (at() is the per-cycle path)
+        t1 = self.accel / self.jerk
+        t2 = max(0.0, self.cruise / self.accel - t1)
+        object.__setattr__(self, "_t", (t1, t2, 2.0 * t1 + t2))
+
     @property
     def t_jerk(self) -> float:
         """``t₁``: one jerk phase."""
-        return self.accel / self.jerk
+        return self._t[0]
 
     @property
     def t_const(self) -> float:
         """``t₂``: the constant-acceleration phase (0 when ``a`` is not reached)."""
-        return max(0.0, self.cruise / self.accel - self.accel / self.jerk)
+        return self._t[1]
 
     @property
     def t_acc(self) -> float:
         """``t_a``: the whole acceleration phase."""
-        return 2.0 * self.t_jerk + self.t_const
+        return self._t[2]
 
     def _rise(self, tau: float) -> tuple[float, float, float, float]:
         """``(s, ṡ, s̈, s⃛)`` at ``0 ≤ τ ≤ t_a`` of the acceleration phase."""
         j, ap, vc = self.jerk, self.accel, self.cruise
-        t1, t2 = self.t_jerk, self.t_const
+        t1, t2, ta = self._t
         if tau <= t1:
             return j * tau**3 / 6.0, 0.5 * j * tau * tau, j * tau, j
         if tau <= t1 + t2:
             u = tau - t1
             v1 = 0.5 * j * t1 * t1
             return j * t1**3 / 6.0 + v1 * u + 0.5 * ap * u * u, v1 + ap * u, ap, 0.0
-        w = max(0.0, 2.0 * t1 + t2 - tau)
-        s_a = 0.5 * vc * (2.0 * t1 + t2)
-        return s_a - (vc * w - j * w**3 / 6.0), vc - 0.5 * j * w * w, j * w, -j
+        w = max(0.0, ta - tau)
+        return 0.5 * vc * ta - (vc * w - j * w**3 / 6.0), vc - 0.5 * j * w * w, j * w, -j
 
     def state(self, t: float) -> tuple[float, float, float, float]:
         """``(s, ṡ, s̈, s⃛)`` at time ``t`` (rest at 0 before, at 1 after the profile)."""
@@ -91,7 +95,7 @@ class SCurve:
             return 1.0, 0.0, 0.0, 0.0
         if t <= 0.0:
             return 0.0, 0.0, 0.0, 0.0
-        ta = self.t_acc
+        ta = self._t[2]
         if t <= ta:
             return self._rise(t)
         if t >= T - ta:

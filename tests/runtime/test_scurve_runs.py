@@ -198,3 +198,15 @@ def test_scurve_lowers_peak_currents_and_following_errors_with_drives(tmp_path):
     # 3.08 → 1.89 A (the trapezoid's acceleration steps excite the loops)
     assert sum(scur[j][1] for j in moving) <= 0.95 * sum(trap[j][1] for j in moving)
     assert sum(scur[j][0] for j in moving) < sum(trap[j][0] for j in moving)
+
+
+def test_limit_activity_marks_only_the_held_acceleration(tmp_path):
+    # A1 60 deg at 44 deg/s, 120 deg/s², jerk 120 · 10000/1000 = 1200 deg/s³: the
+    # acceleration is held for t₂ = 44/120 − 120/1200 = 0.267 s at each end (the trapezoid
+    # holds it for its whole ramp, 44/120 = 0.367 s)
+    body = """  R_SPEED_PTP := 100;  R_ACC_PTP := 100;  R_JERK := 10000;
+  MOVE PTP (150, 0, 0, -45, 0);"""
+    for profile, held in (("SCURVE", 44 / 120 - 0.1), ("TRAPEZOID", 44 / 120)):
+        activity = _run(tmp_path, body, profile).report["joints"][0]["limit_activity"]
+        for side in ("accel max", "accel min"):
+            assert activity[side] == pytest.approx(held, abs=2 * DT), (profile, activity)
