@@ -5,7 +5,9 @@ than the trapezoid on the same program)."""
 
 from __future__ import annotations
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -210,3 +212,25 @@ def test_limit_activity_marks_only_the_held_acceleration(tmp_path):
         activity = _run(tmp_path, body, profile).report["joints"][0]["limit_activity"]
         for side in ("accel max", "accel min"):
             assert activity[side] == pytest.approx(held, abs=2 * DT), (profile, activity)
+
+
+PROGRAMS = Path(__file__).resolve().parents[2] / "programs"
+
+
+@pytest.mark.parametrize("name", ["combined", "mobile8_freeze"])
+def test_scurve_with_the_redundancy_options(tmp_path, name):
+    """The golden programs (JOINTLIMIT family, CYCLIC, RECONFIGURATION, OBSTACLE, FREEZE)
+    with R_PROFILE := 'SCURVE' first: they run within every bound and tolerance, a little
+    slower than with the trapezoid (their golden duration)."""
+    runs = {}
+    for profile in ("SCURVE", "TRAPEZOID"):
+        source = (PROGRAMS / f"{name}.irl").read_text(encoding="utf-8")
+        source = source.replace("BEGIN\n", f"BEGIN\n  R_PROFILE := '{profile}';\n", 1)
+        runs[profile] = run_code(compile_program(PROGRAMS / f"{name}.irl", source=source))
+        assert runs[profile].status == "ok", runs[profile].error
+    golden = json.loads((PROGRAMS / f"{name}.expected.json").read_text(encoding="utf-8"))
+    assert runs["TRAPEZOID"].report["duration_s"] == pytest.approx(golden["duration_s"])
+    assert runs["SCURVE"].report["duration_s"] > golden["duration_s"]
+    # the same last point (the joints may differ: the self-motion depends on the timing)
+    end = [r.tcp[-1] for r in runs.values()]
+    assert np.allclose(end[0], end[1], atol=1e-6)
