@@ -66,6 +66,7 @@ def test_single_joint_ptp_duration_and_jerk_from_the_trace(tmp_path):
     # differences of positions sampled from a piecewise cubic: a weighted mean of the jerk
     assert np.abs(jerk).max() <= 240.0 * (1 + 1e-6)
     assert np.abs(jerk).max() >= 0.95 * 240.0  # and the bound is used
+    assert run.report["joints"][0]["max_abs_jerk"] == pytest.approx(np.abs(jerk).max(), rel=1e-6)
     assert _column(run, "a1_deg")[-1] == pytest.approx(120.0, abs=1e-9)
 
     trapezoid = _run(tmp_path, SINGLE_JOINT, "TRAPEZOID")  # the same move, unlimited jerk
@@ -73,6 +74,7 @@ def test_single_joint_ptp_duration_and_jerk_from_the_trace(tmp_path):
     expected = math.ceil((30 / 44 + 44 / 120) / DT) * DT
     assert trapezoid.report["duration_s"] == pytest.approx(expected, abs=1e-9)
     assert np.abs(_trace_jerk(trapezoid, "a1_accel_deg_s2")).max() > 10 * 240.0
+    assert trapezoid.report["joints"][0]["max_abs_jerk"] > 10 * 240.0
 
 
 def test_stretched_multi_joint_ptp_keeps_the_jerk_and_synchronises(tmp_path):
