@@ -14,11 +14,6 @@ import math
 
 import click
 import numpy as np
-from rich import box
-from rich.console import Console
-from rich.markup import escape
-from rich.table import Table
-
 from irlc.cli.app import cli
 from irlc.errors import EXIT_RUN, UsageError
 from irlc.robots import RobotFileError, list_robots, load_robot
@@ -28,6 +23,10 @@ from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.reachability import check_vertical_plane
+from rich import box
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
 
 RAW = {"ignore_unknown_options": True}
 MAX_POSITION_MM = 1e9  # 1000 km: beyond it a target is a typo, and squares overflow
