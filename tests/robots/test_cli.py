@@ -6,11 +6,10 @@ import json
 
 import numpy as np
 import pytest
+from irlc.cli import main
 from irlc.robots import load_robot
 from irlc.runtime import units
 from irlc.runtime.kinematics import Kinematics
-
-from irlc.cli import main
 
 
 def run(capsys, *args: str) -> tuple[int, str, str]:
