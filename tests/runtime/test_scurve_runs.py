@@ -198,7 +198,7 @@ def test_scurve_lowers_peak_currents_and_following_errors_with_drives(tmp_path):
     for j in moving:
         assert scur[j][0] <= trap[j][0] * (1 + 1e-3), (j, scur[j], trap[j])
         assert scur[j][1] <= trap[j][1] * (1 + 1e-3), (j, scur[j], trap[j])
-    # measured: 25.9 A → 23.6 A summed over the joints, A1's peak 1.48 → 1.15 A, A5's
+    # measured: 25.8 A → 23.6 A summed over the joints, A1's peak 1.48 → 1.15 A, A5's
     # 3.08 → 1.89 A (the trapezoid's acceleration steps excite the loops)
     assert sum(scur[j][1] for j in moving) <= 0.95 * sum(trap[j][1] for j in moving)
     assert sum(scur[j][0] for j in moving) < sum(trap[j][0] for j in moving)
