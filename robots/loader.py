@@ -25,9 +25,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
-
 from irlc.files import read_user_text
+from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
 
 ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 LENGTH_UNITS = {"m": 1.0, "mm": 1e-3}
