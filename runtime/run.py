@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from irlc.files import read_user_text
 from irlc.lang.irdata import Code
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
@@ -33,8 +34,6 @@ from irlc.runtime.errors import RunFailure
 from irlc.runtime.executor import ExecutionOptions, SimulatedController
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.recorder import RecordedRun
-
-from irlc.files import read_user_text
 
 DRIVE_LEVELS = ("ideal", "decoupled", "coupled", "pwm")
 

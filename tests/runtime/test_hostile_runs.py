@@ -8,9 +8,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from irlc.lang.irdata import MAX_STRING
-
 from irlc.cli import main
+from irlc.lang.irdata import MAX_STRING
 
 
 def run(tmp_path: Path, capsys, body: str, robot: str = "planar3", *extra: str):
@@ -144,7 +143,6 @@ def test_library_noise_does_not_reach_stderr(capsys, caplog) -> None:
     import warnings
 
     import numpy as np
-
     from irlc.cli import _quiet_libraries
 
     with warnings.catch_warnings():

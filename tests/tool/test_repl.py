@@ -7,7 +7,6 @@ import subprocess
 import sys
 
 import pytest
-
 from irlc.repl import (
     block_depth,
     classify,
@@ -296,10 +295,9 @@ def test_unclosed_block_finds_the_innermost_open_block():
 @pytest.mark.skipif(not _compiler_available(), reason="compiler/runtime not installed")
 def test_the_session_survives_an_entry_that_escapes_the_interpreter(monkeypatch):
     # A failure escaping the interpreter ended the whole session with exit 4 (state lost).
+    from irlc.repl import Session
     from irlc.robots import RobotFileError
     from irlc.runtime.interpreter import Interpreter
-
-    from irlc.repl import Session
 
     session = Session("planar3")
     assert session.enter("VAR REAL: x;").failure == 0
