@@ -510,7 +510,7 @@ class Session:
         s = self.state.settings
         out.append(f"R_SPEED {_fmt(s.speed)}  R_ACC {_fmt(s.acc)}  R_SPEED_ORI {_fmt(s.speed_ori)}"
                    f"  R_SPEED_PTP {_fmt(s.speed_ptp)}  R_IPO {_fmt(s.ipo)}"
-                   f"  R_PATH_TOL {_fmt(s.path_tol)}")  # fmt: skip
+                   f"  R_PATH_TOL {_fmt(s.path_tol)}  R_OVERRIDE {_fmt(s.override)}")  # fmt: skip
         out.append(self._tool_line())
         return out if len(out) > 2 else ["no modal options active", *out]
 

@@ -97,6 +97,9 @@ SETTINGS: tuple[Setting, ...] = (
             "interpolation (IPO) cycle", 0.01),
     Setting("path_tol", "R_PATH_TOL", None, _positive("mm", math.inf), (),
             "path tolerance (start value: --path-tolerance)", 0.05),
+    Setting("override", "R_OVERRIDE", None, SettingRange(1.0, 100.0, "%", closed=True), (),
+            "program override (start value: --override): speeds ×k, accelerations ×k², "
+            "WITH TIME ÷k, k = R_OVERRIDE/100", 100.0),
 )  # fmt: skip
 
 BY_FIELD: dict[str, Setting] = {s.field: s for s in SETTINGS}

@@ -60,6 +60,7 @@ class Settings:
     base: Pose = field(default_factory=lambda: Pose(Position(0.0, 0.0, 0.0), IDENTITY))
     ipo: float = _default("ipo")  # R_IPO, s
     path_tol: float = _default("path_tol")  # R_PATH_TOL, mm (start: --path-tolerance)
+    override: float = _default("override")  # R_OVERRIDE, % (start: --override)
 
 
 # The range table of the numeric settings is lang/settings.py (one row per setting; the

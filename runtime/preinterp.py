@@ -75,7 +75,19 @@ def _setting(cmd: MotionCommand, settings: Settings, name: str) -> float:
     message = setting_message(name, value, what)
     if message is not None:
         raise RunFailure(message, cmd.line)
-    return float(value)
+    return float(value) * override_factor(settings) ** _OVERRIDE_POWER.get(name, 0)
+
+
+# How R_OVERRIDE scales a setting: value · k^power (a time scaling, see the module doc).
+_OVERRIDE_POWER = {"speed": 1, "speed_ori": 1, "speed_ptp": 1, "acc": 2, "acc_ptp": 2}
+
+
+def override_factor(settings: Settings) -> float:
+    """``k = R_OVERRIDE / 100`` (checked against its row of lang/settings.py)."""
+    message = setting_message("override", settings.override, "R_OVERRIDE")
+    if message is not None:
+        raise RunFailure(message)
+    return float(settings.override) / 100.0
 
 
 def tool_transform(model: RobotModel, settings: Settings) -> np.ndarray:
@@ -255,7 +267,7 @@ class PreInterpolator:
                     cmd.line,
                 )
         v, a, slowest = common_bounds(np.abs(delta), vmax, amax)
-        duration = self._time(cmd, npts, minimum_time(v, a) if slowest >= 0 else 0.0)
+        duration = self._time(cmd, settings, npts)
         profile = self._profile(v, a, duration, dt, cmd.line)
         limiting = ""
         if slowest >= 0:
@@ -309,7 +321,7 @@ class PreInterpolator:
             v, a, slowest = common_bounds([path.length, angle], [speed, w], [acc, w_acc])
             tmin = minimum_time(v, a) if slowest >= 0 else 0.0
             bounds.append((v, a, slowest, tmin))
-        times = self._split_time(cmd, [b[3] for b in bounds])
+        times = self._split_time(cmd, settings, [b[3] for b in bounds])
         refs = self._references(cmd, state.q, paths)
         out = []
         for path, (v, a, slowest, _), t, ref in zip(paths, bounds, times, refs, strict=True):
@@ -361,22 +373,25 @@ class PreInterpolator:
             raise RunFailure(f"expected a POSE target, got {type(pose).__name__}")
         return state.base @ units.pose_value_to_si(pose)
 
-    def _time(self, cmd, npts: int, t_min: float) -> float | None:
+    def _time(self, cmd, settings, npts: int) -> float | None:
+        """``WITH TIME`` stretched by the override (``t / k``), or ``None``."""
         if cmd.time is None:
             return None
         if npts > 1:
             raise RunFailure("WITH TIME on a multi-target PTP is not supported", cmd.line)
-        return float(cmd.time)
+        return float(cmd.time) / override_factor(settings)
 
-    def _split_time(self, cmd, tmins: list[float]) -> list[float | None]:
+    def _split_time(self, cmd, settings, tmins: list[float]) -> list[float | None]:
         if cmd.time is None:
             return [None] * len(tmins)
-        total = float(cmd.time)
+        k = override_factor(settings)
+        total = float(cmd.time) / k
         tsum = sum(tmins)
         if total < tsum * (1.0 - 1e-12):
+            at = "" if k == 1.0 else f" at R_OVERRIDE {settings.override:g} %"
             raise RunFailure(
-                f"WITH TIME := {total:g} s is shorter than the {tsum:.6g} s the speed and "
-                "acceleration limits allow",
+                f"WITH TIME := {float(cmd.time):g} s{at} is shorter than the {tsum * k:.6g} s "
+                "the speed and acceleration limits allow",
                 cmd.line,
             )
         if tsum == 0.0:
