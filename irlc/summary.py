@@ -162,10 +162,42 @@ def tool_text(tool: dict) -> tuple[str, str]:
     )
 
 
+MAX_STATEMENT_ROWS = 20  # rows of the cycle-time table in the summary (all in the report)
+
+
+def statements_table(report: dict) -> Table | None:
+    """Cycle time per statement (``statements`` of the report): line, statement, start,
+    duration, stop, binding limit; the durations' sum is the run's duration."""
+    rows = report.get("statements") or []
+    if not rows:
+        return None
+    table = Table(
+        title="cycle time per statement (s)", title_justify="left", show_edge=False,
+        pad_edge=False,
+    )  # fmt: skip
+    for name, justify in (("line", "right"), ("statement", "left"), ("start", "right"),
+                          ("duration", "right"), ("stop", "left"), ("limit", "left")):  # fmt: skip
+        table.add_column(name, justify=justify, overflow="fold")
+    for r in rows[:MAX_STATEMENT_ROWS]:
+        text = r["statement"] if len(r["statement"]) <= 40 else r["statement"][:39] + "…"
+        table.add_row(
+            str(r["line"]), text, _num(r["start_s"], ".3f"), _num(r["duration_s"], ".3f"),
+            r["stop"] or "—", r["limit"] or "—",
+        )  # fmt: skip
+    more = len(rows) - MAX_STATEMENT_ROWS
+    total = sum(r["duration_s"] or 0.0 for r in rows)
+    label = f"… {more} more (report: statements)" if more > 0 else "sum"
+    table.add_row("", Text(label, style="dim"), "", Text(f"{total:.3f}", style="bold"), "", "")
+    return table
+
+
 def render_summary(report: dict, console: Console) -> None:
     parts: list = [overview_table(report)]
     if report.get("joints"):
         parts += [Text(""), joints_table(report)]
+    statements = statements_table(report)
+    if statements is not None:
+        parts += [Text(""), statements]
     warnings = report.get("warnings") or []
     if warnings:
         shown = warnings[:10]

@@ -37,6 +37,7 @@ import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime import spatial, units
 from irlc.runtime.controller import ModalOptions, MotionCommand, Settings, setting_error
+from irlc.runtime.cycle_time import KIND_WORDS, StatementSpan, motion_limit
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik.freeze import FrozenJoints
 from irlc.runtime.ik.newton import InverseTransformation
@@ -108,6 +109,7 @@ class SimulatedController:
         self.dt_used = self.opts.ipo if self.opts.ipo is not None else Settings().ipo
         self.recorder.tol_position = self.opts.tol_position
         self._start_tool = b""  # the tool (bytes) the start sample was stamped with
+        self.statements: list[StatementSpan] = []  # cycle time per statement (cycle_time.py)
         self._record_initial()
 
     # ------------------------------------------------------------------ protocol
@@ -131,9 +133,17 @@ class SimulatedController:
         solver = self._solver(settings)
         state = self._plan_state(settings, solver)
         self._settings = settings
-        segments = self.pre.plan(cmd, settings, options, state)
-        for seg in segments:
-            self._run_segment(seg, settings, options, solver)
+        t0, segments, stop = self._t, [], "failed"
+        try:
+            segments = self.pre.plan(cmd, settings, options, state)
+            for seg in segments:
+                self._run_segment(seg, settings, options, solver)
+            stop = "approximated" if (getattr(cmd, "approx", None) or 0) > 0 else "exact"
+        finally:
+            limit = motion_limit([s.limiting for s in segments], cmd.time is not None)
+            joint = next((s.limiting_joint for s in segments if s.limiting_joint >= 0), -1)
+            kind = KIND_WORDS.get(cmd.kind, cmd.kind)
+            self._log_statement(kind, cmd.line, t0, stop, limit, joint)
 
     def reconfigure(
         self, target: JointTuple, line: int, settings: Settings, options: ModalOptions
@@ -153,6 +163,16 @@ class SimulatedController:
         cycle_opts = self._cycle_options(hold, options)
         cycle_opts.self_motion = True
         settle = max(1, math.ceil(self.opts.reconf_settle_s / dt))
+        t0, stop = self._t, "failed"
+        try:
+            self._reconf_cycles(ref_seg, k, hold, cycle_opts, solver, dt, settle, line)
+            stop = "exact"
+        finally:
+            limit = ref_seg.limiting
+            self._log_statement("RECONFIGURATION", line, t0, stop, limit, ref_seg.limiting_joint)
+
+    def _reconf_cycles(self, ref_seg, k, hold, cycle_opts, solver, dt, settle, line) -> None:
+        """The self-motion's cycles: follow the reference, then settle (module doc)."""
         k_cyc = 0
         while True:
             k_cyc += 1
@@ -187,10 +207,16 @@ class SimulatedController:
         self.q_prev = self.q.copy()  # standing still: q, and so the sample, do not change
         tcp = self._solver(settings).kin.tcp(self.q)
         rec = self.recorder
+        t0 = self._t
         for _ in range(n):
             self._t = _advance(self._t, dt)
             rec.add(self._t, line, self.q, tcp, None)
             self._tick()
+        self._log_statement("WAIT", line, t0, None, "")
+
+    def _log_statement(self, kind, line: int, t0: float, stop, limit: str, joint=-1) -> None:
+        """One span of the cycle-time table (``statements`` of the report)."""
+        self.statements.append(StatementSpan(line, kind, t0, self._t, stop, limit, joint))
 
     def check_switch_on(
         self, option: str, line: int, settings: Settings, options: ModalOptions

@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 from irlc.runtime import units
+from irlc.runtime.cycle_time import source_lines, statement_rows
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.recorder import RecordedRun, finite_differences
@@ -43,7 +44,10 @@ def rnd(x: float | None, digits: int = ROUND) -> float | None:
     return v + 0.0  # no negative zero
 
 
-def assemble(code, model, controller, obstacles, execution, opts, drives: str, every_step: bool):
+def assemble(
+    code, model, controller, obstacles, execution, opts, drives: str, every_step: bool,
+    base_dir=None,
+):  # fmt: skip
     """The :class:`RunResult`. With drives the report, the trace and the verdict are those
     of the actual motion (:mod:`irlc.runtime.actual_motion`, :mod:`irlc.runtime.verdict`);
     the first violated criterion fails the run (exit 2) unless it failed already."""
@@ -84,6 +88,10 @@ def assemble(code, model, controller, obstacles, execution, opts, drives: str, e
     )
     if error is not None and error is not execution.error:  # a drive failure
         report["status"], report["error"] = "failed", _error_dict(error)
+    naming = JointNaming.for_model(model, code.joint_names)
+    report["statements"] = statement_rows(
+        controller.statements, source_lines(code.source, base_dir), rnd, naming.label
+    )
     trace_motion = actual
     if drive is not None and every_step:
         trace_motion = measure_actual(model, rec, controller, obstacles, drive.t, drive.q_actual)
@@ -267,6 +275,7 @@ def build_report(
         "robot_joint_names": list(model.joint_names),
         "program_name": code.program,
         "tool": tool_report(model, execution.state.settings.tool),
+        "statements": [],  # cycle time per statement, filled by assemble (cycle_time.py)
     }
     if drive is not None:
         from irlc.runtime.drives import report_axes

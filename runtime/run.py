@@ -213,7 +213,9 @@ def run_code(
     execution = _interpret(code, controller, settings, output, budget)
     from irlc.runtime.results import assemble
 
-    return assemble(code, model, controller, obstacles, execution, opts, drives, trace_every_step)
+    return assemble(
+        code, model, controller, obstacles, execution, opts, drives, trace_every_step, base
+    )
 
 
 def _positive(option: str, value, unit: str) -> float:
