@@ -864,9 +864,12 @@ class Interpreter:
         return value
 
     def _next_input_change(self, t: float) -> float | None:
+        """The next time an input — or an output with a PULSE's end still ahead — changes."""
+        outputs = self.state.outputs
+        timelines = [(events, self._input(n, t)) for n, events in self._inputs.items()]
+        timelines += [(events, outputs.value(n, t)) for n, events in outputs.switches.items()]
         best = None
-        for n, events in self._inputs.items():
-            current = self._input(n, t)
+        for events, current in timelines:
             for time, v in events:
                 if time > t + TIME_TOLERANCE and v != current:
                     best = time if best is None else min(best, time)

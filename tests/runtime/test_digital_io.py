@@ -154,3 +154,16 @@ def test_a_declared_out_is_the_programs_own(tmp_path):
     run = run_file(path)
     assert run.ok and run.output == ["5"]
     assert not any(c.startswith("out_") for c in run.trace_columns)
+
+
+def test_wait_for_the_end_of_a_pulse(tmp_path):
+    path = tmp_path / "wf.irl"
+    path.write_text(
+        "PROGRAM wf;\nROBOT r := planar3;\nBEGIN\n  PULSE(OUT[1], 0.25);\n"
+        "  WAIT FOR NOT OUT[1];\n  WRITELN(OUT[1]);\nENDPROGRAM\n",
+        encoding="utf-8",
+    )
+    run = run_file(path)
+    assert run.ok and run.output == ["FALSE"]
+    assert run.report["duration_s"] == pytest.approx(0.25)
+    assert [r["kind"] for r in run.report["statements"]] == ["WAIT"]
