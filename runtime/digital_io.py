@@ -1,5 +1,5 @@
 """Digital inputs and outputs over simulated time: the outputs' timelines and the trace
-columns ``in_<n>`` / ``out_<n>``.
+columns ``in_<n>`` / ``out_<n>`` / ``signal_<name>`` (SIGNAL variables, from their events).
 
 An output's timeline is a list of switches ``(t, value)`` in time order; its value at
 time ``t`` is that of the last switch at or before ``t`` (FALSE before the first), the
@@ -62,15 +62,27 @@ def value_at(timeline: Sequence[tuple[float, bool]], t: float) -> bool:
     return value
 
 
+def signal_timelines(events: Sequence[dict]) -> dict[str, list[tuple[float, bool]]]:
+    """``name → [(t, value), …]`` of the SIGNAL variables, from their ``signal`` events."""
+    out: dict[str, list[tuple[float, bool]]] = {}
+    for e in events:
+        if e.get("kind") == "signal":
+            out.setdefault(str(e["name"]), []).append((float(e["time_s"]), bool(e["value"])))
+    return out
+
+
 def io_columns(
     times: np.ndarray,
     inputs: Mapping[int, Sequence[tuple[float, bool]]],
     outputs: Outputs,
+    signals: Mapping[str, Sequence[tuple[float, bool]]] | None = None,
 ) -> tuple[list[str], np.ndarray]:
-    """Trace columns ``in_<n>`` (every input of the data lists) then ``out_<n>`` (every
-    output the run switched), each in increasing ``n``: 0/1 at every row time."""
+    """Trace columns ``in_<n>`` (every input of the data lists), ``out_<n>`` (every output
+    the run switched), each in increasing ``n``, then ``signal_<name>`` (every SIGNAL the
+    run wrote, by name): 0/1 at every row time."""
     names, cols = [], []
-    for prefix, timelines in (("in", inputs), ("out", outputs.switches)):
+    groups = (("in", inputs), ("out", outputs.switches), ("signal", signals or {}))
+    for prefix, timelines in groups:
         for n in sorted(timelines):
             timeline = sorted(timelines[n], key=lambda e: e[0])
             names.append(f"{prefix}_{n}")

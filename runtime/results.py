@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 from irlc.runtime import units
 from irlc.runtime.cycle_time import source_lines, statement_rows
-from irlc.runtime.digital_io import io_columns
+from irlc.runtime.digital_io import io_columns, signal_timelines
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.recorder import RecordedRun, finite_differences
@@ -97,7 +97,8 @@ def assemble(
     if drive is not None and every_step:
         trace_motion = measure_actual(model, rec, controller, obstacles, drive.t, drive.q_actual)
     columns, table = build_trace(model, rec, names, drive, trace_motion)
-    io_names, io_table = io_columns(table[:, 0], code.inputs, execution.state.outputs)
+    signals = signal_timelines(execution.events)
+    io_names, io_table = io_columns(table[:, 0], code.inputs, execution.state.outputs, signals)
     columns, table = columns + io_names, np.hstack((table, io_table))
     if trace_motion is not None:
         times, q_actual, tcp = trace_motion.times, trace_motion.q, trace_motion.tcp

@@ -20,6 +20,7 @@ DATALIST = """# the cell
 PROGRAM = """PROGRAM io;
 ROBOT r := planar3;
 IMPORT DATALIST cell;
+VAR SIGNAL: gripper;
 BEGIN
   R_SPEED := 200;
   R_ACC := 500;
@@ -32,6 +33,7 @@ BEGIN
   WAIT 0.4 SEC;
   WRITELN(OUT[1]);
   OUT[3] := FALSE;
+  gripper := TRUE;
   PULSE(OUT[7], 2);
   MOVE LIN POSE(1000, 0, 0, 0, 0, 0);
   PULSE(OUT[8], 2);
@@ -60,14 +62,14 @@ def test_events_at_the_statements_times(io_run):
     t2 = round(2 * T_LIN + 0.6, 9)  # after the second LIN (1000 mm again: 5.4 s)
     t0 = round(T_LIN, 9)
     assert got == [
-        (7, 0.0, 3, True),
-        (9, t0, 1, True),
-        (9, round(t0 + 0.5, 9), 1, False),  # the pulse's end, sorted in by time
-        (15, round(t0 + 0.6, 9), 3, False),
-        (16, round(t0 + 0.6, 9), 7, True),
-        (16, round(t0 + 2.6, 9), 7, False),
-        (18, t2, 8, True),
-        (19, t2, 8, False),  # the assignment dropped the pulse's end
+        (8, 0.0, 3, True),
+        (10, t0, 1, True),
+        (10, round(t0 + 0.5, 9), 1, False),  # the pulse's end, sorted in by time
+        (16, round(t0 + 0.6, 9), 3, False),
+        (18, round(t0 + 0.6, 9), 7, True),
+        (18, round(t0 + 2.6, 9), 7, False),
+        (20, t2, 8, True),
+        (21, t2, 8, False),  # the assignment dropped the pulse's end
     ]  # fmt: skip
     assert events[1]["pulse_s"] == 0.5
     times = [e["time_s"] for e in run.report["events"]]
@@ -76,23 +78,24 @@ def test_events_at_the_statements_times(io_run):
 
 def test_trace_columns_follow_the_timelines(io_run):
     _, rows, _ = io_run
-    assert list(rows[0])[-5:] == ["in_2", "out_1", "out_3", "out_7", "out_8"]
+    columns = ["in_2", "out_1", "out_3", "out_7", "out_8", "signal_gripper"]
+    assert list(rows[0])[-6:] == columns
 
-    def at(t: float) -> tuple[str, ...]:
+    def at(t: float) -> str:
         row = min(rows, key=lambda r: abs(float(r["t_s"]) - t))
         assert float(row["t_s"]) == pytest.approx(t, abs=1e-9)
-        return tuple(row[c] for c in ("in_2", "out_1", "out_3", "out_7", "out_8"))
+        return "".join(row[c] for c in columns)
 
-    assert at(0.0) == ("0", "0", "1", "0", "0")
-    assert at(2.99) == ("0", "0", "1", "0", "0")
-    assert at(3.0) == ("1", "0", "1", "0", "0")  # the data list's input switches at 3 s
-    assert at(5.39) == ("1", "0", "1", "0", "0")
-    assert at(5.4) == ("1", "1", "1", "0", "0")  # PULSE right after the LIN: its last row
-    assert at(5.89) == ("1", "1", "1", "0", "0")
-    assert at(5.9) == ("1", "0", "1", "0", "0")  # 0.5 s later
-    assert at(6.0) == ("1", "0", "0", "1", "0")
-    assert at(7.99) == ("1", "0", "0", "1", "0")
-    assert at(8.0) == ("1", "0", "0", "0", "0")  # PULSE(OUT[7], 2) ended during the LIN
+    assert at(0.0) == "001000"
+    assert at(2.99) == "001000"
+    assert at(3.0) == "101000"  # the data list's input switches at 3 s
+    assert at(5.39) == "101000"
+    assert at(5.4) == "111000"  # PULSE right after the LIN: in the LIN's last row
+    assert at(5.89) == "111000"
+    assert at(5.9) == "101000"  # 0.5 s later
+    assert at(6.0) == "100101"  # OUT[3] off, gripper on, PULSE(OUT[7], 2)
+    assert at(7.99) == "100101"
+    assert at(8.0) == "100001"  # PULSE(OUT[7], 2) ended during the LIN
 
 
 def test_ird_round_trip_runs_the_same(io_run):
