@@ -78,8 +78,9 @@ def _setting(cmd: MotionCommand, settings: Settings, name: str) -> float:
     return float(value) * override_factor(settings) ** _OVERRIDE_POWER.get(name, 0)
 
 
-# How R_OVERRIDE scales a setting: value · k^power (a time scaling, see the module doc).
-_OVERRIDE_POWER = {"speed": 1, "speed_ori": 1, "speed_ptp": 1, "acc": 2, "acc_ptp": 2}
+# How R_OVERRIDE scales a setting: value · k^power (a time scaling, see the module doc;
+# a jerk limit, where a profile has one, scales with k³).
+_OVERRIDE_POWER = {"speed": 1, "speed_ori": 1, "speed_ptp": 1, "acc": 2, "acc_ptp": 2, "jerk": 3}
 
 
 def override_factor(settings: Settings) -> float:

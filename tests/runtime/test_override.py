@@ -79,6 +79,15 @@ def test_assignment_applies_from_the_next_statement(tmp_path):
     assert run.output == ["25.0"]
 
 
+def test_python_api_start_value(tmp_path):
+    from irlc.api import run_program
+
+    path = tmp_path / "ov.irl"
+    path.write_text(PROGRAM.replace("{SET}", ""), encoding="utf-8")
+    run = run_program(path, override=25)
+    assert _segments(run)[6] == pytest.approx(_trapezoid(L, V / 4, A / 16), abs=1e-9)  # 21.6 s
+
+
 def test_with_time_is_stretched(tmp_path):
     path = tmp_path / "t.irl"
     path.write_text(PROGRAM.replace("MOVE LIN POSE(1000, 0, 0, 0, 0, 0);",
