@@ -56,9 +56,9 @@ def motion_limit(limits: Sequence[str], fixed_time: bool) -> str:
 
 
 def source_lines(source: str, base_dir: str | Path | None) -> list[str]:
-    """The lines of the program's source file (``code.source``, looked up next to the
-    program, else as given), or ``[]`` when it cannot be read."""
-    if not source:
+    """The lines of the program's source file (``code.source``, an ``.irl`` file looked up
+    next to the program, else as given), or ``[]`` when it cannot be read."""
+    if not source or Path(source).suffix.lower() != ".irl":
         return []
     candidates = [Path(source)]
     if base_dir is not None:

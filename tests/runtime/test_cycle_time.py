@@ -83,3 +83,16 @@ def test_summary_and_gantt(tmp_path, capsys):
     assert f"sum {duration:.3f}" in " ".join(out.replace("│", " ").split())
     png = (tmp_path / "figs" / "cycle_time.png").read_bytes()
     assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 5000
+
+
+def test_without_the_source_the_kind_is_shown(tmp_path):
+    from irlc.runtime.run import run_code
+
+    from irlc.api import compile_program
+
+    path = tmp_path / "cy.irl"
+    path.write_text(PROGRAM.replace("{TAIL}", ""), encoding="utf-8")
+    code = compile_program(path)
+    path.unlink()
+    rows = run_code(code, base_dir=tmp_path).report["statements"]
+    assert [r["statement"] for r in rows[:3]] == ["MOVE LIN", "WAIT", "MOVE LIN"]
