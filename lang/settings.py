@@ -11,7 +11,7 @@ admissible range
 
 The same range is checked when a constant is compiled (``R_SPEED := -5;`` is a compile
 error at its line and column) and when a value is assigned or used at run time (a
-:class:`~irlc.runtime.errors.RunFailure` at its line), with the same words:
+the runtime's ``RunFailure`` at its line), with the same words:
 ``R_SPEED := -5.0: the value must be in (0, 100000] mm/s``. A new setting is one row here plus its
 behaviour in the controller.
 

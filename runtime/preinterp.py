@@ -51,6 +51,7 @@ from irlc.runtime.interpolator import (
     ReferencePath,
     Segment,
 )
+from irlc.runtime.naming import JointNaming
 from irlc.runtime.profiles import (
     ProfileError,
     Trapezoid,
@@ -124,6 +125,7 @@ class PreInterpolator:
         task_rows: Sequence[int] = (0, 1, 2, 3, 4, 5),
     ):
         self.model = model
+        self.naming = JointNaming.for_model(model)  # the controller sets the program's
         # a task without orientation rows (a planar arm's x, y) does not time orientation
         self.timed_orientation = any(r >= 3 for r in task_rows)
         self.kinds = model.joint_kinds
@@ -164,7 +166,7 @@ class PreInterpolator:
                     bound[:, 1] = np.fmin(bound[:, 1], hi)
             progs.append(bound)
         try:
-            return intersect_limits(self.model, *progs)
+            return intersect_limits(self.model, *progs, naming=self.naming)
         except ValueError as exc:
             raise RunFailure(f"the active joint limits are contradictory: {exc}", line) from None
 
@@ -176,13 +178,14 @@ class PreInterpolator:
             side, bound = ("min", lo) if q[j] < lo - tol else ("max", hi)
             if lo - tol <= q[j] <= hi + tol:
                 continue
-            name = self.model.joints[j].name
+            name = self.naming.label(j)
             val = format_joint_value(self.model, j, q[j], 0)
             lim = format_joint_value(self.model, j, bound, 0)
             raise RunFailure(
                 f"{what}: joint {name} = {val} is outside the active position limit ({side} {lim})",
                 line,
                 constraint=f"{name} position {side} {lim}",
+                cause="limits" if what.startswith("the limits") else "position_limit",
             )
 
     # ------------------------------------------------------------------ planning
@@ -228,7 +231,7 @@ class PreInterpolator:
             self.check_inside(q1, lims[0], cmd.line, "PTP target")
             for j, v in frozen.items():
                 if abs(q1[j] - v) > 1e-9 * (1.0 + abs(v)):
-                    name = self.model.joints[j].name
+                    name = self.naming.label(j)
                     raise RunFailure(
                         f"PTP target moves the frozen joint {name} "
                         f"(held at {format_joint_value(self.model, j, v, 0)}, target "
@@ -261,7 +264,7 @@ class PreInterpolator:
         amax = np.minimum(acc[:, 1], -acc[:, 0]) * pct_a
         for j in np.flatnonzero(np.abs(delta) > 0.0):
             if not (vmax[j] > 0.0 and amax[j] > 0.0):
-                name = self.model.joints[j].name
+                name = self.naming.label(j)
                 raise RunFailure(
                     f"PTP: joint {name} must move but its active speed/acceleration limits "
                     "do not allow motion in that direction",
@@ -272,7 +275,7 @@ class PreInterpolator:
         profile = self._profile(v, a, duration, dt, cmd.line)
         limiting = ""
         if slowest >= 0:
-            limiting = f"joint {self.model.joints[slowest].name} speed/acceleration"
+            limiting = f"joint {self.naming.label(slowest)} speed/acceleration"
         seg = Segment(
             "ptp",
             cmd.line,
