@@ -165,29 +165,55 @@ def tool_text(tool: dict) -> tuple[str, str]:
 MAX_STATEMENT_ROWS = 20  # rows of the cycle-time table in the summary (all in the report)
 
 
+def _short(text: str, width: int = 40) -> str:
+    return text if len(text) <= width else text[: width - 1] + "…"
+
+
 def statements_table(report: dict) -> Table | None:
     """Cycle time per statement (``statements`` of the report): line, statement, start,
-    duration, stop, binding limit; the durations' sum is the run's duration."""
+    duration, stop, binding limit, and the sum (the run's duration). More executions
+    than fit (a loop) are summed per program line instead: runs, total, share."""
     rows = report.get("statements") or []
     if not rows:
         return None
-    table = Table(
-        title="cycle time per statement (s)", title_justify="left", show_edge=False,
-        pad_edge=False,
-    )  # fmt: skip
-    for name, justify in (("line", "right"), ("statement", "left"), ("start", "right"),
-                          ("duration", "right"), ("stop", "left"), ("limit", "left")):  # fmt: skip
-        table.add_column(name, justify=justify, overflow="fold")
-    for r in rows[:MAX_STATEMENT_ROWS]:
-        text = r["statement"] if len(r["statement"]) <= 40 else r["statement"][:39] + "…"
-        table.add_row(
-            str(r["line"]), text, _num(r["start_s"], ".3f"), _num(r["duration_s"], ".3f"),
-            r["stop"] or "—", r["limit"] or "—",
-        )  # fmt: skip
-    more = len(rows) - MAX_STATEMENT_ROWS
     total = sum(r["duration_s"] or 0.0 for r in rows)
-    label = f"… {more} more (report: statements)" if more > 0 else "sum"
-    table.add_row("", Text(label, style="dim"), "", Text(f"{total:.3f}", style="bold"), "", "")
+    if len(rows) > MAX_STATEMENT_ROWS:
+        return _statement_lines_table(rows, total)
+    table = _table("cycle time per statement (s)", ("line", "statement", "start", "duration",
+                                                    "stop", "limit"))  # fmt: skip
+    for r in rows:
+        table.add_row(
+            str(r["line"]), _short(r["statement"]), _num(r["start_s"], ".3f"),
+            _num(r["duration_s"], ".3f"), r["stop"] or "—", r["limit"] or "—",
+        )  # fmt: skip
+    table.add_row("", Text("sum", style="dim"), "", Text(f"{total:.3f}", style="bold"), "", "")
+    return table
+
+
+def _statement_lines_table(rows: list[dict], total: float) -> Table:
+    """Per program line: its statement, how often it ran, its total time and share."""
+    per_line: dict[int, list] = {}
+    for r in rows:
+        entry = per_line.setdefault(r["line"], [r["statement"], 0, 0.0])
+        entry[1] += 1
+        entry[2] += r["duration_s"] or 0.0
+    title = f"cycle time per line (s), {len(rows)} runs"
+    table = _table(title, ("line", "statement", "runs", "total", "share"))
+    shown = list(per_line.items())[:MAX_STATEMENT_ROWS]
+    for line, (text, runs, t) in shown:
+        share = f"{100.0 * t / total:.1f} %" if total > 0 else "—"
+        table.add_row(str(line), _short(text), str(runs), f"{t:.3f}", share)
+    more = len(per_line) - len(shown)
+    label = f"… {more} more lines (report: statements)" if more > 0 else "sum"
+    table.add_row("", Text(label, style="dim"), "", Text(f"{total:.3f}", style="bold"), "")
+    return table
+
+
+def _table(title: str, columns: tuple[str, ...]) -> Table:
+    table = Table(title=title, title_justify="left", show_edge=False, pad_edge=False)
+    for name in columns:
+        left = name in ("statement", "stop", "limit")
+        table.add_column(name, justify="left" if left else "right", overflow="fold")
     return table
 
 

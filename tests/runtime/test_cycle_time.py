@@ -96,3 +96,26 @@ def test_without_the_source_the_kind_is_shown(tmp_path):
     path.unlink()
     rows = run_code(code, base_dir=tmp_path).report["statements"]
     assert [r["statement"] for r in rows[:3]] == ["MOVE LIN", "WAIT", "MOVE LIN"]
+
+
+def test_summary_of_a_loop_sums_per_line(tmp_path):
+    import io
+
+    from rich.console import Console
+
+    from irlc.summary import render_summary
+
+    path = tmp_path / "loop.irl"
+    path.write_text(PROGRAM.replace("TO 2 DO", "TO 10 DO").replace("{TAIL}", ""), "utf-8")
+    run = run_file(path)
+    assert run.ok and len(run.report["statements"]) == 23
+    per_line = {}
+    for r in run.report["statements"]:
+        per_line[r["line"]] = per_line.get(r["line"], 0.0) + r["duration_s"]
+    buf = io.StringIO()
+    render_summary(run.report, Console(file=buf, width=200, no_color=True))
+    text = " ".join(buf.getvalue().replace("│", " ").split())
+    assert "cycle time per line (s), 23 runs" in text
+    share = 100 * per_line[12] / run.report["duration_s"]
+    assert f"12 MOVE PTP (10, 90, -90); 10 {per_line[12]:.3f} {share:.1f} %" in text
+    assert f"sum {run.report['duration_s']:.3f}" in text
