@@ -111,3 +111,53 @@ def test_taught_pose_round_trips(tmp_path):
     x, y = (float(v) for v in run.output[0].split())
     assert (x, y) == pytest.approx((1500.0, 500.0), abs=1e-5)
     assert run.report["end_joints"] == pytest.approx(taught_q, abs=1e-6)
+
+
+# --------------------------------------------------------------------------- property
+
+
+def _section_text(draw, st, section: str, names: list[str]) -> list[str]:
+    lines = [f"[{section}]" + draw(st.sampled_from(["", "   # " + section]))]
+    for name in names:
+        values = draw(st.lists(st.integers(-999, 999), min_size=1, max_size=6))
+        text = ", ".join(map(str, values))
+        if draw(st.booleans()):
+            lines.append(f"{name} = [{text}]" + draw(st.sampled_from(["", "  # c"])))
+        else:  # a multi-line array
+            lines += [f"{name} = [", f"  {text},  # inside", "]"]
+        lines += draw(st.sampled_from([[], [""], ["# between"]]))
+    return lines
+
+
+def test_teach_keeps_every_other_line_of_generated_files(tmp_path):
+    from hypothesis import given, settings
+    from hypothesis import strategies as st
+
+    names = st.lists(st.sampled_from(["a", "b", "p1", "home"]), unique=True, max_size=3)
+
+    @st.composite
+    def files(draw):
+        sections = draw(st.permutations(["poses", "joints", "inputs"]))
+        lines = draw(st.sampled_from([[], ["# header", ""]]))
+        for section in sections[: draw(st.integers(0, 3))]:
+            if section == "inputs":
+                lines += ["[inputs]", '1 = [[0.0, false], [2.5, true]]  # "#" too', ""]
+            else:
+                lines += _section_text(draw, st, section, draw(names))
+        return "\n".join(lines) + ("\n" if lines else "")
+
+    @settings(max_examples=60, deadline=None)
+    @given(files(), st.sampled_from(["a", "p1", "new_one"]))
+    def check(text, name):
+        path = tmp_path / "gen.toml"
+        path.write_text(text, encoding="utf-8")
+        teach(path, name, [1.5, -2, 3, 0, 90, -180], [10, -20.25, 30])
+        new = path.read_text(encoding="utf-8")
+        data = tomllib.loads(new)
+        assert data["poses"][name] == [1.5, -2, 3, 0, 90, -180]
+        assert data["joints"][name + "_joints"] == [10, -20.25, 30]
+        old_lines = [ln for ln in text.splitlines() if ln.startswith(("#", "[", "1 ="))]
+        for line in old_lines:  # headers, comments and other entries are all still there
+            assert line in new.splitlines()
+
+    check()
