@@ -179,14 +179,18 @@ def statements_table(report: dict) -> Table | None:
     total = sum(r["duration_s"] or 0.0 for r in rows)
     if len(rows) > MAX_STATEMENT_ROWS:
         return _statement_lines_table(rows, total)
-    table = _table("cycle time per statement (s)", ("line", "statement", "start", "duration",
-                                                    "stop", "limit"))  # fmt: skip
+    overrides = {r.get("override_percent") for r in rows} - {None}
+    shown = overrides != {100.0} and bool(overrides)  # the column only when it matters
+    columns = ("line", "statement", "start", "duration", "stop", "limit")
+    table = _table("cycle time per statement (s)", columns + (("override %",) if shown else ()))
     for r in rows:
-        table.add_row(
+        cells = [
             str(r["line"]), _short(r["statement"]), _num(r["start_s"], ".3f"),
             _num(r["duration_s"], ".3f"), r["stop"] or "—", r["limit"] or "—",
-        )  # fmt: skip
-    table.add_row("", Text("sum", style="dim"), "", Text(f"{total:.3f}", style="bold"), "", "")
+        ]  # fmt: skip
+        table.add_row(*cells, *([_num(r.get("override_percent"), "g")] if shown else []))
+    blank = [""] * (3 if shown else 2)
+    table.add_row("", Text("sum", style="dim"), "", Text(f"{total:.3f}", style="bold"), *blank)
     return table
 
 

@@ -15,6 +15,7 @@ source line where the program's source file is at hand.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -41,6 +42,7 @@ class StatementSpan:
     stop: str | None  # "exact" | "approximated" | "failed" | None (no motion)
     limit: str = ""  # what set the motion's time ("path speed/acceleration", "WITH TIME", …)
     limit_joint: int = -1  # PTP: the joint whose bound set the time (named in the report)
+    override: float | None = None  # R_OVERRIDE (%) the motion ran at; None for a WAIT
 
     @property
     def duration(self) -> float:
@@ -71,6 +73,14 @@ def source_lines(source: str, base_dir: str | Path | None) -> list[str]:
     return []
 
 
+_TRAILING_COMMENT = re.compile(r"\s*(?:\{[^{}']*\}|\(\*(?:(?!\*\)).)*\*\)|//[^']*)\s*\Z")
+
+
+def code_text(line: str) -> str:
+    """A source line without its trailing comment (``{ … }``, ``(* … *)``, ``// …``)."""
+    return _TRAILING_COMMENT.sub("", line).strip()
+
+
 def statement_rows(
     spans: Sequence[StatementSpan], lines: Sequence[str], rnd, joint_label=str
 ) -> list[dict]:
@@ -78,7 +88,7 @@ def statement_rows(
     ``joint_label(j)`` names joint ``j`` by the naming rule, runtime/naming.py)."""
     rows = []
     for s in spans:
-        text = lines[s.line - 1].strip() if 0 < s.line <= len(lines) else ""
+        text = code_text(lines[s.line - 1]) if 0 < s.line <= len(lines) else ""
         limit = s.limit
         if s.limit_joint >= 0 and limit != "WITH TIME":
             limit = f"joint {joint_label(s.limit_joint)} speed/acceleration"
@@ -91,6 +101,7 @@ def statement_rows(
                 "duration_s": rnd(s.duration),
                 "stop": s.stop,
                 "limit": limit or None,
+                "override_percent": rnd(s.override),
             }
         )
     return rows

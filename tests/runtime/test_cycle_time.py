@@ -19,7 +19,7 @@ VAR INTEGER: i;
 BEGIN
   R_SPEED := 200;
   R_ACC := 500;
-  MOVE LIN POSE(1000, 1000, 0, 0, 0, 0);
+  MOVE LIN POSE(1000, 1000, 0, 0, 0, 0);  { first: the comment is not shown }
   WAIT 0.5 SEC;
   MOVE LIN POSE(1000, 0, 0, 0, 0, 0) WITH TIME := 6;
   FOR i := 1 TO 2 DO

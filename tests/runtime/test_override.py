@@ -55,6 +55,10 @@ def test_override_start_value_doubles_every_time(tmp_path):
         assert t_half[line] == pytest.approx(2.0 * t_full[line], abs=0.011)
     assert half.report["duration_s"] == pytest.approx(2 * full.report["duration_s"], abs=0.03)
     assert half.output == ["50.0"] and full.output == ["100.0"]
+    rows = half.report["statements"]
+    assert [r["override_percent"] for r in rows] == [50.0, 50.0, 50.0]
+    assert [r["duration_s"] for r in rows] == pytest.approx([2 * t_full[n] for n in (6, 8, 9)],
+                                                            abs=0.011)  # fmt: skip
 
 
 def test_same_path_twice_as_slow(tmp_path):
@@ -77,6 +81,7 @@ def test_assignment_applies_from_the_next_statement(tmp_path):
     assert t[6] == pytest.approx(_trapezoid(L, V, A), abs=1e-9)
     assert t[8] == pytest.approx(_trapezoid(L, 0.25 * V, 0.0625 * A), abs=1e-9)  # 4×
     assert run.output == ["25.0"]
+    assert [r["override_percent"] for r in run.report["statements"]] == [100.0, 25.0, 25.0]
 
 
 def test_python_api_start_value(tmp_path):
