@@ -421,6 +421,8 @@ class SimulatedController:
         at_accel, at_speed = _ptp_bounds(seg)
         if phase != 0:
             out = {j: "accel max" if (phase > 0) == up else "accel min" for j, up in at_accel}
+        elif float(seg.profile.speed((k - 0.5) * dt)) < seg.profile.cruise:
+            return None  # an S-curve's jerk phases: neither bound is reached
         else:
             out = {j: "speed max" if up else "speed min" for j, up in at_speed}
         return out or None

@@ -613,6 +613,10 @@ class Interpreter:
         if name in ("R_TOOL", "R_BASE"):
             if not isinstance(v, Pose):
                 raise _malformed(f"{name} needs a POSE, got {V.type_name(v)}")
+        elif SYSTEM_VARIABLES[name].type_name == "STRING":  # R_PROFILE: a word, any case
+            if not isinstance(v, str):
+                raise _malformed(f"{name} needs a STRING, got {V.type_name(v)}")
+            v = check_setting(_SETTINGS_FIELDS[name], v, name).upper()
         else:
             v = check_setting(_SETTINGS_FIELDS[name], self._number(v, name), name)
         setattr(self.state.settings, _SETTINGS_FIELDS[name], v)

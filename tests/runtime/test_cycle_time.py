@@ -8,9 +8,8 @@ import itertools
 import json
 
 import pytest
-from irlc.runtime.run import run_file
-
 from irlc.cli import main
+from irlc.runtime.run import run_file
 
 # planar3 starts at its home (0, 90, -90): the TCP at (2000, 1000) mm
 PROGRAM = """PROGRAM cy;
@@ -86,9 +85,8 @@ def test_summary_and_gantt(tmp_path, capsys):
 
 
 def test_without_the_source_the_kind_is_shown(tmp_path):
-    from irlc.runtime.run import run_code
-
     from irlc.api import compile_program
+    from irlc.runtime.run import run_code
 
     path = tmp_path / "cy.irl"
     path.write_text(PROGRAM.replace("{TAIL}", ""), encoding="utf-8")
@@ -101,9 +99,8 @@ def test_without_the_source_the_kind_is_shown(tmp_path):
 def test_summary_of_a_loop_sums_per_line(tmp_path):
     import io
 
-    from rich.console import Console
-
     from irlc.summary import render_summary
+    from rich.console import Console
 
     path = tmp_path / "loop.irl"
     path.write_text(PROGRAM.replace("TO 2 DO", "TO 10 DO").replace("{TAIL}", ""), "utf-8")

@@ -6,11 +6,10 @@ from __future__ import annotations
 import csv
 
 import pytest
-from irlc.lang.diagnostics import CompileError
-from irlc.runtime.run import run_code, run_file
-
 from irlc.api import compile_program
 from irlc.cli import main
+from irlc.lang.diagnostics import CompileError
+from irlc.runtime.run import run_code, run_file
 
 DATALIST = """# the cell
 [inputs]   # part present at 3 s

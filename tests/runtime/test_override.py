@@ -5,9 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from irlc.runtime.run import RunSetupError, run_file
-
 from irlc.cli import main
+from irlc.runtime.run import RunSetupError, run_file
 
 # planar3 starts at its home (0, 90, -90): the TCP at (2000, 1000) mm
 PROGRAM = """PROGRAM ov;

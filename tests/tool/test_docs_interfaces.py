@@ -15,7 +15,6 @@ import re
 from pathlib import Path
 
 import pytest
-
 from irlc.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]

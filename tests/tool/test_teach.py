@@ -7,9 +7,8 @@ import tomllib
 
 import numpy as np
 import pytest
-from irlc.runtime.run import run_file
-
 from irlc.repl import Session
+from irlc.runtime.run import run_file
 from irlc.teach import TeachError, teach, upsert
 
 CELL = """# cell of the line  (kept)
