@@ -41,7 +41,6 @@ class StatementSpan:
     end: float
     stop: str | None  # "exact" | "approximated" | "failed" | None (no motion)
     limit: str = ""  # what set the motion's time ("path speed/acceleration", "WITH TIME", …)
-    limit_joint: int = -1  # PTP: the joint whose bound set the time (named in the report)
     override: float | None = None  # R_OVERRIDE (%) the motion ran at; None for a WAIT
 
     @property
@@ -81,17 +80,13 @@ def code_text(line: str) -> str:
     return _TRAILING_COMMENT.sub("", line).strip()
 
 
-def statement_rows(
-    spans: Sequence[StatementSpan], lines: Sequence[str], rnd, joint_label=str
-) -> list[dict]:
-    """The report's ``statements``: one object per span (``rnd`` rounds the numbers,
-    ``joint_label(j)`` names joint ``j`` by the naming rule, runtime/naming.py)."""
+def statement_rows(spans: Sequence[StatementSpan], lines: Sequence[str], rnd) -> list[dict]:
+    """The report's ``statements``: one object per span (``rnd`` rounds the numbers; a
+    joint in ``limit`` is named by the pre-interpolator's naming, runtime/naming.py)."""
     rows = []
     for s in spans:
         text = code_text(lines[s.line - 1]) if 0 < s.line <= len(lines) else ""
         limit = s.limit
-        if s.limit_joint >= 0 and limit != "WITH TIME":
-            limit = f"joint {joint_label(s.limit_joint)} speed/acceleration"
         rows.append(
             {
                 "line": s.line,

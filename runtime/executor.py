@@ -167,9 +167,8 @@ class SimulatedController:
     def _log_motion(self, cmd: MotionCommand, segments, t0: float, stop: str, override) -> None:
         """The motion's span of the cycle-time table, with what set its time."""
         limit = motion_limit([s.limiting for s in segments], cmd.time is not None)
-        joint = next((s.limiting_joint for s in segments if s.limiting_joint >= 0), -1)
         kind = KIND_WORDS.get(cmd.kind, cmd.kind)
-        self._log_statement(kind, cmd.line, t0, stop, limit, joint, override)
+        self._log_statement(kind, cmd.line, t0, stop, limit, override)
 
     def reconfigure(
         self, target: JointTuple, line: int, settings: Settings, options: ModalOptions
@@ -194,8 +193,8 @@ class SimulatedController:
             self._reconf_cycles(ref_seg, k, hold, cycle_opts, solver, dt, settle, line)
             stop = "exact"
         finally:
-            limit, joint = ref_seg.limiting, ref_seg.limiting_joint
-            self._log_statement("RECONFIGURATION", line, t0, stop, limit, joint, settings.override)
+            limit = ref_seg.limiting
+            self._log_statement("RECONFIGURATION", line, t0, stop, limit, settings.override)
 
     def _reconf_cycles(self, ref_seg, k, hold, cycle_opts, solver, dt, settle, line) -> None:
         """The self-motion's cycles: follow the reference, then settle (module doc)."""
@@ -240,11 +239,9 @@ class SimulatedController:
             self._tick()
         self._log_statement("WAIT", line, t0, None, "")
 
-    def _log_statement(
-        self, kind, line: int, t0: float, stop, limit: str, joint=-1, override=None
-    ) -> None:
+    def _log_statement(self, kind, line: int, t0: float, stop, limit: str, override=None) -> None:
         """One span of the cycle-time table (``statements`` of the report)."""
-        span = StatementSpan(line, kind, t0, self._t, stop, limit, joint, override)
+        span = StatementSpan(line, kind, t0, self._t, stop, limit, override)
         self.statements.append(span)
 
     def check_switch_on(

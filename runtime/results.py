@@ -89,9 +89,8 @@ def assemble(
     )
     if error is not None and error is not execution.error:  # a drive failure
         report["status"], report["error"] = "failed", _error_dict(error)
-    naming = JointNaming.for_model(model, code.joint_names)
     report["statements"] = statement_rows(
-        controller.statements, source_lines(code.source, base_dir), rnd, naming.label
+        controller.statements, source_lines(code.source, base_dir), rnd
     )
     trace_motion = actual
     if drive is not None and every_step:

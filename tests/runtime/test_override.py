@@ -113,3 +113,38 @@ def test_out_of_range(tmp_path, capsys):
     )
     with pytest.raises(RunSetupError):
         run_file(path, override=101)
+
+
+def test_scurve_is_scaled_in_time_too(tmp_path):
+    """With R_PROFILE = 'SCURVE' the override also scales the jerk (×k³): each motion
+    takes 1/k times as long (to an IPO cycle)."""
+    path = tmp_path / "s.irl"
+    path.write_text(
+        "PROGRAM s;\nROBOT r := planar3;\nBEGIN\n  R_PROFILE := 'SCURVE';\n"
+        "  MOVE LIN POSE(1000, 1000, 0, 0, 0, 0);\n  MOVE PTP (20, 80, -60);\n"
+        "  MOVE_INC PTP (0.5, 0, 0);\nENDPROGRAM\n",
+        encoding="utf-8",
+    )
+    full = [r["duration_s"] for r in run_file(path).report["statements"]]
+    half = [r["duration_s"] for r in run_file(path, override=50).report["statements"]]
+    assert all(t > 0.05 for t in full)
+    assert half == pytest.approx([2 * t for t in full], abs=0.0201)
+
+
+def test_ptp_jerks_scale_with_k_cubed():
+    """A PTP's joint jerk is ``ptp_jerks(…) · R_ACC_PTP``: with the override's k² in
+    R_ACC_PTP, ``ptp_jerks`` carries one more k — for a robot file's own jerks (panda) and
+    for the fallback ``θ̈max · R_JERK / R_ACC`` (planar3, none in its file)."""
+    from irlc.robots import load_robot
+    from irlc.runtime.controller import MotionCommand, Settings
+    from irlc.runtime.preinterp import PreInterpolator
+
+    cmd = MotionCommand("PTP", (), 1)
+    for name in ("panda", "planar3"):
+        model = load_robot(name)
+        pre = PreInterpolator(model)
+        accel = np.full(model.n, 3.0)
+        full = pre.ptp_jerks(cmd, Settings(profile="SCURVE"), accel)
+        half = pre.ptp_jerks(cmd, Settings(profile="SCURVE", override=50.0), accel)
+        assert np.all(np.isfinite(full)) and half == pytest.approx(0.5 * full, rel=1e-12)
+    assert not np.isnan(load_robot("panda").jerk_limits).any()
