@@ -532,8 +532,11 @@ class Session:
         s = self.state
         execution = ExecutionResult("ok", list(s.output), list(s.events), list(s.warnings),
                                     None, s, 0)  # fmt: skip
-        return assemble(self.last_code, self.model, self.controller, self.obstacles, execution,
-                        ExecutionOptions(), "ideal", False)  # fmt: skip
+        run = assemble(self.last_code, self.model, self.controller, self.obstacles, execution,
+                       ExecutionOptions(), "ideal", False)  # fmt: skip
+        for row in run.report["statements"]:  # entries have no source file (a repl.irl
+            row["statement"] = row["kind"]  # in the folder is not the session's)
+        return run
 
     def _meta_trace(self, arg: str) -> Entry:
         from irlc.report import write_trace

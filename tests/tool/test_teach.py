@@ -160,3 +160,11 @@ def test_teach_keeps_every_other_line_of_generated_files(tmp_path):
             assert line in new.splitlines()
 
     check()
+
+
+def test_repl_cycle_time_does_not_read_a_foreign_repl_irl(tmp_path):
+    (tmp_path / "repl.irl").write_text("something else\n" * 20, encoding="utf-8")
+    session = Session("planar3", cwd=tmp_path)
+    assert session.enter("MOVE LIN POSE(1500, 1000, 0, 0, 0, 0);").failure == 0
+    rows = session.run_result().report["statements"]
+    assert [r["statement"] for r in rows] == ["MOVE LIN"]
