@@ -118,6 +118,7 @@ OPCODES: dict[str, str] = {
     "MAKE": "wi", "CALLB": "wi", "CALL": "ii", "RET": "", "RETV": "",
     "JMP": "t", "JF": "t", "JT": "t", "HALT": "", "PAUSE": "", "END": "",
     "WAIT": "", "WAITFOR": "t", "PUSHIN": "", "SIGOUT": "i", "WRITE": "i", "WRITELN": "i",
+    "OUTSET": "", "PUSHOUT": "", "PULSE": "",
     "MOVE": "wi*", "RECONF": "", "OPTON": "w*", "OPTOFF": "w*",
 }  # fmt: skip
 

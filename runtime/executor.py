@@ -36,6 +36,7 @@ import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime import spatial, units
 from irlc.runtime.controller import ModalOptions, MotionCommand, Settings, setting_error
+from irlc.runtime.cycle_time import KIND_WORDS, StatementSpan, motion_limit
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik import cause
 from irlc.runtime.ik.freeze import FrozenJoints
@@ -119,6 +120,7 @@ class SimulatedController:
         self.dt_used = self.opts.ipo if self.opts.ipo is not None else Settings().ipo
         self.recorder.tol_position = self.opts.tol_position
         self._start_tool = b""  # the tool (bytes) the start sample was stamped with
+        self.statements: list[StatementSpan] = []  # cycle time per statement (cycle_time.py)
         self._record_initial()
 
     # ------------------------------------------------------------------ protocol
@@ -155,14 +157,26 @@ class SimulatedController:
         solver = self._solver(settings)
         state = self._plan_state(settings, solver)
         self._settings = settings
-        segments = self.pre.plan(cmd, settings, options, state)
-        self._within_budget(sum(seg.cycles for seg in segments) * state.dt, cmd.line, "the motion")
-        cartesian = [seg for seg in segments if not seg.is_joint]
-        if cartesian:  # reachability of the end (and via) points, before anything moves
-            reach = self._reach(cartesian[0].limits[0], options, solver)
-            check_targets(reach, cartesian, self.q, cmd.line, self._t, f"MOVE {_shown(cmd)}")
-        for seg in segments:
-            self._run_segment(seg, settings, options, solver)
+        t0, segments, stop = self._t, [], "failed"
+        try:
+            segments = self.pre.plan(cmd, settings, options, state)
+            cycles = sum(seg.cycles for seg in segments)
+            self._within_budget(cycles * state.dt, cmd.line, "the motion")
+            cartesian = [seg for seg in segments if not seg.is_joint]
+            if cartesian:  # reachability of the end (and via) points, before anything moves
+                reach = self._reach(cartesian[0].limits[0], options, solver)
+                check_targets(reach, cartesian, self.q, cmd.line, self._t, f"MOVE {_shown(cmd)}")
+            for seg in segments:
+                self._run_segment(seg, settings, options, solver)
+            stop = "approximated" if (getattr(cmd, "approx", None) or 0) > 0 else "exact"
+        finally:
+            self._log_motion(cmd, segments, t0, stop, settings.override)
+
+    def _log_motion(self, cmd: MotionCommand, segments, t0: float, stop: str, override) -> None:
+        """The motion's span of the cycle-time table, with what set its time."""
+        limit = motion_limit([s.limiting for s in segments], cmd.time is not None)
+        kind = KIND_WORDS.get(cmd.kind, cmd.kind)
+        self._log_statement(kind, cmd.line, t0, stop, limit, override)
 
     def reconfigure(
         self, target: JointTuple, line: int, settings: Settings, options: ModalOptions
@@ -184,6 +198,16 @@ class SimulatedController:
         cycle_opts.self_motion = True
         settle = max(1, math.ceil(self.opts.reconf_settle_s / dt))
         self._within_budget((ref_seg.cycles + settle) * dt, line, "the RECONFIGURATION")
+        t0, stop = self._t, "failed"
+        try:
+            self._reconf_cycles(ref_seg, k, hold, cycle_opts, solver, dt, settle, line)
+            stop = "exact"
+        finally:
+            limit = ref_seg.limiting
+            self._log_statement("RECONFIGURATION", line, t0, stop, limit, settings.override)
+
+    def _reconf_cycles(self, ref_seg, k, hold, cycle_opts, solver, dt, settle, line) -> None:
+        """The self-motion's cycles: follow the reference, then settle (module doc)."""
         k_cyc = 0
         while True:
             k_cyc += 1
@@ -229,6 +253,12 @@ class SimulatedController:
             rec.add(self._t, line, self.q, tcp, None)
             self._cycles += n - sampled - 1
             self._tick()
+        self._log_statement("WAIT", line, t0, None, "")
+
+    def _log_statement(self, kind, line: int, t0: float, stop, limit: str, override=None) -> None:
+        """One span of the cycle-time table (``statements`` of the report)."""
+        span = StatementSpan(line, kind, t0, self._t, stop, limit, override)
+        self.statements.append(span)
 
     def check_switch_on(
         self, option: str, line: int, settings: Settings, options: ModalOptions

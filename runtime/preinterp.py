@@ -129,7 +129,20 @@ def _setting(cmd: MotionCommand, settings: Settings, name: str) -> float:
     message = setting_message(name, value, what)
     if message is not None:
         raise RunFailure(message, cmd.line)
-    return float(value)
+    return float(value) * override_factor(settings) ** _OVERRIDE_POWER.get(name, 0)
+
+
+# How R_OVERRIDE scales a setting: value · k^power (a time scaling, see the module doc;
+# a jerk limit, where a profile has one, scales with k³).
+_OVERRIDE_POWER = {"speed": 1, "speed_ori": 1, "speed_ptp": 1, "acc": 2, "acc_ptp": 2, "jerk": 3}
+
+
+def override_factor(settings: Settings) -> float:
+    """``k = R_OVERRIDE / 100`` (checked against its row of lang/settings.py)."""
+    message = setting_message("override", settings.override, "R_OVERRIDE")
+    if message is not None:
+        raise RunFailure(message)
+    return float(settings.override) / 100.0
 
 
 def tool_transform(model: RobotModel, settings: Settings) -> np.ndarray:
@@ -304,7 +317,7 @@ class PreInterpolator:
         builds up its (active) acceleration bound ``accel`` in the time ``R_ACC / R_JERK``
         the path takes for its own."""
         ramp = _setting(cmd, settings, "acc") / _setting(cmd, settings, "jerk")
-        known = self.model.jerk_limits
+        known = self.model.jerk_limits * override_factor(settings)  # × R_ACC_PTP: k³ in all
         return np.where(np.isnan(known), accel / ramp, known)
 
     def _ptp_segment(self, cmd, settings, q0, q1, lims, dt, npts) -> Segment:
@@ -326,7 +339,7 @@ class PreInterpolator:
                 )
         b = segment_bounds(np.abs(delta), vmax, amax, jmax)
         slowest = b.slowest
-        duration = self._time(cmd, npts, b.t_min)
+        duration = self._time(cmd, settings, npts)
         profile = self._profile(b, duration, dt, cmd.line)
         limiting = ""
         if slowest >= 0:
@@ -391,7 +404,7 @@ class PreInterpolator:
         for path in paths:
             angle = path.angle if self.timed_orientation else 0.0
             bounds.append(segment_bounds([path.length, angle], [speed, w], [acc, w_acc], jerks))
-        times = self._split_time(cmd, [b.t_min for b in bounds])
+        times = self._split_time(cmd, settings, [b.t_min for b in bounds])
         refs = self._references(cmd, state.q, paths)
         out = []
         for path, b, t, ref in zip(paths, bounds, times, refs, strict=True):
@@ -448,22 +461,25 @@ class PreInterpolator:
         check_coordinates(world, "MOVE target in the world (with R_BASE)", line)
         return world
 
-    def _time(self, cmd, npts: int, t_min: float) -> float | None:
+    def _time(self, cmd, settings, npts: int) -> float | None:
+        """``WITH TIME`` stretched by the override (``t / k``), or ``None``."""
         if cmd.time is None:
             return None
         if npts > 1:
             raise RunFailure("WITH TIME on a multi-target PTP is not supported", cmd.line)
-        return float(cmd.time)
+        return float(cmd.time) / override_factor(settings)
 
-    def _split_time(self, cmd, tmins: list[float]) -> list[float | None]:
+    def _split_time(self, cmd, settings, tmins: list[float]) -> list[float | None]:
         if cmd.time is None:
             return [None] * len(tmins)
-        total = float(cmd.time)
+        k = override_factor(settings)
+        total = float(cmd.time) / k
         tsum = sum(tmins)
         if total < tsum * (1.0 - 1e-12):
+            at = "" if k == 1.0 else f" at R_OVERRIDE {settings.override:g} %"
             raise RunFailure(
-                f"WITH TIME := {total:g} s is shorter than the {tsum:.6g} s the speed and "
-                "acceleration limits allow",
+                f"WITH TIME := {float(cmd.time):g} s{at} is shorter than the {tsum * k:.6g} s "
+                "the speed and acceleration limits allow",
                 cmd.line,
             )
         if tsum == 0.0:

@@ -173,6 +173,7 @@ def run_code(
     orientation_tolerance: float | None = None,
     instruction_budget: int | None = None,
     max_time: float | None = None,
+    override: float | None = None,
 ) -> RunResult:
     """Execute compiled ``code`` (see the module doc). ``path_tolerance`` (mm, the start
     value of ``R_PATH_TOL``) and ``orientation_tolerance`` (deg) override ``options``'
@@ -180,11 +181,15 @@ def run_code(
     with drives, of the actual motion (:mod:`irlc.runtime.verdict`). ``instruction_budget``:
     the endless-loop guard (instructions without motion; default
     :data:`~irlc.runtime.interpreter.DEFAULT_INSTRUCTION_BUDGET`). ``max_time``: the
-    simulated-time budget in s (default ``ExecutionOptions.max_time_s``, 24 h)."""
+    simulated-time budget in s (default ``ExecutionOptions.max_time_s``, 24 h).
+    ``override`` (%): the start value of ``R_OVERRIDE`` (``--override``; lang/settings.py's
+    range, 1–100)."""
     if drives not in DRIVE_LEVELS:
         raise RunSetupError(f"unknown drive level {drives!r} (known: {', '.join(DRIVE_LEVELS)})")
     if ipo is not None and setting_error("ipo", ipo):
         raise RunSetupError(f"--ipo {ipo!r}: {setting_error('ipo', ipo)}")
+    if override is not None and setting_error("override", override):
+        raise RunSetupError(f"--override {override!r}: {setting_error('override', override)}")
     budget = _budget(instruction_budget)
     base = Path(base_dir) if base_dir is not None else None
     model = resolve_model(code, robot, base)
@@ -211,10 +216,14 @@ def run_code(
     settings = Settings(path_tol=tol_mm)  # R_PATH_TOL's start value, as given
     if opts.ipo is not None:
         settings.ipo = opts.ipo
+    if override is not None:
+        settings.override = float(override)  # R_OVERRIDE's start value
     execution = _interpret(code, controller, settings, output, budget)
     from irlc.runtime.results import assemble
 
-    return assemble(code, model, controller, obstacles, execution, opts, drives, trace_every_step)
+    return assemble(
+        code, model, controller, obstacles, execution, opts, drives, trace_every_step, base
+    )
 
 
 def _positive(option: str, value, unit: str) -> float:

@@ -81,6 +81,14 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
     "deviation fails the run; with --drives, that of the actual motion.",
 )
 @click.option(
+    "--override",
+    type=float,
+    default=None,
+    metavar="PERCENT",
+    help="Program override in % (start value of R_OVERRIDE, 1-100; default 100): "
+    "speeds ×k, accelerations ×k², k = PERCENT/100.",
+)
+@click.option(
     "--orientation-tolerance",
     "orientation_tolerance",
     type=float,
@@ -145,6 +153,7 @@ def run_cmd(
     instruction_budget,
     drives,
     path_tolerance,
+    override,
     orientation_tolerance,
     report_path,
     trace_path,
@@ -177,6 +186,7 @@ def run_cmd(
             ipo=ipo,
             drives=drives,
             path_tolerance=path_tolerance,
+            override=override,
             orientation_tolerance=orientation_tolerance,
             instruction_budget=instruction_budget,
             max_time=max_time,
