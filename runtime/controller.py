@@ -23,6 +23,11 @@ from irlc.lang.settings import setting_error as setting_error
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.values import IDENTITY, JointTuple, Pose, Position
 
+WAIT_SAMPLED_CYCLES = 1000
+"""A WAIT records one sample per IPO cycle for this many cycles, then only its last cycle:
+the robot stands still, and a long WAIT must not fill the memory with equal samples. The
+endless-loop guard charges a WAIT for these recorded cycles only."""
+
 
 @dataclass(frozen=True)
 class MotionCommand:

@@ -35,7 +35,13 @@ from dataclasses import dataclass
 import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime import spatial, units
-from irlc.runtime.controller import ModalOptions, MotionCommand, Settings, setting_error
+from irlc.runtime.controller import (
+    WAIT_SAMPLED_CYCLES,
+    ModalOptions,
+    MotionCommand,
+    Settings,
+    setting_error,
+)
 from irlc.runtime.cycle_time import KIND_WORDS, StatementSpan, motion_limit
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik import cause
@@ -56,10 +62,6 @@ from irlc.runtime.preinterp import (
 )
 from irlc.runtime.recorder import Recorder
 from irlc.runtime.values import JointTuple, Pose
-
-WAIT_SAMPLED_CYCLES = 1000
-"""A WAIT records one sample per IPO cycle for this many cycles, then only its last cycle:
-the robot stands still, and a long WAIT must not fill the memory with equal samples."""
 
 
 @dataclass

@@ -53,6 +53,7 @@ from irlc.runtime import builtins as B
 from irlc.runtime import units
 from irlc.runtime import values as V
 from irlc.runtime.controller import (
+    WAIT_SAMPLED_CYCLES,
     Controller,
     ModalOptions,
     MotionCommand,
@@ -64,8 +65,9 @@ from irlc.runtime.errors import RunFailure
 from irlc.runtime.values import ArrayValue, JointTuple, Orientation, Pose, Position, RecordValue
 
 # The endless-loop guard: at most this many instructions without motion (about 0.3 s of
-# CPython); a cycle of waiting counts as WAIT_CYCLE_COST instructions (about its run time),
-# so a loop that only waits is caught as fast. Users raise it: --instruction-budget.
+# CPython); a recorded cycle of waiting counts as WAIT_CYCLE_COST instructions (about its run
+# time), so a loop that only waits is caught as fast, while one long WAIT (at most
+# WAIT_SAMPLED_CYCLES recorded cycles) never exhausts it. Users raise it: --instruction-budget.
 DEFAULT_INSTRUCTION_BUDGET = 500_000
 WAIT_CYCLE_COST = 25
 MAX_CALL_DEPTH = 10_000
@@ -288,6 +290,7 @@ class Interpreter:
         t = self._time()
         if t > t_before:
             cycles = math.ceil((t - t_before) / self.state.settings.ipo - 1e-9)
+            cycles = min(cycles, WAIT_SAMPLED_CYCLES)  # what the wait costs to simulate
             self._progress_at -= WAIT_CYCLE_COST * cycles
             self._progress_time = max(self._progress_time, t)
             if self._steps - self._progress_at > self.budget:

@@ -19,6 +19,7 @@ LOOPS = {  # body (from line 6), the lines the failure may name (inside the loop
     "assignment": ("  WHILE TRUE DO\n    i := i + 1;\n    i := i - 1;\n  ENDWHILE;", (6, 9)),
     "wait_zero": ("  WHILE TRUE DO\n    WAIT 0 SEC;\n  ENDWHILE;", (6, 8)),
     "wait": ("  WHILE TRUE DO\n    WAIT 0.5 SEC;\n  ENDWHILE;", (7, 7)),  # at the WAIT
+    "long_wait": ("  WHILE TRUE DO\n    WAIT 3600 SEC;\n  ENDWHILE;", (7, 7)),
     "repeat": ("  REPEAT\n    i := i + 1;\n  UNTIL i < 0;", (6, 8)),
 }
 
@@ -101,3 +102,13 @@ def test_cli_help_states_the_defaults():
     text = " ".join(CliRunner().invoke(cli, ["run", "--help"]).output.split())
     assert f"[default: {DEFAULT_INSTRUCTION_BUDGET}]" in text
     assert f"a cycle of waiting counts as {WAIT_CYCLE_COST}" in text
+
+
+def test_one_long_wait_is_not_an_endless_loop(tmp_path):
+    """A single WAIT is charged for the cycles it records (at most WAIT_SAMPLED_CYCLES):
+    a 20-minute WAIT, 120 000 IPO cycles (3 M instructions at 25 a cycle), is a program,
+    not a loop."""
+    prog = _program(tmp_path, "  WAIT 1200 SEC;")
+    run = run_file(prog)
+    assert run.ok, run.error
+    assert run.report["duration_s"] == pytest.approx(1200.0)
