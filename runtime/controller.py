@@ -23,6 +23,11 @@ from irlc.lang.settings import setting_error as setting_error
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.values import IDENTITY, JointTuple, Pose, Position
 
+WAIT_SAMPLED_CYCLES = 1000
+"""A WAIT records one sample per IPO cycle for this many cycles, then only its last cycle:
+the robot stands still, and a long WAIT must not fill the memory with equal samples. The
+endless-loop guard charges a WAIT for these recorded cycles only."""
+
 
 @dataclass(frozen=True)
 class MotionCommand:
@@ -44,7 +49,13 @@ class MotionCommand:
 
 def _default(name: str) -> float:
     value = BY_FIELD[name].default
-    assert value is not None, name
+    assert isinstance(value, float), name
+    return value
+
+
+def _default_word(name: str) -> str:
+    value = BY_FIELD[name].default
+    assert isinstance(value, str), name
     return value
 
 
@@ -61,6 +72,9 @@ class Settings:
     base: Pose = field(default_factory=lambda: Pose(Position(0.0, 0.0, 0.0), IDENTITY))
     ipo: float = _default("ipo")  # R_IPO, s
     path_tol: float = _default("path_tol")  # R_PATH_TOL, mm (start: --path-tolerance)
+    profile: str = _default_word("profile")  # R_PROFILE: 'TRAPEZOID' | 'SCURVE'
+    jerk: float = _default("jerk")  # R_JERK, mm/s³ (S-curve path jerk)
+    override: float = _default("override")  # R_OVERRIDE, % (start: --override)
     approx: float = _default("approx")  # R_APPROX, mm (0: exact stop)
 
 

@@ -25,7 +25,11 @@ For each :class:`~irlc.runtime.controller.MotionCommand` it resolves
     point (approximate positioning superposes them in the executor: :mod:`blending`);
     ``WITH TIME`` is split over them in proportion to their minimum times;
   - ``WITH TIME t``: the profile is stretched to ``t``; shorter than the limits allow is
-    a RunFailure.
+    a RunFailure;
+  - ``R_PROFILE = 'SCURVE'``: the jerk-limited profile of :mod:`scurve` in place of the
+    trapezoid, with the jerk bounds of :meth:`PreInterpolator.ptp_jerks` (PTP) and
+    ``R_JERK`` (LIN, CIRCLE; orientation jerk ``R_SPEED_ORI · R_JERK / R_SPEED``, the same
+    time constants as the position).
 
 ``WITH RECONFIGURATION`` gives a reference θ⁰(s), linear per segment from the
 configuration at the start of the statement (or the previous point's) to each point's.
@@ -33,12 +37,15 @@ configuration at the start of the statement (or the previous point's) to each po
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from irlc.lang.irdata import GEOMETRY_MAX_MM
 from irlc.lang.settings import BY_FIELD, reconfiguration_counts, setting_message
 from irlc.robots.model import RobotModel
+from irlc.runtime import scurve as sc
 from irlc.runtime import units
 from irlc.runtime.controller import ModalOptions, MotionCommand, Settings
 from irlc.runtime.errors import RunFailure
@@ -64,6 +71,52 @@ from irlc.runtime.profiles import (
 from irlc.runtime.values import JointTuple, Pose
 
 Limits3 = tuple[np.ndarray, np.ndarray, np.ndarray]
+Profile = Trapezoid | sc.SCurve
+
+
+@dataclass(frozen=True)
+class Bounds:
+    """Normalised bounds of one segment's ``s(t)`` (``jerk`` ``None``: the trapezoid), the
+    axis that sets its time and that minimum time (s)."""
+
+    speed: float
+    accel: float
+    jerk: float | None
+    slowest: int
+    t_min: float
+
+
+def segment_bounds(distances, speeds, accels, jerks=None) -> Bounds:
+    """Common bounds of the axes sharing one ``s(t)`` (:func:`profiles.common_bounds`, or
+    :func:`scurve.common_bounds` when ``jerks`` are given)."""
+    if jerks is None:
+        v, a, slowest = common_bounds(distances, speeds, accels)
+        return Bounds(v, a, None, slowest, minimum_time(v, a) if slowest >= 0 else 0.0)
+    v, a, j, slowest = sc.common_bounds(distances, speeds, accels, jerks)
+    return Bounds(v, a, j, slowest, sc.minimum_time(v, a, j) if slowest >= 0 else 0.0)
+
+
+def scurve_on(cmd: MotionCommand, settings: Settings) -> bool:
+    """``R_PROFILE = 'SCURVE'`` (checked against its row in lang/settings.py)."""
+    value = settings.profile
+    message = setting_message("profile", value, "R_PROFILE")
+    if message is not None:
+        raise RunFailure(message, cmd.line)
+    return value.upper() == "SCURVE"
+
+
+def check_coordinates(frame: np.ndarray, what: str, line: int | None) -> None:
+    """:class:`RunFailure` unless the translation of ``frame`` (4×4, SI) is finite and
+    inside the physical range of a coordinate (``irdata.GEOMETRY_MAX_MM``, ±1 km): beyond
+    it a path length or a normalised speed overflows or underflows."""
+    top = GEOMETRY_MAX_MM * units.MM
+    for axis, v in zip("xyz", frame[:3, 3], strict=True):
+        if not abs(v) <= top:
+            raise RunFailure(
+                f"{what}: {axis} = {v / units.MM:g} mm is outside the physical range of a "
+                f"coordinate (within ±{GEOMETRY_MAX_MM:g} mm)",
+                line,
+            )
 
 
 def _setting(cmd: MotionCommand, settings: Settings, name: str) -> float:
@@ -71,13 +124,26 @@ def _setting(cmd: MotionCommand, settings: Settings, name: str) -> float:
     against the one range table (lang/settings.py) — the interpreter checks both when they
     are set, this guards controllers driven directly with hand-made settings."""
     row = BY_FIELD[name]
-    value, what = getattr(cmd, name), f"WITH {row.with_word}"
+    value, what = getattr(cmd, name, None), f"WITH {row.with_word}"  # None: no WITH form
     if value is None:
         value, what = getattr(settings, name), str(row.system_variable)
     message = setting_message(name, value, what)
     if message is not None:
         raise RunFailure(message, cmd.line)
-    return float(value)
+    return float(value) * override_factor(settings) ** _OVERRIDE_POWER.get(name, 0)
+
+
+# How R_OVERRIDE scales a setting: value · k^power (a time scaling, see the module doc;
+# a jerk limit, where a profile has one, scales with k³).
+_OVERRIDE_POWER = {"speed": 1, "speed_ori": 1, "speed_ptp": 1, "acc": 2, "acc_ptp": 2, "jerk": 3}
+
+
+def override_factor(settings: Settings) -> float:
+    """``k = R_OVERRIDE / 100`` (checked against its row of lang/settings.py)."""
+    message = setting_message("override", settings.override, "R_OVERRIDE")
+    if message is not None:
+        raise RunFailure(message)
+    return float(settings.override) / 100.0
 
 
 def tool_transform(model: RobotModel, settings: Settings) -> np.ndarray:
@@ -119,6 +185,7 @@ class PreInterpolator:
         self.kinds = model.joint_kinds
         self.scale = units.joint_scale(self.kinds)
         self.solve_pose = solve_pose
+        self.max_duration = math.inf  # s: the run's simulated-time budget (the controller's)
 
     # ------------------------------------------------------------------ units
     def joints_si(self, values: Sequence[float] | JointTuple) -> np.ndarray:
@@ -184,6 +251,8 @@ class PreInterpolator:
             (cmd.joint_limits, cmd.speed_limits, cmd.accel_limits), options, cmd.line
         )
         self.check_inside(state.q, lims[0], cmd.line, "the limits exclude the current state")
+        check_coordinates(units.pose_value_to_si(settings.tool), "R_TOOL", cmd.line)
+        check_coordinates(state.base, "R_BASE", cmd.line)
         kind = cmd.kind
         if kind in ("PTP", "PTPINC"):
             return self._plan_ptp(cmd, settings, options, state, lims)
@@ -239,9 +308,18 @@ class PreInterpolator:
         if isinstance(target, Pose):
             if self.solve_pose is None:
                 raise RunFailure("MOVE PTP to a POSE needs the pose solver", cmd.line)
-            world = self._world(target, state)
+            world = self._world(target, state, cmd.line)
             return self.solve_pose(world, q0, frozen, lims, cmd.line)
         raise RunFailure(f"MOVE PTP: unsupported target {type(target).__name__}", cmd.line)
+
+    def ptp_jerks(self, cmd, settings, accel: np.ndarray) -> np.ndarray:
+        """Per-joint jerk bounds of an S-curve PTP (SI, before ``R_ACC_PTP``): the robot
+        file's ``jerk`` where it gives one, else ``θ̈max_i · R_JERK / R_ACC`` — the joint
+        builds up its (active) acceleration bound ``accel`` in the time ``R_ACC / R_JERK``
+        the path takes for its own."""
+        ramp = _setting(cmd, settings, "acc") / _setting(cmd, settings, "jerk")
+        known = self.model.jerk_limits * override_factor(settings)  # × R_ACC_PTP: k³ in all
+        return np.where(np.isnan(known), accel / ramp, known)
 
     def _ptp_segment(self, cmd, settings, q0, q1, lims, dt, npts) -> Segment:
         _, spd, acc = lims
@@ -249,7 +327,9 @@ class PreInterpolator:
         pct_v = _setting(cmd, settings, "speed_ptp") / 100.0
         pct_a = _setting(cmd, settings, "acc_ptp") / 100.0
         vmax = np.where(delta >= 0.0, spd[:, 1], -spd[:, 0]) * pct_v
-        amax = np.minimum(acc[:, 1], -acc[:, 0]) * pct_a
+        accel = np.minimum(acc[:, 1], -acc[:, 0])
+        amax = accel * pct_a
+        jmax = self.ptp_jerks(cmd, settings, accel) * pct_a if scurve_on(cmd, settings) else None
         for j in np.flatnonzero(np.abs(delta) > 0.0):
             if not (vmax[j] > 0.0 and amax[j] > 0.0):
                 name = self.naming.label(j)
@@ -258,12 +338,14 @@ class PreInterpolator:
                     "do not allow motion in that direction",
                     cmd.line,
                 )
-        v, a, slowest = common_bounds(np.abs(delta), vmax, amax)
-        duration = self._time(cmd, npts, minimum_time(v, a) if slowest >= 0 else 0.0)
-        profile = self._profile(v, a, duration, dt, cmd.line)
+        b = segment_bounds(np.abs(delta), vmax, amax, jmax)
+        slowest = b.slowest
+        duration = self._time(cmd, settings, npts)
+        profile = self._profile(b, duration, dt, cmd.line)
         limiting = ""
         if slowest >= 0:
-            limiting = f"joint {self.naming.label(slowest)} speed/acceleration"
+            jerk = "/jerk" if b.jerk is not None else ""
+            limiting = f"joint {self.naming.label(slowest)} speed/acceleration{jerk}"
         seg = Segment(
             "ptp",
             cmd.line,
@@ -284,8 +366,10 @@ class PreInterpolator:
     def _plan_lin(self, cmd, settings, state: PlanState, lims) -> list[Segment]:
         if cmd.kind == "LININC":
             poses = [state.tcp @ units.pose_value_to_si(t) for t in cmd.targets]
+            for p in poses:
+                check_coordinates(p, "MOVE_INC LIN target", cmd.line)
         else:
-            poses = [self._world(t, state) for t in cmd.targets]
+            poses = [self._world(t, state, cmd.line) for t in cmd.targets]
         paths, start = [], state.tcp
         for p in poses:
             paths.append(CartesianLine(start.copy(), p))
@@ -295,7 +379,7 @@ class PreInterpolator:
     def _plan_circle(self, cmd, settings, state: PlanState, lims) -> list[Segment]:
         if len(cmd.targets) != 2:
             raise RunFailure("MOVE CIRCLE needs a via point and a target", cmd.line)
-        via, target = (self._world(t, state) for t in cmd.targets)
+        via, target = (self._world(t, state, cmd.line) for t in cmd.targets)
         try:
             arc = CartesianArc(state.tcp.copy(), via[:3, 3].copy(), target)
         except CircleError as exc:
@@ -306,21 +390,31 @@ class PreInterpolator:
         speed = _setting(cmd, settings, "speed") * units.MM
         acc = _setting(cmd, settings, "acc") * units.MM
         w = _setting(cmd, settings, "speed_ori") * units.DEG
+        if not (speed > 0.0 and acc > 0.0 and w > 0.0):  # a denormal setting underflowed in SI
+            raise RunFailure(
+                "the path speed, acceleration or orientation speed is too small to move "
+                "(it underflows to zero in SI units)",
+                cmd.line,
+            )
         w_acc = w * acc / speed
+        jerks = None
+        if scurve_on(cmd, settings):
+            jerk = _setting(cmd, settings, "jerk") * units.MM
+            jerks = [jerk, w * jerk / speed]
         bounds = []
         for path in paths:
             angle = path.angle if self.timed_orientation else 0.0
-            v, a, slowest = common_bounds([path.length, angle], [speed, w], [acc, w_acc])
-            tmin = minimum_time(v, a) if slowest >= 0 else 0.0
-            bounds.append((v, a, slowest, tmin))
-        times = self._split_time(cmd, [b[3] for b in bounds])
+            bounds.append(segment_bounds([path.length, angle], [speed, w], [acc, w_acc], jerks))
+        times = self._split_time(cmd, settings, [b.t_min for b in bounds])
         refs = self._references(cmd, state.q, paths)
         out = []
-        for path, (v, a, slowest, _), t, ref in zip(paths, bounds, times, refs, strict=True):
-            if slowest < 0:  # zero-length segment: nothing to interpolate
+        for path, b, t, ref in zip(paths, bounds, times, refs, strict=True):
+            if b.slowest < 0:  # zero-length segment: nothing to interpolate
                 continue
-            profile = self._profile(v, a, t, state.dt, cmd.line)
-            what = ("path speed/acceleration", "orientation speed")[slowest]
+            profile = self._profile(b, t, state.dt, cmd.line)
+            what = ("path speed/acceleration", "orientation speed")[b.slowest]
+            if jerks is not None:
+                what = ("path speed/acceleration/jerk", "orientation speed")[b.slowest]
             out.append(
                 Segment(
                     kind,
@@ -360,40 +454,71 @@ class PreInterpolator:
         return out
 
     # helpers --------------------------------------------------------------
-    def _world(self, pose: Pose, state: PlanState) -> np.ndarray:
+    def _world(self, pose: Pose, state: PlanState, line: int | None = None) -> np.ndarray:
         if not isinstance(pose, Pose):
             raise RunFailure(f"expected a POSE target, got {type(pose).__name__}")
-        return state.base @ units.pose_value_to_si(pose)
+        check_coordinates(units.pose_value_to_si(pose), "MOVE target", line)
+        world = state.base @ units.pose_value_to_si(pose)
+        check_coordinates(world, "MOVE target in the world (with R_BASE)", line)
+        return world
 
-    def _time(self, cmd, npts: int, t_min: float) -> float | None:
+    def _time(self, cmd, settings, npts: int) -> float | None:
+        """``WITH TIME`` stretched by the override (``t / k``), or ``None``."""
         if cmd.time is None:
             return None
         if npts > 1:
             raise RunFailure("WITH TIME on a multi-target PTP is not supported", cmd.line)
-        return float(cmd.time)
+        return float(cmd.time) / override_factor(settings)
 
-    def _split_time(self, cmd, tmins: list[float]) -> list[float | None]:
+    def _split_time(self, cmd, settings, tmins: list[float]) -> list[float | None]:
         if cmd.time is None:
             return [None] * len(tmins)
-        total = float(cmd.time)
+        k = override_factor(settings)
+        total = float(cmd.time) / k
         tsum = sum(tmins)
         if total < tsum * (1.0 - 1e-12):
+            at = "" if k == 1.0 else f" at R_OVERRIDE {settings.override:g} %"
             raise RunFailure(
-                f"WITH TIME := {total:g} s is shorter than the {tsum:.6g} s the speed and "
-                "acceleration limits allow",
+                f"WITH TIME := {float(cmd.time):g} s{at} is shorter than the {tsum * k:.6g} s "
+                "the speed and acceleration limits allow",
                 cmd.line,
             )
         if tsum == 0.0:
             return [None] * len(tmins)
         return [total * t / tsum for t in tmins]
 
-    def _profile(self, v, a, duration, dt, line) -> Trapezoid:
-        """The trapezoid (stretched to ``duration`` if given), rounded up to whole cycles."""
+    def _profile(self, b: Bounds, duration, dt, line) -> Profile:
+        """The trapezoid or the S-curve (stretched to ``duration`` if given), rounded up to
+        whole cycles.
+
+        A motion longer than the run's simulated-time budget (``max_duration``; a speed or
+        acceleration so small that the motion never arrives has ``T_min = ∞``; the
+        trapezoid's ``T_min`` bounds the S-curve's from below) fails here, before a cycle
+        is simulated."""
+        v, a, j = b.speed, b.accel, b.jerk
+        if duration is not None and not duration <= self.max_duration:
+            raise RunFailure(
+                f"WITH TIME := {duration:g} s is longer than the run's simulated-time budget "
+                f"of {self.max_duration:g} s (raise it with --max-time)",
+                line,
+            )
         if v == np.inf:  # nothing moves
             n = cycles(duration or 0.0, dt)
             return Trapezoid(n * dt, 0.0, 0.0) if n else Trapezoid(0.0, np.inf, np.inf)
+        t_min = minimum_time(v, a)
+        if not t_min <= self.max_duration:
+            raise RunFailure(
+                f"the motion would take {t_min:.6g} s at the active speed and acceleration, "
+                f"longer than the run's simulated-time budget of {self.max_duration:g} s "
+                "(a speed or acceleration too small for the distance?)",
+                line,
+            )
         try:
+            if j is not None:
+                base = sc.scurve(v, a, j, duration)
+                return sc.scurve(v, a, j, cycles(base.duration, dt) * dt)
             base = trapezoid(v, a, duration)
             return trapezoid(v, a, cycles(base.duration, dt) * dt)
         except ProfileError as exc:
-            raise RunFailure(f"WITH TIME: {exc}", line) from None
+            prefix = "WITH TIME: " if duration is not None else ""
+            raise RunFailure(f"{prefix}{exc}", line) from None

@@ -26,9 +26,11 @@ from typing import Any
 
 import numpy as np
 from irlc.runtime import units
+from irlc.runtime.cycle_time import source_lines, statement_rows
+from irlc.runtime.digital_io import io_columns, signal_timelines
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.naming import JointNaming
-from irlc.runtime.recorder import RecordedRun, finite_differences
+from irlc.runtime.recorder import RecordedRun, backward_jerk, finite_differences
 
 ROUND = 9  # significant digits of report numbers
 
@@ -43,7 +45,10 @@ def rnd(x: float | None, digits: int = ROUND) -> float | None:
     return v + 0.0  # no negative zero
 
 
-def assemble(code, model, controller, obstacles, execution, opts, drives: str, every_step: bool):
+def assemble(
+    code, model, controller, obstacles, execution, opts, drives: str, every_step: bool,
+    base_dir=None,
+):  # fmt: skip
     """The :class:`RunResult`. With drives the report, the trace and the verdict are those
     of the actual motion (:mod:`irlc.runtime.actual_motion`, :mod:`irlc.runtime.verdict`);
     the first violated criterion fails the run (exit 2) unless it failed already."""
@@ -84,10 +89,16 @@ def assemble(code, model, controller, obstacles, execution, opts, drives: str, e
     )
     if error is not None and error is not execution.error:  # a drive failure
         report["status"], report["error"] = "failed", _error_dict(error)
+    report["statements"] = statement_rows(
+        controller.statements, source_lines(code.source, base_dir), rnd
+    )
     trace_motion = actual
     if drive is not None and every_step:
         trace_motion = measure_actual(model, rec, controller, obstacles, drive.t, drive.q_actual)
     columns, table = build_trace(model, rec, names, drive, trace_motion)
+    signals = signal_timelines(execution.events)
+    io_names, io_table = io_columns(table[:, 0], code.inputs, execution.state.outputs, signals)
+    columns, table = columns + io_names, np.hstack((table, io_table))
     if trace_motion is not None:
         times, q_actual, tcp = trace_motion.times, trace_motion.q, trace_motion.tcp
     else:
@@ -209,6 +220,7 @@ def build_report(
         q = q_act / scale
         sp, ac = finite_differences(rec.times, q_act)
         speed, accel = sp / scale, ac / scale
+    jerk = backward_jerk(rec.times, accel) if k else np.zeros((0, model.n))
     activity = controller.recorder.active_time  # (joint, label) → s, built once here
     active_time = _active_time(activity, model.n)
     following = _following(drive, model)
@@ -224,6 +236,7 @@ def build_report(
                 "max": rnd(float(col.max())),
                 "max_abs_speed": rnd(float(np.abs(speed[:, j]).max()) if k else 0.0),
                 "max_abs_accel": rnd(float(np.abs(accel[:, j]).max()) if k else 0.0),
+                "max_abs_jerk": rnd(float(np.abs(jerk[:, j]).max()) if k else 0.0),
                 "limit_active_s": rnd(active_time[j]),
                 "limit_activity": {lab: rnd(t) for lab, t in sorted(_labels(activity, j).items())},
                 "max_following_error": following[j],
@@ -258,7 +271,7 @@ def build_report(
         },
         "output": list(execution.output),
         "warnings": warnings,
-        "events": [_clean(e) for e in execution.events],
+        "events": [_clean(e) for e in sorted(execution.events, key=lambda e: e["time_s"])],
         "approximations": list(getattr(controller, "blends", ())),
         "tolerances": {
             "path_mm": rnd(opts.tol_position / units.MM),
@@ -268,6 +281,7 @@ def build_report(
         "robot_joint_names": list(model.joint_names),
         "program_name": code.program,
         "tool": tool_report(model, execution.state.settings.tool),
+        "statements": [],  # cycle time per statement, filled by assemble (cycle_time.py)
     }
     if drive is not None:
         from irlc.runtime.drives import report_axes

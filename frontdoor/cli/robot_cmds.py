@@ -157,6 +157,13 @@ def robot_cmd(name: str) -> None:
             f"{h:.4g}",
         )
     console.print(table)
+    jerks = [
+        f"{naming.name(i)} {units.joints_from_si([j.limits.jerk], [j.kind])[0]:.6g}"
+        for i, j in enumerate(model.joints)
+        if j.limits.jerk is not None
+    ]
+    if jerks:  # the S-curve's PTP jerk bounds (the others are derived, docs/runtime.md)
+        console.print(escape(f"jerk limits [deg/s³ | mm/s³]: {', '.join(jerks)}"))
     console.print(escape(f"gravity [m/s²]: {_fmt(model.gravity)}"))
     for label, t in (("tool (flange → TCP)", model.tool), ("base (in the world)", model.base)):
         console.print(escape(f"{label} [mm, deg]: {_fmt(units.pose_from_si(t))}"))

@@ -10,16 +10,16 @@ import time
 from pathlib import Path
 
 import pytest
+from irlc.cli import main
 from irlc.runtime.interpreter import DEFAULT_INSTRUCTION_BUDGET
 from irlc.runtime.run import RunSetupError, run_file
-
-from irlc.cli import main
 
 LOOPS = {  # body (from line 6), the lines the failure may name (inside the loop)
     "empty": ("  WHILE TRUE DO\n  ENDWHILE;", (6, 7)),
     "assignment": ("  WHILE TRUE DO\n    i := i + 1;\n    i := i - 1;\n  ENDWHILE;", (6, 9)),
     "wait_zero": ("  WHILE TRUE DO\n    WAIT 0 SEC;\n  ENDWHILE;", (6, 8)),
     "wait": ("  WHILE TRUE DO\n    WAIT 0.5 SEC;\n  ENDWHILE;", (7, 7)),  # at the WAIT
+    "long_wait": ("  WHILE TRUE DO\n    WAIT 3600 SEC;\n  ENDWHILE;", (7, 7)),
     "repeat": ("  REPEAT\n    i := i + 1;\n  UNTIL i < 0;", (6, 8)),
 }
 
@@ -96,10 +96,19 @@ def test_golden_options_take_the_budget(tmp_path):
 
 def test_cli_help_states_the_defaults():
     from click.testing import CliRunner
-    from irlc.runtime.interpreter import WAIT_CYCLE_COST
-
     from irlc.cli.app import cli
+    from irlc.runtime.interpreter import WAIT_CYCLE_COST
 
     text = " ".join(CliRunner().invoke(cli, ["run", "--help"]).output.split())
     assert f"[default: {DEFAULT_INSTRUCTION_BUDGET}]" in text
     assert f"a cycle of waiting counts as {WAIT_CYCLE_COST}" in text
+
+
+def test_one_long_wait_is_not_an_endless_loop(tmp_path):
+    """A single WAIT is charged for the cycles it records (at most WAIT_SAMPLED_CYCLES):
+    a 20-minute WAIT, 120 000 IPO cycles (3 M instructions at 25 a cycle), is a program,
+    not a loop."""
+    prog = _program(tmp_path, "  WAIT 1200 SEC;")
+    run = run_file(prog)
+    assert run.ok, run.error
+    assert run.report["duration_s"] == pytest.approx(1200.0)
