@@ -208,7 +208,6 @@ class SimulatedController:
         finally:
             self._log_motion(cmd, segments, t0, stop, settings.override)
 
-
     def flush(self, reason: str = "") -> None:
         """Ends the pending approximated motion with an exact stop at its point (the
         advance run stops: WAIT, WAIT FOR, an input read, R_ACT_POSE, a change of options,

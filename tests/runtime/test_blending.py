@@ -464,3 +464,24 @@ def test_signal_between_approximated_motions_switches_on_entering_the_region(tmp
     p = _positions_mm(run)
     k = int(np.flatnonzero(np.abs(t - event["time_s"]) < 1e-9)[0])
     assert np.linalg.norm(p[k] - [400.0, 100.0, 500.0]) == pytest.approx(20.0, abs=1e-3)
+
+
+def test_cycle_time_spans_tile_the_run_with_blends_and_exact_stops(tmp_path):
+    """The per-statement table still sums to the duration: a blended point's tail counts
+    in the next statement's span; a point whose approximation a WAIT or the program's end
+    cancels extends its own span, which then ends in an exact stop."""
+    text = (
+        CORNER.format(approx="", x2=600)
+        .replace("  MOVE LIN POSE(400, -100", "  R_APPROX := 20;\n  MOVE LIN POSE(400, -100")
+        .replace("  MOVE LIN POSE(600", "  WAIT 0.1 SEC;\n  MOVE LIN POSE(600")
+    )
+    run = _run(tmp_path, text, "tile")
+    rows = run.report["statements"]
+    assert sum(r["duration_s"] for r in rows) == pytest.approx(run.report["duration_s"])
+    ends = [r["start_s"] + r["duration_s"] for r in rows]
+    assert [r["start_s"] for r in rows[1:]] == pytest.approx(ends[:-1])
+    stops = {r["line"]: r["stop"] for r in rows if r["kind"].startswith("MOVE")}
+    assert stops == {6: "exact", 8: "approximated", 9: "exact", 11: "exact"}
+    assert ends[-1] == pytest.approx(run.report["duration_s"])
+    notes = {e["line"]: e["note"] for e in run.report["approximations"]}
+    assert notes[9] == "WAIT at line 10" and notes[11] == "the program ends"
