@@ -485,3 +485,22 @@ def test_cycle_time_spans_tile_the_run_with_blends_and_exact_stops(tmp_path):
     assert ends[-1] == pytest.approx(run.report["duration_s"])
     notes = {e["line"]: e["note"] for e in run.report["approximations"]}
     assert notes[9] == "WAIT at line 10" and notes[11] == "the program ends"
+
+
+def test_scurve_profiles_blend_too(tmp_path):
+    """R_PROFILE := 'SCURVE': the superposition does not depend on the profile's shape —
+    blended within APPROX, not stopping, shorter, the path speed within R_SPEED."""
+    scurve = CORNER.replace("  R_ACC := 1000;", "  R_ACC := 1000;\n  R_PROFILE := 'SCURVE';")
+    exact = _run(tmp_path, scurve.format(approx="", x2=600), "se")
+    run = _run(tmp_path, scurve.format(approx=" WITH APPROX := 20", x2=600), "sb")
+    (entry,) = run.report["approximations"]
+    assert entry["blended"] and entry["max_distance_mm"] <= 20.0 + 1e-9
+    assert entry["min_speed_mm_s"] > 50.0
+    # shorter by the overlap, ± one IPO cycle: side B is planned from the programmed
+    # corner, the exact run's from where the IK arrived (1e-9 m away), and this S-curve's
+    # time lies on a cycle boundary (115 vs 116 cycles)
+    saved = exact.report["duration_s"] - run.report["duration_s"]
+    assert saved == pytest.approx(entry["saved_s"], abs=0.01 + 1e-9)
+    p, t = _positions_mm(run), run.recorded.times
+    speed = np.linalg.norm(np.diff(p, axis=0), axis=1) / np.diff(t)
+    assert speed[t[1:] > 1.0].max() <= 250.0 * (1 + 1e-6)  # after the start PTP
