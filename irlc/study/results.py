@@ -1,0 +1,97 @@
+"""``DIR/results.csv``: rows appended as variants finish, sorted by variant at the end.
+
+* Appending: each row is one ``write`` of its whole line to the file opened with
+  ``O_APPEND``, then ``fsync`` — a row is either entirely in the file or not at all
+  (a crash can leave at most a last line without its newline, which a resume drops).
+* ``DIR/study.json`` records the study's token and the columns; ``--resume`` refuses a
+  folder of another study (or of a changed study file or program).
+* At the end (also after Ctrl-C) the rows are rewritten sorted by ``variant``
+  (:func:`irlc.files.atomic_write_text`), so the file is the same bytes whatever the order
+  in which variants finished and however often the study was resumed.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+from pathlib import Path
+
+from irlc.files import atomic_write_text
+from irlc.study.spec import StudyError
+
+RESULTS = "results.csv"
+META = "study.json"
+
+
+def _line(columns: list[str], row: dict[str, str]) -> str:
+    buf = io.StringIO()
+    csv.writer(buf, lineterminator="\n").writerow([row.get(c, "") for c in columns])
+    return buf.getvalue()
+
+
+class ResultsFile:
+    """The results of one study in ``folder`` (see the module doc)."""
+
+    def __init__(self, folder: Path, columns: list[str], token: str, resume: bool):
+        self.folder, self.columns, self.token = Path(folder), columns, token
+        self.path = self.folder / RESULTS
+        self.done: dict[int, str] = {}  # variant → its line
+        if resume and self.path.exists():
+            self._load()
+        elif self.path.exists() and not resume:
+            raise StudyError(
+                str(self.path), None, "",
+                "already exists: pass --resume to complete it, or choose another --out",
+            )  # fmt: skip
+        else:
+            self.folder.mkdir(parents=True, exist_ok=True)
+            meta = {"format": "irlc-study 1", "token": token, "columns": columns}
+            atomic_write_text(self.folder / META, json.dumps(meta, indent=1) + "\n")
+            atomic_write_text(self.path, _line(columns, {c: c for c in columns}))
+
+    def _load(self) -> None:
+        meta_path = self.folder / META
+        try:
+            meta = json.loads(meta_path.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            raise StudyError(
+                str(meta_path), None, "", "missing or unreadable: cannot resume"
+            ) from None
+        if meta.get("token") != self.token or meta.get("columns") != self.columns:
+            raise StudyError(
+                str(self.path), None, "",
+                "written by another study (or the study file or program changed): "
+                "cannot resume; choose another --out",
+            )  # fmt: skip
+        text = self.path.read_text(encoding="utf-8")
+        if not text.endswith("\n"):  # a row cut short by a crash: dropped
+            text = text[: text.rfind("\n") + 1]
+            atomic_write_text(self.path, text)
+        for body in text.split("\n")[1:-1]:
+            line = body + "\n"
+            first = next(csv.reader([line]), [""])[0]
+            if first.isdigit():
+                self.done[int(first)] = line
+
+    def append(self, row: dict[str, str]) -> None:
+        line = _line(self.columns, row)
+        fd = os.open(self.path, os.O_WRONLY | os.O_APPEND)
+        try:
+            os.write(fd, line.encode("utf-8"))
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+        self.done[int(row["variant"])] = line
+
+    def finish(self) -> None:
+        """Rewrite the rows in variant order (atomically)."""
+        header = _line(self.columns, {c: c for c in self.columns})
+        body = "".join(self.done[i] for i in sorted(self.done))
+        atomic_write_text(self.path, header + body)
+
+    def rows(self) -> list[dict[str, str]]:
+        """All rows done, in variant order, as dicts of text."""
+        reader = csv.reader(self.done[i] for i in sorted(self.done))
+        return [dict(zip(self.columns, r, strict=False)) for r in reader]

@@ -1,0 +1,161 @@
+"""Where the variants run: local worker processes (default) or a Dask cluster.
+
+**Local** (:func:`run_local`): a ``ProcessPoolExecutor`` of ``workers`` processes
+(``forkserver``: clean workers, the plan sent once to each by the initializer). At most
+``2·workers`` variants are in flight, so a study of a million variants holds only that
+many futures. Each finished variant is handed to ``on_row`` at once (results.csv is
+appended); the order of completion does not matter, the file is sorted at the end.
+
+A worker that *dies* (segfault, ``os._exit``, out of memory) breaks the whole pool. The
+variants that were in flight are then the suspects: each is run again alone in a fresh
+one-process pool, and one that kills that pool too is a ``crashed`` row; the rest of the
+study goes on in a new pool. A variant that merely fails is a row from the worker itself.
+
+**Dask** (:func:`run_dask`): the same :func:`irlc.study.worker.run_variant` as tasks on
+an existing ``dask.distributed`` scheduler (``tcp://HOST:8786``); the plan is scattered
+once to every worker, each worker keeps its caches across tasks. A task whose worker
+keeps dying ends as ``KilledWorker`` (after Dask's own retries): a ``crashed`` row.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+from collections import deque
+from collections.abc import Callable, Iterable
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+
+from irlc.study import metrics
+from irlc.study.expand import Variant
+from irlc.study.plan import Plan
+from irlc.study.worker import init_worker, run_indexed
+
+OnRow = Callable[[dict[str, str]], None]
+CRASH_MESSAGE = "the worker process died while running this variant"
+
+
+def _pool(plan: Plan, workers: int) -> ProcessPoolExecutor:
+    ctx = multiprocessing.get_context("forkserver")
+    ctx.set_forkserver_preload(["irlc.study.worker", "irlc.runtime.run"])
+    return ProcessPoolExecutor(workers, mp_context=ctx, initializer=init_worker, initargs=(plan,))
+
+
+def crashed_row(plan: Plan, index: int, values: tuple, message: str = CRASH_MESSAGE) -> dict:
+    return {
+        **metrics.parameter_cells(plan, index, values),
+        **metrics.error_cells("crashed", None, message, None),
+    }
+
+
+def run_local(plan: Plan, todo: Iterable[Variant], workers: int, on_row: OnRow) -> None:
+    """Run ``todo`` on ``workers`` local processes (see the module doc)."""
+    queue = deque(todo)
+    workers = max(1, min(workers, len(queue)))
+    while queue:
+        suspects = _run_pool(plan, queue, workers, on_row)
+        for index, values in suspects:  # the pool broke: isolate the culprit(s)
+            rows = _run_alone(plan, (index, values))
+            on_row(rows)
+
+
+def _run_pool(plan: Plan, queue: deque, workers: int, on_row: OnRow) -> list[Variant]:
+    """Run from ``queue`` until it is empty or the pool breaks; then return the variants
+    that were in flight (and put nothing of them back on the queue)."""
+    window = 2 * workers
+    pool = _pool(plan, workers)
+    running: dict[Future, Variant] = {}
+    try:
+        while queue or running:
+            while queue and len(running) < window:
+                variant = queue.popleft()
+                running[pool.submit(run_indexed, *variant)] = variant
+            done, _ = wait(running, return_when=FIRST_COMPLETED)
+            for future in done:
+                variant = running.pop(future)
+                try:
+                    row = future.result()
+                except BrokenProcessPool:
+                    suspects = [variant, *running.values()]
+                    running.clear()
+                    return suspects
+                on_row(row)
+        return []
+    finally:
+        for future in running:
+            future.cancel()
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _run_alone(plan: Plan, variant: Variant) -> dict[str, str]:
+    pool = _pool(plan, 1)
+    try:
+        return pool.submit(run_indexed, *variant).result()
+    except BrokenProcessPool:
+        return crashed_row(plan, *variant)
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+# --------------------------------------------------------------------------- dask
+
+
+class ClusterError(Exception):
+    """No Dask, or the scheduler cannot be reached (exit 3)."""
+
+
+def _dask_task(plan: Plan, index: int, values: tuple) -> dict[str, str]:
+    from irlc.study.worker import run_variant
+
+    return run_variant(plan, index, values)
+
+
+def run_dask(plan: Plan, todo: Iterable[Variant], address: str | object, on_row: OnRow) -> None:
+    """Run ``todo`` on the Dask cluster at ``address`` (or a given ``Client``)."""
+    try:
+        from distributed import Client, as_completed
+    except ImportError:
+        raise ClusterError(
+            "--cluster needs dask.distributed: pip install 'irlc[cluster]'"
+        ) from None
+    own = not hasattr(address, "submit")
+    try:
+        client = Client(address, timeout="20s") if own else address
+    except (OSError, TimeoutError, ValueError) as e:
+        raise ClusterError(f"cannot reach the Dask scheduler at {address}: {e}") from None
+    try:
+        _dask_loop(client, plan, deque(todo), on_row, as_completed)
+    finally:
+        if own:
+            client.close()
+
+
+def _dask_loop(client, plan: Plan, queue: deque, on_row: OnRow, as_completed) -> None:
+    from distributed import KilledWorker
+
+    [plan_future] = client.scatter([plan], broadcast=True, hash=False)
+    window = max(2 * sum(client.nthreads().values()), 2)
+    pending: dict = {}
+    stream = as_completed()
+
+    def submit() -> None:
+        while queue and len(pending) < window:
+            index, values = queue.popleft()
+            future = client.submit(
+                _dask_task, plan_future, index, values,
+                key=f"irlc-study-{plan.token}-{index}", pure=False,
+            )  # fmt: skip
+            pending[future.key] = (index, values)
+            stream.add(future)
+
+    submit()
+    for future in stream:
+        index, values = pending.pop(future.key)
+        try:
+            row = future.result()
+        except KilledWorker:
+            row = crashed_row(plan, index, values)
+        except Exception as e:  # the task itself never raises; this is the cluster's
+            row = crashed_row(plan, index, values, f"the cluster lost the task: {e}")
+        on_row(row)
+        future.release()
+        submit()
