@@ -1,0 +1,278 @@
+"""``irlc study``: study files, checks before anything runs, workers, resume, failing rows.
+
+The runs are a short planar3 program (one 0.5 m line, < 1 s simulated) so that a study of a
+few variants takes seconds; the expensive ones (process pools, a Dask cluster) are marked
+``scenario``.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from irlc.cli import main
+from irlc.study import StudyError, read_study, run_study
+from irlc.study.expand import variants
+from irlc.study.spec import key_line
+
+PROGRAM = """PROGRAM p3;
+ROBOT r := planar3;
+IMPORT DATALIST cell3;
+
+BEGIN
+  R_SPEED := 800;
+  R_ACC := 4000;
+  MOVE PTP home;
+  MOVE LIN sq_1;
+ENDPROGRAM
+"""
+MOVE_LINE = 9  # the MOVE LIN line of PROGRAM
+
+CELL = """[poses]
+sq_1 = [1500, 1000, 0, 0, 0, 0]
+
+[joints]
+home = [0, 90, -90]
+
+[obstacles.post]
+kind = "sphere"
+center = [1700, 1300, 0]
+radius = 100
+"""
+
+
+@pytest.fixture
+def cell(tmp_path: Path) -> Path:
+    (tmp_path / "p3.irl").write_text(PROGRAM)
+    (tmp_path / "cell3.toml").write_text(CELL)
+    return tmp_path
+
+
+def write_study(folder: Path, body: str, name: str = "s.toml") -> Path:
+    path = folder / name
+    path.write_text('program = "p3.irl"\n\n' + body)
+    return path
+
+
+def rows(folder: Path) -> list[dict[str, str]]:
+    with (folder / "results.csv").open(newline="") as f:
+        return list(csv.DictReader(f))
+
+
+# --------------------------------------------------------------------------- expansion
+
+
+def test_grid_is_every_combination_first_key_slowest(cell):
+    study = read_study(write_study(cell, '[grid]\n"run.ipo" = [0.01, 0.02]\n'
+                                         'robot.joints.2.weight = [1, 2, 3]\n'))  # fmt: skip
+    got = list(variants(study))
+    assert [i for i, _ in got] == list(range(6))
+    assert [v for _, v in got] == [
+        (0.01, 1), (0.01, 2), (0.01, 3), (0.02, 1), (0.02, 2), (0.02, 3),
+    ]  # fmt: skip
+
+
+def test_random_is_seeded_deterministic_and_crossed_with_the_grid(cell):
+    body = (
+        '[grid]\n"run.ipo" = [0.01, 0.02]\n\n[random]\nn = 5\nseed = 42\n'
+        '"datalist.cell3.obstacles.post.radius" = { uniform = [50, 150] }\n'
+        '"robot.joints.2.weight" = { normal = [2, 0.1] }\n'
+    )
+    study = read_study(write_study(cell, body))
+    first, again = list(variants(study)), list(variants(read_study(study.file)))
+    assert first == again and len(first) == 10
+    # the documented draw: one PCG64 stream, keys in file order, n values per key
+    rng = np.random.Generator(np.random.PCG64(42))
+    radius, weight = rng.uniform(50, 150, 5), rng.normal(2, 0.1, 5)
+    for g, ipo in enumerate((0.01, 0.02)):
+        for i in range(5):
+            index, values = first[g * 5 + i]
+            assert index == g * 5 + i
+            assert values == (ipo, float(radius[i]), float(weight[i]))
+    assert all(50 <= r < 150 for r in radius)
+    other = read_study(write_study(cell, body.replace("seed = 42", "seed = 43"), "t.toml"))
+    assert list(variants(other)) != first
+
+
+def test_dotted_and_quoted_keys_name_the_same_path(cell):
+    a = read_study(write_study(cell, '[grid]\n"robot.joints.2.weight" = [1]\n', "a.toml"))
+    b = read_study(write_study(cell, "[grid.robot.joints.2]\nweight = [1]\n", "b.toml"))
+    assert a.keys == b.keys == ["robot.joints.2.weight"]
+
+
+# --------------------------------------------------------------------------- checks
+
+BAD = [
+    # (body, the text of the offending line, words of the message)
+    ('[grid]\n"robot.joints.2.weight" = [1.0, -4.0]\n', '"robot.joints.2.weight"', "positive"),
+    ('[grid]\n"robot.joints.2.wieght" = [1.0]\n', '"robot.joints.2.wieght"', "unknown key"),
+    ('[grid]\n"robot.joints.7.weight" = [1.0]\n', '"robot.joints.7.weight"', "outside 1"),
+    ('[grid]\nrobot.joints.2.weight = ["x"]\n', "robot.joints.2.weight", "expected a number"),
+    ('[grid]\n"datalist.cell3.obstacles.post.radius" = [2, -5]\n', "post.radius", "positive"),
+    ('[grid]\n"datalist.cell3.poses.sq_1" = [[1, 2, 3]]\n', "poses.sq_1", "6 values"),
+    ('[grid]\n"datalist.cell4.poses.sq_1" = [1]\n', "cell4", "imports: cell3"),
+    ('[grid]\n"run.ipo" = [0.01, -1]\n', '"run.ipo"', "must be in"),
+    ('[grid]\n"run.drives" = ["fast"]\n', '"run.drives"', "ideal"),
+    ('[grid]\n"run.path_tolrance" = [1]\n', "path_tolrance", "unknown run option"),
+    ('[grid]\nfoo.bar = [1]\n', "foo.bar", "unknown key"),
+    ('[grid]\n"run.ipo" = []\n', '"run.ipo"', "non-empty list"),
+    ('[random]\nn = 0\nseed = 1\n"run.ipo" = { uniform = [0.01, 0.02] }\n', "n = 0", "at least 1"),
+    ('[random]\nn = 3\nseed = 1\n"run.ipo" = { uniform = [0.02, 0.01] }\n', '"run.ipo"', "a < b"),
+    ('[random]\nn = 3\nseed = 1\n"run.ipo" = { gauss = [1, 2] }\n', '"run.ipo"', "uniform"),
+    # a random key is checked at its extreme samples: weights around 0.1 ± 1 go negative
+    ('[random]\nn = 50\nseed = 1\n"robot.joints.1.weight" = { normal = [0.1, 1] }\n',
+     '"robot.joints.1.weight"', "positive"),  # fmt: skip
+    ('[grid.robot.joints.2]\nspeed = [1, 0]\n', "speed = [1, 0]", "positive"),
+    ('[run]\nipo = "fast"\n\n[grid]\n"run.drives" = ["ideal"]\n', 'ipo = "fast"', "must be"),
+    ('colour = 1\n[grid]\n"run.ipo" = [0.01]\n', "colour", "unknown key"),
+]
+
+
+@pytest.mark.parametrize(("body", "marker", "words"), BAD)
+def test_bad_study_files_name_the_line_before_anything_runs(cell, capsys, body, marker, words):
+    path = write_study(cell, body)
+    line = next(i for i, t in enumerate(path.read_text().splitlines(), 1) if marker in t)
+    assert main(["study", str(path), "--out", str(cell / "out"), "-q"]) == 3
+    err = capsys.readouterr().err
+    assert f"s.toml:{line}:" in err and words in err, err
+    assert "Traceback" not in err
+    assert not (cell / "out" / "results.csv").exists()  # nothing ran
+
+
+def test_key_line_finds_quoted_dotted_and_table_keys():
+    text = '[grid]\n"a.b" = [1]\nc . "d" = [2]\n\n[random.e]\nf = 3\n'
+    assert key_line(text, "grid.a.b") == 2
+    assert key_line(text, "grid.c.d") == 3
+    assert key_line(text, "random.e.f") == 6
+    assert key_line(text, "random.e.g") == 5  # the table that would hold it
+
+
+def test_missing_program_and_invalid_toml(cell, capsys):
+    path = cell / "s.toml"
+    path.write_text('program = "nope.irl"\n[grid]\n"run.ipo" = [0.01]\n')
+    assert main(["study", str(path), "-q"]) == 3
+    assert "s.toml:1: program: nope.irl: no such file" in capsys.readouterr().err
+    path.write_text('program = "p3.irl"\n[grid\n')
+    assert main(["study", str(path), "-q"]) == 3
+    assert "s.toml:2: invalid TOML" in capsys.readouterr().err
+
+
+# --------------------------------------------------------------------------- running
+
+STUDY = (
+    '[grid]\n"robot.joints.2.weight" = [1.0, 4.0]\n\n[random]\nn = 2\nseed = 7\n'
+    '"datalist.cell3.obstacles.post.radius" = { uniform = [50, 150] }\n'
+)
+
+
+@pytest.mark.scenario
+def test_results_are_the_same_bytes_with_one_and_two_workers(cell):
+    path = write_study(cell, STUDY)
+    one = run_study(path, out=cell / "one", workers=1)
+    two = run_study(path, out=cell / "two", workers=2)
+    assert one.ran == two.ran == 4
+    a, b = (cell / "one/results.csv").read_bytes(), (cell / "two/results.csv").read_bytes()
+    assert a == b
+    table = rows(cell / "one")
+    assert [r["variant"] for r in table] == ["0", "1", "2", "3"]
+    assert all(r["status"] == "ok" and r["exit_code"] == "0" for r in table)
+    # clearance to a sphere = distance to its centre − radius: same motion (same weight),
+    # other radius → the clearance moves by exactly the radius difference
+    for i, j in ((0, 1), (2, 3)):
+        dr = float(table[j]["datalist.cell3.obstacles.post.radius"]) - float(
+            table[i]["datalist.cell3.obstacles.post.radius"]
+        )
+        dc = float(table[j]["min_clearance_post_mm"]) - float(table[i]["min_clearance_post_mm"])
+        assert math.isclose(dc, -dr, abs_tol=1e-5)
+    # the weight changes how the redundancy is resolved: other joint speeds
+    assert table[0]["peak_speed_a2_deg_s"] != table[2]["peak_speed_a2_deg_s"]
+
+
+@pytest.mark.scenario
+def test_resume_after_an_interruption_runs_only_the_missing_variants(cell):
+    path = write_study(cell, STUDY)
+    full = run_study(path, out=cell / "full", workers=1)
+    expected = (cell / "full/results.csv").read_bytes()
+    # an interrupted run: two rows written out of order, a third cut off mid-line
+    shutil.copytree(cell / "full", cell / "cut")
+    lines = expected.decode().split("\n")
+    cut = lines[0] + "\n" + lines[3] + "\n" + lines[1] + "\n" + lines[4][:10]
+    (cell / "cut/results.csv").write_text(cut)
+    done = []
+    again = run_study(path, out=cell / "cut", workers=1, resume=True,
+                      started=lambda todo, total: done.append((todo, total)))  # fmt: skip
+    assert done == [(2, 4)] and again.ran == 2 and full.ran == 4
+    assert (cell / "cut/results.csv").read_bytes() == expected
+    # resuming a complete study runs nothing; without --resume the folder is refused
+    assert run_study(path, out=cell / "cut", resume=True).ran == 0
+    with pytest.raises(StudyError, match="--resume"):
+        run_study(path, out=cell / "cut")
+    # a changed study file cannot resume into the old results
+    path.write_text(path.read_text().replace("seed = 7", "seed = 8"))
+    with pytest.raises(StudyError, match="another study"):
+        run_study(path, out=cell / "cut", resume=True)
+
+
+@pytest.mark.scenario
+def test_a_failing_variant_is_a_row_with_its_error(cell, capsys):
+    body = '[grid]\n"datalist.cell3.poses.sq_1.1" = [1500, 9000]\n"run.ipo" = [0.01]\n'
+    path = write_study(cell, body)
+    assert main(["study", str(path), "--out", str(cell / "out"), "-j", "1"]) == 0
+    ok, bad = rows(cell / "out")
+    assert ok["status"] == "ok" and ok["error"] == ""
+    assert bad["status"] == "failed" and bad["exit_code"] == "2"
+    assert bad["error_line"] == str(MOVE_LINE) and bad["error"]
+    out = capsys.readouterr().out
+    assert "1 failed, 1 ok" in out
+
+
+def test_sort_must_name_a_metric(cell, capsys):
+    path = write_study(cell, '[grid]\n"run.ipo" = [0.01]\n')
+    assert main(["study", str(path), "--out", str(cell / "o"), "-j", "1", "--sort", "x"]) == 3
+    assert "--sort x: not a metric column" in capsys.readouterr().err
+
+
+@pytest.mark.scenario
+def test_the_cluster_gives_the_local_results(cell):
+    distributed = pytest.importorskip("distributed")
+    path = write_study(cell, STUDY)
+    run_study(path, out=cell / "local", workers=2)
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster, distributed.Client(cluster) as client:
+        remote = run_study(path, out=cell / "dask", cluster=client)
+    assert remote.ran == 4
+    assert (cell / "dask/results.csv").read_bytes() == (cell / "local/results.csv").read_bytes()
+
+
+class _KillsTheWorker:
+    """A value whose unpickling ends the worker process at once (like a segfault would)."""
+
+    def __reduce__(self):
+        import os
+
+        return (os._exit, (70,))
+
+    def __str__(self) -> str:
+        return "killer"
+
+
+@pytest.mark.scenario
+def test_a_variant_that_kills_its_worker_is_a_crashed_row_and_the_rest_run(cell):
+    from irlc.study.plan import build_plan
+    from irlc.study.runner import run_local
+
+    study = read_study(write_study(cell, '[grid]\n"run.ipo" = [0.01, 0.02, 0.01]\n'))
+    plan = build_plan(study)
+    todo = [(0, (0.01,)), (1, (_KillsTheWorker(),)), (2, (0.02,))]
+    got: list[dict] = []
+    run_local(plan, todo, 2, got.append)
+    by_index = {int(r["variant"]): r for r in got}
+    assert sorted(by_index) == [0, 1, 2] and len(got) == 3
+    assert by_index[1]["status"] == "crashed" and "died" in by_index[1]["error"]
+    assert by_index[0]["status"] == by_index[2]["status"] == "ok"
