@@ -119,15 +119,18 @@ BAD = [
     ('[grid]\n"run.ipo" = [0.01, -1]\n', '"run.ipo"', "must be in"),
     ('[grid]\n"run.drives" = ["fast"]\n', '"run.drives"', "ideal"),
     ('[grid]\n"run.path_tolrance" = [1]\n', "path_tolrance", "unknown run option"),
-    ('[grid]\nfoo.bar = [1]\n', "foo.bar", "unknown key"),
+    ("[grid]\nfoo.bar = [1]\n", "foo.bar", "unknown key"),
     ('[grid]\n"run.ipo" = []\n', '"run.ipo"', "non-empty list"),
     ('[random]\nn = 0\nseed = 1\n"run.ipo" = { uniform = [0.01, 0.02] }\n', "n = 0", "at least 1"),
     ('[random]\nn = 3\nseed = 1\n"run.ipo" = { uniform = [0.02, 0.01] }\n', '"run.ipo"', "a < b"),
     ('[random]\nn = 3\nseed = 1\n"run.ipo" = { gauss = [1, 2] }\n', '"run.ipo"', "uniform"),
     # a random key is checked at its extreme samples: weights around 0.1 ± 1 go negative
-    ('[random]\nn = 50\nseed = 1\n"robot.joints.1.weight" = { normal = [0.1, 1] }\n',
-     '"robot.joints.1.weight"', "positive"),  # fmt: skip
-    ('[grid.robot.joints.2]\nspeed = [1, 0]\n', "speed = [1, 0]", "positive"),
+    (
+        '[random]\nn = 50\nseed = 1\n"robot.joints.1.weight" = { normal = [0.1, 1] }\n',
+        '"robot.joints.1.weight"',
+        "positive",
+    ),
+    ("[grid.robot.joints.2]\nspeed = [1, 0]\n", "speed = [1, 0]", "positive"),
     ('[run]\nipo = "fast"\n\n[grid]\n"run.drives" = ["ideal"]\n', 'ipo = "fast"', "must be"),
     ('colour = 1\n[grid]\n"run.ipo" = [0.01]\n', "colour", "unknown key"),
 ]
@@ -242,9 +245,12 @@ def test_the_cluster_gives_the_local_results(cell):
     distributed = pytest.importorskip("distributed")
     path = write_study(cell, STUDY)
     run_study(path, out=cell / "local", workers=2)
-    with distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
-    ) as cluster, distributed.Client(cluster) as client:
+    with (
+        distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
         remote = run_study(path, out=cell / "dask", cluster=client)
     assert remote.ran == 4
     assert (cell / "dask/results.csv").read_bytes() == (cell / "local/results.csv").read_bytes()
