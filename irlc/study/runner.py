@@ -159,3 +159,42 @@ def _dask_loop(client, plan: Plan, queue: deque, on_row: OnRow, as_completed) ->
         on_row(row)
         future.release()
         submit()
+
+
+# --------------------------------------------------------------------------- generic
+
+
+def ordered_map(
+    fn: Callable, items: list, workers: int, crashed: Callable[[object], object]
+) -> list:
+    """``[fn(x) for x in items]`` on ``workers`` local processes, in the order of ``items``
+    whatever the order of completion; an item whose process dies gives ``crashed(item)``
+    (the same isolation as :func:`run_local`). ``fn`` must be a module-level function."""
+    results: dict[int, object] = {}
+    queue = deque(enumerate(items))
+    workers = max(1, min(workers, len(items)))
+    ctx = multiprocessing.get_context("forkserver")
+    while queue:
+        suspects: list[tuple[int, object]] = []
+        with ProcessPoolExecutor(workers, mp_context=ctx) as pool:
+            running: dict[Future, tuple[int, object]] = {}
+            while (queue or running) and not suspects:
+                while queue and len(running) < 2 * workers:
+                    i, item = queue.popleft()
+                    running[pool.submit(fn, item)] = (i, item)
+                done, _ = wait(running, return_when=FIRST_COMPLETED)
+                for future in done:
+                    i, item = running.pop(future)
+                    try:
+                        results[i] = future.result()
+                    except BrokenProcessPool:
+                        suspects = [(i, item), *running.values()]
+                        running.clear()
+                        break
+        for i, item in suspects:
+            with ProcessPoolExecutor(1, mp_context=ctx) as alone:
+                try:
+                    results[i] = alone.submit(fn, item).result()
+                except BrokenProcessPool:
+                    results[i] = crashed(item)
+    return [results[i] for i in range(len(items))]

@@ -282,3 +282,28 @@ def test_a_variant_that_kills_its_worker_is_a_crashed_row_and_the_rest_run(cell)
     assert sorted(by_index) == [0, 1, 2] and len(got) == 3
     assert by_index[1]["status"] == "crashed" and "died" in by_index[1]["error"]
     assert by_index[0]["status"] == by_index[2]["status"] == "ok"
+
+
+@pytest.mark.scenario
+def test_golden_tests_in_parallel_give_the_serial_results(cell, capsys):
+    for k, x in enumerate((1500, 1600, 1700)):
+        (cell / f"p{k}.irl").write_text(PROGRAM.replace("sq_1", f"q{k}"))
+        (cell / "cell3.toml").write_text(
+            (cell / "cell3.toml")
+            .read_text()
+            .replace("[joints]", f"q{k} = [{x}, 1000, 0, 0, 0, 0]\n\n[joints]")
+        )
+    (cell / "p3.irl").unlink()
+    assert main(["test", str(cell), "--update"]) == 0
+    capsys.readouterr()
+    assert main(["test", str(cell), "-j", "1"]) == 0
+    serial = capsys.readouterr().out
+    assert main(["test", str(cell), "-j", "2"]) == 0
+    assert capsys.readouterr().out == serial and serial.count("PASS") == 3
+    # a broken expectation fails in parallel as it does serially, at its own program
+    path = cell / "p1.expected.json"
+    path.write_text(path.read_text().replace('"status": "ok"', '"status": "failed"'))
+    assert main(["test", str(cell), "-j", "2"]) == 1
+    out = capsys.readouterr().out
+    assert main(["test", str(cell), "-j", "1"]) == 1
+    assert capsys.readouterr().out == out and "FAIL" in out and "p1" in out
