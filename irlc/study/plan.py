@@ -64,9 +64,7 @@ def build_plan(study: Study, reports_dir: Path | None = None) -> Plan:
             paths.target(axis.key)
         except paths.PathError as e:
             raise study.error(axis.key, str(e), axis.section) from None
-    robot_file = robot_doc = None
-    if "robot" in kinds:
-        robot_file, robot_doc = _robot_doc(study, code)
+    robot_file, robot_doc = _robot_doc(study, code, "robot" in kinds)
     datalists = _datalist_docs(study, code)
     text = study.program.read_text(encoding="utf-8")
     drives = study.run.get("drives", "ideal") != "ideal"
@@ -101,7 +99,9 @@ def build_plan(study: Study, reports_dir: Path | None = None) -> Plan:
     return plan
 
 
-def _robot_doc(study: Study, code: Code) -> tuple[str, dict]:
+def _robot_doc(study: Study, code: Code, varied: bool) -> tuple[str | None, dict | None]:
+    """The robot file and its parsed text (so workers need no file of it), or ``None``s
+    for a URDF robot, whose values a study cannot vary."""
     from irlc.robots import RobotFileError, robot_file
 
     name = study.robot or code.robot
@@ -109,6 +109,8 @@ def _robot_doc(study: Study, code: Code) -> tuple[str, dict]:
         path = robot_file(name, study.program.parent)
     except RobotFileError as e:
         raise StudyError(str(study.file), None, "robot", str(e)) from None
+    if path.suffix.lower() != ".toml" and not varied:
+        return None, None
     if path.suffix.lower() != ".toml":
         key = next(k for k in study.keys if k.startswith("robot."))
         raise study.error(key, f"robot.… keys change a TOML robot file; {path.name} is not one")
@@ -120,6 +122,11 @@ def _datalist_docs(study: Study, code: Code) -> dict[str, tuple[str, dict]]:
 
     imported = {name.lower(): name for name, _ in code.datalists}
     out: dict[str, tuple[str, dict]] = {}
+    search = tuple(str(p) for p in study.datalist_path)
+    for name in imported.values():  # all of them: a worker then needs none of the files
+        path, _ = dlmod.find(name, study.program.parent, search)
+        assert path is not None  # the program compiled with it
+        out[name] = (str(path), tomllib.loads(path.read_text(encoding="utf-8")))
     for axis in study.axes:
         head, parts = axis.key.partition(".")[0], axis.key.split(".")[1:]
         if head != "datalist":
@@ -130,12 +137,6 @@ def _datalist_docs(study: Study, code: Code) -> dict[str, tuple[str, dict]]:
                 axis.key, f"the program imports no such data list (it imports: {known})",
                 axis.section,
             )  # fmt: skip
-        name = imported[parts[0].lower()]
-        if name not in out:
-            search = tuple(str(p) for p in study.datalist_path)
-            path, _ = dlmod.find(name, study.program.parent, search)
-            assert path is not None  # the program compiled with it
-            out[name] = (str(path), tomllib.loads(path.read_text(encoding="utf-8")))
     return out
 
 

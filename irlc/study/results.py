@@ -1,8 +1,10 @@
 """``DIR/results.csv``: rows appended as variants finish, sorted by variant at the end.
 
 * Appending: each row is one ``write`` of its whole line to the file opened with
-  ``O_APPEND``, then ``fsync`` — a row is either entirely in the file or not at all
-  (a crash can leave at most a last line without its newline, which a resume drops).
+  ``O_APPEND`` — a row is either entirely in the file or not at all (Ctrl-C or a killed
+  study loses nothing written; a machine crash can leave at most a last line without its
+  newline, which a resume drops). ``fsync`` runs at most every :data:`SYNC_EVERY_S`
+  seconds and at the end, so a million rows do not cost a million disk flushes.
 * ``DIR/study.json`` records the study's token and the columns; ``--resume`` refuses a
   folder of another study (or of a changed study file or program).
 * At the end (also after Ctrl-C) the rows are rewritten sorted by ``variant``
@@ -16,12 +18,14 @@ import csv
 import io
 import json
 import os
+import time
 from pathlib import Path
 
 from irlc.files import atomic_write_text
 from irlc.study.spec import StudyError
 
 RESULTS = "results.csv"
+SYNC_EVERY_S = 1.0
 META = "study.json"
 
 
@@ -38,6 +42,8 @@ class ResultsFile:
         self.folder, self.columns, self.token = Path(folder), columns, token
         self.path = self.folder / RESULTS
         self.done: dict[int, str] = {}  # variant → its line
+        self._fd: int | None = None
+        self._synced = time.monotonic()
         if resume and self.path.exists():
             self._load()
         elif self.path.exists() and not resume:
@@ -77,16 +83,19 @@ class ResultsFile:
 
     def append(self, row: dict[str, str]) -> None:
         line = _line(self.columns, row)
-        fd = os.open(self.path, os.O_WRONLY | os.O_APPEND)
-        try:
-            os.write(fd, line.encode("utf-8"))
-            os.fsync(fd)
-        finally:
-            os.close(fd)
+        if self._fd is None:
+            self._fd = os.open(self.path, os.O_WRONLY | os.O_APPEND)
+        os.write(self._fd, line.encode("utf-8"))
+        if time.monotonic() - self._synced >= SYNC_EVERY_S:
+            os.fsync(self._fd)
+            self._synced = time.monotonic()
         self.done[int(row["variant"])] = line
 
     def finish(self) -> None:
         """Rewrite the rows in variant order (atomically)."""
+        if self._fd is not None:
+            os.close(self._fd)
+            self._fd = None
         header = _line(self.columns, {c: c for c in self.columns})
         body = "".join(self.done[i] for i in sorted(self.done))
         atomic_write_text(self.path, header + body)

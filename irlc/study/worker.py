@@ -97,7 +97,7 @@ def _model(plan: Plan, changes: list):
     """The robot of this variant (the study's robot when no robot value varies)."""
     from irlc.runtime.run import load_model
 
-    if not changes:
+    if not changes and plan.robot_doc is None:  # a URDF robot: loaded from its files
         return _cached(
             plan, "robot", (), lambda: load_model(plan.robot or plan.code.robot, plan.program_dir)
         )
@@ -119,9 +119,9 @@ def _compile(plan: Plan, changes: dict[str, list]):
 
     folder = Path(tempfile.mkdtemp(prefix="irlc-study-"))
     try:
-        for name, c in changes.items():
-            real = next(n for n in plan.datalists if n.lower() == name.lower())
-            (folder / f"{real}.toml").write_text(datalist_text(plan, name, c), encoding="utf-8")
+        for real in plan.datalists:  # every imported list: no file of the study is read
+            c = next((c for name, c in changes.items() if name.lower() == real.lower()), [])
+            (folder / f"{real}.toml").write_text(datalist_text(plan, real, c), encoding="utf-8")
         result = compile_source(
             plan.program_text,
             str(folder / Path(plan.program).name),

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from irlc import run_program
 from irlc.cli import main
 from irlc.study import StudyError, read_study, run_study
 from irlc.study.expand import variants
@@ -228,6 +229,14 @@ def test_a_failing_variant_is_a_row_with_its_error(cell, capsys):
     assert main(["study", str(path), "--out", str(cell / "out"), "-j", "1"]) == 0
     ok, bad = rows(cell / "out")
     assert ok["status"] == "ok" and ok["error"] == ""
+    # the ok variant (the data list's own value) is the plain run of the program
+    report = run_program(cell / "p3.irl").report
+    assert ok["max_path_error_mm"] == repr(report["max_path_error_mm"])
+    assert ok["duration_s"] == repr(report["duration_s"])
+    assert ok["min_clearance_post_mm"] == repr(report["obstacles"]["post"]["min_distance_mm"])
+    for j in report["joints"]:
+        assert ok[f"peak_speed_{j['name']}_deg_s"] == repr(j["max_abs_speed"])
+        assert ok[f"peak_accel_{j['name']}_deg_s2"] == repr(j["max_abs_accel"])
     assert bad["status"] == "failed" and bad["exit_code"] == "2"
     assert bad["error_line"] == str(MOVE_LINE) and bad["error"]
     out = capsys.readouterr().out
