@@ -9,6 +9,8 @@ import click
 from irlc.cli.app import cli
 from irlc.errors import EXIT_COMPILE, EXIT_OK, UsageError
 
+EXIT_INTERRUPTED = 130  # as irlc.cli.main gives for Ctrl-C
+
 
 @cli.command("study")
 @click.argument("study_file", type=click.Path(path_type=Path))
@@ -59,6 +61,14 @@ def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet) -> i
         return EXIT_COMPILE
     except (RunSetupError, RobotFileError, ClusterError) as exc:
         raise UsageError(str(exc)) from None
+    except KeyboardInterrupt:
+        bar.stop()
+        err.print(
+            "interrupted: the variants that finished are in results.csv; "
+            "run again with --resume to complete the study",
+            markup=False,
+        )
+        return EXIT_INTERRUPTED
     finally:
         bar.stop()
     keys = outcome.study.keys

@@ -57,13 +57,18 @@ def run_study(
     from irlc.study.metrics import columns
     from irlc.study.plan import build_plan
     from irlc.study.results import ResultsFile
-    from irlc.study.runner import run_dask, run_local
+    from irlc.study.runner import connect, run_dask, run_local
 
     study = read_study(path)
     folder = Path(out) if out is not None else study.file.with_suffix(".results")
     plan = build_plan(study, folder / "reports" if study.reports else None)
     cols = columns(plan)
-    results = ResultsFile(folder, cols, plan.token, resume)
+    client = connect(cluster) if cluster is not None else None  # before any file is written
+    try:
+        results = ResultsFile(folder, cols, plan.token, resume)
+    except BaseException:
+        _close(client, cluster)
+        raise
     todo = [v for v in variants(study) if v[0] not in results.done]
     total = len(results.done) + len(todo)
     if started is not None:
@@ -78,10 +83,17 @@ def run_study(
             progress(count, len(todo))
 
     try:
-        if cluster is not None:
-            run_dask(plan, todo, cluster, on_row)
+        if client is not None:
+            run_dask(plan, todo, client, on_row)
         else:
             run_local(plan, todo, workers or default_workers(), on_row)
     finally:
         results.finish()
+        _close(client, cluster)
     return StudyOutcome(study, folder, cols, results.rows(), count, total)
+
+
+def _close(client, given) -> None:
+    """Close a client this call opened (not one the caller gave)."""
+    if client is not None and client is not given:
+        client.close()

@@ -109,24 +109,28 @@ def _dask_task(plan: Plan, index: int, values: tuple) -> dict[str, str]:
     return run_variant(plan, index, values)
 
 
-def run_dask(plan: Plan, todo: Iterable[Variant], address: str | object, on_row: OnRow) -> None:
-    """Run ``todo`` on the Dask cluster at ``address`` (or a given ``Client``)."""
+def connect(address: str | object):
+    """A ``distributed.Client`` for the scheduler at ``address`` (a given client as is);
+    :class:`ClusterError` without Dask or when the scheduler does not answer in 20 s."""
+    if hasattr(address, "submit"):
+        return address
     try:
-        from distributed import Client, as_completed
+        from distributed import Client
     except ImportError:
         raise ClusterError(
             "--cluster needs dask.distributed: pip install 'irlc[cluster]'"
         ) from None
-    own = not hasattr(address, "submit")
     try:
-        client = Client(address, timeout="20s") if own else address
+        return Client(address, timeout="20s")
     except (OSError, TimeoutError, ValueError) as e:
         raise ClusterError(f"cannot reach the Dask scheduler at {address}: {e}") from None
-    try:
-        _dask_loop(client, plan, deque(todo), on_row, as_completed)
-    finally:
-        if own:
-            client.close()
+
+
+def run_dask(plan: Plan, todo: Iterable[Variant], client, on_row: OnRow) -> None:
+    """Run ``todo`` on the Dask cluster of ``client`` (:func:`connect`)."""
+    from distributed import as_completed
+
+    _dask_loop(client, plan, deque(todo), on_row, as_completed)
 
 
 def _dask_loop(client, plan: Plan, queue: deque, on_row: OnRow, as_completed) -> None:
