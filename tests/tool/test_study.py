@@ -316,3 +316,38 @@ def test_golden_tests_in_parallel_give_the_serial_results(cell, capsys):
     out = capsys.readouterr().out
     assert main(["test", str(cell), "-j", "1"]) == 1
     assert capsys.readouterr().out == out and "FAIL" in out and "p1" in out
+
+
+@pytest.mark.scenario
+def test_ctrl_c_keeps_the_finished_rows_and_resume_completes_them(cell):
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    body = '[random]\nn = 24\nseed = 5\n"robot.joints.2.weight" = { uniform = [0.5, 4] }\n'
+    path = write_study(cell, body)
+    run_study(path, out=cell / "full", workers=1)
+    irlc = [sys.executable, "-c", "from irlc.cli import entry; entry()"]
+    cmd = [*irlc, "study", str(path), "--out", str(cell / "cut"), "-j", "1"]
+    proc = subprocess.Popen(
+        cmd, start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )  # fmt: skip
+    results = cell / "cut" / "results.csv"
+    deadline = time.monotonic() + 30
+    while time.monotonic() < deadline and proc.poll() is None:
+        if results.exists() and results.read_text().count("\n") > 3:
+            break
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGINT)  # what Ctrl-C does: the whole process group
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err.decode()
+    assert "--resume" in err.decode()
+    kept = rows(cell / "cut")
+    assert 3 <= len(kept) < 24
+    assert [int(r["variant"]) for r in kept] == sorted(int(r["variant"]) for r in kept)
+    again = run_study(path, out=cell / "cut", workers=1, resume=True)
+    assert again.ran == 24 - len(kept)
+    assert results.read_bytes() == (cell / "full" / "results.csv").read_bytes()
