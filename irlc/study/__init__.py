@@ -61,7 +61,7 @@ def run_study(
 
     study = read_study(path)
     folder = Path(out) if out is not None else study.file.with_suffix(".results")
-    plan = build_plan(study, folder / "reports" if study.reports else None)
+    plan = build_plan(study, folder / "variants")
     cols = columns(plan)
     client = connect(cluster) if cluster is not None else None  # before any file is written
     try:

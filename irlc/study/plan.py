@@ -42,14 +42,16 @@ class Plan:
     joints: tuple[tuple[str, str], ...] = ()  # (program name, unit) per joint
     obstacles: tuple[str, ...] = ()
     drives: bool = False  # some variant simulates the drives
-    reports_dir: str | None = None
+    variants_dir: str | None = None  # where per-variant reports / traces go
+    reports: bool = False
+    traces: bool = False
 
     @property
     def program_dir(self) -> Path:
         return Path(self.program).parent
 
 
-def build_plan(study: Study, reports_dir: Path | None = None) -> Plan:
+def build_plan(study: Study, variants_dir: Path | None = None) -> Plan:
     """Compile the program, load the documents the keys change, check every value."""
     from irlc.api import compile_program
     from irlc.runtime import units
@@ -89,7 +91,9 @@ def build_plan(study: Study, reports_dir: Path | None = None) -> Plan:
         ),
         obstacles=tuple(o.name for o in code.obstacles),
         drives=drives,
-        reports_dir=str(reports_dir) if reports_dir is not None else None,
+        variants_dir=str(variants_dir) if variants_dir is not None else None,
+        reports=study.reports,
+        traces=study.traces,
     )
     for axis in study.axes:
         for value in values[axis.key]:

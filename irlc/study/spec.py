@@ -53,7 +53,7 @@ RUN_KEYS = (
     "instruction_budget",
     "seed_config",
 )
-OUTPUT_KEYS = ("reports",)
+OUTPUT_KEYS = ("reports", "traces")
 DISTRIBUTIONS = ("uniform", "normal")
 MAX_VARIANTS = 10_000_000  # a guard against a typo such as n = 1e9
 
@@ -91,7 +91,8 @@ class Study:
     random: list[Axis] = field(default_factory=list)
     n: int = 0
     seed: int = 0
-    reports: bool = False
+    reports: bool = False  # [output] reports: DIR/variants/variant_NNNNNNN.report.json
+    traces: bool = False  # [output] traces: DIR/variants/variant_NNNNNNN.trace.csv
 
     @property
     def axes(self) -> list[Axis]:
@@ -230,9 +231,11 @@ def _read_top(study: Study, doc: dict) -> None:
     for k in out:
         if k not in OUTPUT_KEYS:
             raise study.error(k, f"unknown key; [output] has {', '.join(OUTPUT_KEYS)}", "output")
-    if not isinstance(out.get("reports", False), bool):
-        raise study.error("reports", "expected true or false", "output")
+    for k in OUTPUT_KEYS:
+        if not isinstance(out.get(k, False), bool):
+            raise study.error(k, "expected true or false", "output")
     study.reports = bool(out.get("reports", False))
+    study.traces = bool(out.get("traces", False))
 
 
 def _read_run(study: Study, value: Any) -> dict:

@@ -70,8 +70,7 @@ def run_variant(plan: Plan, index: int, values: tuple) -> dict[str, str]:
     except Exception as e:  # a bug in irlc: the row says so, the study goes on
         message = f"internal error: {type(e).__name__}: {e}"
         return {**row, **metrics.error_cells("internal_error", 4, message, None)}
-    if plan.reports_dir is not None:
-        _write_report(plan, index, result.report)
+    _write_outputs(plan, index, result)
     return {**row, **metrics.report_cells(plan, result.report)}
 
 
@@ -136,8 +135,14 @@ def _compile(plan: Plan, changes: dict[str, list]):
     return result.code
 
 
-def _write_report(plan: Plan, index: int, report: dict) -> None:
-    from irlc.report import write_report
+def _write_outputs(plan: Plan, index: int, result) -> None:
+    """``[output]``: the variant's report (JSON) and trace (CSV), the writers of ``irlc run``."""
+    from irlc.report import write_report, write_trace
 
-    assert plan.reports_dir is not None
-    write_report(report, Path(plan.reports_dir) / f"variant_{index:07d}.report.json")
+    if plan.variants_dir is None:
+        return
+    stem = Path(plan.variants_dir) / f"variant_{index:07d}"
+    if plan.reports:
+        write_report(result.report, stem.with_suffix(".report.json"))
+    if plan.traces:
+        write_trace(result.trace_columns, result.trace, stem.with_suffix(".trace.csv"))

@@ -8,6 +8,7 @@ few variants takes seconds; the expensive ones (process pools, a Dask cluster) a
 from __future__ import annotations
 
 import csv
+import json
 import math
 import shutil
 from pathlib import Path
@@ -225,7 +226,7 @@ def test_resume_after_an_interruption_runs_only_the_missing_variants(cell):
 @pytest.mark.scenario
 def test_a_failing_variant_is_a_row_with_its_error(cell, capsys):
     body = '[grid]\n"datalist.cell3.poses.sq_1.1" = [1500, 9000]\n"run.ipo" = [0.01]\n'
-    path = write_study(cell, body)
+    path = write_study(cell, "[output]\nreports = true\ntraces = true\n\n" + body)
     assert main(["study", str(path), "--out", str(cell / "out"), "-j", "1"]) == 0
     ok, bad = rows(cell / "out")
     assert ok["status"] == "ok" and ok["error"] == ""
@@ -237,6 +238,13 @@ def test_a_failing_variant_is_a_row_with_its_error(cell, capsys):
     for j in report["joints"]:
         assert ok[f"peak_speed_{j['name']}_deg_s"] == repr(j["max_abs_speed"])
         assert ok[f"peak_accel_{j['name']}_deg_s2"] == repr(j["max_abs_accel"])
+    # [output]: each variant's report and trace, as irlc run writes them
+    saved = json.loads((cell / "out/variants/variant_0000000.report.json").read_text())
+    assert saved["max_path_error_mm"] == report["max_path_error_mm"]
+    failed = json.loads((cell / "out/variants/variant_0000001.report.json").read_text())
+    assert failed["status"] == "failed" and failed["error"]["line"] == MOVE_LINE
+    trace = (cell / "out/variants/variant_0000000.trace.csv").read_text().splitlines()
+    assert trace[0].startswith("t_s,line,") and len(trace) == 1 + report["samples"]
     assert bad["status"] == "failed" and bad["exit_code"] == "2"
     assert bad["error_line"] == str(MOVE_LINE) and bad["error"]
     out = capsys.readouterr().out
@@ -351,3 +359,18 @@ def test_ctrl_c_keeps_the_finished_rows_and_resume_completes_them(cell):
     again = run_study(path, out=cell / "cut", workers=1, resume=True)
     assert again.ran == 24 - len(kept)
     assert results.read_bytes() == (cell / "full" / "results.csv").read_bytes()
+
+
+def test_plot_draws_a_line_or_a_heat_map(tmp_path):
+    pytest.importorskip("matplotlib")
+    from irlc.study.summary import plot
+
+    rows = [
+        {"variant": str(i), "a": repr(a), "b": repr(b), "m": repr(a * b), "status": "ok"}
+        for i, (a, b) in enumerate((a, b) for a in (1.0, 2.0, 3.0) for b in (10.0, 20.0))
+    ]
+    line = plot(rows, ["a"], "m", tmp_path / "line.png")
+    heat = plot(rows, ["a", "b"], "m", tmp_path / "heat.png")
+    for png in (line, heat):
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert line.read_bytes() != heat.read_bytes()
