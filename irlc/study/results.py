@@ -10,6 +10,8 @@
 * At the end (also after Ctrl-C) the rows are rewritten sorted by ``variant``
   (:func:`irlc.files.atomic_write_text`), so the file is the same bytes whatever the order
   in which variants finished and however often the study was resumed.
+* With ``pyarrow`` installed, ``DIR/results.parquet`` is written next to it at the end: the
+  same rows, columns typed by pyarrow's CSV reader (numbers, strings; empty cells null).
 """
 
 from __future__ import annotations
@@ -21,7 +23,7 @@ import os
 import time
 from pathlib import Path
 
-from irlc.files import atomic_write_text
+from irlc.files import atomic_write_bytes, atomic_write_text
 from irlc.study.spec import StudyError
 
 RESULTS = "results.csv"
@@ -99,8 +101,23 @@ class ResultsFile:
         header = _line(self.columns, {c: c for c in self.columns})
         body = "".join(self.done[i] for i in sorted(self.done))
         atomic_write_text(self.path, header + body)
+        write_parquet(self.path)
 
     def rows(self) -> list[dict[str, str]]:
         """All rows done, in variant order, as dicts of text."""
         reader = csv.reader(self.done[i] for i in sorted(self.done))
         return [dict(zip(self.columns, r, strict=False)) for r in reader]
+
+
+def write_parquet(csv_path: Path) -> Path | None:
+    """``results.parquet`` from ``results.csv`` if pyarrow is installed, else nothing."""
+    try:
+        import pyarrow.csv as pacsv
+        import pyarrow.parquet as pq
+    except ImportError:
+        return None
+    options = pacsv.ConvertOptions(strings_can_be_null=True)
+    table = pacsv.read_csv(csv_path, convert_options=options)
+    buf = io.BytesIO()
+    pq.write_table(table, buf)
+    return atomic_write_bytes(csv_path.with_suffix(".parquet"), buf.getvalue())

@@ -196,6 +196,15 @@ def test_results_are_the_same_bytes_with_one_and_two_workers(cell):
         assert math.isclose(dc, -dr, abs_tol=1e-5)
     # the weight changes how the redundancy is resolved: other joint speeds
     assert table[0]["peak_speed_a2_deg_s"] != table[2]["peak_speed_a2_deg_s"]
+    pq = pytest.importorskip("pyarrow.parquet")  # results.parquet: the same rows, typed
+    parquet = pq.read_table(cell / "one/results.parquet").to_pylist()
+    assert [p["variant"] for p in parquet] == [0, 1, 2, 3]
+    assert (cell / "one/results.parquet").read_bytes() == (
+        cell / "two/results.parquet"
+    ).read_bytes()
+    assert [p["min_clearance_post_mm"] for p in parquet] == [
+        float(r["min_clearance_post_mm"]) for r in table
+    ]
 
 
 @pytest.mark.scenario
