@@ -52,6 +52,7 @@ def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet) -> i
         outcome = run_study(
             study_file, out=out, workers=workers, cluster=cluster, resume=resume,
             progress=bar.advance, started=bar.start,
+            check=lambda columns, keys: check_metric(sort, columns, keys),
         )  # fmt: skip
     except CompileError as exc:
         from irlc.lang.diagnostics import render
@@ -72,14 +73,14 @@ def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet) -> i
     finally:
         bar.stop()
     keys = outcome.study.keys
-    check_metric(sort, outcome.columns, keys)
     if not quiet:
         console.print(summary_table(outcome.rows, keys, sort))
         console.print(
             f"{outcome.ran} variant(s) run, {outcome.total} in {outcome.folder / 'results.csv'}"
         )
     if plot is not None:
-        path = draw(outcome.rows, keys, sort, plot)
+        grid = {axis.key for axis in outcome.study.grid}
+        path = draw(outcome.rows, keys, sort, plot, grid)
         if not quiet:
             console.print(f"plot: {path}")
     return EXIT_OK

@@ -46,13 +46,15 @@ def run_study(
     resume: bool = False,
     progress: Callable[[int, int], None] | None = None,
     started: Callable[[int, int], None] | None = None,
+    check: Callable[[list[str], list[str]], None] | None = None,
 ) -> StudyOutcome:
     """Run (or complete, ``resume``) the study in ``path``; see the module doc.
 
     ``out``: the results folder (default ``STUDY.results`` next to the study file);
     ``workers``: local processes (default all cores); ``cluster``: a Dask scheduler
     address (or ``Client``) instead. ``started(todo, total)`` is called once the checks
-    passed, ``progress(done, todo)`` after every variant."""
+    passed, ``progress(done, todo)`` after every variant; ``check(columns, keys)`` before
+    anything is written (the caller's own checks, e.g. of a metric name)."""
     from irlc.study.expand import variants
     from irlc.study.metrics import columns
     from irlc.study.plan import build_plan
@@ -63,6 +65,8 @@ def run_study(
     folder = Path(out) if out is not None else study.file.with_suffix(".results")
     plan = build_plan(study, folder / "variants")
     cols = columns(plan)
+    if check is not None:
+        check(cols, study.keys)
     client = connect(cluster) if cluster is not None else None  # before any file is written
     try:
         results = ResultsFile(folder, cols, plan.token, resume)

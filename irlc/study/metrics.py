@@ -11,7 +11,8 @@ Columns, in this order (docs/studies.md, docs/interfaces.md):
 * ``duration_s``, ``samples``, ``max_path_error_mm``, ``max_orientation_error_deg``,
   ``ik_relaxed_cycles``; ``min_clearance_<obstacle>_mm`` per obstacle of the program;
 * ``active_bounds`` — the bounds that became active, ``a10 position max; a11 speed min``
-  (joint order), and ``limit_active_s``, the summed time any bound was active;
+  (joint order), and ``limit_active_s``, the report's per-joint active times summed over
+  the joints (two joints on a bound for 1 s count 2 s);
 * ``peak_speed_<j>_<u>_s`` and ``peak_accel_<j>_<u>_s2`` per joint (``u`` deg | mm);
 * with drives (when some variant simulates them): ``drives_could_follow``,
   ``peak_current_<j>_A`` and ``max_following_error_<j>_<u>`` per joint.

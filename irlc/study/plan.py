@@ -112,7 +112,8 @@ def _robot_doc(study: Study, code: Code, varied: bool) -> tuple[str | None, dict
     try:
         path = robot_file(name, study.program.parent)
     except RobotFileError as e:
-        raise StudyError(str(study.file), None, "robot", str(e)) from None
+        where = "robot" if study.robot else ""
+        raise StudyError(str(study.file), study.line("robot"), where, str(e)) from None
     if path.suffix.lower() != ".toml" and not varied:
         return None, None
     if path.suffix.lower() != ".toml":

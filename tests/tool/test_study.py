@@ -264,6 +264,7 @@ def test_sort_must_name_a_metric(cell, capsys):
     path = write_study(cell, '[grid]\n"run.ipo" = [0.01]\n')
     assert main(["study", str(path), "--out", str(cell / "o"), "-j", "1", "--sort", "x"]) == 3
     assert "--sort x: not a metric column" in capsys.readouterr().err
+    assert not (cell / "o").exists()  # checked before anything ran
 
 
 @pytest.mark.scenario
@@ -378,8 +379,12 @@ def test_plot_draws_a_line_or_a_heat_map(tmp_path):
         {"variant": str(i), "a": repr(a), "b": repr(b), "m": repr(a * b), "status": "ok"}
         for i, (a, b) in enumerate((a, b) for a in (1.0, 2.0, 3.0) for b in (10.0, 20.0))
     ]
-    line = plot(rows, ["a"], "m", tmp_path / "line.png")
-    heat = plot(rows, ["a", "b"], "m", tmp_path / "heat.png")
-    for png in (line, heat):
+    line = plot(rows, ["a"], "m", tmp_path / "line.png", {"a"})
+    heat = plot(rows, ["a", "b"], "m", tmp_path / "heat.png", {"a", "b"})
+    dots = plot(rows, ["a", "b"], "m", tmp_path / "dots.png", {"a"})
+    for row in rows:
+        row["a"] = "ideal" if row["a"] == "1.0" else "decoupled"
+    cats = plot(rows, ["a", "b"], "m", tmp_path / "cats.png", {"a", "b"})
+    for png in (line, heat, dots, cats):
         assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert line.read_bytes() != heat.read_bytes()
+    assert len({p.read_bytes() for p in (line, heat, dots, cats)}) == 4
