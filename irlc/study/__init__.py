@@ -60,6 +60,7 @@ def run_study(
     from irlc.study.plan import build_plan
     from irlc.study.results import ResultsFile
     from irlc.study.runner import connect, run_dask, run_local
+    from irlc.study.spec import count_variants
 
     study = read_study(path)
     folder = Path(out) if out is not None else study.file.with_suffix(".results")
@@ -73,10 +74,12 @@ def run_study(
     except BaseException:
         _close(client, cluster)
         raise
-    todo = [v for v in variants(study) if v[0] not in results.done]
-    total = len(results.done) + len(todo)
+    done = set(results.done)
+    todo = (v for v in variants(study) if v[0] not in done)  # made as they are sent
+    total = count_variants(study)
+    todo_count = total - len(done)
     if started is not None:
-        started(len(todo), total)
+        started(todo_count, total)
     count = 0
 
     def on_row(row: dict[str, str]) -> None:
@@ -84,13 +87,13 @@ def run_study(
         results.append(row)
         count += 1
         if progress is not None:
-            progress(count, len(todo))
+            progress(count, todo_count)
 
     try:
         if client is not None:
             run_dask(plan, todo, client, on_row)
         else:
-            run_local(plan, todo, workers or default_workers(), on_row)
+            run_local(plan, todo, workers or default_workers(), on_row, todo_count)
     finally:
         results.finish()
         _close(client, cluster)

@@ -47,10 +47,33 @@ def crashed_row(plan: Plan, index: int, values: tuple, message: str = CRASH_MESS
     }
 
 
-def run_local(plan: Plan, todo: Iterable[Variant], workers: int, on_row: OnRow) -> None:
-    """Run ``todo`` on ``workers`` local processes (see the module doc)."""
-    queue = deque(todo)
-    workers = max(1, min(workers, len(queue)))
+class _Lazy:
+    """An iterator with ``popleft`` and a truth value: variants are made as they are sent,
+    so a million of them are never in memory at once."""
+
+    _END = object()
+
+    def __init__(self, items: Iterable):
+        self._it = iter(items)
+        self._next = next(self._it, self._END)
+
+    def __bool__(self) -> bool:
+        return self._next is not self._END
+
+    def popleft(self):
+        value, self._next = self._next, next(self._it, self._END)
+        return value
+
+
+def run_local(
+    plan: Plan, todo: Iterable[Variant], workers: int, on_row: OnRow, count: int | None = None
+) -> None:
+    """Run ``todo`` (``count`` of them, if known) on ``workers`` local processes (see the
+    module doc)."""
+    queue = _Lazy(todo)
+    if count is not None:
+        workers = min(workers, count)
+    workers = max(1, workers)
     while queue:
         suspects = _run_pool(plan, queue, workers, on_row)
         for index, values in suspects:  # the pool broke: isolate the culprit(s)
@@ -58,7 +81,7 @@ def run_local(plan: Plan, todo: Iterable[Variant], workers: int, on_row: OnRow) 
             on_row(rows)
 
 
-def _run_pool(plan: Plan, queue: deque, workers: int, on_row: OnRow) -> list[Variant]:
+def _run_pool(plan: Plan, queue: _Lazy, workers: int, on_row: OnRow) -> list[Variant]:
     """Run from ``queue`` until it is empty or the pool breaks; then return the variants
     that were in flight (and put nothing of them back on the queue)."""
     window = 2 * workers
@@ -130,10 +153,10 @@ def run_dask(plan: Plan, todo: Iterable[Variant], client, on_row: OnRow) -> None
     """Run ``todo`` on the Dask cluster of ``client`` (:func:`connect`)."""
     from distributed import as_completed
 
-    _dask_loop(client, plan, deque(todo), on_row, as_completed)
+    _dask_loop(client, plan, _Lazy(todo), on_row, as_completed)
 
 
-def _dask_loop(client, plan: Plan, queue: deque, on_row: OnRow, as_completed) -> None:
+def _dask_loop(client, plan: Plan, queue: _Lazy, on_row: OnRow, as_completed) -> None:
     from distributed import KilledWorker
 
     [plan_future] = client.scatter([plan], broadcast=True, hash=False)

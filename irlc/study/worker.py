@@ -35,8 +35,17 @@ def run_indexed(index: int, values: tuple) -> dict[str, str]:
     return run_variant(_plans["current"], index, values)
 
 
+MAX_STUDIES = 2  # a long-lived (Dask) worker keeps the caches of the last two studies
+
+
 def _cached(plan: Plan, kind: str, key: Any, make):
-    cache = _caches.setdefault(f"{plan.token}:{kind}", OrderedDict())
+    name = f"{plan.token}:{kind}"
+    tokens = list(dict.fromkeys(k.partition(":")[0] for k in _caches))  # oldest first
+    if plan.token not in tokens:  # a new study: forget all but the last MAX_STUDIES − 1
+        for old in tokens[: max(0, len(tokens) - MAX_STUDIES + 1)]:
+            for k in [k for k in _caches if k.startswith(old + ":")]:
+                del _caches[k]
+    cache = _caches.setdefault(name, OrderedDict())
     if key in cache:
         cache.move_to_end(key)
         return cache[key]

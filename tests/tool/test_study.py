@@ -385,3 +385,20 @@ def test_plot_draws_a_line_or_a_heat_map(tmp_path):
     for png in (line, heat, dots, cats):
         assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert len({p.read_bytes() for p in (line, heat, dots, cats)}) == 4
+
+
+def test_a_long_lived_worker_keeps_the_caches_of_the_last_two_studies(monkeypatch):
+    from types import SimpleNamespace
+
+    from irlc.study import worker
+
+    monkeypatch.setattr(worker, "_caches", {})
+    made = []
+    for token in "abcab":
+        plan = SimpleNamespace(token=token)
+        for kind in ("robot", "code"):
+            worker._cached(plan, kind, 1, lambda t=token, k=kind: made.append((t, k)) or t)
+    assert sorted(worker._caches) == ["a:code", "a:robot", "b:code", "b:robot"]
+    # a and b were made again after c pushed them out; nothing is made twice in a row
+    assert len(made) == 10
+    assert worker._cached(SimpleNamespace(token="b"), "code", 1, lambda: "new") == "b"
