@@ -55,8 +55,13 @@ def build_plan(study: Study, variants_dir: Path | None = None) -> Plan:
     """Compile the program, load the documents the keys change, check every value."""
     from irlc.api import compile_program
     from irlc.runtime import units
-    from irlc.runtime.run import load_model
+    from irlc.runtime.run import RunSetupError, load_model
 
+    if study.robot is not None:  # a bad robot is the study file's error, up front
+        try:
+            load_model(study.robot, study.file.parent)
+        except RunSetupError as e:
+            raise study.error("robot", str(e)) from None
     code = compile_program(study.program, robot=study.robot, datalist_path=study.datalist_path)
     program_dir = study.program.parent
     model = load_model(study.robot or code.robot, program_dir)

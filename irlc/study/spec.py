@@ -218,6 +218,10 @@ def _read_top(study: Study, doc: dict) -> None:
     robot = doc.get("robot")
     if robot is not None and (not isinstance(robot, str) or not robot):
         raise study.error("robot", f"expected a robot name or file, got {_show(robot)}")
+    from irlc.robots import is_robot_path
+
+    if robot is not None and is_robot_path(robot):  # a file: relative to the study file
+        robot = str((study.file.parent / robot).resolve())
     study.robot = robot
     dl = doc.get("datalist_path", [])
     if not isinstance(dl, list) or not all(isinstance(p, str) for p in dl):

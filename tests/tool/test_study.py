@@ -135,6 +135,7 @@ BAD = [
     ("[grid.robot.joints.2]\nspeed = [1, 0]\n", "speed = [1, 0]", "positive"),
     ('[run]\nipo = "fast"\n\n[grid]\n"run.drives" = ["ideal"]\n', 'ipo = "fast"', "must be"),
     ('colour = 1\n[grid]\n"run.ipo" = [0.01]\n', "colour", "unknown key"),
+    ('robot = "nosuch"\n[grid]\n"run.ipo" = [0.01]\n', "nosuch", "unknown robot"),
 ]
 
 
