@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import hashlib
+import json
 import tempfile
 import tomllib
 from dataclasses import dataclass, field
@@ -28,7 +29,7 @@ from irlc.study.spec import Study, StudyError
 class Plan:
     """Everything a worker needs (picklable; sent once per worker)."""
 
-    token: str  # identifies the study (file text, program text): caches, resume check
+    token: str  # the study file, program, robot file and data lists: caches, resume check
     program: str  # absolute path
     program_text: str
     robot: str | None
@@ -78,8 +79,9 @@ def build_plan(study: Study, variants_dir: Path | None = None) -> Plan:
     values = axis_values(study)
     if "run.drives" in values:
         drives = drives or any(v != "ideal" for v in values["run.drives"])
+    inputs = [study.text, text, json.dumps([robot_doc, datalists], sort_keys=True, default=str)]
     plan = Plan(
-        token=hashlib.sha256((study.text + "\0" + text).encode()).hexdigest()[:16],
+        token=hashlib.sha256("\0".join(inputs).encode()).hexdigest()[:16],
         program=str(study.program),
         program_text=text,
         robot=study.robot,

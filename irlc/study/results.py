@@ -6,7 +6,7 @@
   newline, which a resume drops). ``fsync`` runs at most every :data:`SYNC_EVERY_S`
   seconds and at the end, so a million rows do not cost a million disk flushes.
 * ``DIR/study.json`` records the study's token and the columns; ``--resume`` refuses a
-  folder of another study (or of a changed study file or program).
+  folder of another study (or of a changed study file, program, robot file, data list).
 * At the end (also after Ctrl-C) the rows are rewritten sorted by ``variant``
   (:func:`irlc.files.atomic_write_text`), so the file is the same bytes whatever the order
   in which variants finished and however often the study was resumed.
