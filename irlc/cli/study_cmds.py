@@ -22,7 +22,7 @@ EXIT_INTERRUPTED = 130  # as irlc.cli.main gives for Ctrl-C
               help="Results folder (default: STUDY.results next to the study file).")  # fmt: skip
 @click.option("--resume", is_flag=True, help="Run only the variants not yet in DIR/results.csv.")
 @click.option("--sort", "sort", default="max_path_error_mm", show_default=True,
-              help="Metric column of the summary's best/worst variants.")  # fmt: skip
+              help="Best/worst by this metric (smallest first; -METRIC: largest).")  # fmt: skip
 @click.option("--plot", "plot", type=click.Path(path_type=Path), default=None,
               help="Draw the --sort metric against the varied keys into FILE.png.")  # fmt: skip
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar, no summary.")
@@ -40,7 +40,7 @@ def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet) -> i
     from irlc.runtime.run import RunSetupError
     from irlc.study import run_study
     from irlc.study.runner import ClusterError
-    from irlc.study.summary import check_metric, summary_table
+    from irlc.study.summary import check_metric, split_sort, summary_table
     from irlc.study.summary import plot as draw
 
     if not study_file.is_file():
@@ -80,7 +80,7 @@ def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet) -> i
         )
     if plot is not None:
         grid = {axis.key for axis in outcome.study.grid}
-        path = draw(outcome.rows, keys, sort, plot, grid)
+        path = draw(outcome.rows, keys, split_sort(sort)[0], plot, grid)
         if not quiet:
             console.print(f"plot: {path}")
     return EXIT_OK

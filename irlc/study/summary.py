@@ -24,29 +24,45 @@ def _number(text: str) -> float | None:
     return x if math.isfinite(x) else None
 
 
-def check_metric(metric: str, columns: list[str], keys: list[str]) -> None:
+def split_sort(sort: str) -> tuple[str, bool]:
+    """``"-min_clearance_post_mm"`` → ``("min_clearance_post_mm", True)``: a leading ``-``
+    ranks the largest value best."""
+    return (sort[1:], True) if sort.startswith("-") else (sort, False)
+
+
+def check_metric(sort: str, columns: list[str], keys: list[str]) -> None:
+    metric, _ = split_sort(sort)
     if metric not in columns or metric in keys or metric == "variant":
         numeric = [c for c in columns if c not in keys and c not in ("variant", "status", "error")]
         raise UsageError(f"--sort {metric}: not a metric column (columns: {', '.join(numeric)})")
 
 
-def ranked(rows: list[dict[str, str]], metric: str) -> list[dict[str, str]]:
-    """Rows with a number in ``metric``, smallest first (ties: variant order)."""
+def ranked(rows: list[dict[str, str]], sort: str) -> list[dict[str, str]]:
+    """Rows with a number in the metric, best first: smallest, or largest for ``-METRIC``
+    (ties: variant order)."""
+    metric, descending = split_sort(sort)
+    sign = -1.0 if descending else 1.0
     scored = [
-        (v, int(r["variant"]), r) for r in rows if (v := _number(r.get(metric, ""))) is not None
+        (sign * v, int(r["variant"]), r)
+        for r in rows
+        if (v := _number(r.get(metric, ""))) is not None
     ]
     return [r for _, _, r in sorted(scored, key=lambda t: (t[0], t[1]))]
 
 
-def summary_table(rows: list[dict[str, str]], keys: list[str], metric: str, k: int = 5) -> Table:
-    """The ``k`` best (smallest ``metric``) and ``k`` worst variants, and the status count."""
-    order = ranked(rows, metric)
+def summary_table(rows: list[dict[str, str]], keys: list[str], sort: str, k: int = 5) -> Table:
+    """The ``k`` best and ``k`` worst variants by ``sort`` (:func:`ranked`), and the status
+    count."""
+    order = ranked(rows, sort)
+    metric, descending = split_sort(sort)
     counts: dict[str, int] = {}
     for r in rows:
         counts[r["status"]] = counts.get(r["status"], 0) + 1
     status = ", ".join(f"{n} {s}" for s, n in sorted(counts.items()))
     table = Table(
-        title=f"{len(rows)} variants ({status}); by {metric}, smallest first",
+        title=f"{len(rows)} variants ({status}); by {metric}, "
+        + ("largest" if descending else "smallest")
+        + " first",
         title_justify="left",
         show_edge=False,
         pad_edge=False,

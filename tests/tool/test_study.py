@@ -403,3 +403,16 @@ def test_a_long_lived_worker_keeps_the_caches_of_the_last_two_studies(monkeypatc
     # a and b were made again after c pushed them out; nothing is made twice in a row
     assert len(made) == 10
     assert worker._cached(SimpleNamespace(token="b"), "code", 1, lambda: "new") == "b"
+
+
+def test_ranking_smallest_or_largest_first_ties_in_variant_order():
+    from irlc.study.summary import ranked
+
+    table = [
+        {"variant": "0", "m": "2.0"},
+        {"variant": "1", "m": ""},  # no value (a failed run): not ranked
+        {"variant": "2", "m": "1.0"},
+        {"variant": "3", "m": "2.0"},
+    ]
+    assert [r["variant"] for r in ranked(table, "m")] == ["2", "0", "3"]
+    assert [r["variant"] for r in ranked(table, "-m")] == ["0", "3", "2"]
