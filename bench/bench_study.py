@@ -61,9 +61,8 @@ def _study(folder: Path, variants: int) -> Path:
 
 def _single(path: Path, repeat: int) -> float:
     """Best in-process wall time of one variant's run (compiled once, robot loaded once)."""
-    from irlc.runtime.run import load_model, run_code
-
     from irlc.api import compile_program
+    from irlc.runtime.run import load_model, run_code
 
     code = compile_program(path.parent / "bench.irl")
     model = load_model("planar3", path.parent)

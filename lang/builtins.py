@@ -13,7 +13,12 @@ from irlc.lang.settings import SYSTEM_VARIABLES as SETTING_SYSTEM_VARIABLES
 
 Sig = Callable[[list[T.Type], int], "T.Type | str"]  # (argument types, joint count)
 
-_SYSVAR_TYPES: dict[str | None, T.Type | None] = {"REAL": T.REAL, "POSE": T.POSE, None: None}
+_SYSVAR_TYPES: dict[str | None, T.Type | None] = {
+    "REAL": T.REAL,
+    "STRING": T.STRING,
+    "POSE": T.POSE,
+    None: None,
+}
 # name: (type, writable); None = MAIN_JOINT of the robot. The names: lang/settings.py.
 SYSTEM_VARIABLES: dict[str, tuple[T.Type | None, bool]] = {
     v.name: (_SYSVAR_TYPES[v.type_name], v.writable) for v in SETTING_SYSTEM_VARIABLES.values()

@@ -1274,7 +1274,9 @@ class Checker:
     def constant_setting(self, field_name: str, value: ast.Expr, what: str) -> None:
         """A constant setting outside its range (lang/settings.py) is an error at the value,
         in the run-time words; a non-constant one is checked when it runs."""
-        k = _num(value.const)
+        k: float | int | str | None = _num(value.const)
+        if value.const is not None and value.const.type in ("STRING", "CHAR"):
+            k = value.const.data[0]  # a string setting (R_PROFILE)
         message = setting_message(field_name, k, what) if k is not None else None
         if message is not None:
             self.error(value.span, message)

@@ -11,9 +11,13 @@ admissible range
 
 The same range is checked when a constant is compiled (``R_SPEED := -5;`` is a compile
 error at its line and column) and when a value is assigned or used at run time (a
-:class:`~irlc.runtime.errors.RunFailure` at its line), with the same words:
+the runtime's ``RunFailure`` at its line), with the same words:
 ``R_SPEED := -5.0: the value must be in (0, 100000] mm/s``. A new setting is one row here plus its
 behaviour in the controller.
+
+A string setting (``R_PROFILE``) has a :class:`SettingChoices` in place of the range: the
+value must be one of its words (any case; ``R_PROFILE := 'scurve'`` is ``'SCURVE'``), and
+its system variable is a STRING.
 
 Upper bounds are physical sanity bounds (100 m/s, 1000 m/s², a day for one motion — far
 above any robot), not robot limits: the robot's own joint limits apply on top. ``R_IPO``
@@ -58,20 +62,43 @@ class SettingRange:
 
 
 @dataclass(frozen=True)
+class SettingChoices:
+    """Admissible values of a string setting: one of ``words`` (upper case; a value is
+    compared in upper case)."""
+
+    words: tuple[str, ...]
+    unit: str = ""
+
+    def __contains__(self, v: object) -> bool:
+        return isinstance(v, str) and v.upper() in self.words
+
+    def __str__(self) -> str:
+        return "one of " + self.interval()
+
+    def interval(self) -> str:
+        return ", ".join(f"'{w}'" for w in self.words)
+
+
+@dataclass(frozen=True)
 class Setting:
-    """One numeric motion setting (see the module doc)."""
+    """One motion setting (see the module doc)."""
 
     field: str  # Settings / MotionCommand field
     system_variable: str | None  # R_… word (program and IRDATA), None: WITH only
     with_word: str | None  # WITH … word (program and IRDATA MOVE clause), None: no WITH form
-    range: SettingRange  # admissible values, with the unit (program units)
+    range: SettingRange | SettingChoices  # admissible values, with the unit (program units)
     kinds: tuple[str, ...] = ()  # motion kinds whose WITH form accepts it
     meaning: str = ""
-    default: float | None = None  # the system variable's value at program start
+    default: float | str | None = None  # the system variable's value at program start
 
     @property
     def unit(self) -> str:
         return self.range.unit
+
+    @property
+    def type_name(self) -> str:
+        """The IRL type of its values: STRING for a choice, else REAL."""
+        return "STRING" if isinstance(self.range, SettingChoices) else "REAL"
 
 
 def _positive(unit: str, high: float) -> SettingRange:
@@ -97,6 +124,10 @@ SETTINGS: tuple[Setting, ...] = (
             "interpolation (IPO) cycle", 0.01),
     Setting("path_tol", "R_PATH_TOL", None, _positive("mm", math.inf), (),
             "path tolerance (start value: --path-tolerance)", 0.05),
+    Setting("profile", "R_PROFILE", None, SettingChoices(("TRAPEZOID", "SCURVE")), (),
+            "velocity profile: trapezoid, or jerk-limited S-curve", "TRAPEZOID"),
+    Setting("jerk", "R_JERK", None, _positive("mm/s³", 1e7), (),
+            "path jerk of the S-curve (PTP: runtime.md)", 10000.0),
 )  # fmt: skip
 
 BY_FIELD: dict[str, Setting] = {s.field: s for s in SETTINGS}
@@ -104,7 +135,7 @@ BY_SYSTEM_VARIABLE: dict[str, Setting] = {
     s.system_variable: s for s in SETTINGS if s.system_variable
 }
 BY_WITH_WORD: dict[str, Setting] = {s.with_word: s for s in SETTINGS if s.with_word}
-SETTING_RANGES: dict[str, SettingRange] = {s.field: s.range for s in SETTINGS}
+SETTING_RANGES: dict[str, SettingRange | SettingChoices] = {s.field: s.range for s in SETTINGS}
 
 
 @dataclass(frozen=True)
@@ -122,7 +153,7 @@ class SystemVariable:
 SYSTEM_VARIABLES: dict[str, SystemVariable] = {
     v.name: v
     for v in (
-        *(SystemVariable(s.system_variable, "REAL", True, s.field)
+        *(SystemVariable(s.system_variable, s.type_name, True, s.field)
           for s in SETTINGS if s.system_variable),
         SystemVariable("R_TOOL", "POSE", True, "tool"),  # TCP in the flange frame
         SystemVariable("R_BASE", "POSE", True, "base"),  # program base frame in the world
@@ -136,6 +167,8 @@ def setting_error(field_name: str, value: object) -> str | None:
     """``None`` if ``value`` is admissible for the setting, else why not
     (``"the value must be in (0, 100] %"``)."""
     allowed = SETTING_RANGES[field_name]
+    if isinstance(allowed, SettingChoices):
+        return None if value in allowed else f"the value must be {allowed}"
     if isinstance(value, float | int) and not isinstance(value, bool) and value in allowed:
         return None
     return f"the value must be {allowed}"
@@ -144,6 +177,8 @@ def setting_error(field_name: str, value: object) -> str | None:
 def shown_value(value: object) -> str:
     """A setting's value as a message shows it: as WRITE prints a REAL (6 decimals,
     ``150.0``) unless that rounds it, then ``%g``."""
+    if isinstance(value, str):
+        return "'" + value.replace("'", "''") + "'"
     if not isinstance(value, float | int):
         return repr(value)
     r = round(float(value), 6)
@@ -168,6 +203,10 @@ _KIND_WORDS = {
 }
 
 
+def _shown_default(value: float | str) -> str:
+    return f"'{value}'" if isinstance(value, str) else f"{value:g}"
+
+
 def ranges_table() -> str:
     """The settings and their ranges as a Markdown table (docs/language.md lists it)."""
     rows = [
@@ -177,8 +216,9 @@ def ranges_table() -> str:
     for s in SETTINGS:
         kinds = ", ".join(_KIND_WORDS[k] for k in s.kinds) or "—"
         kinds = "all motion" if s.kinds == ALL_KINDS else kinds
+        start = "—" if s.default is None else _shown_default(s.default)
         rows.append(
-            f"| {s.system_variable or '—'} | {'—' if s.default is None else f'{s.default:g}'} | "
+            f"| {s.system_variable or '—'} | {start} | "
             f"{s.with_word or '—'} | {s.unit} | "
             f"{s.range.interval()} | {kinds} |"
         )

@@ -25,9 +25,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
-
 from irlc.files import read_user_text
+from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
 
 ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 LENGTH_UNITS = {"m": 1.0, "mm": 1e-3}
@@ -76,6 +75,7 @@ JOINT_KEYS = {
     "position",
     "speed",
     "accel",
+    "jerk",
     "weight",
     "assumed",
     "reason",
@@ -477,7 +477,8 @@ def _read_joint_limits(rd: Reader, row: dict, key: str, kind: str) -> Limits:
             raise rd.fail(
                 f"{key}.{k}", "expected min < 0 < max (the joint must be able to move both ways)"
             )
-    return Limits(pos, speed, accel)
+    jerk = rd.positive(row["jerk"], f"{key}.jerk") * s if "jerk" in row else None
+    return Limits(pos, speed, accel, jerk)
 
 
 def _read_home(rd: Reader, robot: dict, joints: list[Joint], default) -> np.ndarray | None:
@@ -526,6 +527,7 @@ def _read_limit_sets(rd: Reader, table: Any, joints: list[Joint]) -> dict[str, t
                 per_kind["position"][i] if "position" in per_kind else j.limits.position,
                 per_kind["speed"][i] if "speed" in per_kind else j.limits.speed,
                 per_kind["accel"][i] if "accel" in per_kind else j.limits.accel,
+                j.limits.jerk,
             )
             for i, j in enumerate(joints)
         )
@@ -798,7 +800,7 @@ def _from_urdf(rd: Reader, robot: dict, folder: Path, doc: dict) -> tuple[list[J
 
         for i, row in enumerate(rows):
             key = f"joints[{i + 1}]"
-            rd.table(row, key, {"name", "weight", "accel", "assumed", "reason"})
+            rd.table(row, key, {"name", "weight", "accel", "jerk", "assumed", "reason"})
             rd.assumption(row, key)
             if "name" in row and row["name"] != joints[i].name:
                 raise rd.fail(f"{key}.name", f"expected {joints[i].name!r} (URDF order)")
@@ -809,6 +811,9 @@ def _from_urdf(rd: Reader, robot: dict, folder: Path, doc: dict) -> tuple[list[J
                 limits = replace(joints[i].limits, accel=accel)
                 joints[i] = replace(joints[i], limits=limits)
                 model.extra["assumed"].pop(f"joint '{joints[i].name}' acceleration", None)
+            if "jerk" in row:
+                jerk = rd.positive(row["jerk"], f"{key}.jerk") * _scale(rd, joints[i].kind)
+                joints[i] = replace(joints[i], limits=replace(joints[i].limits, jerk=jerk))
     fixed = {
         "urdf_extra": model.extra,
         "flange": model.flange,

@@ -31,11 +31,14 @@ JointKind = Literal["revolute", "prismatic"]
 
 @dataclass(frozen=True)
 class Limits:
-    """Per-joint bounds in SI: positions (rad | m), speeds (/s), accelerations (/s²)."""
+    """Per-joint bounds in SI: positions (rad | m), speeds (/s), accelerations (/s²) and,
+    where the robot file gives it, the jerk ``|θ⃛| ≤ jerk`` (/s³; ``None``: not known, the
+    S-curve derives one — docs/runtime.md)."""
 
     position: tuple[float, float]
     speed: tuple[float, float]
     accel: tuple[float, float]
+    jerk: float | None = None
 
 
 @dataclass(frozen=True)
@@ -131,6 +134,11 @@ class RobotModel:
     @property
     def accel_limits(self) -> np.ndarray:
         return np.array([j.limits.accel for j in self.joints])
+
+    @property
+    def jerk_limits(self) -> np.ndarray:
+        """``(n,)`` jerk bounds (/s³), NaN where the robot file gives none."""
+        return np.array([np.nan if j.limits.jerk is None else j.limits.jerk for j in self.joints])
 
     def home_q(self) -> np.ndarray:
         return np.zeros(self.n) if self.home is None else np.array(self.home, dtype=float)

@@ -120,6 +120,8 @@ def _joints(model: RobotModel) -> list[str]:
             f"accel = {_vec(np.array(lim.accel) * s)}",
             f"weight = {_num(j.weight)}",
         ]
+        if lim.jerk is not None:
+            out.append(f"jerk = {_num(lim.jerk * s)}")
         if j.offset != 0.0:
             out.append(f"offset = {_num(j.offset * s)}")
     return out

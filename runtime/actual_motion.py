@@ -14,15 +14,12 @@ drive's actual joints ``θ̂(t)`` at times ``t``.
 
 **Path error** is the *contour error*: the distance from the actual TCP to the commanded
 TCP path, not to the set point of the same instant (the drives' lag *along* the path is a
-timing error, judged by the following-error bound). The commanded path is the polyline of
-the desired poses ``x_d(t_k)`` of the Cartesian samples; for the actual sample at ``t`` its
-segments within ``[t − 2 s, t + 0.5 s]`` are searched (a closed path is not matched with
-its next lap). With ``a, b`` a segment's ends and ``p`` the actual position,
-
-    s* = clamp(((p − a)·(b − a)) / |b − a|², 0, 1),   e_p = min over segments |p − (a + s*(b − a))|
-
-on the controlled position components (a planar arm's task is ``x, y``); the orientation
-error is that of ``T̂`` against the desired pose at the nearest point (orientation by slerp).
+timing error, judged by the following-error bound). The commanded path joins the desired
+poses ``x_d(t_k)`` of the Cartesian samples; for the actual sample at ``t`` its segments
+within ``[t − 2 s, t + 0.5 s]`` are searched (a closed path is not matched with its next
+lap) for the nearest pose, position and orientation together (:class:`_CommandedPath`),
+and the position and orientation errors are those of ``T̂`` against that pose, on the
+controlled task components (a planar arm's task is ``x, y``).
 PTP motion and standing still command no TCP path: their path error is 0, as in ideal
 runs; there the drives are judged by their following error.
 
@@ -80,45 +77,80 @@ def measure(
 
 WINDOW_BACK_S = 2.0  # how far back along the path the nearest point is searched
 WINDOW_AHEAD_S = 0.5  # and how far ahead (overshoot)
+RAD_AS_M = 0.3  # nearest point: 1 rad of orientation weighs like 0.3 m of position
 
 
 class _CommandedPath:
-    """The polyline of the desired TCP positions of the Cartesian samples (module doc)."""
+    """The commanded path as segments between the desired TCP poses of consecutive
+    samples (module doc): position linear, orientation along the geodesic
+    ``R(s) = exp(s·w)·R_a`` with ``w = log(R_b R_aᵀ)`` (world frame).
+
+    The nearest point of a segment to the actual pose ``(p, R)`` minimises, to first
+    order, ``|p − a − s·d|² + ℓ²|v − s·w|²`` (``d = b − a``, ``v = log(R R_aᵀ)``,
+    ``ℓ = RAD_AS_M``; orientation terms only where the task controls orientation):
+
+        s* = clamp(((p − a)·d + ℓ² v·w) / (|d|² + ℓ²|w|²), 0, 1),
+
+    so a turn on the spot (``d = 0``) is matched by its orientation. The segment with the
+    smallest such distance is the nearest; the errors are then measured exactly against
+    the pose at ``s*`` (``spatial.pose_error``).
+    """
 
     def __init__(self, rec: RecordedRun) -> None:
         self.times = rec.times
         self.desired = rec.desired
         self.points = rec.desired[:, :3, 3]
+        self.rot = rec.desired[:, :3, :3]
         # segment k joins samples k and k + 1 where k + 1 commands a path: a path starts at
         # the sample before its first one (the commanded TCP where the motion begins)
         self.joined = rec.on_path[1:].copy()
-        self.on_path = rec.on_path
+        self.step = np.diff(self.points, axis=0)
+        self.turn = _log(self.rot[1:] @ np.swapaxes(self.rot[:-1], 1, 2))
 
     def contour_error(self, t: float, tcp: np.ndarray, pos_rows, ori_rows) -> tuple[float, float]:
         """(position, orientation) error of ``tcp`` against the nearest commanded point."""
         lo = int(np.searchsorted(self.times, t - WINDOW_BACK_S, side="left"))
         hi = int(np.searchsorted(self.times, t + WINDOW_AHEAD_S, side="right"))
-        p = tcp[:3, 3]
         seg = lo + np.flatnonzero(self.joined[lo : max(hi - 1, lo)])
         if seg.size:
-            a, b = self.points[seg], self.points[seg + 1]
-            d = b - a
-            length2 = np.einsum("ij,ij->i", d, d)
-            s = np.where(
-                length2 > 0.0,
-                np.einsum("ij,ij->i", p - a, d) / np.where(length2 > 0.0, length2, 1.0),
-                0.0,
-            )
-            s = np.clip(s, 0.0, 1.0)
-            gap = (p - (a + s[:, None] * d))[:, pos_rows]
-            dist = np.linalg.norm(gap, axis=1)
-            best = int(np.argmin(dist))
-            desired = _between(self.desired[seg[best]], self.desired[seg[best] + 1], s[best])
+            best, s = self._nearest(seg, tcp, pos_rows, len(ori_rows) > 0)
+            desired = _between(self.desired[best], self.desired[best + 1], s)
         else:  # a single Cartesian sample in reach: its own pose
             k = lo + int(np.argmin(np.abs(self.times[lo:hi] - t))) if hi > lo else 0
             desired = self.desired[k]
         e = spatial.pose_error(tcp, desired)
         return float(np.linalg.norm(e[pos_rows])), float(np.linalg.norm(e[ori_rows]))
+
+    def _nearest(self, seg: np.ndarray, tcp: np.ndarray, pos_rows, oriented: bool):
+        """The nearest segment of ``seg`` and ``s*`` on it (class doc)."""
+        rel = (tcp[:3, 3] - self.points[seg])[:, pos_rows]
+        d = self.step[seg][:, pos_rows]
+        num = np.einsum("ij,ij->i", rel, d)
+        den = np.einsum("ij,ij->i", d, d)
+        if oriented:
+            v = _log(tcp[:3, :3] @ np.swapaxes(self.rot[seg], 1, 2))
+            w = self.turn[seg]
+            num = num + RAD_AS_M**2 * np.einsum("ij,ij->i", v, w)
+            den = den + RAD_AS_M**2 * np.einsum("ij,ij->i", w, w)
+        s = np.clip(np.where(den > 0.0, num / np.where(den > 0.0, den, 1.0), 0.0), 0.0, 1.0)
+        cost = np.einsum("ij,ij->i", rel - s[:, None] * d, rel - s[:, None] * d)
+        if oriented:
+            gap = v - s[:, None] * w
+            cost = cost + RAD_AS_M**2 * np.einsum("ij,ij->i", gap, gap)
+        i = int(np.argmin(cost))
+        return int(seg[i]), float(s[i])
+
+
+def _log(r: np.ndarray) -> np.ndarray:
+    """Rotation vectors of a stack of rotation matrices (``spatial.rotation_vector``,
+    vectorised; near π the axis is approximate, which only affects the choice of the
+    nearest point, not the error measured there)."""
+    cos_t = np.clip((np.trace(r, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
+    theta = np.arccos(cos_t)
+    w = np.stack([r[:, 2, 1] - r[:, 1, 2], r[:, 0, 2] - r[:, 2, 0], r[:, 1, 0] - r[:, 0, 1]], 1)
+    sin_t = np.sin(theta)
+    scale = np.where(sin_t > 1e-6, theta / (2.0 * np.where(sin_t > 1e-6, sin_t, 1.0)), 0.5)
+    return scale[:, None] * w
 
 
 def _between(a: np.ndarray, b: np.ndarray, s: float) -> np.ndarray:

@@ -43,7 +43,13 @@ class MotionCommand:
 
 def _default(name: str) -> float:
     value = BY_FIELD[name].default
-    assert value is not None, name
+    assert isinstance(value, float), name
+    return value
+
+
+def _default_word(name: str) -> str:
+    value = BY_FIELD[name].default
+    assert isinstance(value, str), name
     return value
 
 
@@ -60,6 +66,8 @@ class Settings:
     base: Pose = field(default_factory=lambda: Pose(Position(0.0, 0.0, 0.0), IDENTITY))
     ipo: float = _default("ipo")  # R_IPO, s
     path_tol: float = _default("path_tol")  # R_PATH_TOL, mm (start: --path-tolerance)
+    profile: str = _default_word("profile")  # R_PROFILE: 'TRAPEZOID' | 'SCURVE'
+    jerk: float = _default("jerk")  # R_JERK, mm/s³ (S-curve path jerk)
 
 
 # The range table of the numeric settings is lang/settings.py (one row per setting; the

@@ -28,7 +28,6 @@ seconds (a warning).
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -38,13 +37,15 @@ from irlc.robots.model import RobotModel
 from irlc.runtime import spatial, units
 from irlc.runtime.controller import ModalOptions, MotionCommand, Settings, setting_error
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.ik import cause
 from irlc.runtime.ik.freeze import FrozenJoints
 from irlc.runtime.ik.newton import InverseTransformation
 from irlc.runtime.ik.params import CycleOptions, IKParams
-from irlc.runtime.ik.pose import solve_pose
+from irlc.runtime.ik.reach import Reach, check_targets, unreachable_failure
 from irlc.runtime.ik.self_motion import reconfiguration_done
 from irlc.runtime.interpolator import JointLine, ReferencePath, Segment
 from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.naming import JointNaming
 from irlc.runtime.preinterp import (
     Limits3,
     PlanState,
@@ -86,13 +87,16 @@ class SimulatedController:
         obstacles: dict[str, object] | None = None,
         options: ExecutionOptions | None = None,
         progress: Callable[[float, int], None] | None = None,
+        naming: JointNaming | None = None,
     ):
         self.model = model
+        self._naming = naming or JointNaming.for_model(model)  # joints in failure messages
         self.opts = options or ExecutionOptions()
         self.ik_params = self.opts.ik or IKParams.for_robot(model)
         self.obstacles = dict(obstacles or {})
         self.recorder = Recorder(model.n, tuple(self.obstacles), self.ik_params.task_rows)
         self.pre = PreInterpolator(model, self._solve_pose, self.ik_params.task_rows)
+        self.pre.naming = self._naming
         self.progress = progress
         self.scale = units.joint_scale(model.joint_kinds)
         self._solvers: dict[bytes, _Solver] = {}
@@ -104,6 +108,7 @@ class SimulatedController:
         self._manip_every = max(1, self.opts.manipulability_every)
         self._collision_warned: set[str] = set()
         self._last_reference: np.ndarray | None = None  # θ⁰ of the last IK cycle
+        self._segment_start = self.q.copy()
         self._active_obstacles: frozenset[str] = frozenset()
         self.dt_used = self.opts.ipo if self.opts.ipo is not None else Settings().ipo
         self.recorder.tol_position = self.opts.tol_position
@@ -111,6 +116,19 @@ class SimulatedController:
         self._record_initial()
 
     # ------------------------------------------------------------------ protocol
+    @property
+    def naming(self) -> JointNaming:
+        """How failure messages name joints (the program's names; the REPL may set it
+        when a session's MAIN_JOINT names change): passed to the pre-interpolator and
+        every solver."""
+        return self._naming
+
+    @naming.setter
+    def naming(self, value: JointNaming) -> None:
+        self._naming = self.pre.naming = value
+        for solver in self._solvers.values():
+            solver.ik.naming = value
+
     @property
     def time(self) -> float:
         return self._t
@@ -132,6 +150,10 @@ class SimulatedController:
         state = self._plan_state(settings, solver)
         self._settings = settings
         segments = self.pre.plan(cmd, settings, options, state)
+        cartesian = [seg for seg in segments if not seg.is_joint]
+        if cartesian:  # reachability of the end (and via) points, before anything moves
+            reach = self._reach(cartesian[0].limits[0], options, solver)
+            check_targets(reach, cartesian, self.q, cmd.line, self._t, f"MOVE {_shown(cmd)}")
         for seg in segments:
             self._run_segment(seg, settings, options, solver)
 
@@ -204,7 +226,7 @@ class SimulatedController:
         elif option == "FREEZE":
             frozen = FrozenJoints(self.model.n, self.pre.frozen_si(options))
             try:
-                frozen.check_task(self.model, len(self.ik_params.task_rows))
+                frozen.check_task(self.model, len(self.ik_params.task_rows), self.naming)
             except RunFailure as exc:
                 raise _located(exc, line, self._t) from None
 
@@ -220,6 +242,7 @@ class SimulatedController:
                     line,
                     self._t,
                     f"obstacle {name}",
+                    cause="obstacle",
                 )
 
     def log_event(self, kind: str, line: int, **data) -> None:
@@ -238,6 +261,7 @@ class SimulatedController:
             self._last_reference = None
             return
         cycle_opts = self._cycle_options(seg, options)
+        self._segment_start = self.q.copy()  # for the cause of a failure (ik.cause)
         reference = self._blended_reference(seg.reference, cycle_opts.reference)
         for k in range(1, seg.cycles + 1):
             s, target = seg.setpoint(k, dt)
@@ -313,7 +337,7 @@ class SimulatedController:
         if res.relaxed or not res.converged:
             rec.note_relaxed(seg.line, t, dt, pos_err, ori_err, res.binding)
         if pos_err > rec.tol_position or ori_err > self.opts.tol_orientation:
-            raise self._deviation_failure(seg, t, pos_err, ori_err, res)
+            raise self._deviation_failure(seg, t, pos_err, ori_err, res, opts, solver)
         self._tick()
 
     def _joint_cycle(self, seg: Segment, q, k: int, s: float, dt: float, solver) -> None:
@@ -340,7 +364,11 @@ class SimulatedController:
             depth = f"{-distance / units.MM:.4g} mm deep, link {link}"
             if name in active:
                 raise RunFailure(
-                    f"the arm collides with obstacle {name} ({depth})", line, t, f"obstacle {name}"
+                    f"the arm collides with obstacle {name} ({depth})",
+                    line,
+                    t,
+                    f"obstacle {name}",
+                    cause="obstacle",
                 )
             if name not in self._collision_warned:
                 self._collision_warned.add(name)
@@ -350,18 +378,21 @@ class SimulatedController:
                 )
 
     def _ptp_active(self, seg: Segment, k: int, dt: float) -> dict[int, str] | None:
-        """The joint that sets a PTP segment's time is at its acceleration bound while
-        ramping and at its speed bound while cruising at the full speed."""
-        j = seg.limiting_joint
-        if j < 0:
-            return None
+        """The joints of a PTP segment that are at a bound in cycle ``k``: while ramping,
+        those whose acceleration equals their active acceleration limit (none at
+        ``R_ACC_PTP`` < 100 %); while cruising, those whose speed equals their speed
+        limit (none at ``R_SPEED_PTP`` < 100 % or on a stretched profile). The side is
+        that of the joint's acceleration (``max`` when it speeds up in the positive
+        direction or brakes a negative motion) or speed."""
         phase = int(seg.profile.phase((k - 0.5) * dt))
+        at_accel, at_speed = _ptp_bounds(seg)
         if phase != 0:
-            return {j: "accel max" if phase > 0 else "accel min"}
-        vmax = seg.limits[1][j, 1] if seg.path.q1[j] >= seg.path.q0[j] else -seg.limits[1][j, 0]
-        if seg.info["joint_speed"][j] >= vmax * (1.0 - 1e-9):
-            return {j: "speed max"}
-        return None
+            out = {j: "accel max" if (phase > 0) == up else "accel min" for j, up in at_accel}
+        elif float(seg.profile.speed((k - 0.5) * dt)) < seg.profile.cruise:
+            return None  # an S-curve's jerk phases: neither bound is reached
+        else:
+            out = {j: "speed max" if up else "speed min" for j, up in at_speed}
+        return out or None
 
     def _record_initial(self) -> None:
         """The sample at t = 0 (with the clearances of the start configuration), with the
@@ -392,7 +423,9 @@ class SimulatedController:
         if self.progress is not None and self._cycles % self.opts.progress_every == 0:
             self.progress(self._t, self._line)
 
-    def _deviation_failure(self, seg, t, pos_err, ori_err, res) -> RunFailure:
+    def _deviation_failure(self, seg, t, pos_err, ori_err, res, opts, solver) -> RunFailure:
+        """The deviation beyond tolerance, with its cause (:mod:`ik.cause`) for a path
+        segment; a held TCP (RECONFIGURATION) reports the binding bound."""
         what = (
             f"the path cannot be followed: TCP deviation {pos_err / units.MM:.4g} mm, "
             f"{ori_err / units.DEG:.4g} deg "
@@ -401,9 +434,17 @@ class SimulatedController:
         )
         if res.binding:
             what += f"; bound by {res.binding}"
+        if hasattr(getattr(seg, "path", None), "length"):
+            reach = self._reach(seg.limits[0], None, solver, opts.frozen)
+            q0 = self._segment_start
+            try:
+                return cause.classify(what, res, seg, q0, reach, solver.kin, seg.line, t)
+            except (ValueError, np.linalg.LinAlgError, FloatingPointError) as exc:
+                what += f"; the cause could not be determined ({exc})"  # (numerics)
         if res.singular or (math.isfinite(res.sigma_min) and res.sigma_min < 1e-6):
             what += f"; near a singular configuration (σ_min = {res.sigma_min:.3g})"
-        return RunFailure(what, seg.line, t, res.binding or None)
+            return RunFailure(what, seg.line, t, res.binding or None, cause="singular")
+        return RunFailure(what, seg.line, t, res.binding or None, cause.of_bound(res.binding))
 
     # ------------------------------------------------------------------ helpers
     def _dt(self, settings: Settings) -> float:
@@ -420,7 +461,8 @@ class SimulatedController:
         solver = self._solvers.get(key)
         if solver is None:
             kin = Kinematics(self.model, tool)
-            solver = _Solver(kin, InverseTransformation(self.model, kin, self.ik_params))
+            ik = InverseTransformation(self.model, kin, self.ik_params, self.naming)
+            solver = _Solver(kin, ik)
             self._solvers[key] = solver
         if len(self.recorder) == 1 and key != self._start_tool:
             self._stamp_start(solver)  # a tool set before the first motion holds from t = 0
@@ -438,28 +480,34 @@ class SimulatedController:
     def _program_pose(world: np.ndarray, settings: Settings) -> Pose:
         return units.pose_value_from_si(spatial.inverse(base_transform(settings)) @ world)
 
+    def _reach(
+        self, position: np.ndarray, options: ModalOptions | None, solver: _Solver, frozen=None
+    ) -> Reach:
+        """The pose search's context: active position limits, frozen joints, tool."""
+        return Reach(
+            self.model,
+            position,
+            self.pre.frozen_si(options) if frozen is None else dict(frozen),
+            solver.kin.tool,
+            self.ik_params.task_rows,
+            self.naming,
+            self.recorder.tol_position,
+            self.opts.tol_orientation,
+        )
+
     def _solve_pose(
         self, target, seed, frozen: dict[int, float], lims: Limits3, line: int
     ) -> np.ndarray:
         """PTP to a POSE: joints for ``target`` from the current configuration, within
-        the active position limits and with frozen joints held."""
-        pos = lims[0].copy()
-        for j, v in frozen.items():
-            pos[j] = (v, v)
-        model = _with_position_limits(self.model, pos)
-        tool = self._solver(self._settings).kin.tool
-        sol = solve_pose(model, target, seed, tool=tool)
+        the active position limits and with frozen joints held (the search of
+        :mod:`ik.reach`; the PTP needs the exact pose, so the result must converge)."""
+        reach = self._reach(lims[0], None, self._solver(self._settings), frozen)
+        sol = reach.solve(target, seed)
+        if not sol.converged:  # stalled: the restarts of the pre-check's search
+            sol = reach.search(target, seed)
         if not sol.converged:
-            raise RunFailure(f"MOVE PTP: {sol.message}", line, self._t)
+            raise unreachable_failure(reach, target, seed, sol, line, self._t, "MOVE PTP")
         return sol.q
-
-
-def _with_position_limits(model: RobotModel, position: np.ndarray) -> RobotModel:
-    joints = tuple(
-        dataclasses.replace(j, limits=dataclasses.replace(j.limits, position=tuple(position[i])))
-        for i, j in enumerate(model.joints)
-    )
-    return dataclasses.replace(model, joints=joints)
 
 
 _NAN = float("nan")
@@ -468,6 +516,31 @@ _NAN = float("nan")
 def _advance(t: float, dt: float) -> float:
     """The next sample time, rounded to 1 ns so that time stamps do not drift."""
     return round(t + dt, 9)
+
+
+def _ptp_bounds(seg: Segment) -> tuple[list, list]:
+    """``(joints at their acceleration bound, joints at their speed bound)`` of a PTP
+    segment, each as ``(joint, moves up)``, within a relative 1e-9 (cached per segment)."""
+    cached = seg.info.get("at_bounds")
+    if cached is None:
+        path, (_, spd, acc) = seg.path, seg.limits
+        accel, speed = seg.info.get("joint_accel"), seg.info.get("joint_speed")
+        at_accel, at_speed = [], []
+        for j in range(len(path.q0)):
+            up = bool(path.q1[j] >= path.q0[j])
+            if path.q1[j] == path.q0[j] or accel is None:
+                continue
+            if accel[j] >= min(acc[j, 1], -acc[j, 0]) * (1.0 - 1e-9):
+                at_accel.append((j, up))
+            if speed[j] >= (spd[j, 1] if up else -spd[j, 0]) * (1.0 - 1e-9):
+                at_speed.append((j, up))
+        cached = seg.info["at_bounds"] = (at_accel, at_speed)
+    return cached
+
+
+def _shown(cmd: MotionCommand) -> str:
+    """The statement as a user wrote it: ``LIN``, ``LIN PATH``, ``CIRCLE``, ``_INC LIN``."""
+    return {"LINPATH": "LIN PATH", "LININC": "_INC LIN"}.get(cmd.kind, cmd.kind)
 
 
 def _located(exc: RunFailure, line: int, t: float) -> RunFailure:

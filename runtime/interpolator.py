@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from irlc.runtime import spatial
 from irlc.runtime.profiles import Trapezoid
+from irlc.runtime.scurve import SCurve
 
 
 @dataclass(frozen=True)
@@ -248,7 +249,7 @@ class Segment:
     kind: str
     line: int
     path: JointLine | CartesianLine | CartesianArc | Hold
-    profile: Trapezoid
+    profile: Trapezoid | SCurve
     cycles: int
     limits: tuple[np.ndarray, np.ndarray, np.ndarray]
     reference: ReferencePath | None = None

@@ -610,6 +610,10 @@ class Interpreter:
         if name in ("R_TOOL", "R_BASE"):
             if not isinstance(v, Pose):
                 raise _malformed(f"{name} needs a POSE, got {V.type_name(v)}")
+        elif SYSTEM_VARIABLES[name].type_name == "STRING":  # R_PROFILE: a word, any case
+            if not isinstance(v, str):
+                raise _malformed(f"{name} needs a STRING, got {V.type_name(v)}")
+            v = check_setting(_SETTINGS_FIELDS[name], v, name).upper()
         else:
             v = check_setting(_SETTINGS_FIELDS[name], self._number(v, name), name)
         setattr(self.state.settings, _SETTINGS_FIELDS[name], v)
@@ -1012,11 +1016,19 @@ class Interpreter:
         kind = units.REVOLUTE if self.code.joint_kinds[i] == "R" else units.PRISMATIC
         return units.joint_unit_label(kind, derivative)
 
+    def _joint_labels(self) -> tuple[str, ...]:
+        """Joint names for messages (the naming rule: the program's name, the robot's in
+        parentheses where it differs), from the controller's naming when it has one."""
+        naming = getattr(self.controller, "naming", None)
+        if naming is None or len(naming.program) != len(self.code.joint_names):
+            return tuple(self.code.joint_names)
+        return tuple(naming.label(i) for i in range(len(naming.program)))
+
     def _checked_limits(self, option: str, lo: object, hi: object) -> tuple[JointTuple, JointTuple]:
         lo = self._joint_tuple(lo, f"{option} lower bounds")
         hi = self._joint_tuple(hi, f"{option} upper bounds")
         derivative = _LIMIT_OPTIONS[option][1]
-        names = self.code.joint_names
+        names = self._joint_labels()
         fmt = V.format_real
         for i, (a, b) in enumerate(zip(lo.values, hi.values, strict=True)):
             unit = self._joint_unit(i, derivative)
@@ -1040,7 +1052,7 @@ class Interpreter:
         q = self._ctl(self.controller.joints)
         fmt = V.format_real
         for i, (v, a, b) in enumerate(zip(q, lo.values, hi.values, strict=True)):
-            name, unit = self.code.joint_names[i], self._joint_unit(i, 0)
+            name, unit = self._joint_labels()[i], self._joint_unit(i, 0)
             if v < a - LIMIT_TOLERANCE or v > b + LIMIT_TOLERANCE:
                 below = v < a
                 side, bound = ("lower", a) if below else ("upper", b)

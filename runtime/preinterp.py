@@ -24,7 +24,11 @@ For each :class:`~irlc.runtime.controller.MotionCommand` it resolves
   - several LIN points / LIN PATH: consecutive segments, each stopping at its point
     (no blending); ``WITH TIME`` is split over them in proportion to their minimum times;
   - ``WITH TIME t``: the profile is stretched to ``t``; shorter than the limits allow is
-    a RunFailure.
+    a RunFailure;
+  - ``R_PROFILE = 'SCURVE'``: the jerk-limited profile of :mod:`scurve` in place of the
+    trapezoid, with the jerk bounds of :meth:`PreInterpolator.ptp_jerks` (PTP) and
+    ``R_JERK`` (LIN, CIRCLE; orientation jerk ``R_SPEED_ORI · R_JERK / R_SPEED``, the same
+    time constants as the position).
 
 ``WITH RECONFIGURATION`` gives a reference θ⁰(s), linear per segment from the
 configuration at the start of the statement (or the previous point's) to each point's.
@@ -38,6 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 from irlc.lang.settings import BY_FIELD, reconfiguration_counts, setting_message
 from irlc.robots.model import RobotModel
+from irlc.runtime import scurve as sc
 from irlc.runtime import units
 from irlc.runtime.controller import ModalOptions, MotionCommand, Settings
 from irlc.runtime.errors import RunFailure
@@ -51,6 +56,7 @@ from irlc.runtime.interpolator import (
     ReferencePath,
     Segment,
 )
+from irlc.runtime.naming import JointNaming
 from irlc.runtime.profiles import (
     ProfileError,
     Trapezoid,
@@ -62,6 +68,38 @@ from irlc.runtime.profiles import (
 from irlc.runtime.values import JointTuple, Pose
 
 Limits3 = tuple[np.ndarray, np.ndarray, np.ndarray]
+Profile = Trapezoid | sc.SCurve
+
+
+@dataclass(frozen=True)
+class Bounds:
+    """Normalised bounds of one segment's ``s(t)`` (``jerk`` ``None``: the trapezoid), the
+    axis that sets its time and that minimum time (s)."""
+
+    speed: float
+    accel: float
+    jerk: float | None
+    slowest: int
+    t_min: float
+
+
+def segment_bounds(distances, speeds, accels, jerks=None) -> Bounds:
+    """Common bounds of the axes sharing one ``s(t)`` (:func:`profiles.common_bounds`, or
+    :func:`scurve.common_bounds` when ``jerks`` are given)."""
+    if jerks is None:
+        v, a, slowest = common_bounds(distances, speeds, accels)
+        return Bounds(v, a, None, slowest, minimum_time(v, a) if slowest >= 0 else 0.0)
+    v, a, j, slowest = sc.common_bounds(distances, speeds, accels, jerks)
+    return Bounds(v, a, j, slowest, sc.minimum_time(v, a, j) if slowest >= 0 else 0.0)
+
+
+def scurve_on(cmd: MotionCommand, settings: Settings) -> bool:
+    """``R_PROFILE = 'SCURVE'`` (checked against its row in lang/settings.py)."""
+    value = settings.profile
+    message = setting_message("profile", value, "R_PROFILE")
+    if message is not None:
+        raise RunFailure(message, cmd.line)
+    return value.upper() == "SCURVE"
 
 
 def _setting(cmd: MotionCommand, settings: Settings, name: str) -> float:
@@ -69,7 +107,7 @@ def _setting(cmd: MotionCommand, settings: Settings, name: str) -> float:
     against the one range table (lang/settings.py) — the interpreter checks both when they
     are set, this guards controllers driven directly with hand-made settings."""
     row = BY_FIELD[name]
-    value, what = getattr(cmd, name), f"WITH {row.with_word}"
+    value, what = getattr(cmd, name, None), f"WITH {row.with_word}"  # None: no WITH form
     if value is None:
         value, what = getattr(settings, name), str(row.system_variable)
     message = setting_message(name, value, what)
@@ -111,6 +149,7 @@ class PreInterpolator:
         task_rows: Sequence[int] = (0, 1, 2, 3, 4, 5),
     ):
         self.model = model
+        self.naming = JointNaming.for_model(model)  # the controller sets the program's
         # a task without orientation rows (a planar arm's x, y) does not time orientation
         self.timed_orientation = any(r >= 3 for r in task_rows)
         self.kinds = model.joint_kinds
@@ -151,7 +190,7 @@ class PreInterpolator:
                     bound[:, 1] = np.fmin(bound[:, 1], hi)
             progs.append(bound)
         try:
-            return intersect_limits(self.model, *progs)
+            return intersect_limits(self.model, *progs, naming=self.naming)
         except ValueError as exc:
             raise RunFailure(f"the active joint limits are contradictory: {exc}", line) from None
 
@@ -163,13 +202,14 @@ class PreInterpolator:
             side, bound = ("min", lo) if q[j] < lo - tol else ("max", hi)
             if lo - tol <= q[j] <= hi + tol:
                 continue
-            name = self.model.joints[j].name
+            name = self.naming.label(j)
             val = format_joint_value(self.model, j, q[j], 0)
             lim = format_joint_value(self.model, j, bound, 0)
             raise RunFailure(
                 f"{what}: joint {name} = {val} is outside the active position limit ({side} {lim})",
                 line,
                 constraint=f"{name} position {side} {lim}",
+                cause="limits" if what.startswith("the limits") else "position_limit",
             )
 
     # ------------------------------------------------------------------ planning
@@ -215,7 +255,7 @@ class PreInterpolator:
             self.check_inside(q1, lims[0], cmd.line, "PTP target")
             for j, v in frozen.items():
                 if abs(q1[j] - v) > 1e-9 * (1.0 + abs(v)):
-                    name = self.model.joints[j].name
+                    name = self.naming.label(j)
                     raise RunFailure(
                         f"PTP target moves the frozen joint {name} "
                         f"(held at {format_joint_value(self.model, j, v, 0)}, target "
@@ -239,27 +279,40 @@ class PreInterpolator:
             return self.solve_pose(world, q0, frozen, lims, cmd.line)
         raise RunFailure(f"MOVE PTP: unsupported target {type(target).__name__}", cmd.line)
 
+    def ptp_jerks(self, cmd, settings, accel: np.ndarray) -> np.ndarray:
+        """Per-joint jerk bounds of an S-curve PTP (SI, before ``R_ACC_PTP``): the robot
+        file's ``jerk`` where it gives one, else ``θ̈max_i · R_JERK / R_ACC`` — the joint
+        builds up its (active) acceleration bound ``accel`` in the time ``R_ACC / R_JERK``
+        the path takes for its own."""
+        ramp = _setting(cmd, settings, "acc") / _setting(cmd, settings, "jerk")
+        known = self.model.jerk_limits
+        return np.where(np.isnan(known), accel / ramp, known)
+
     def _ptp_segment(self, cmd, settings, q0, q1, lims, dt, npts) -> Segment:
         _, spd, acc = lims
         delta = q1 - q0
         pct_v = _setting(cmd, settings, "speed_ptp") / 100.0
         pct_a = _setting(cmd, settings, "acc_ptp") / 100.0
         vmax = np.where(delta >= 0.0, spd[:, 1], -spd[:, 0]) * pct_v
-        amax = np.minimum(acc[:, 1], -acc[:, 0]) * pct_a
+        accel = np.minimum(acc[:, 1], -acc[:, 0])
+        amax = accel * pct_a
+        jmax = self.ptp_jerks(cmd, settings, accel) * pct_a if scurve_on(cmd, settings) else None
         for j in np.flatnonzero(np.abs(delta) > 0.0):
             if not (vmax[j] > 0.0 and amax[j] > 0.0):
-                name = self.model.joints[j].name
+                name = self.naming.label(j)
                 raise RunFailure(
                     f"PTP: joint {name} must move but its active speed/acceleration limits "
                     "do not allow motion in that direction",
                     cmd.line,
                 )
-        v, a, slowest = common_bounds(np.abs(delta), vmax, amax)
-        duration = self._time(cmd, npts, minimum_time(v, a) if slowest >= 0 else 0.0)
-        profile = self._profile(v, a, duration, dt, cmd.line)
+        b = segment_bounds(np.abs(delta), vmax, amax, jmax)
+        slowest = b.slowest
+        duration = self._time(cmd, npts, b.t_min)
+        profile = self._profile(b, duration, dt, cmd.line)
         limiting = ""
         if slowest >= 0:
-            limiting = f"joint {self.model.joints[slowest].name} speed/acceleration"
+            jerk = "/jerk" if b.jerk is not None else ""
+            limiting = f"joint {self.naming.label(slowest)} speed/acceleration{jerk}"
         seg = Segment(
             "ptp",
             cmd.line,
@@ -303,20 +356,24 @@ class PreInterpolator:
         acc = _setting(cmd, settings, "acc") * units.MM
         w = _setting(cmd, settings, "speed_ori") * units.DEG
         w_acc = w * acc / speed
+        jerks = None
+        if scurve_on(cmd, settings):
+            jerk = _setting(cmd, settings, "jerk") * units.MM
+            jerks = [jerk, w * jerk / speed]
         bounds = []
         for path in paths:
             angle = path.angle if self.timed_orientation else 0.0
-            v, a, slowest = common_bounds([path.length, angle], [speed, w], [acc, w_acc])
-            tmin = minimum_time(v, a) if slowest >= 0 else 0.0
-            bounds.append((v, a, slowest, tmin))
-        times = self._split_time(cmd, [b[3] for b in bounds])
+            bounds.append(segment_bounds([path.length, angle], [speed, w], [acc, w_acc], jerks))
+        times = self._split_time(cmd, [b.t_min for b in bounds])
         refs = self._references(cmd, state.q, paths)
         out = []
-        for path, (v, a, slowest, _), t, ref in zip(paths, bounds, times, refs, strict=True):
-            if slowest < 0:  # zero-length segment: nothing to interpolate
+        for path, b, t, ref in zip(paths, bounds, times, refs, strict=True):
+            if b.slowest < 0:  # zero-length segment: nothing to interpolate
                 continue
-            profile = self._profile(v, a, t, state.dt, cmd.line)
-            what = ("path speed/acceleration", "orientation speed")[slowest]
+            profile = self._profile(b, t, state.dt, cmd.line)
+            what = ("path speed/acceleration", "orientation speed")[b.slowest]
+            if jerks is not None:
+                what = ("path speed/acceleration/jerk", "orientation speed")[b.slowest]
             out.append(
                 Segment(
                     kind,
@@ -383,12 +440,17 @@ class PreInterpolator:
             return [None] * len(tmins)
         return [total * t / tsum for t in tmins]
 
-    def _profile(self, v, a, duration, dt, line) -> Trapezoid:
-        """The trapezoid (stretched to ``duration`` if given), rounded up to whole cycles."""
+    def _profile(self, b: Bounds, duration, dt, line) -> Profile:
+        """The trapezoid or the S-curve (stretched to ``duration`` if given), rounded up to
+        whole cycles."""
+        v, a, j = b.speed, b.accel, b.jerk
         if v == np.inf:  # nothing moves
             n = cycles(duration or 0.0, dt)
             return Trapezoid(n * dt, 0.0, 0.0) if n else Trapezoid(0.0, np.inf, np.inf)
         try:
+            if j is not None:
+                base = sc.scurve(v, a, j, duration)
+                return sc.scurve(v, a, j, cycles(base.duration, dt) * dt)
             base = trapezoid(v, a, duration)
             return trapezoid(v, a, cycles(base.duration, dt) * dt)
         except ProfileError as exc:

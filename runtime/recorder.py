@@ -284,3 +284,15 @@ def finite_differences(times: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np
     speed[1:] = np.diff(q, axis=0) / dt
     accel[1:] = np.diff(speed, axis=0) / dt
     return speed, accel
+
+
+def backward_jerk(times: np.ndarray, accel: np.ndarray) -> np.ndarray:
+    """The jerk as the backward difference of :func:`finite_differences`' accelerations
+    (third differences of the positions over ``Δt³`` on a uniform grid); 0 at the first
+    sample."""
+    jerk = np.zeros_like(accel)
+    if len(times) < 2:
+        return jerk
+    dt = np.diff(times)[:, None]
+    jerk[1:] = np.diff(accel, axis=0) / np.where(dt > 0.0, dt, np.inf)
+    return jerk

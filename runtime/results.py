@@ -28,7 +28,7 @@ import numpy as np
 from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.naming import JointNaming
-from irlc.runtime.recorder import RecordedRun, finite_differences
+from irlc.runtime.recorder import RecordedRun, backward_jerk, finite_differences
 
 ROUND = 9  # significant digits of report numbers
 
@@ -209,6 +209,7 @@ def build_report(
         q = q_act / scale
         sp, ac = finite_differences(rec.times, q_act)
         speed, accel = sp / scale, ac / scale
+    jerk = backward_jerk(rec.times, accel) if k else np.zeros((0, model.n))
     activity = controller.recorder.active_time  # (joint, label) → s, built once here
     active_time = _active_time(activity, model.n)
     following = _following(drive, model)
@@ -224,6 +225,7 @@ def build_report(
                 "max": rnd(float(col.max())),
                 "max_abs_speed": rnd(float(np.abs(speed[:, j]).max()) if k else 0.0),
                 "max_abs_accel": rnd(float(np.abs(accel[:, j]).max()) if k else 0.0),
+                "max_abs_jerk": rnd(float(np.abs(jerk[:, j]).max()) if k else 0.0),
                 "limit_active_s": rnd(active_time[j]),
                 "limit_activity": {lab: rnd(t) for lab, t in sorted(_labels(activity, j).items())},
                 "max_following_error": following[j],

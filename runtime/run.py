@@ -31,6 +31,7 @@ from irlc.runtime import units
 from irlc.runtime.controller import Settings, setting_error
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.executor import ExecutionOptions, SimulatedController
+from irlc.runtime.naming import JointNaming
 from irlc.runtime.recorder import RecordedRun
 
 from irlc.files import read_user_text
@@ -191,6 +192,7 @@ def run_code(
     opts = options or ExecutionOptions()
     if ipo is not None:
         opts.ipo = float(ipo)
+    naming = JointNaming.for_model(model, code.joint_names)  # joints in failure messages
     tol_mm = opts.tol_position / units.MM
     if path_tolerance is not None:
         tol_mm = _positive("--path-tolerance", path_tolerance, "mm")
@@ -199,7 +201,7 @@ def run_code(
         deg = _positive("--orientation-tolerance", orientation_tolerance, "deg")
         opts.tol_orientation = deg * units.DEG
     controller = SimulatedController(
-        model, q0, obstacles=obstacles, options=opts, progress=progress
+        model, q0, obstacles=obstacles, options=opts, progress=progress, naming=naming
     )
     settings = Settings(path_tol=tol_mm)  # R_PATH_TOL's start value, as given
     if opts.ipo is not None:

@@ -6,7 +6,12 @@ import tomllib
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-MAPPING = {"irlc": "irlc", "irlc.lang": "lang", "irlc.runtime": "runtime", "irlc.robots": "robots"}
+MAPPING = {
+    "irlc": "frontdoor",
+    "irlc.lang": "lang",
+    "irlc.runtime": "runtime",
+    "irlc.robots": "robots",
+}
 
 
 def _package_folders() -> set[str]:
@@ -37,3 +42,11 @@ def test_lang_never_imports_runtime():
         if "irlc.runtime" in p.read_text(encoding="utf-8")
     ]
     assert offenders == []
+
+
+def test_no_root_folder_shadows_the_installed_package():
+    """Python puts the current folder first on ``sys.path``: a folder named like an
+    installed package at the repository root would shadow it (``from irlc import …`` in
+    the root after ``pip install .`` found the front door alone: no ``irlc.lang``)."""
+    shadowing = [pkg for pkg in MAPPING if "." not in pkg and (ROOT / pkg).is_dir()]
+    assert shadowing == []

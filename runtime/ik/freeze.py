@@ -16,10 +16,15 @@ from __future__ import annotations
 import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.naming import JointNaming
 
 
 class FreezeError(RunFailure):
-    """Too many joints frozen for the task."""
+    """Too many joints frozen for the task (cause ``freeze``)."""
+
+    def __init__(self, message: str, **kwargs):
+        kwargs.setdefault("cause", "freeze")
+        super().__init__(message, **kwargs)
 
 
 class FrozenJoints:
@@ -53,13 +58,18 @@ class FrozenJoints:
         """``∂Φ/∂θ``: rows ``e_iᵀ``."""
         return np.eye(self.n)[self.frozen]
 
-    def check_task(self, model: RobotModel, task_rows: int) -> None:
+    def check_task(
+        self, model: RobotModel, task_rows: int, naming: JointNaming | None = None
+    ) -> None:
         """Raise :class:`FreezeError` if fewer free joints than task rows remain."""
         if self.free.size < task_rows:
-            raise FreezeError(self.describe_impossible(model, task_rows))
+            raise FreezeError(self.describe_impossible(model, task_rows, naming))
 
-    def describe_impossible(self, model: RobotModel, task_rows: int) -> str:
-        names = ", ".join(model.joints[j].name for j in self.frozen)
+    def describe_impossible(
+        self, model: RobotModel, task_rows: int, naming: JointNaming | None = None
+    ) -> str:
+        naming = naming if naming is not None else JointNaming.for_model(model)
+        names = naming.labels(self.frozen.tolist())
         return (
             f"FREEZE of joints {names} leaves {self.free.size} free joints, which cannot "
             f"follow the {task_rows}-dimensional task at this configuration"

@@ -44,6 +44,7 @@ import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.naming import JointNaming
 
 POSITION, SPEED, ACCEL, BRAKING = 0, 1, 2, 3
 SOURCE_NAMES = ("position", "speed", "accel", "braking")
@@ -69,20 +70,34 @@ class LimitViolation:
     value: float  # SI (the state, e.g. θ_s,i or d_i/Δt)
     bound: float  # SI
 
-    def describe(self, model: RobotModel) -> str:
-        name = model.joints[self.joint].name
+    def describe(self, model: RobotModel, naming: JointNaming | None = None) -> str:
+        name = _naming(model, naming).label(self.joint)
         deriv = {"speed": 1, "accel": 2}.get(self.source, 0)
         bound = format_joint_value(model, self.joint, self.bound, deriv)
         value = format_joint_value(model, self.joint, self.value, deriv)
         return f"{name} {self.source} {self.side} {bound} (value {value})"
 
 
+_CAUSE = {"position": "position_limit", "speed": "speed_limit"}
+
+
+def _naming(model: RobotModel, naming: JointNaming | None) -> JointNaming:
+    """The naming of messages: the program's (passed down), else ``a1 … aN``."""
+    return naming if naming is not None else JointNaming.for_model(model)
+
+
 class LimitViolationError(RunFailure):
     """Raised when the limits exclude the current state; carries the violation."""
 
-    def __init__(self, violation: LimitViolation, model: RobotModel):
-        text = violation.describe(model)
-        super().__init__(f"joint limit excludes the current state: {text}", constraint=text)
+    def __init__(
+        self, violation: LimitViolation, model: RobotModel, naming: JointNaming | None = None
+    ):
+        text = violation.describe(model, naming)
+        super().__init__(
+            f"joint limit excludes the current state: {text}",
+            constraint=text,
+            cause=_CAUSE.get(violation.source, "accel_limit"),
+        )
         self.violation = violation
 
 
@@ -91,6 +106,7 @@ def intersect_limits(
     position: np.ndarray | None = None,
     speed: np.ndarray | None = None,
     accel: np.ndarray | None = None,
+    naming: JointNaming | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Robot limits intersected with optional program limits (each ``(n, 2)`` SI arrays;
     ``NaN`` entries mean "no program bound"). Returns ``(position, speed, accel)``.
@@ -109,7 +125,8 @@ def intersect_limits(
         bad = np.flatnonzero(lim[:, 0] > lim[:, 1])
         if bad.size:
             j = int(bad[0])
-            raise ValueError(f"{what} limits of joint {model.joints[j].name} are empty: {lim[j]}")
+            name = _naming(model, naming).label(j)
+            raise ValueError(f"{what} limits of joint {name} are empty: {lim[j]}")
         out.append(lim)
     return out[0], out[1], out[2]
 
@@ -196,14 +213,19 @@ def _limit_value(limits: tuple, joint: int, source: int, upper_side: bool) -> fl
 
 
 def describe_box_bound(
-    model: RobotModel, snapshot: BoxSnapshot, joint: int, upper_side: bool
+    model: RobotModel,
+    snapshot: BoxSnapshot,
+    joint: int,
+    upper_side: bool,
+    naming: JointNaming | None = None,
 ) -> str:
-    """``"J11 position max 60 deg"``: the candidate that sets one bound of a box snapshot."""
+    """``"a11 (J11) position max 60 deg"``: the candidate that sets one bound of a box
+    snapshot, the joint named by ``naming`` (default ``a1 … aN``)."""
     src = snapshot.source(joint, upper_side)
     limit = _limit_value(snapshot.limits, joint, src, upper_side)
     side = "max" if upper_side else "min"
     value = format_joint_value(model, joint, limit, _DERIVATIVE[src])
-    return f"{model.joints[joint].name} {SOURCE_NAMES[src]} {side} {value}"
+    return f"{_naming(model, naming).label(joint)} {SOURCE_NAMES[src]} {side} {value}"
 
 
 class JointBox:
@@ -220,6 +242,7 @@ class JointBox:
         self._room = np.empty((2, n))
         self._limits: tuple = ()
         self._cache: _BoxConstants | None = None
+        self.naming: JointNaming | None = None  # joint names of failure messages
 
     def prepare(
         self,
@@ -300,8 +323,7 @@ class JointBox:
         return BoxSnapshot(self.lower_d, self.upper_d, self.cand.copy(), self._limits)
 
     # --- helpers -----------------------------------------------------------------
-    @staticmethod
-    def _check_state(model, q_start, d, dt, position, speed) -> None:
+    def _check_state(self, model, q_start, d, dt, position, speed) -> None:
         v = d / dt
         vtol = _TOL / dt + 1e-9 * np.max(np.abs(speed), axis=1)
         bad_q = (q_start < position[:, 0] - _TOL) | (q_start > position[:, 1] + _TOL)
@@ -318,7 +340,7 @@ class JointBox:
             if bad.any():
                 j = int(np.flatnonzero(bad)[0])
                 violation = LimitViolation(j, source, side, float(value[j]), float(bound[j]))
-                raise LimitViolationError(violation, model)
+                raise LimitViolationError(violation, model, self.naming)
 
     def _check_nonempty(self, model, q_start, d, dt) -> None:
         gap = self.lower_d - self.upper_d
@@ -336,4 +358,4 @@ class JointBox:
             value = q_start[j] if code == POSITION else d[j] / dt
             limit = self.limit_value(int(j), code, side == "max")
             violation = LimitViolation(int(j), SOURCE_NAMES[code], side, float(value), float(limit))
-            raise LimitViolationError(violation, model)
+            raise LimitViolationError(violation, model, self.naming)

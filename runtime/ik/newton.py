@@ -47,6 +47,7 @@ from irlc.runtime.ik.state import IterationState
 from irlc.runtime.ik.task_error import pose_error_list
 from irlc.runtime.ik.weighted import WeightedDisplacement
 from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.naming import JointNaming
 
 
 class IKFailure(RunFailure):
@@ -56,7 +57,13 @@ class IKFailure(RunFailure):
 class InverseTransformation:
     """Per-robot solver state (arrays, compact basis) reused from cycle to cycle."""
 
-    def __init__(self, model: RobotModel, kinematics: Kinematics, params: IKParams | None = None):
+    def __init__(
+        self,
+        model: RobotModel,
+        kinematics: Kinematics,
+        params: IKParams | None = None,
+        naming: JointNaming | None = None,
+    ):
         self.model = model
         self.kin = kinematics
         self.params = params or IKParams.for_robot(model)
@@ -68,6 +75,7 @@ class InverseTransformation:
         self._all_rows = self.rows.size == 6
         self.weights = model.weights
         self.box = JointBox(n)
+        self.naming = naming
         basis = CompactBasis(self.params.cond_max, self.params.singular_cond)
         self.stepper = NewtonStep(make_solver(self.params.solver), self.params.relax_weight, basis)
         self.stepper.scalar_qp = self.params.scalar_qp
@@ -94,6 +102,15 @@ class InverseTransformation:
 
             if accel.use_accel(p.accel):
                 self._accel = accel.AcceleratedCycle(self)
+
+    @property
+    def naming(self) -> JointNaming | None:
+        """The joint names of failure messages (the program's; ``None``: ``a1 … aN``)."""
+        return self.box.naming
+
+    @naming.setter
+    def naming(self, value: JointNaming | None) -> None:
+        self.box.naming = value
 
     @property
     def accelerated(self) -> bool:
@@ -141,7 +158,7 @@ class InverseTransformation:
             coupled.prepare(q_start, dt, acc)
         if opts.frozen:
             frozen = self._frozen(opts.frozen)
-            frozen.check_task(self.model, self.rows.size)
+            frozen.check_task(self.model, self.rows.size, self.naming)
         else:
             frozen = self._no_frozen
 
@@ -245,6 +262,7 @@ class InverseTransformation:
             jacobian=J,
             coupled=coupled,
             tcp=tcp.copy(),
+            naming=self.naming,
         )
 
     # ------------------------------------------------------------------ pieces
@@ -285,6 +303,7 @@ class InverseTransformation:
             jacobian=J,
             coupled=self.coupled,
             tcp=acc.tcp.copy(),
+            naming=self.naming,
         )
 
     def _errors(self, e: list) -> tuple[float, float]:
@@ -377,7 +396,7 @@ class InverseTransformation:
         if out is None:
             out = self._relaxed(Jf, Ff, Hf, gf, lower[free], upper[free], ineq_f)
         if out.singular and self.rows.size <= free.size and _full_rank(J, self.rows.size):
-            raise FreezeError(frozen.describe_impossible(self.model, self.rows.size))
+            raise FreezeError(frozen.describe_impossible(self.model, self.rows.size, self.naming))
         dtheta = np.empty(self.n)
         dtheta[free] = out.dtheta
         dtheta[fz] = c

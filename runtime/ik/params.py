@@ -125,7 +125,8 @@ class CycleResult:
     Computed on first access: ``active`` (joint → ``"position max"``, ``"speed min"``, …
     decoded from ``active_codes``), ``binding`` (the active bound with the largest QP
     multiplier, in program units, e.g. ``"J11 position max 60 deg"`` or ``"coupled limit
-    theta2+theta3 max 25 deg"``; ``""`` if none), ``manipulability`` (``Π σ_i`` of the
+    theta2+theta3 max 25 deg"``; ``""`` if none; joints named by
+    the solver's ``naming``), ``manipulability`` (``Π σ_i`` of the
     task Jacobian over the free joints at the last Newton iterate; NaN when the cycle was
     run with ``CycleOptions.jacobian = False`` and converged) and ``sigma_min`` (its
     smallest singular value).
@@ -151,6 +152,7 @@ class CycleResult:
         jacobian=None,
         coupled=None,
         tcp=None,
+        naming=None,
     ):
         self.q = q
         self.iterations = iterations
@@ -164,6 +166,7 @@ class CycleResult:
         self._box, self._model, self._free = box, model, free
         self._qp_active, self._qp_mult, self._jac = qp_active, qp_multipliers, jacobian
         self._coupled = coupled
+        self._naming = naming  # JointNaming of the messages (None: a1 … aN)
         self.tcp = tcp  # 4×4 world TCP pose at ``q`` (SI)
 
     def __repr__(self) -> str:
@@ -191,10 +194,11 @@ class CycleResult:
             r = int(self._qp_active[int(np.argmax(self._qp_mult))])
             if r >= 2 * nf and self._coupled is not None:  # a coupled-limit row
                 return self._coupled.describe_row(r - 2 * nf)
-            return describe_box_bound(self._model, self._box, int(self._free[r % nf]), r >= nf)
+            j = int(self._free[r % nf])
+            return describe_box_bound(self._model, self._box, j, r >= nf, self._naming)
         if self.active:
             j, what = next(iter(self.active.items()))
-            return describe_box_bound(self._model, self._box, j, what.endswith("max"))
+            return describe_box_bound(self._model, self._box, j, what.endswith("max"), self._naming)
         return ""
 
     @cached_property

@@ -11,13 +11,15 @@ The robot's position limits always hold, and so do its coupled limits
 them is reported like a seed outside its box); the trust box ``s`` (``max_step`` rad for
 revolute, ``max_step_prismatic`` m for prismatic joints) keeps steps short for far
 targets, where the hard step is infeasible and the relaxed step (damped Gauss–Newton
-inside the box) walks towards the target. Near the solution the hard step is plain
-Newton–Raphson (quadratic convergence) and the cost picks, among the configurations
-reaching the pose, one close to the seed. If the relaxed steps stall away from the
-target (the step vanishes, or the error falls by less than 0.1 % over ten steps), the
-target is out of reach (or behind a joint limit): the result says how far the closest
-pose is and which limits are reached. In relaxed steps the seed pull is dropped (pure
-damped least squares), so it cannot bias where the iteration stops.
+inside the box) walks towards the target; a relaxed step that increases the error
+(Gauss–Newton overshooting near a singular, stretched arm) is taken back and the trust
+box halved, so the walk ends at the closest pose instead of oscillating around it. Near
+the solution the hard step is plain Newton–Raphson (quadratic convergence) and the cost
+picks, among the configurations reaching the pose, one close to the seed. If the relaxed
+steps stall away from the target (the step vanishes, or the error falls by less than 0.1
+% over ten steps), the target is out of reach (or behind a joint limit): the result says
+how far the closest pose is and which limits are reached. In relaxed steps the seed pull
+is dropped (pure damped least squares), so it cannot bias where the iteration stops.
 """
 
 from __future__ import annotations
@@ -41,6 +43,7 @@ from irlc.runtime.ik.newton_step import NewtonStep
 from irlc.runtime.ik.params import task_rows_for
 from irlc.runtime.ik.qp import QuadprogSolver
 from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.naming import JointNaming
 
 
 @dataclass
@@ -65,8 +68,11 @@ def solve_pose(
     task_rows: tuple[int, ...] | None = None,
     max_step: float = 0.3,
     max_step_prismatic: float = 0.1,
+    naming: JointNaming | None = None,
 ) -> PoseSolution:
-    """Solve ``f(q) = target`` (4×4 world pose, m) starting from ``seed`` (SI)."""
+    """Solve ``f(q) = target`` (4×4 world pose, m) starting from ``seed`` (SI); messages
+    name joints by ``naming`` (default ``a1 … aN``)."""
+    naming = naming if naming is not None else JointNaming.for_model(model)
     target = np.asarray(target, dtype=float)
     q = np.array(seed, dtype=float)
     if target.shape != (4, 4) or not np.all(np.isfinite(target)):
@@ -78,7 +84,7 @@ def solve_pose(
     kin = Kinematics(model, tool)
     rows = np.array(task_rows if task_rows is not None else task_rows_for(model), dtype=int)
     pos_rows, ori_rows = np.flatnonzero(rows < 3), np.flatnonzero(rows >= 3)
-    problem = seed_problem(model, q)
+    problem = seed_problem(model, q, naming)
     if problem is not None:  # the errors are those of the seed
         F = spatial.pose_error(kin.tcp(q), target)[rows]
         return PoseSolution(q, False, _norm(F[pos_rows]), _norm(F[ori_rows]), 0, problem)
@@ -95,6 +101,8 @@ def solve_pose(
     pe = oe = np.inf
     last = None
     history: list[float] = []
+    before: tuple | None = None  # (q, error) before the last relaxed step
+    scale = 1.0  # trust-box scale: halved when a relaxed step overshoots
     for it in range(max_iter + 1):
         frames = kin.link_frames(q)
         tcp = kin.tcp_from_frames(frames)
@@ -104,13 +112,16 @@ def solve_pose(
             return PoseSolution(q, True, pe, oe, it, f"converged in {it} iterations")
         if it == max_iter:
             break
+        if before is not None and pe + oe > before[1] and scale > 1e-6:
+            q, scale, before = before[0], 0.5 * scale, None  # overshoot: back, shorter
+            continue
         history.append(pe + oe)
         if last is not None and last.relaxed and _stalled(last.dtheta, history):
-            text = _unreachable(model, q, pe, oe) + _coupled_reached(coupled, A, b, q)
+            text = _unreachable(model, q, pe, oe, naming) + _coupled_reached(coupled, A, b, q)
             return PoseSolution(q, False, pe, oe, it, text)
         J = kin.jacobian_at(frames, tcp[:3, 3])[rows]
-        lower = np.maximum(limits[:, 0] - q, -step)
-        upper = np.minimum(limits[:, 1] - q, step)
+        lower = np.maximum(limits[:, 0] - q, -scale * step)
+        upper = np.minimum(limits[:, 1] - q, scale * step)
         ineq = (A, b - A @ q) if b.size else None  # coupled limits: A(q + Δθ) ≥ b
         try:  # the seed pull acts in the null space only; the relaxed step is pure DLS
             last = stepper.hard(J, F, H, w * (q - seed), lower, upper, ineq) or stepper.relaxed(
@@ -120,6 +131,7 @@ def solve_pose(
             return PoseSolution(q, False, pe, oe, it, f"solver failure: {exc}")
         if not np.all(np.isfinite(last.dtheta)):
             return PoseSolution(q, False, pe, oe, it, "solver produced a non-finite step")
+        before = (q, pe + oe) if last.relaxed else None
         q = np.clip(q + last.dtheta, limits[:, 0], limits[:, 1])  # rounding only (≤ 1e-12)
     return PoseSolution(
         q,
@@ -132,7 +144,7 @@ def solve_pose(
     )
 
 
-def seed_problem(model: RobotModel, q: np.ndarray) -> str | None:
+def seed_problem(model: RobotModel, q: np.ndarray, naming: JointNaming | None = None) -> str | None:
     """Why ``q`` (SI) cannot seed the solver — outside a position limit (joint, value,
     limit) or violating a coupled limit — or ``None``."""
     limits = model.position_limits
@@ -140,8 +152,9 @@ def seed_problem(model: RobotModel, q: np.ndarray) -> str | None:
     if outside.size:
         j = int(outside[0])
         side = 0 if q[j] < limits[j, 0] else 1
+        name = (naming or JointNaming.for_model(model)).label(j)
         return (
-            f"seed joint {model.joints[j].name} = {format_joint_value(model, j, q[j], 0)} is "
+            f"seed joint {name} = {format_joint_value(model, j, q[j], 0)} is "
             f"outside its position {('min', 'max')[side]} "
             f"{format_joint_value(model, j, limits[j, side], 0)}"
         )
@@ -179,7 +192,7 @@ def _coupled_reached(coupled, A, b, q) -> str:
     return f" (coupled limits reached: {', '.join(rows[i] for i in at)})"
 
 
-def _unreachable(model, q, pe, oe) -> str:
+def _unreachable(model, q, pe, oe, naming: JointNaming) -> str:
     text = (
         f"target not reachable: the closest pose found is {pe * 1e3:.4g} mm and "
         f"{np.degrees(oe):.4g} deg away"
@@ -188,7 +201,7 @@ def _unreachable(model, q, pe, oe) -> str:
     at = [j for j in range(model.n) if q[j] <= limits[j, 0] + 1e-9 or q[j] >= limits[j, 1] - 1e-9]
     if at:
         names = ", ".join(
-            f"{model.joints[j].name} at position "
+            f"{naming.label(j)} at position "
             f"{'min' if q[j] <= limits[j, 0] + 1e-9 else 'max'} "
             f"{format_joint_value(model, j, q[j], 0)}"
             for j in at

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import csv
 import json
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -21,7 +22,8 @@ from irlc.runtime.units import joints_to_si
 
 from irlc.cli import main
 
-ROBOT = Path(__file__).resolve().parents[2] / "robots" / "irb6_track.toml"
+ROOT = Path(__file__).resolve().parents[2]
+ROBOT = ROOT / "robots" / "irb6_track.toml"
 LIN_LINE = 12  # the line of the first MOVE LIN below
 PROGRAM = """{ a straight line in the work area, ends from irlc fk irb6_track }
 PROGRAM verdict_line;
@@ -276,3 +278,52 @@ def test_following_error_beyond_the_bound_between_recorded_rows_still_fails():
     assert row["criterion"] == "following_error" and row["joint"] == "a2"
     assert row["value"] == pytest.approx(6.0) and row["limit"] == pytest.approx(5.0)
     assert row["time_s"] == 0.01 and row["line"] == 5
+
+
+TURN = """PROGRAM turn;
+ROBOT r := koch11;
+IMPORT DATALIST square_cell;
+BEGIN
+  R_SPEED_ORI := 50;
+  MOVE PTP konf_0;
+  MOVE LIN (11500, 1000, 3500, 0, 40, 0);
+ENDPROGRAM
+"""
+
+
+def test_a_turn_on_the_spot_is_matched_by_orientation(tmp_path):
+    """An orientation-only LIN (koch11, 40° about y on the spot): the nearest commanded
+    pose is chosen by orientation too, so the drives' lag along the turn is not an
+    orientation error. Checked against an independent FK: the contour orientation error
+    never exceeds the angle to the set point of the same instant, and is a fraction of it."""
+    from irlc.runtime.spatial import zyx_to_matrix
+
+    program = tmp_path / "turn.irl"
+    program.write_text(TURN)
+    shutil.copy(ROOT / "programs" / "square_cell.toml", tmp_path)
+    run = run_file(program, drives="decoupled", path_tolerance=50.0, orientation_tolerance=10.0)
+    ideal = run_file(program, drives="ideal")
+    assert run.ok and ideal.ok and np.allclose(ideal.trace[:, 0], run.trace[:, 0])
+    cols = run.trace_columns
+    model = load_toml(ROOT / "robots" / "koch11.toml")
+    kinds = model.joint_kinds
+    joint_cols = [cols.index(f"{n}_{units_of(k)}") for n, k in
+                  zip(run.report["joint_names"], kinds, strict=True)]  # fmt: skip
+    kin = Kinematics(model)
+    abc = [cols.index(c) for c in ("a_deg", "b_deg", "c_deg")]
+    turning = run.trace[:, 1] == 7
+    lag = []
+    for row, cmd in zip(run.trace[turning], ideal.trace[turning], strict=True):
+        actual = kin.tcp(joints_to_si(row[joint_cols], kinds))[:3, :3]
+        commanded = zyx_to_matrix(*np.radians(cmd[abc]))
+        cos = (np.trace(actual @ commanded.T) - 1.0) / 2.0
+        lag.append(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
+    contour = run.trace[turning, cols.index("orientation_error_deg")]
+    assert max(lag) > 1.0  # the drives lag the turn by degrees
+    assert np.all(contour <= np.array(lag) + 1e-6)
+    assert contour.max() < 0.5 * max(lag)
+    assert run.report["max_orientation_error_deg"] == pytest.approx(contour.max(), abs=1e-6)
+
+
+def units_of(kind: str) -> str:
+    return "mm" if kind == "prismatic" else "deg"

@@ -6,11 +6,10 @@ import json
 
 import numpy as np
 import pytest
+from irlc.cli import main
 from irlc.robots import load_robot
 from irlc.runtime import units
 from irlc.runtime.kinematics import Kinematics
-
-from irlc.cli import main
 
 
 def run(capsys, *args: str) -> tuple[int, str, str]:
@@ -84,6 +83,11 @@ def test_fk_and_robot_text_name_joints_by_the_one_rule(capsys):
     rows = [line.split() for line in out.splitlines()]
     assert ["a4", "panda_joint4", "deg"] in [r[:3] for r in rows]
     assert "R_TOOL is composed after this tool" in out
+    # Franka's jerk limits (7500 rad/s³ on joint 1, 3750 on joint 2) in deg/s³
+    flat = " ".join(out.split())
+    assert "jerk limits [deg/s³ | mm/s³]: a1 429718, a2 214859," in flat
+    code, out, _ = run(capsys, "robot", "irb6")
+    assert code == 0 and "jerk limits" not in out  # none in its file
     code, _, err = run(capsys, "fk", "mobile8", "1", "2")
     assert code == 3 and "a1 (X), a2 (Y), a3 (A1)" in err
 

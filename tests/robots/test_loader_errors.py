@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import pytest
 from irlc.robots import RobotFileError, load_robot
 
@@ -36,6 +38,18 @@ def write(tmp_path, text: str):
     return p
 
 
+def test_jerk_is_optional_and_in_the_joint_unit(tmp_path):
+    m = load_robot(
+        str(write(tmp_path, GOOD.replace("accel = 5.0\n", "accel = 5.0\njerk = 50.0\n")))
+    )
+    assert m.joints[0].limits.jerk is None  # A: none given
+    assert m.joints[1].limits.jerk == 50.0  # B: prismatic, m/s³ in this file (SI)
+    m = load_robot(
+        str(write(tmp_path, GOOD.replace("accel = 500.0\n", "accel = 500.0\njerk = 1800\n")))
+    )
+    assert m.jerk_limits[0] == pytest.approx(math.radians(1800.0))  # deg/s³ → rad/s³
+
+
 def test_good_file_loads(tmp_path):
     m = load_robot(str(write(tmp_path, GOOD)))
     assert m.joint_names == ("A", "B")
@@ -51,6 +65,8 @@ CASES = [
     ("position = [-90.0, 90.0]", "position = [90.0, -90.0]", "joints[1].position", "min ≤ max"),
     ("speed = 90.0", "speed = -90.0", "joints[1].speed", "positive"),
     ("accel = 500.0\n", "", "joints[1].accel", "missing"),
+    ("accel = 500.0\n", "accel = 500.0\njerk = 0.0\n", "joints[1].jerk", "positive number"),
+    ("accel = 5.0\n", "accel = 5.0\njerk = [1.0, 2.0]\n", "joints[2].jerk", "a number"),
     ('name = "A"\n', 'name = "A"\ncolour = "red"\n', "joints[1].colour", "unknown key"),
     ('chain = "axes"', 'chain = "screw"', "robot.chain", "expected one of"),
     ("home = [0.0, 0.0]", "home = [0.0]", "robot.home", "expected 2 numbers"),

@@ -126,7 +126,7 @@ def test_ik_seed_outside_limits_is_a_usage_error(capsys):
         "--json",
     )  # fmt: skip
     assert code == 3 and out == ""
-    assert "seed joint J3 = 500 deg is outside its position max 180 deg" in err
+    assert "seed joint a3 (J3) = 500 deg is outside its position max 180 deg" in err
 
 
 @pytest.mark.parametrize("x", ["1e300", "-2e9"])

@@ -209,9 +209,13 @@ def test_unreachable_target_fails_with_line_and_partial_trace(planar3):
     assert run.report["status"] == "failed"
     assert run.error.line == 11
     assert run.report["error"]["line"] == 11
-    assert run.error.time_s > run.times[run.lines == 10][-1]
-    assert "deviation" in run.error.message
-    assert set(run.lines) == {0, 10, 11}  # recorded up to the failure
+    # checked before it moves: at the end of line 10, nothing of line 11 recorded
+    assert run.error.time_s == pytest.approx(run.times[run.lines == 10][-1])
+    assert run.error.cause == "unreachable" and "not reachable" in run.error.message
+    assert run.report["error"]["cause"] == "unreachable"
+    # the closest point of the 3 m disc is 4123 − 3000 = 1123 mm away
+    assert run.report["error"]["distance_mm"] >= 1123.1 - 1e-6
+    assert set(run.lines) == {0, 10}  # recorded up to the failure
     assert np.all(np.isfinite(run.trace))
 
 

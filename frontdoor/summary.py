@@ -4,12 +4,11 @@ so it shows a loaded report the same way as a fresh run."""
 
 from __future__ import annotations
 
+from irlc.runtime.naming import joint_label
 from rich.console import Console, Group
 from rich.panel import Panel
 from rich.table import Table
 from rich.text import Text
-
-from irlc.runtime.naming import joint_label
 
 
 def _num(v, fmt: str = ".4g") -> str:

@@ -16,7 +16,6 @@ import itertools
 from collections.abc import Iterator
 
 import numpy as np
-
 from irlc.study.spec import Study
 
 Variant = tuple[int, tuple]

@@ -20,7 +20,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-
 from irlc.errors import UsageError
 from irlc.export import RunData, atomic_write_bytes, run_data
 from irlc.runtime import units

@@ -9,7 +9,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import click
-
 from irlc.cli.app import cli
 from irlc.errors import EXIT_COMPILE, EXIT_OK, UsageError
 

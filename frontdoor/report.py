@@ -25,7 +25,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-
 from irlc.files import atomic_write_text, read_user_text
 
 FLOAT_FORMAT = "%.10g"

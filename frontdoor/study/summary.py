@@ -9,9 +9,8 @@ import io
 import math
 from pathlib import Path
 
-from rich.table import Table
-
 from irlc.errors import UsageError
+from rich.table import Table
 
 DEFAULT_SORT = "max_path_error_mm"
 

@@ -17,7 +17,6 @@ import time
 from pathlib import Path
 
 import click
-
 from irlc.cli.app import cli
 from irlc.errors import EXIT_COMPILE, EXIT_OK, EXIT_RUN, UsageError
 

@@ -36,7 +36,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-
 from irlc.lang import types as T
 from irlc.runtime import units
 from irlc.runtime.naming import JointNaming
@@ -358,6 +357,7 @@ class Session:
             return Entry(messages, 1)
         out: list[str] = []
         t0, q0, motions = self.controller.time, self.controller.q.copy(), self.controller.motions
+        self.controller.naming = JointNaming.for_model(self.model, code.joint_names)
         result = Interpreter(code, self.controller, state=self.state, output=out.append).run(
             check=False
         )
@@ -510,7 +510,8 @@ class Session:
         s = self.state.settings
         out.append(f"R_SPEED {_fmt(s.speed)}  R_ACC {_fmt(s.acc)}  R_SPEED_ORI {_fmt(s.speed_ori)}"
                    f"  R_SPEED_PTP {_fmt(s.speed_ptp)}  R_IPO {_fmt(s.ipo)}"
-                   f"  R_PATH_TOL {_fmt(s.path_tol)}")  # fmt: skip
+                   f"  R_PATH_TOL {_fmt(s.path_tol)}  R_PROFILE {s.profile}"
+                   f"  R_JERK {_fmt(s.jerk)}")  # fmt: skip
         out.append(self._tool_line())
         return out if len(out) > 2 else ["no modal options active", *out]
 
@@ -679,13 +680,12 @@ def token_styles(line: str, keywords: frozenset[str]) -> list[tuple[str, str]]:
 
 def run_terminal(session: Session, echo: Callable[[str], None]) -> int:  # pragma: no cover
     """Interactive session with prompt_toolkit (history, completion, highlighting)."""
+    from irlc.lang.parser import keywords
     from prompt_toolkit import PromptSession
     from prompt_toolkit.completion import WordCompleter
     from prompt_toolkit.history import FileHistory
     from prompt_toolkit.key_binding import KeyBindings
     from prompt_toolkit.lexers import Lexer
-
-    from irlc.lang.parser import keywords
 
     kw = frozenset(keywords())
 

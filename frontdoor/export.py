@@ -27,7 +27,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-
 from irlc.errors import UsageError
 from irlc.files import atomic_write_bytes, atomic_write_text  # noqa: F401 (plots imports it here)
 from irlc.runtime import units

@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import click
-
 from irlc.cli.app import cli
 from irlc.errors import EXIT_OK, UsageError
 
@@ -25,9 +24,8 @@ def test_cmd(directory: Path, update: bool, jobs: int) -> int:
     Exit status: 0 all passed (or updated), 1 some failed or have no expectation,
     3 the directory does not exist or holds no programs.
     """
-    from rich.console import Console
-
     from irlc.golden import find_programs, render_results, run_golden
+    from rich.console import Console
 
     if not directory.is_dir():
         raise UsageError(f"{directory}: no such directory")

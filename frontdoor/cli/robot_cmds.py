@@ -14,11 +14,6 @@ import math
 
 import click
 import numpy as np
-from rich import box
-from rich.console import Console
-from rich.markup import escape
-from rich.table import Table
-
 from irlc.cli.app import cli
 from irlc.errors import EXIT_RUN, UsageError
 from irlc.robots import RobotFileError, list_robots, load_robot
@@ -28,6 +23,10 @@ from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.reachability import check_vertical_plane
+from rich import box
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
 
 RAW = {"ignore_unknown_options": True}
 MAX_POSITION_MM = 1e9  # 1000 km: beyond it a target is a typo, and squares overflow
@@ -158,6 +157,13 @@ def robot_cmd(name: str) -> None:
             f"{h:.4g}",
         )
     console.print(table)
+    jerks = [
+        f"{naming.name(i)} {units.joints_from_si([j.limits.jerk], [j.kind])[0]:.6g}"
+        for i, j in enumerate(model.joints)
+        if j.limits.jerk is not None
+    ]
+    if jerks:  # the S-curve's PTP jerk bounds (the others are derived, docs/runtime.md)
+        console.print(escape(f"jerk limits [deg/s³ | mm/s³]: {', '.join(jerks)}"))
     console.print(escape(f"gravity [m/s²]: {_fmt(model.gravity)}"))
     for label, t in (("tool (flange → TCP)", model.tool), ("base (in the world)", model.base)):
         console.print(escape(f"{label} [mm, deg]: {_fmt(units.pose_from_si(t))}"))

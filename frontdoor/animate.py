@@ -28,7 +28,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-
 from irlc.export import RunData, run_data
 from irlc.files import atomic_write_text
 from irlc.runtime import units

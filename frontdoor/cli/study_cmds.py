@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import click
-
 from irlc.cli.app import cli
 from irlc.errors import EXIT_COMPILE, EXIT_OK, UsageError
 
@@ -33,8 +32,6 @@ def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet) -> i
     program does not compile, 3 a bad study file, value, robot or option, 130 interrupted
     (rows written so far are kept: complete them with --resume).
     """
-    from rich.console import Console
-
     from irlc.lang.diagnostics import CompileError
     from irlc.robots import RobotFileError
     from irlc.runtime.run import RunSetupError
@@ -42,6 +39,7 @@ def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet) -> i
     from irlc.study.runner import ClusterError
     from irlc.study.summary import check_metric, split_sort, summary_table
     from irlc.study.summary import plot as draw
+    from rich.console import Console
 
     if not study_file.is_file():
         raise UsageError(f"{study_file}: no such file")
