@@ -15,7 +15,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from irlc import run_program
 from irlc.cli import main
 from irlc.study import StudyError, read_study, run_study
@@ -416,3 +415,16 @@ def test_ranking_smallest_or_largest_first_ties_in_variant_order():
     ]
     assert [r["variant"] for r in ranked(table, "m")] == ["2", "0", "3"]
     assert [r["variant"] for r in ranked(table, "-m")] == ["0", "3", "2"]
+
+
+def test_the_example_study_in_programs_is_valid():
+    """programs/studies/w10.toml (docs/studies.md) reads, compiles and passes the checks;
+    running it (2 koch11 squares) is left to the docs' command."""
+    from irlc.study.metrics import columns
+    from irlc.study.plan import build_plan
+
+    root = Path(__file__).resolve().parents[2]
+    study = read_study(root / "programs" / "studies" / "w10.toml")
+    plan = build_plan(study)
+    assert [v for _, v in variants(study)] == [(5.0,), (20.0,)]
+    assert "peak_accel_a10_mm_s2" in columns(plan)
