@@ -12,16 +12,23 @@ A path starts with its target:
 
 Inside a document, a whole number indexes a list **from 1** (joint 1 … N, like
 ``a1 … aN``; the x of a pose is ``.1``); an array of tables (``[[joints]]``) may also be
-indexed by a row's ``name``. The meaning of the new value (type, range) is checked by the
-owner of the document — the robot loader, the data-list loader — never here.
+indexed by a row's ``name``. Two spellings read better and mean the same:
+``robot.joints.a10.weight`` (the program's joint name ``aN`` = joint N) and
+``datalist.cell.poses.poz_1.x`` (a pose's ``x y z a b c`` = ``1 … 6``).
+
+The meaning of the new value (type, range) is checked by the owner of the document — the
+robot loader, the data-list loader — never here.
 """
 
 from __future__ import annotations
 
 import math
+import re
 from typing import Any
 
 TARGETS = ("run", "robot", "datalist")
+POSE = ("x", "y", "z", "a", "b", "c")  # a pose's components, in order
+_A_N = re.compile(r"[aA][1-9][0-9]*")  # a program joint name aN
 
 
 class PathError(ValueError):
@@ -33,7 +40,12 @@ def target(key: str) -> tuple[str, list[str]]:
     head, _, rest = key.partition(".")
     if head not in TARGETS or not rest:
         raise PathError("unknown key; a varied key starts with run.KEY, robot.… or datalist.NAME.…")
-    return head, rest.split(".")
+    parts = rest.split(".")
+    if head == "robot" and len(parts) > 1 and parts[0] == "joints" and _A_N.fullmatch(parts[1]):
+        parts[1] = parts[1][1:]  # a10 → 10
+    if head == "datalist" and len(parts) == 4 and parts[1] == "poses" and parts[3] in POSE:
+        parts[3] = str(POSE.index(parts[3]) + 1)  # poz_1.x → poz_1.1
+    return head, parts
 
 
 def check_run_value(key: str, value: Any) -> str | None:

@@ -428,3 +428,13 @@ def test_the_example_study_in_programs_is_valid():
     plan = build_plan(study)
     assert [v for _, v in variants(study)] == [(5.0,), (20.0,)]
     assert "peak_accel_a10_mm_s2" in columns(plan)
+
+
+def test_program_joint_names_and_pose_components_name_the_same_values(cell):
+    from irlc.study.paths import target
+
+    assert target("robot.joints.a2.weight") == target("robot.joints.2.weight")
+    assert target("datalist.cell3.poses.sq_1.y")[1] == ["cell3", "poses", "sq_1", "2"]
+    path = write_study(cell, '[grid]\n"robot.joints.a2.weight" = [-1]\n')
+    with pytest.raises(StudyError, match="positive"):
+        run_study(path, out=cell / "o")
