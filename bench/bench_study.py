@@ -11,7 +11,7 @@ variant** is ``workers / steady rate`` minus the time of the same run called in-
 variant costs beyond its run (pickling, queueing, the row, results.csv's fsync).
 Usage::
 
-    python bench/bench_study.py [--variants 40] [--workers 1 2] [--dask] [--repeat 3]
+    python bench/bench_study.py [--variants 40] [--workers 1 2] [--dask] [--repeat 3] [--koch11]
 """
 
 from __future__ import annotations
@@ -46,11 +46,35 @@ radius = 100
 """
 
 
-def _study(folder: Path, variants: int) -> Path:
+# --koch11: the first side of the chapter-6 square on the 11-joint robot (2 m, ≈ 2.5 s
+# simulated: a short run), a grid over joint 10's weight (one robot build per variant).
+KOCH11 = """PROGRAM bench;
+ROBOT r := koch11;
+IMPORT DATALIST square_cell;
+
+BEGIN
+  R_SPEED := 1000;
+  R_ACC := 2000;
+  MOVE PTP konf_0;
+  MOVE LIN poz_1;
+ENDPROGRAM
+"""
+
+
+def _study(folder: Path, variants: int, koch11: bool) -> Path:
+    path = folder / "bench.toml"
+    if koch11:
+        (folder / "bench.irl").write_text(KOCH11)
+        cell = Path(__file__).resolve().parents[1] / "programs" / "square_cell.toml"
+        (folder / "square_cell.toml").write_text(cell.read_text())
+        weights = ", ".join(repr(5.0 + 0.5 * k) for k in range(variants))
+        path.write_text(
+            f'program = "bench.irl"\n\n[grid]\n"robot.joints.10.weight" = [{weights}]\n'
+        )
+        return path
     (folder / "bench.irl").write_text(PROGRAM)
     (folder / "cellb.toml").write_text(CELL)
     weights = ", ".join(repr(1.0 + 0.25 * k) for k in range(max(1, variants // 2)))
-    path = folder / "bench.toml"
     path.write_text(
         'program = "bench.irl"\n\n[grid]\n'
         f'"robot.joints.2.weight" = [{weights}]\n'
@@ -59,13 +83,13 @@ def _study(folder: Path, variants: int) -> Path:
     return path
 
 
-def _single(path: Path, repeat: int) -> float:
+def _single(path: Path, repeat: int, robot: str) -> float:
     """Best in-process wall time of one variant's run (compiled once, robot loaded once)."""
     from irlc.api import compile_program
     from irlc.runtime.run import load_model, run_code
 
     code = compile_program(path.parent / "bench.irl")
-    model = load_model("planar3", path.parent)
+    model = load_model(robot, path.parent)
     best = float("inf")
     for _ in range(repeat):
         t0 = time.perf_counter()
@@ -80,6 +104,7 @@ def main() -> None:
     ap.add_argument("--workers", type=int, nargs="+", default=[1, 2])
     ap.add_argument("--dask", action="store_true", help="also a LocalCluster of each size")
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--koch11", action="store_true", help="a 2.5 s koch11 line per variant")
     args = ap.parse_args()
     from irlc.study import default_workers, run_study
 
@@ -87,8 +112,8 @@ def main() -> None:
           f"{default_workers()} usable cores")  # fmt: skip
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
-        path = _study(folder, args.variants)
-        single = _single(path, args.repeat)
+        path = _study(folder, args.variants, args.koch11)
+        single = _single(path, args.repeat, "koch11" if args.koch11 else "planar3")
         print(f"one run in-process: {single * 1e3:.0f} ms")
         print(f"{'executor':<22}{'variants':>9}{'wall s':>8}{'/s wall':>9}{'/s steady':>10}"
               f"{'overhead':>10}{'speed-up':>10}")  # fmt: skip
