@@ -91,7 +91,7 @@ def run_study(
 
     try:
         if client is not None:
-            run_dask(plan, todo, client, on_row)
+            run_dask(plan, todo, client, on_row, todo_count)
         else:
             run_local(plan, todo, workers or default_workers(), on_row, todo_count)
     finally:

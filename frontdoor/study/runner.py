@@ -11,10 +11,13 @@ variants that were in flight are then the suspects: each is run again alone in a
 one-process pool, and one that kills that pool too is a ``crashed`` row; the rest of the
 study goes on in a new pool. A variant that merely fails is a row from the worker itself.
 
-**Dask** (:func:`run_dask`): the same :func:`irlc.study.worker.run_variant` as tasks on
+**Dask** (:func:`run_dask`): the same :func:`irlc.study.worker.run_variant` in tasks on
 an existing ``dask.distributed`` scheduler (``tcp://HOST:8786``); the plan is scattered
-once to every worker, each worker keeps its caches across tasks. A task whose worker
-keeps dying ends as ``KilledWorker`` (after Dask's own retries): a ``crashed`` row.
+once to every worker, each worker keeps its caches across tasks. A task runs a batch of
+up to :data:`MAX_BATCH` variants (:func:`batch_size`: small studies one per task), so a
+million short variants are not a million scheduler round trips. A task whose worker
+keeps dying ends as ``KilledWorker`` (after Dask's own retries): its variants run again
+one per task, and the one that kills its worker again is a ``crashed`` row.
 """
 
 from __future__ import annotations
@@ -126,10 +129,21 @@ class ClusterError(Exception):
     """No Dask, or the scheduler cannot be reached (exit 3)."""
 
 
-def _dask_task(plan: Plan, index: int, values: tuple) -> dict[str, str]:
+def _dask_task(plan: Plan, batch: list[Variant]) -> list[dict[str, str]]:
+    """One Dask task: the rows of a batch of variants, run one after the other."""
     from irlc.study.worker import run_variant
 
-    return run_variant(plan, index, values)
+    return [run_variant(plan, index, values) for index, values in batch]
+
+
+MAX_BATCH = 32  # variants per Dask task at most (amortises the scheduler's per-task cost)
+MAX_RESCATTERS = 10  # times the plan is sent again after dying workers took every copy
+
+
+def batch_size(count: int, threads: int) -> int:
+    """Variants per task: enough tasks for ≥ 8 per thread (load balance), at most
+    :data:`MAX_BATCH`; 1 for small studies."""
+    return max(1, min(MAX_BATCH, count // (8 * max(1, threads))))
 
 
 def connect(address: str | object):
@@ -149,41 +163,81 @@ def connect(address: str | object):
         raise ClusterError(f"cannot reach the Dask scheduler at {address}: {e}") from None
 
 
-def run_dask(plan: Plan, todo: Iterable[Variant], client, on_row: OnRow) -> None:
-    """Run ``todo`` on the Dask cluster of ``client`` (:func:`connect`)."""
+def run_dask(
+    plan: Plan, todo: Iterable[Variant], client, on_row: OnRow, count: int | None = None
+) -> None:
+    """Run ``todo`` (``count`` of them, if known) on the Dask cluster of ``client``
+    (:func:`connect`)."""
     from distributed import as_completed
 
-    _dask_loop(client, plan, _Lazy(todo), on_row, as_completed)
+    _dask_loop(client, plan, _Lazy(todo), on_row, as_completed, count)
 
 
-def _dask_loop(client, plan: Plan, queue: _Lazy, on_row: OnRow, as_completed) -> None:
+def _dask_loop(
+    client, plan: Plan, queue: _Lazy, on_row: OnRow, as_completed, count: int | None
+) -> None:
+    """Batches of variants as tasks, at most 2 × threads tasks in flight. A task that ends
+    in ``KilledWorker`` makes its variants suspects: each runs again as a task of its own
+    with nothing else in flight, and only one that still kills its worker alone is a
+    ``crashed`` row (the others were bystanders of the crash)."""
     from distributed import KilledWorker
 
-    [plan_future] = client.scatter([plan], broadcast=True, hash=False)
-    window = max(2 * sum(client.nthreads().values()), 2)
-    pending: dict = {}
+    def scatter():
+        return client.scatter([plan], broadcast=True, hash=False)[0]
+
+    plan_future = scatter()
+    rescatters = 0  # workers that died can take every copy of the plan with them
+    retry: deque[list[Variant]] = deque()  # batches that lost the plan: run again
+    threads = sum(client.nthreads().values())
+    window = max(2 * threads, 2)
+    size = batch_size(count or 0, threads)
+    pending: dict = {}  # task key → (its variants, ran alone)
+    suspects: deque[Variant] = deque()
     stream = as_completed()
 
     def submit() -> None:
-        while queue and len(pending) < window:
-            index, values = queue.popleft()
-            future = client.submit(
-                _dask_task, plan_future, index, values,
-                key=f"irlc-study-{plan.token}-{index}", pure=False,
-            )  # fmt: skip
-            pending[future.key] = (index, values)
+        while len(pending) < window:
+            if suspects:
+                if pending:  # a suspect runs alone
+                    return
+                batch, alone = [suspects.popleft()], True
+            elif retry:
+                batch, alone = retry.popleft(), False
+            elif queue:
+                batch, alone = [queue.popleft()], False
+                while queue and len(batch) < size:
+                    batch.append(queue.popleft())
+            else:
+                return
+            key = f"irlc-study-{plan.token}-{batch[0][0]}-{len(batch)}-{int(alone)}"
+            future = client.submit(_dask_task, plan_future, batch, key=key, pure=False)
+            pending[future.key] = (batch, alone)
             stream.add(future)
 
     submit()
     for future in stream:
-        index, values = pending.pop(future.key)
+        batch, alone = pending.pop(future.key)
+        lost = future.status != "finished" and plan_future.status != "finished"
+        if lost and rescatters < MAX_RESCATTERS:  # the plan was lost, not the task's fault
+            rescatters += 1
+            plan_future = scatter()
+            if alone:
+                suspects.appendleft(batch[0])
+            else:
+                retry.append(batch)
+            future.release()
+            submit()
+            continue
         try:
-            row = future.result()
+            rows = future.result()
         except KilledWorker:
-            row = crashed_row(plan, index, values)
+            rows = [crashed_row(plan, *batch[0])] if alone else []
+            if not alone:
+                suspects.extend(batch)
         except Exception as e:  # the task itself never raises; this is the cluster's
-            row = crashed_row(plan, index, values, f"the cluster lost the task: {e}")
-        on_row(row)
+            rows = [crashed_row(plan, i, v, f"the cluster lost the task: {e}") for i, v in batch]
+        for row in rows:
+            on_row(row)
         future.release()
         submit()
 

@@ -269,15 +269,54 @@ def test_sort_must_name_a_metric(cell, capsys):
 
 @pytest.mark.scenario
 def test_the_cluster_gives_the_local_results(cell):
+    """A grid and a random sample (32 variants: Dask tasks of 2) run on a LocalCluster of
+    two worker processes through --cluster tcp://…: the same bytes as the local run. Then
+    a batch with a variant that kills its worker: split, only that variant is a crashed
+    row."""
     distributed = pytest.importorskip("distributed")
-    path = write_study(cell, STUDY)
+    import dask
+    from irlc.study.plan import build_plan
+    from irlc.study.runner import batch_size, run_dask
+
+    path = write_study(cell, STUDY.replace("n = 2", "n = 16"))
     run_study(path, out=cell / "local", workers=2)
-    with distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
-    ) as cluster:
+    assert batch_size(32, 2) == 2
+    no_retries = dask.config.set({"distributed.scheduler.allowed-failures": 0})
+    with (
+        no_retries,
+        distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        ) as cluster,
+    ):
         address = cluster.scheduler_address  # tcp://127.0.0.1:PORT, as --cluster takes it
-        assert main(["study", str(path), "--out", str(cell / "dask"), "--cluster", address]) == 0
-    assert (cell / "dask/results.csv").read_bytes() == (cell / "local/results.csv").read_bytes()
+        args = ["study", str(path), "--out", str(cell / "dask"), "--cluster", address, "-q"]
+        assert main(args) == 0
+        plan = build_plan(read_study(write_study(cell, '[grid]\n"run.ipo" = [0.01]\n')))
+        todo = [(0, (0.01,)), (1, (_KillsWhenRun(0.01),)), (2, (0.02,))] + [
+            (i, (0.01,)) for i in range(3, 48)
+        ]
+        got: list[dict] = []
+        with distributed.Client(address) as client:
+            run_dask(plan, todo, client, got.append, len(todo))
+    local = (cell / "local/results.csv").read_bytes()
+    assert (cell / "dask/results.csv").read_bytes() == local
+    assert local.count(b"\n") == 33
+    by_index = {int(r["variant"]): r["status"] for r in got}
+    assert sorted(by_index) == list(range(48)) and len(got) == 48
+    assert by_index.pop(1) == "crashed" and set(by_index.values()) == {"ok"}
+
+
+class _KillsWhenRun(float):
+    """An IPO value that ends the process comparing it with its range — the run's check,
+    in the worker. Unpickling it is harmless (Dask's scheduler, in the test's process,
+    unpickles task arguments)."""
+
+    def _die(self, other):
+        import os
+
+        os._exit(70)
+
+    __ge__ = __gt__ = __le__ = __lt__ = _die
 
 
 class _KillsTheWorker:
