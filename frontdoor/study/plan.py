@@ -107,7 +107,28 @@ def build_plan(study: Study, variants_dir: Path | None = None) -> Plan:
             problem = check_value(plan, axis.key, value)
             if problem:
                 raise study.error(axis.key, f"value {value!r}: {problem}", axis.section)
+    if "seed_config" in study.run:
+        problem = check_value(plan, "run.seed_config", study.run["seed_config"])
+        if problem:
+            raise study.error("seed_config", problem, "run")
+    if drives:
+        _check_drive_data(study, model)
     return plan
+
+
+def _check_drive_data(study: Study, model) -> None:
+    """Some variant simulates the drives: the robot must have drive data."""
+    from irlc.runtime.drives import drive_params
+
+    try:
+        ok = drive_params(model) is not None
+        problem = "" if ok else f"robot {model.name} has no drive data ([drives] in its file)"
+    except ValueError as e:
+        problem = f"robot {model.name}: bad drive data: {e}"
+    if problem:
+        key = "run.drives" if "run.drives" in study.keys else "drives"
+        section = next((a.section for a in study.axes if a.key == key), "run")
+        raise study.error(key, problem, section)
 
 
 def _robot_doc(study: Study, code: Code, varied: bool) -> tuple[str | None, dict | None]:
@@ -160,7 +181,11 @@ def check_value(plan: Plan, key: str, value: Any) -> str | None:
     head, parts = paths.target(key)
     try:
         if head == "run":
-            return paths.check_run_value(".".join(parts), value)
+            problem = paths.check_run_value(".".join(parts), value)
+            n = plan.code.joint_count
+            if problem is None and parts == ["seed_config"] and n and len(value) != n:
+                problem = f"{len(value)} values, the robot has {n} joints"
+            return problem
         if head == "robot":
             robot_model(plan, [(parts, value)])
             return None

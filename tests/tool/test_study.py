@@ -135,6 +135,8 @@ BAD = [
     ('[run]\nipo = "fast"\n\n[grid]\n"run.drives" = ["ideal"]\n', 'ipo = "fast"', "must be"),
     ('colour = 1\n[grid]\n"run.ipo" = [0.01]\n', "colour", "unknown key"),
     ('robot = "nosuch"\n[grid]\n"run.ipo" = [0.01]\n', "nosuch", "unknown robot"),
+    ('[grid]\n"run.drives" = ["ideal", "decoupled"]\n', '"run.drives"', "no drive data"),
+    ('[grid]\n"run.seed_config" = [[0, 90, -90], [1, 2]]\n', "seed_config", "has 3 joints"),
 ]
 
 
