@@ -479,3 +479,19 @@ def test_program_joint_names_and_pose_components_name_the_same_values(cell):
     path = write_study(cell, '[grid]\n"robot.joints.a2.weight" = [-1]\n')
     with pytest.raises(StudyError, match="positive"):
         run_study(path, out=cell / "o")
+
+
+def test_the_study_file_shown_in_docs_studies_md_is_valid(tmp_path):
+    """docs/studies.md's example of every table passes the checks (not run: 400 variants)."""
+    from irlc.study.plan import build_plan
+
+    root = Path(__file__).resolve().parents[2]
+    text = (root / "docs" / "studies.md").read_text(encoding="utf-8")
+    block = text.split("```toml\n", 1)[1].split("```", 1)[0]
+    assert 'program = "../square_accel.irl"' in block  # as if in programs/studies/
+    program = root / "programs" / "square_accel.irl"
+    path = tmp_path / "every_table.toml"
+    path.write_text(block.replace('"../square_accel.irl"', f'"{program}"'))
+    example = read_study(path)
+    plan = build_plan(example)
+    assert len(list(variants(example))) == 400 and plan.drives and not example.reports
