@@ -54,7 +54,6 @@ class Plan:
 
 def build_plan(study: Study, variants_dir: Path | None = None) -> Plan:
     """Compile the program, load the documents the keys change, check every value."""
-    from irlc.api import compile_program
     from irlc.runtime import units
     from irlc.runtime.run import RunSetupError, load_model
 
@@ -63,7 +62,7 @@ def build_plan(study: Study, variants_dir: Path | None = None) -> Plan:
             load_model(study.robot, study.file.parent)
         except RunSetupError as e:
             raise study.error("robot", str(e)) from None
-    code = compile_program(study.program, robot=study.robot, datalist_path=study.datalist_path)
+    code = _code(study)
     program_dir = study.program.parent
     model = load_model(study.robot or code.robot, program_dir)
     kinds = [axis.key.partition(".")[0] for axis in study.axes]
@@ -131,6 +130,25 @@ def _check_drive_data(study: Study, model) -> None:
         raise study.error(key, problem, section)
 
 
+def _code(study: Study) -> Code:
+    """The program compiled (``.irl``) or read (``.ird``: IRDATA code, whose data lists are
+    compiled in, so no ``datalist.…`` key can change them)."""
+    from irlc.api import compile_program
+
+    if study.program.suffix.lower() != ".ird":
+        return compile_program(study.program, robot=study.robot, datalist_path=study.datalist_path)
+    from irlc.files import read_user_text
+    from irlc.lang.irdata import read_code
+
+    text = read_user_text(study.program, lambda f, r: StudyError(f, None, "", r))
+    key = next((k for k in study.keys if k.startswith("datalist.")), None)
+    if key is not None:
+        section = next(a.section for a in study.axes if a.key == key)
+        raise study.error(key, "the program is IRDATA code: its data lists are compiled in; "
+                          "vary them with the .irl program", section)  # fmt: skip
+    return read_code(text, str(study.program))
+
+
 def _robot_doc(study: Study, code: Code, varied: bool) -> tuple[str | None, dict | None]:
     """The robot file and its parsed text (so workers need no file of it), or ``None``s
     for a URDF robot, whose values a study cannot vary."""
@@ -153,12 +171,15 @@ def _robot_doc(study: Study, code: Code, varied: bool) -> tuple[str | None, dict
 def _datalist_docs(study: Study, code: Code) -> dict[str, tuple[str, dict]]:
     from irlc.lang import datalist as dlmod
 
+    if study.program.suffix.lower() == ".ird":  # compiled in; no key may vary them
+        return {}
     imported = {name.lower(): name for name, _ in code.datalists}
     out: dict[str, tuple[str, dict]] = {}
     search = tuple(str(p) for p in study.datalist_path)
     for name in imported.values():  # all of them: a worker then needs none of the files
         path, _ = dlmod.find(name, study.program.parent, search)
-        assert path is not None  # the program compiled with it
+        if path is None:  # the program compiled with it: removed since?
+            raise StudyError(str(study.file), None, "", f"data list {name}.toml not found")
         out[name] = (str(path), tomllib.loads(path.read_text(encoding="utf-8")))
     for axis in study.axes:
         head, parts = axis.key.partition(".")[0], axis.key.split(".")[1:]

@@ -495,3 +495,11 @@ def test_the_study_file_shown_in_docs_studies_md_is_valid(tmp_path):
     example = read_study(path)
     plan = build_plan(example)
     assert len(list(variants(example))) == 400 and plan.drives and not example.reports
+
+
+def test_an_irdata_program_varies_robot_values_but_not_its_compiled_data(cell):
+    assert main(["compile", str(cell / "p3.irl"), "-o", str(cell / "p3.ird")]) == 0
+    path = cell / "ird.toml"
+    path.write_text('program = "p3.ird"\n[grid]\n"datalist.cell3.poses.sq_1.x" = [1.0]\n')
+    with pytest.raises(StudyError, match="IRDATA code"):
+        run_study(path, out=cell / "o")
