@@ -37,8 +37,22 @@ OnRow = Callable[[dict[str, str]], None]
 CRASH_MESSAGE = "the worker process died while running this variant"
 
 
+THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+def _context():
+    """The ``forkserver`` context; its workers get one BLAS thread each unless the user
+    set one (``workers`` processes × all-core BLAS threads would oversubscribe the cores;
+    a run's matrices are small)."""
+    import os
+
+    for name in THREAD_VARIABLES:
+        os.environ.setdefault(name, "1")
+    return multiprocessing.get_context("forkserver")
+
+
 def _pool(plan: Plan, workers: int) -> ProcessPoolExecutor:
-    ctx = multiprocessing.get_context("forkserver")
+    ctx = _context()
     ctx.set_forkserver_preload(["irlc.study.worker", "irlc.runtime.run"])
     return ProcessPoolExecutor(workers, mp_context=ctx, initializer=init_worker, initargs=(plan,))
 
@@ -254,7 +268,7 @@ def ordered_map(
     results: dict[int, object] = {}
     queue = deque(enumerate(items))
     workers = max(1, min(workers, len(items)))
-    ctx = multiprocessing.get_context("forkserver")
+    ctx = _context()
     while queue:
         suspects: list[tuple[int, object]] = []
         with ProcessPoolExecutor(workers, mp_context=ctx) as pool:
