@@ -503,3 +503,42 @@ def test_an_irdata_program_varies_robot_values_but_not_its_compiled_data(cell):
     path.write_text('program = "p3.ird"\n[grid]\n"datalist.cell3.poses.sq_1.x" = [1.0]\n')
     with pytest.raises(StudyError, match="IRDATA code"):
         run_study(path, out=cell / "o")
+
+
+KOCH11_LINE = """PROGRAM k;
+ROBOT r := koch11;
+IMPORT DATALIST square_cell;
+BEGIN
+  R_SPEED := 1000;
+  R_ACC := 2000;
+  MOVE PTP konf_0;
+  MOVE LIN poz_1;
+ENDPROGRAM
+"""
+
+
+@pytest.mark.scenario
+def test_drive_columns_are_the_drive_runs_report(tmp_path):
+    """With drives the row carries the verdict, peak currents and following errors: those
+    of the plain run (the drive value given is the robot file's own)."""
+    root = Path(__file__).resolve().parents[2]
+    (tmp_path / "k.irl").write_text(KOCH11_LINE)
+    shutil.copy(root / "programs" / "square_cell.toml", tmp_path)
+    options = {"drives": "decoupled", "path_tolerance": 50, "orientation_tolerance": 5}
+    path = tmp_path / "d.toml"
+    path.write_text(
+        'program = "k.irl"\n[run]\ndrives = "decoupled"\npath_tolerance = 50\n'
+        'orientation_tolerance = 5\n[grid]\n"robot.drives.dc.kz.value" = [0.25]\n'
+    )
+    outcome = run_study(path, out=tmp_path / "out", workers=1)
+    [row] = outcome.rows
+    report = run_program(tmp_path / "k.irl", **options).report
+    assert row["status"] == report["status"] == "ok"
+    assert row["drives_could_follow"] == "true"
+    assert row["max_path_error_mm"] == repr(report["max_path_error_mm"])
+    axes = report["drives_summary"]["axes"]
+    for j, axis in zip(report["joints"], axes, strict=True):
+        assert row[f"peak_current_{j['name']}_A"] == repr(axis["peak_current_A"])
+        unit = j["unit"]
+        assert row[f"max_following_error_{j['name']}_{unit}"] == repr(j["max_following_error"])
+    assert float(row["peak_current_a2_A"]) > 0
