@@ -72,7 +72,7 @@ def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet) -> i
         bar.stop()
     keys = outcome.study.keys
     if not quiet:
-        console.print(summary_table(outcome.rows, keys, sort))
+        console.print(summary_table(outcome.rows, keys, sort, name=outcome.study.name))
         console.print(
             f"{outcome.ran} variant(s) run, {outcome.total} in {outcome.folder / 'results.csv'}"
         )

@@ -49,7 +49,9 @@ def ranked(rows: list[dict[str, str]], sort: str) -> list[dict[str, str]]:
     return [r for _, _, r in sorted(scored, key=lambda t: (t[0], t[1]))]
 
 
-def summary_table(rows: list[dict[str, str]], keys: list[str], sort: str, k: int = 5) -> Table:
+def summary_table(
+    rows: list[dict[str, str]], keys: list[str], sort: str, k: int = 5, name: str = ""
+) -> Table:
     """The ``k`` best and ``k`` worst variants by ``sort`` (:func:`ranked`), and the status
     count."""
     order = ranked(rows, sort)
@@ -59,7 +61,8 @@ def summary_table(rows: list[dict[str, str]], keys: list[str], sort: str, k: int
         counts[r["status"]] = counts.get(r["status"], 0) + 1
     status = ", ".join(f"{n} {s}" for s, n in sorted(counts.items()))
     table = Table(
-        title=f"{len(rows)} variants ({status}); by {metric}, "
+        title=(f"{name}: " if name else "")
+        + f"{len(rows)} variants ({status}); by {metric}, "
         + ("largest" if descending else "smallest")
         + " first",
         title_justify="left",
