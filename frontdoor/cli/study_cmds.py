@@ -43,7 +43,11 @@ def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet) -> i
 
     if not study_file.is_file():
         raise UsageError(f"{study_file}: no such file")
+    from irlc.summary import MAX_WIDTH
+
     console = Console(highlight=False)
+    if not console.is_terminal:  # a file or pipe: the width irlc run's summary uses there
+        console = Console(highlight=False, width=MAX_WIDTH)
     err = Console(stderr=True, highlight=False)
     bar = _Bar(err, quiet)
     try:
