@@ -57,7 +57,8 @@ def run_program(program: str | Path | Code, **options):
 
     Options are those of :func:`irlc.runtime.run.run_code` / ``run_file`` (``robot``,
     ``ipo``, ``drives``, ``path_tolerance`` (mm), ``orientation_tolerance`` (deg),
-    ``seed_config``, ``datalist_path``, ``instruction_budget`` — the endless-loop guard…).
+    ``seed_config``, ``datalist_path``, ``instruction_budget`` — the endless-loop guard…,
+    ``override`` (%, the start value of ``R_OVERRIDE``)).
     Returns a ``RunResult``
     whose ``status`` is ``"ok"`` or ``"failed"`` (with ``error``); raises
     :class:`~irlc.lang.diagnostics.CompileError` if the program does not compile.

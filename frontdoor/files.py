@@ -22,14 +22,15 @@ ErrorFactory = Callable[[str, str], Exception]  # (file, reason) → the caller'
 
 
 def read_user_text(path: str | Path, error: ErrorFactory) -> str:
-    """The UTF-8 text of ``path``; raises ``error(str(path), reason)`` when it cannot be read."""
+    """The UTF-8 text of ``path`` (a leading byte-order mark dropped); raises
+    ``error(str(path), reason)`` when it cannot be read."""
     file = str(path)
     try:
         data = Path(path).read_bytes()
     except OSError as e:
         raise error(file, f"cannot read the file ({e.strerror or e})") from None
     try:
-        return data.decode("utf-8")
+        return data.decode("utf-8-sig")
     except UnicodeDecodeError as e:
         line = data.count(b"\n", 0, e.start) + 1
         reason = f"not a UTF-8 text file (byte 0x{data[e.start]:02x} on line {line})"

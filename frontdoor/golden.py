@@ -214,6 +214,7 @@ RUN_OPTIONS = (  # docs/golden.md
     "robot",
     "datalist_path",
     "instruction_budget",
+    "override",
 )
 
 

@@ -5,7 +5,9 @@ book's figures for joints 1–6 and 7–11): positions, speeds and accelerations
 program units (deg | mm), with the robot's own limits and any program limits the run
 reports drawn as dashed lines. Then the TCP path in 3D and the path length ``s(t)``
 and path speed ``v(t) = ‖ṗ(t)‖`` (figures 6.4, 6.24); with simulated drives, the
-following errors ``q − q_cmd`` and the motor currents.
+following errors ``q − q_cmd`` and the motor currents. ``cycle_time``: a Gantt chart of
+the report's ``statements`` (one bar per statement from its start to its end, one row per
+program line, exact stops dark, approximated ones light, WAITs grey).
 
 ``compare`` overlays a second run as crosses (the book's "— without / +++ with the
 option" plots). Figures are written with matplotlib's Agg backend (extra ``plot``);
@@ -38,6 +40,7 @@ FIGURE_STEMS = (
     "joint_accels_<a>-<b>",
     "tcp_path_3d",
     "tcp_path_speed",
+    "cycle_time",
     "drive_following_errors_<a>-<b>",
     "drive_currents_<a>-<b>",
 )
@@ -69,6 +72,9 @@ def write_plots(run: Any, out_dir: str | Path, compare: Any = None) -> list[Path
     if d.tcp is not None:
         paths.append(_save(plt, _tcp_path_3d(plt, d, c), out / "tcp_path_3d.png"))
         paths.append(_save(plt, _tcp_path_speed(plt, d, c), out / "tcp_path_speed.png"))
+    statements = (getattr(run, "report", None) or {}).get("statements") or []
+    if statements:
+        paths.append(_save(plt, _cycle_time(plt, d, statements), out / "cycle_time.png"))
     if d.q_cmd is not None:
         paths += _joint_figures(
             plt, out, "drive_following_errors", d, c, "error", "following error q − q_cmd"
@@ -242,5 +248,34 @@ def _tcp_path_speed(plt, d: RunData, c):
     if c is not None:
         ax_s.legend(fontsize=7)
     ax_s.set_title(f"{d.report.get('program') or d.label or 'run'}: TCP path and speed")
+    fig.tight_layout()
+    return fig
+
+
+# --------------------------------------------------------------------------- cycle time
+
+_STOP_COLOURS = {"exact": "C0", "approximated": "C9", "failed": "C3", None: "0.6"}
+
+
+def _cycle_time(plt, d: RunData, statements: list[dict]):
+    """Gantt chart: per program line (rows, in order of first execution) a bar per
+    execution of its statement, from ``start_s`` for ``duration_s``."""
+    order = list(dict.fromkeys(r["line"] for r in statements))
+    texts = {r["line"]: r["statement"] for r in statements}
+    row = {line: i for i, line in enumerate(order)}
+    height = min(12.0, 1.5 + 0.3 * len(order))
+    fig, ax = plt.subplots(figsize=(9, height))
+    for r in statements:
+        colour = _STOP_COLOURS.get(r["stop"], "C0")
+        ax.broken_barh([(r["start_s"], r["duration_s"])], (row[r["line"]] - 0.4, 0.8),
+                       facecolors=colour, edgecolor="k", linewidth=0.3)  # fmt: skip
+    labels = [f"{line}: {texts[line][:40]}" for line in order]
+    ax.set_yticks(range(len(order)), labels, fontsize=7)
+    ax.invert_yaxis()
+    ax.set_xlabel("t [s]")
+    ax.grid(True, axis="x", lw=0.3)
+    total = sum(r["duration_s"] for r in statements)
+    name = d.report.get("program") or d.label or "run"
+    ax.set_title(f"{name}: cycle time per statement, {total:.3f} s")
     fig.tight_layout()
     return fig

@@ -13,8 +13,9 @@ Entries:
   ``FUNCTION … ENDFCT``, the short form ``POSE: p1, p2;`` (= ``VAR POSE: p1, p2;``) and
   ``POSE: p := expr;`` (declare, then assign); ``IMPORT DATALIST name;``;
 * statements — anything else; after motion the session prints where the robot went;
-* meta-commands — ``:where :robot :limits :options :trace FILE :plot DIR :program :reset
-  :help :quit``.
+* meta-commands — ``:where :robot :limits :options :trace FILE :plot DIR :teach NAME [FILE]
+  :program :reset :help :quit``. ``:teach`` stores the current pose and joints into a
+  data list (:mod:`irlc.teach`), like a teach pendant.
 
 A block (IF … ENDIF, WHILE … ENDWHILE, FOR, REPEAT … UNTIL, CASE, PROCEDURE … ENDPROC,
 FUNCTION … ENDFCT, RECORD … ENDRECORD) is read until it closes; a final ``;`` may be left
@@ -62,6 +63,8 @@ META_HELP = """\
 :options        active modal options (JOINTLIMIT …, CYCLIC, OBSTACLE, FREEZE)
 :trace FILE     write the session's trace (CSV, program units)
 :plot DIR       write the session's figures (PNG) into DIR
+:teach NAME [FILE]  store the pose as NAME and the joints as NAME_joints in a data list
+                (default taught.toml here; created or updated, comments kept)
 :program        print the session as one IRL program
 :reset          forget declarations and variables; robot back home
 :help           this text
@@ -264,8 +267,30 @@ class Session:
 
     def enter(self, text: str, line: int | None = None) -> Entry:
         """Run one entry; ``line``: where it starts in a script (positions are then
-        ``<stdin>:LINE:COL``), None at the terminal (``<input>:LINE:COL`` in the entry)."""
+        ``<stdin>:LINE:COL``), None at the terminal (``<input>:LINE:COL`` in the entry).
+
+        The session survives any entry: a failure that escapes the compiler and the
+        interpreter (a robot or data file, the environment: 3; anything else, a bug: 4)
+        is reported for this entry and the session goes on with its state."""
         self.origin = line
+        try:
+            return self._enter(text)
+        except RecursionError:
+            return Entry([f"{self._entry_file()}: error: the entry nests too deeply"], 1)
+        except Exception as e:
+            return Entry([self._escaped_failure(e)], _failure_status(e))
+
+    def _escaped_failure(self, e: Exception) -> str:
+        where = self._entry_file() + (f":{self.origin}" if self.origin is not None else "")
+        if _failure_status(e) == 2:
+            return f"{where}: run-time error: {getattr(e, 'message', e)}"
+        if _failure_status(e) == 3:
+            return f"{where}: error: {e}"
+        return (
+            f"{where}: internal error: {type(e).__name__}: {e} (a bug in irlc; the session goes on)"
+        )
+
+    def _enter(self, text: str) -> Entry:
         kind = classify(text)
         if kind == "empty":
             return Entry()
@@ -395,6 +420,7 @@ class Session:
             "options": lambda a: Entry(self.options()),
             "trace": self._meta_trace,
             "plot": self._meta_plot,
+            "teach": self._meta_teach,
             "program": lambda a: Entry(self.program_text(self.decls, self.imports,
                                                         "\n".join(self.history))[0].splitlines()),
             "reset": lambda a: self.reset(),
@@ -511,7 +537,7 @@ class Session:
         out.append(f"R_SPEED {_fmt(s.speed)}  R_ACC {_fmt(s.acc)}  R_SPEED_ORI {_fmt(s.speed_ori)}"
                    f"  R_SPEED_PTP {_fmt(s.speed_ptp)}  R_IPO {_fmt(s.ipo)}"
                    f"  R_PATH_TOL {_fmt(s.path_tol)}  R_PROFILE {s.profile}"
-                   f"  R_JERK {_fmt(s.jerk)}")  # fmt: skip
+                   f"  R_JERK {_fmt(s.jerk)}  R_OVERRIDE {_fmt(s.override)}")  # fmt: skip
         out.append(self._tool_line())
         return out if len(out) > 2 else ["no modal options active", *out]
 
@@ -528,8 +554,11 @@ class Session:
         s = self.state
         execution = ExecutionResult("ok", list(s.output), list(s.events), list(s.warnings),
                                     None, s, 0)  # fmt: skip
-        return assemble(self.last_code, self.model, self.controller, self.obstacles, execution,
-                        ExecutionOptions(), "ideal", False)  # fmt: skip
+        run = assemble(self.last_code, self.model, self.controller, self.obstacles, execution,
+                       ExecutionOptions(), "ideal", False)  # fmt: skip
+        for row in run.report["statements"]:  # entries have no source file (a repl.irl
+            row["statement"] = row["kind"]  # in the folder is not the session's)
+        return run
 
     def _meta_trace(self, arg: str) -> Entry:
         from irlc.report import write_trace
@@ -548,14 +577,72 @@ class Session:
         paths = write_plots(self.run_result(), Path(arg).expanduser())
         return Entry([f"{len(paths)} figures → {Path(arg)}"])
 
+    def _meta_teach(self, arg: str) -> Entry:
+        """``:teach NAME [FILE]``: the pose (R_ACT_POSE: R_BASE frame, with R_TOOL) and the
+        joints into a data list (:mod:`irlc.teach`); ``FILE`` relative to the session's
+        folder, ``.toml`` added when it has no suffix, default ``taught.toml``."""
+        from irlc.lang.parser import keywords
+        from irlc.teach import JOINTS_SUFFIX, TeachError, teach
+
+        parts = arg.split()
+        if len(parts) not in (1, 2):
+            return Entry(["usage: :teach NAME [FILE.toml]"], 3)
+        name = parts[0]
+        path = self.cwd / Path(parts[1] if len(parts) == 2 else "taught.toml").expanduser()
+        path = path if path.suffix else path.with_suffix(".toml")
+        taken = {n.lower() for n in self.names} | {k.lower() for k in keywords()}
+        clash = [n for n in (name, name + JOINTS_SUFFIX) if n.lower() in taken]
+        if clash:
+            return Entry([f"error: '{clash[0]}' is already a name of this session or a "
+                          "keyword; choose another name"], 3)  # fmt: skip
+        pose = self.controller.pose(self.state.settings)
+        xyzabc = units.pose_from_si(units.pose_value_to_si(pose))
+        joints = self._program_units(self.controller.q)
+        try:
+            keys = teach(path, name, xyzabc, joints)
+        except TeachError as e:
+            return Entry([f"error: {e}"], 3)
+        return Entry([
+            f"taught {name}: pose ({', '.join(_fmt(v) for v in xyzabc)}) [mm, deg ZYX] and "
+            f"joints → {', '.join(keys)} in {path}",
+            f"  use it: IMPORT DATALIST {path.stem};  MOVE LIN {name};  MOVE PTP {keys[1][7:]};",
+        ])  # fmt: skip
+
     # ------------------------------------------------------------------ completion
 
     def completions(self) -> list[str]:
         from irlc.lang.parser import keywords
 
         metas = [":" + k for k in ("where", "robot", "limits", "options", "trace", "plot",
-                                   "program", "reset", "help", "quit")]  # fmt: skip
+                                   "teach", "program", "reset", "help", "quit")]  # fmt: skip
         return sorted(set(keywords()) | self.names) + metas
+
+
+def _failure_status(e: Exception) -> int:
+    """The exit status a failure escaping an entry stands for (interfaces.md)."""
+    from irlc.robots import RobotFileError
+    from irlc.runtime.errors import RunFailure
+    from irlc.runtime.run import RunSetupError
+
+    if isinstance(e, RunFailure):
+        return 2
+    if isinstance(e, RunSetupError | RobotFileError | OSError):
+        return 3
+    return 4
+
+
+def unclosed_block(text: str) -> tuple[str, int] | None:
+    """The innermost block left open in ``text``: its opening word and the line (1 = the
+    first line of ``text``) it is on; ``None`` when every block closes."""
+    closers = {v: k for k, v in BLOCKS.items()}
+    stack: list[tuple[str, int]] = []
+    for m in _TOKEN.finditer(text):
+        word = m.group().upper()
+        if word in BLOCKS:
+            stack.append((word, text.count("\n", 0, m.start()) + 1))
+        elif word in closers and stack:
+            stack.pop()
+    return stack[-1] if stack else None
 
 
 @functools.cache
@@ -634,12 +721,27 @@ def run_plain(session: Session, stream, echo: Callable[[str], None]) -> int:
     for line, entry in numbered_entries(iter(stream.readline, "")):
         if entry.strip().lower() in (":quit", ":q", ":exit"):
             break
-        result = session.enter(entry, line)
+        if not entry.strip().startswith(":") and not is_complete(entry):
+            result = _unfinished(entry, line)  # the input ended inside a block or comment
+        else:
+            result = session.enter(entry, line)
         for line in result.lines:
             echo(line)
         if result.failure and not status:
             status = result.failure
     return status
+
+
+def _unfinished(entry: str, first: int) -> Entry:
+    """The entry the input ended in: name the block (or comment) left open and its line."""
+    block = unclosed_block(entry)
+    if block is not None:
+        word, local = block
+        what = f"{word} on line {first + local - 1} is not closed (expected {BLOCKS[word]})"
+    else:
+        what = "a comment is not closed"
+    end = first + entry.count("\n")
+    return Entry([f"{SCRIPT_NAME}:{end}: error: the input ends inside a block: {what}"], 1)
 
 
 def history_file() -> Path:

@@ -161,10 +161,72 @@ def tool_text(tool: dict) -> tuple[str, str]:
     )
 
 
+MAX_STATEMENT_ROWS = 20  # rows of the cycle-time table in the summary (all in the report)
+
+
+def _short(text: str, width: int = 40) -> str:
+    return text if len(text) <= width else text[: width - 1] + "…"
+
+
+def statements_table(report: dict) -> Table | None:
+    """Cycle time per statement (``statements`` of the report): line, statement, start,
+    duration, stop, binding limit, and the sum (the run's duration). More executions
+    than fit (a loop) are summed per program line instead: runs, total, share."""
+    rows = report.get("statements") or []
+    if not rows:
+        return None
+    total = sum(r["duration_s"] or 0.0 for r in rows)
+    if len(rows) > MAX_STATEMENT_ROWS:
+        return _statement_lines_table(rows, total)
+    overrides = {r.get("override_percent") for r in rows} - {None}
+    shown = overrides != {100.0} and bool(overrides)  # the column only when it matters
+    columns = ("line", "statement", "start", "duration", "stop", "limit")
+    table = _table("cycle time per statement (s)", columns + (("override %",) if shown else ()))
+    for r in rows:
+        cells = [
+            str(r["line"]), _short(r["statement"]), _num(r["start_s"], ".3f"),
+            _num(r["duration_s"], ".3f"), r["stop"] or "—", r["limit"] or "—",
+        ]  # fmt: skip
+        table.add_row(*cells, *([_num(r.get("override_percent"), "g")] if shown else []))
+    blank = [""] * (3 if shown else 2)
+    table.add_row("", Text("sum", style="dim"), "", Text(f"{total:.3f}", style="bold"), *blank)
+    return table
+
+
+def _statement_lines_table(rows: list[dict], total: float) -> Table:
+    """Per program line: its statement, how often it ran, its total time and share."""
+    per_line: dict[int, list] = {}
+    for r in rows:
+        entry = per_line.setdefault(r["line"], [r["statement"], 0, 0.0])
+        entry[1] += 1
+        entry[2] += r["duration_s"] or 0.0
+    title = f"cycle time per line (s), {len(rows)} runs"
+    table = _table(title, ("line", "statement", "runs", "total", "share"))
+    shown = list(per_line.items())[:MAX_STATEMENT_ROWS]
+    for line, (text, runs, t) in shown:
+        share = f"{100.0 * t / total:.1f} %" if total > 0 else "—"
+        table.add_row(str(line), _short(text), str(runs), f"{t:.3f}", share)
+    more = len(per_line) - len(shown)
+    label = f"… {more} more lines (report: statements)" if more > 0 else "sum"
+    table.add_row("", Text(label, style="dim"), "", Text(f"{total:.3f}", style="bold"), "")
+    return table
+
+
+def _table(title: str, columns: tuple[str, ...]) -> Table:
+    table = Table(title=title, title_justify="left", show_edge=False, pad_edge=False)
+    for name in columns:
+        left = name in ("statement", "stop", "limit")
+        table.add_column(name, justify="left" if left else "right", overflow="fold")
+    return table
+
+
 def render_summary(report: dict, console: Console) -> None:
     parts: list = [overview_table(report)]
     if report.get("joints"):
         parts += [Text(""), joints_table(report)]
+    statements = statements_table(report)
+    if statements is not None:
+        parts += [Text(""), statements]
     warnings = report.get("warnings") or []
     if warnings:
         shown = warnings[:10]

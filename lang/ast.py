@@ -76,6 +76,7 @@ class Field(Expr):
 class Index(Expr):
     base: Expr
     index: Expr
+    output: bool = field(default=False, init=False, repr=False)  # OUT[n] (checker)
 
 
 @dataclass(eq=False)
@@ -152,6 +153,7 @@ class CallStmt(Stmt):
     name: str
     args: list[Expr]
     sym: Any = field(default=None, init=False, repr=False)
+    pulse: bool = field(default=False, init=False, repr=False)  # PULSE(OUT[n], t) (checker)
 
 
 @dataclass(eq=False)

@@ -21,7 +21,8 @@ from irlc.lang import types as T
 from irlc.lang.builtins import BUILTINS, POSE_FROM_NUMBERS, POSE_FROM_PARTS, SYSTEM_VARIABLES
 from irlc.lang.datalist import Datalist
 from irlc.lang.diagnostics import Diagnostic, Span
-from irlc.lang.irdata import ObstacleDef, Slot, Value
+from irlc.lang.digital_io import is_output_syntax, output_error, pulse_error
+from irlc.lang.irdata import ObstacleDef, Slot, Value, string_too_long
 from irlc.lang.settings import (
     BY_SYSTEM_VARIABLE,
     BY_WITH_WORD,
@@ -549,6 +550,9 @@ class Checker:
         return T.REAL
 
     def e_str(self, e: ast.Str, want) -> T.Type:
+        if too_long := string_too_long(len(e.value)):
+            self.error(e.span, too_long)
+            return T.ERROR
         if len(e.value) == 1 and want == T.CHAR:
             e.const = Value("CHAR", (e.value,))
             return T.CHAR
@@ -824,6 +828,8 @@ class Checker:
         return T.ERROR
 
     def e_index(self, e: ast.Index, want) -> T.Type:
+        if self.is_output(e):
+            return self.e_output(e)
         bt = self.expr(e.base, None)
         it = self.expr(e.index, T.INTEGER)
         if bt == T.ERROR or it == T.ERROR:
@@ -844,6 +850,48 @@ class Checker:
             return T.REAL
         self.error(e.span, f"{bt} cannot be indexed")
         return T.ERROR
+
+    # ------------------------------------------------------------------ digital outputs
+    def is_output(self, e: ast.Expr) -> bool:
+        """``OUT[n]`` of the output array (lang/digital_io.py), unless ``OUT`` is declared."""
+        return is_output_syntax(e) and self.lookup("OUT") is None
+
+    def e_output(self, e: ast.Index) -> T.Type:
+        """``OUT[n]``: an INTEGER ``n`` (in range when constant); reads as BOOLEAN."""
+        e.output = True
+        t = self.expr(e.index, T.INTEGER)
+        if t not in (T.INTEGER, T.ERROR):
+            self.error(e.index.span, f"an output number must be INTEGER, got {t}")
+        k = _num(e.index.const)
+        if k is not None and output_error(k) is not None:
+            self.error(e.index.span, str(output_error(k)))
+        return T.BOOLEAN
+
+    def s_output(self, s: ast.Assign) -> None:
+        """``OUT[n] := b;``"""
+        assert isinstance(s.target, ast.Index)
+        self.e_output(s.target)
+        got = self.expr(s.value, T.BOOLEAN)
+        self.require(s.value, T.BOOLEAN, got, "cannot assign to 'OUT[…]'")
+
+    def s_pulse(self, s: ast.CallStmt) -> None:
+        """``PULSE(OUT[n], t);`` with ``t`` seconds (in range when constant)."""
+        s.pulse = True
+        if len(s.args) != 2 or not self.is_output(s.args[0]):
+            self.error(s.span, "PULSE needs an output and a duration: PULSE(OUT[n], seconds)")
+            for a in s.args:
+                self.expr(a, None)
+            return
+        self.e_output(s.args[0])  # type: ignore[arg-type]
+        got = self.expr(s.args[1], T.REAL)
+        if got != T.ERROR and not got.is_numeric:
+            self.error(
+                s.args[1].span, f"PULSE: the duration must be a number of seconds, got {got}"
+            )
+            return
+        k = _num(s.args[1].const)
+        if k is not None and pulse_error(k) is not None:
+            self.error(s.args[1].span, str(pulse_error(k)))
 
     def e_input(self, e: ast.Input, want) -> T.Type:
         t = self.expr(e.index, T.INTEGER)
@@ -996,6 +1044,9 @@ class Checker:
         pass
 
     def s_assign(self, s: ast.Assign) -> None:
+        if self.is_output(s.target):
+            self.s_output(s)
+            return
         root = s.target
         while isinstance(root, ast.Field | ast.Index):
             root = root.base
@@ -1041,6 +1092,9 @@ class Checker:
 
     def s_callstmt(self, s: ast.CallStmt) -> None:
         sym = self.lookup(s.name)
+        if sym is None and s.name.upper() == "PULSE":
+            self.s_pulse(s)
+            return
         if sym is None or sym.kind != "routine":
             up = s.name.upper()
             if sym is None and (up in BUILTINS or up == "POSE"):

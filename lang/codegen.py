@@ -181,6 +181,11 @@ class _Gen:
 
     def s_assign(self, s: ast.Assign) -> None:
         line = s.span.line
+        if isinstance(s.target, ast.Index) and s.target.output:  # OUT[n] := b: n b OUTSET
+            self.expr(s.target.index, T.INTEGER)
+            self.expr(s.value, T.BOOLEAN)
+            self.emit(line, "OUTSET")
+            return
         root = s.target
         path: list[ast.Expr] = []
         while isinstance(root, ast.Field | ast.Index):
@@ -220,6 +225,11 @@ class _Gen:
             self.emit(line, "SETF", sel.canonical)
 
     def s_callstmt(self, s: ast.CallStmt) -> None:
+        if s.pulse:  # PULSE(OUT[n], t): n t PULSE
+            self.expr(s.args[0].index, T.INTEGER)
+            self.expr(s.args[1], T.REAL)
+            self.emit(s.span.line, "PULSE")
+            return
         info = s.sym.routine
         self.call_args(s.args, info)
         self.emit(s.span.line, "CALL", info.index, len(s.args))
@@ -427,6 +437,10 @@ class _Gen:
         self.emit(e.span.line, "GETF", e.canonical)
 
     def e_index(self, e: ast.Index) -> None:
+        if e.output:  # OUT[n]: n PUSHOUT
+            self.expr(e.index, T.INTEGER)
+            self.emit(e.span.line, "PUSHOUT")
+            return
         self.expr(e.base)
         self.expr(e.index)
         self.emit(e.span.line, "GETI")

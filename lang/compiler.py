@@ -17,6 +17,7 @@ from irlc.lang.checker import Checker
 from irlc.lang.codegen import generate
 from irlc.lang.diagnostics import Diagnostic, Span
 from irlc.lang.irdata import Code
+from irlc.lang.nesting import nesting_error
 from irlc.lang.parser import parse
 from irlc.lang.signature import RobotResolver, RobotSignature, kind_letters
 
@@ -60,6 +61,9 @@ def compile_source(
     result.diagnostics += diags
     if program is None:
         return result
+    if too_deep := nesting_error(program, filename):
+        result.diagnostics.append(too_deep)
+        return result
     robot, robot_text, robot_var = _robot(program, filename, resolve_robot, robot_override, result)
     if robot is None:  # every joint check depends on the robot: report only its diagnostic
         return result
@@ -74,16 +78,35 @@ def compile_source(
 
 
 def compile_file(path: str | Path, **options) -> CompileResult:
-    """Read ``path`` (UTF-8) and compile it; a read failure is a diagnostic."""
+    """Read ``path`` (UTF-8; a leading byte-order mark is dropped) and compile it; a read
+    failure is a diagnostic, a byte that is not UTF-8 one at its line and column."""
     name = str(path)
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as e:
-        msg = e.strerror if isinstance(e, OSError) and e.strerror else str(e)
+        data = Path(path).read_bytes()
+    except OSError as e:
+        msg = e.strerror or str(e)
         return CompileResult(
             None, [Diagnostic("error", f"cannot read the program: {msg}", name)], "", name
         )
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as e:
+        return CompileResult(None, [_not_utf8(data, e, name)], "", name)
     return compile_source(text, name, **options)
+
+
+def _not_utf8(data: bytes, e: UnicodeDecodeError, name: str) -> Diagnostic:
+    """The undecodable byte at its line and column (columns count characters before it)."""
+    start = data.rfind(b"\n", 0, e.start) + 1
+    line = data.count(b"\n", 0, e.start) + 1
+    column = len(data[start : e.start].decode("utf-8", errors="replace")) + 1
+    return Diagnostic(
+        "error",
+        f"the program is not UTF-8 text (byte 0x{data[e.start]:02x})",
+        name,
+        Span(line, column, line, column + 1),
+        "save the file as UTF-8",
+    )
 
 
 def _robot(

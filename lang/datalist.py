@@ -24,7 +24,13 @@ from importlib import resources
 from pathlib import Path
 
 from irlc.lang.diagnostics import Diagnostic, Span
-from irlc.lang.irdata import JOINT_TUPLE_TYPES, OBSTACLE_KEYS, ObstacleDef, Value
+from irlc.lang.irdata import (
+    JOINT_TUPLE_TYPES,
+    OBSTACLE_KEYS,
+    ObstacleDef,
+    Value,
+    obstacle_range_problem,
+)
 
 SECTIONS = ("poses", "joints", "limits", "obstacles", "inputs")
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
@@ -70,9 +76,17 @@ def find(
     for folder in folders:
         candidate = folder / f"{name}.toml"
         searched.append(str(folder) if str(folder) else ".")
-        if candidate.is_file():
+        if _is_file(candidate):
             return candidate, searched
     return None, searched
+
+
+def _is_file(path: Path) -> bool:
+    """``path.is_file()``, ``False`` for a name the system refuses (e.g. ENAMETOOLONG)."""
+    try:
+        return path.is_file()
+    except OSError:
+        return False
 
 
 def shown_path(path: Path, program_dir: Path) -> str:
@@ -231,7 +245,7 @@ def _read_obstacles(ld: _Loader, dl: Datalist, body: dict) -> None:
             ld.error(key, f"expected a table [obstacles.{name}], got {_show(table)}")
             continue
         kind = table.get("kind")
-        if kind not in OBSTACLE_KEYS:
+        if not isinstance(kind, str) or kind not in OBSTACLE_KEYS:
             ld.error(
                 f"{key}.kind", f"expected one of {', '.join(OBSTACLE_KEYS)}, got {_show(kind)}"
             )
@@ -269,6 +283,10 @@ def _obstacle_fields(ld: _Loader, key: str, kind: str, table: dict, spec) -> lis
                 ld.error(f"{key}.{k}", f"expected a positive number (mm), got {_show(raw)}")
                 ok = False
                 continue
+            if problem := obstacle_range_problem(k, (float(raw),)):
+                ld.error(f"{key}.{k}", problem)
+                ok = False
+                continue
             fields.append((k, (float(raw),)))
             continue
         nums = ld.numbers(raw, f"{key}.{k}", size, f"{size} numbers")
@@ -279,6 +297,9 @@ def _obstacle_fields(ld: _Loader, key: str, kind: str, table: dict, spec) -> lis
             ok = False
         elif k == "normal" and not any(nums):
             ld.error(f"{key}.{k}", "the plane normal must not be zero")
+            ok = False
+        elif problem := obstacle_range_problem(k, nums):
+            ld.error(f"{key}.{k}", problem)
             ok = False
         else:
             fields.append((k, nums))

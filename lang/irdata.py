@@ -40,8 +40,46 @@ OBSTACLE_KEYS: dict[str, tuple[tuple[str, int, bool], ...]] = {
     "plane": (("point", 3, True), ("normal", 3, True)),
 }
 OBSTACLE_KINDS = tuple(OBSTACLE_KEYS)
+# The physical range of obstacle geometry (mm): coordinates within ±1 km of the world origin,
+# lengths (radius, box size) from 1 µm to 1 km. Far outside it a distance (a clearance in the
+# trace) or a squared length overflows a float.
+GEOMETRY_MAX_MM = 1e6
+GEOMETRY_MIN_LENGTH_MM = 1e-3
+_OBSTACLE_LENGTHS = ("radius", "size")
+_OBSTACLE_POINTS = ("center", "a", "b", "point")
+
+
+def obstacle_range_problem(key: str, nums: tuple[float, ...]) -> str | None:
+    """Why an obstacle field's numbers (finite, positive where required) are outside the
+    physical range, or ``None``; the one rule for the data-list loader and the runtime."""
+    if key in _OBSTACLE_LENGTHS:
+        bad = [x for x in nums if not GEOMETRY_MIN_LENGTH_MM <= x <= GEOMETRY_MAX_MM]
+        if bad:
+            return (
+                f"{bad[0]:g} mm is outside the physical range of a length "
+                f"({GEOMETRY_MIN_LENGTH_MM:g} to {GEOMETRY_MAX_MM:g} mm)"
+            )
+    elif key in _OBSTACLE_POINTS:
+        bad = [x for x in nums if abs(x) > GEOMETRY_MAX_MM]
+        if bad:
+            return (
+                f"{bad[0]:g} mm is outside the physical range of a coordinate "
+                f"(within ±{GEOMETRY_MAX_MM:g} mm)"
+            )
+    return None
+
 
 INT_MIN, INT_MAX = -(2**63), 2**63 - 1  # INTEGER is signed 64-bit, as in the runtime
+MAX_STRING = 65_535
+"""The most characters a STRING holds: a longer literal, .ird constant or concatenation
+result is an error (a loop doubling a string would otherwise fill the memory)."""
+
+
+def string_too_long(n: int) -> str | None:
+    """The words for a STRING of ``n`` characters beyond :data:`MAX_STRING`; else ``None``."""
+    if n <= MAX_STRING:
+        return None
+    return f"a STRING of {n} characters is too long (at most {MAX_STRING})"
 
 
 def integer_overflow(x: int) -> str | None:
@@ -49,6 +87,24 @@ def integer_overflow(x: int) -> str | None:
     if INT_MIN <= x <= INT_MAX:
         return None
     return f"INTEGER overflow ({x} is outside the 64-bit range)"
+
+
+_DECIMAL = re.compile(r"[+-]?[0-9]+")
+_ECHO_DIGITS = 40  # a longer literal is named by its length in messages, not echoed
+
+
+def parse_integer(text: str) -> int | str:
+    """A decimal integer literal ``[+-]?[0-9]+``: its value, or the overflow message.
+
+    Leading zeros are dropped first and a literal of more than 40 significant digits (far
+    outside ``[INT_MIN, INT_MAX]``) is refused before ``int()``, which refuses strings of
+    over 4,300 digits; its message names its length instead of echoing it.
+    """
+    sign = "-" if text.startswith("-") else ""
+    digits = text.lstrip("+-").lstrip("0") or "0"
+    if len(digits) > _ECHO_DIGITS:
+        return f"INTEGER overflow (a {len(digits)}-digit number is outside the 64-bit range)"
+    return integer_overflow(value := int(sign + digits)) or value
 
 
 # Operand signatures: i = integer, w = word, t = jump target, * = any number of int/word.
@@ -62,6 +118,7 @@ OPCODES: dict[str, str] = {
     "MAKE": "wi", "CALLB": "wi", "CALL": "ii", "RET": "", "RETV": "",
     "JMP": "t", "JF": "t", "JT": "t", "HALT": "", "PAUSE": "", "END": "",
     "WAIT": "", "WAITFOR": "t", "PUSHIN": "", "SIGOUT": "i", "WRITE": "i", "WRITELN": "i",
+    "OUTSET": "", "PUSHOUT": "", "PULSE": "",
     "MOVE": "wi*", "RECONF": "", "OPTON": "w*", "OPTOFF": "w*",
 }  # fmt: skip
 
@@ -168,8 +225,24 @@ def _num(v: float | int) -> str:
     return repr(float(v))
 
 
+# The characters str.splitlines() breaks a line at: a string holding one is written in the
+# escaped form E'…', where each of them is \uXXXX and a backslash is \\ (docs/irdata.md).
+_LINE_BREAKS = "\n\r\x0b\x0c\x1c\x1d\x1e\x85\u2028\u2029"
+_NEEDS_ESCAPE = re.compile(f"[{_LINE_BREAKS}]")
+_ESCAPED = re.compile(f"[\\\\{_LINE_BREAKS}]")
+_UNESCAPE = re.compile(r"\\(\\|u[0-9a-f]{4})")
+
+
 def _quote(s: str) -> str:
-    return "'" + s.replace("'", "''") + "'"
+    """``'text'`` (a quote doubled), or ``E'text'`` with escapes when a line break is in it."""
+    body = s.replace("'", "''")
+    if not _NEEDS_ESCAPE.search(s):
+        return "'" + body + "'"
+    return "E'" + _ESCAPED.sub(lambda m: _escape(m.group()), body) + "'"
+
+
+def _escape(ch: str) -> str:
+    return "\\\\" if ch == "\\" else f"\\u{ord(ch):04x}"
 
 
 def format_value(v: Value) -> str:
@@ -282,7 +355,7 @@ def _routine_of_instruction(code: Code) -> list[Routine | None]:
 
 # --------------------------------------------------------------------------- reader
 
-_TOKEN = re.compile(r"'(?:[^']|'')*'|[^\s']+")
+_TOKEN = re.compile(r"E?'(?:[^']|'')*'|[^\s']+")
 
 
 class _Reader:
@@ -297,8 +370,12 @@ class _Reader:
 
     def index(self, word: str, col: int, lineno: int, op: str) -> int | None:
         """A table index operand (a non-negative integer), or ``None`` after an error."""
-        if re.fullmatch(r"\d+", word):
-            return int(word)
+        if re.fullmatch(r"[0-9]+", word):
+            value = parse_integer(word)
+            if isinstance(value, int):
+                return value
+            self.error(lineno, col, f"{op}: {value}")
+            return None
         self.error(lineno, col, f"{op}: expected an index, got {word!r}")
         return None
 
@@ -312,8 +389,9 @@ class _Reader:
 
 
 def _parse_number(tok: str) -> float | int | None:
-    if re.fullmatch(r"[+-]?\d+", tok):
-        return int(tok)
+    """An integer inside the 64-bit range, else a finite float, else ``None``."""
+    if _DECIMAL.fullmatch(tok) and isinstance(value := parse_integer(tok), int):
+        return value
     try:
         v = float(tok)
     except ValueError:
@@ -321,14 +399,37 @@ def _parse_number(tok: str) -> float | int | None:
     return v if v == v and v not in (float("inf"), float("-inf")) else None
 
 
+def _decimal_after(tok: str, prefix: str) -> int | None:
+    """``<prefix><digits>`` (a record or line number): the number, ``None`` if malformed or
+    outside the 64-bit range (``@1.5``, ``@-0.0``, ``@4.9e-324``, ``L²`` are malformed)."""
+    if not tok.startswith(prefix) or not re.fullmatch(r"[0-9]+", tok[len(prefix) :]):
+        return None
+    value = parse_integer(tok[len(prefix) :])
+    return value if isinstance(value, int) else None
+
+
+def _record_number(tok: str) -> int | None:
+    """A jump target or routine entry ``@<record>``; ``None`` if malformed."""
+    return _decimal_after(tok, "@")
+
+
 def _parse_bool(tok: str) -> bool | None:
     return {"TRUE": True, "FALSE": False}.get(tok.upper())
 
 
 def _unquote(tok: str) -> str | None:
+    """The text of ``'…'`` or of the escaped form ``E'…'``; ``None`` if ``tok`` is neither."""
+    if len(tok) >= 3 and tok[0] == "E" and tok[1] == tok[-1] == "'":
+        body = _UNESCAPE.sub(_unescape, tok[2:-1])
+        return body.replace("''", "'")
     if len(tok) >= 2 and tok[0] == tok[-1] == "'":
         return tok[1:-1].replace("''", "'")
     return None
+
+
+def _unescape(m: re.Match) -> str:
+    code = m.group(1)
+    return "\\" if code == "\\" else chr(int(code[1:], 16))
 
 
 def read_code(text: str, filename: str = "<irdata>") -> Code:
@@ -481,10 +582,11 @@ def _read_header_record(r: _Reader, code: Code, op, toks, lineno, pending) -> No
         routine = Routine(index, words[2], words[3], -1)
         code.routines.append(routine)
         rec = words[6]
-        if not rec.startswith("@") or _parse_number(rec[1:]) is None:
+        entry = _record_number(rec)
+        if entry is None:
             r.error(lineno, col_of[6], f"ROUTINE: expected an entry @record, got {rec!r}")
         else:
-            pending.append((routine, int(rec[1:]), lineno, col_of[6]))
+            pending.append((routine, entry, lineno, col_of[6]))
     elif op in ("PARAM", "LOCAL") and need(5):
         routine = next((x for x in code.routines if x.index == _parse_number(words[1])), None)
         if routine is None:
@@ -522,6 +624,9 @@ def _read_value(r: _Reader, words, cols, lineno) -> Value | None:
         if s is None:
             r.error(lineno, cols[0], f"{ty}: expected a quoted string")
             return None
+        if too_long := string_too_long(len(s)):
+            r.error(lineno, cols[1], f"{ty}: {too_long}")
+            return None
         return Value(ty, (s,))
     if ty == "BOOLEAN":
         b = _parse_bool(rest[0]) if rest else None
@@ -529,18 +634,19 @@ def _read_value(r: _Reader, words, cols, lineno) -> Value | None:
             r.error(lineno, cols[0], "BOOLEAN: expected TRUE or FALSE")
             return None
         return Value(ty, (b,))
+    if ty == "INTEGER" and len(rest) == 1 and _DECIMAL.fullmatch(rest[0]):
+        value = parse_integer(rest[0])
+        if isinstance(value, str):
+            r.error(lineno, cols[1], f"INTEGER: {value}")
+            return None
+        return Value(ty, (value,))
     nums = [_parse_number(t) for t in rest]
     if any(n is None for n in nums):
         r.error(lineno, cols[0], f"{ty}: expected numbers")
         return None
     if ty == "INTEGER":
-        if len(nums) != 1 or not isinstance(nums[0], int):
-            r.error(lineno, cols[0], "INTEGER: expected one integer")
-            return None
-        if overflow := integer_overflow(nums[0]):
-            r.error(lineno, cols[1], f"INTEGER: {overflow}")
-            return None
-        return Value(ty, (nums[0],))
+        r.error(lineno, cols[0], "INTEGER: expected one integer")
+        return None
     if not nums:
         r.error(lineno, cols[0], f"{ty}: expected numbers")
         return None
@@ -548,10 +654,10 @@ def _read_value(r: _Reader, words, cols, lineno) -> Value | None:
 
 
 def _read_instruction(r: _Reader, toks, lineno, idx, fixups) -> Instruction | None:
-    if len(toks) < 2 or not re.fullmatch(r"L\d+", toks[0][0]):
+    line = _decimal_after(toks[0][0], "L") if toks else None
+    if len(toks) < 2 or line is None:
         r.error(lineno, toks[0][1] if toks else 1, "expected a source line 'L<n>' and an opcode")
         return None
-    line = int(toks[0][0][1:])
     op, col = toks[1]
     sig = OPCODES.get(op)
     if sig is None:
@@ -567,16 +673,21 @@ def _read_instruction(r: _Reader, toks, lineno, idx, fixups) -> Instruction | No
     for k, (tok, c) in enumerate(operands):
         kind = fixed[k] if k < len(fixed) else "*"
         if kind == "t":
-            if not tok.startswith("@") or not tok[1:].isdigit():
+            rec = _record_number(tok)
+            if rec is None:
                 r.error(lineno, c, f"{op}: expected a jump target '@<record>', got {tok!r}")
                 return None
-            fixups.append((idx, k, int(tok[1:]), lineno, c))
+            fixups.append((idx, k, rec, lineno, c))
             args.append(Target(-1))
-        elif kind == "i" or (kind == "*" and re.fullmatch(r"-?\d+", tok)):
-            if not re.fullmatch(r"-?\d+", tok):
+        elif kind == "i" or (kind == "*" and re.fullmatch(r"-?[0-9]+", tok)):
+            if not re.fullmatch(r"-?[0-9]+", tok):
                 r.error(lineno, c, f"{op}: expected an integer, got {tok!r}")
                 return None
-            args.append(int(tok))
+            value = parse_integer(tok)
+            if isinstance(value, str):
+                r.error(lineno, c, f"{op}: {value}")
+                return None
+            args.append(value)
         else:
             args.append(tok)
     return Instruction(op, tuple(args), line)

@@ -18,7 +18,8 @@ from importlib import resources
 import lark
 from irlc.lang import ast
 from irlc.lang.diagnostics import Diagnostic, Span
-from irlc.lang.types import INT_MAX, integer_overflow
+from irlc.lang.irdata import parse_integer
+from irlc.lang.types import INT_MAX
 from lark import Lark, Token, Transformer
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
@@ -278,18 +279,62 @@ def _end_of_text(text: str) -> Span:
 
 
 def _previous_token(text: str, line: int, col: int) -> tuple[str, Span] | None:
-    """The last non-blank, non-comment word before (line, col) — for 'after X' messages."""
+    """The last non-blank, non-comment word before (line, col) — for 'after X' messages.
+
+    Linear in the text: comments are blanked by one left-to-right scan (:func:`_blank_comments`)
+    and the last word is matched on the reversed segment, anchored at its start, so no pattern
+    is retried at every position of a long run of word characters.
+    """
     lines = text.split("\n")
     for ln in range(min(line, len(lines)), 0, -1):
         seg = lines[ln - 1] if ln < line else lines[ln - 1][: max(col - 1, 0)]
-        seg = re.sub(r"//.*$", "", seg)
-        seg = re.sub(r"\{[^}]*\}|\(\*.*?\*\)", lambda m: " " * len(m.group()), seg)
-        stripped = seg.rstrip()
+        cut = seg.find("//")
+        if cut >= 0:
+            seg = seg[:cut]
+        stripped = _blank_comments(seg).rstrip()
         if stripped and not stripped.endswith(("}", "*)")):
-            m = re.search(r"('(?:[^']|'')*'|\"[^\"]*\"|[A-Za-z0-9_.]+|\S)$", stripped)
+            m = _LAST_WORD_REVERSED.match(stripped[::-1])
             if m:
-                return m.group(), Span(ln, m.start() + 1, ln, m.end() + 1)
+                start = len(stripped) - m.end()
+                return stripped[start:], Span(ln, start + 1, ln, len(stripped) + 1)
     return None
+
+
+# The last word of a segment, read backwards: a quoted string (the patterns are palindromes, so
+# greedy on the reversed text = the leftmost start in the text), a run of word characters, or
+# one non-blank character.
+_LAST_WORD_REVERSED = re.compile(r"'(?:[^']|'')*'|\"[^\"]*\"|[A-Za-z0-9_.]+|\S")
+
+
+def _blank_comments(seg: str) -> str:
+    """``seg`` with every closed ``{...}`` and ``(*...*)`` replaced by blanks of equal length.
+
+    The same leftmost, non-overlapping choice as ``re.sub(r"\\{[^}]*\\}|\\(\\*.*?\\*\\)")``, in
+    one pass: the next ``}`` and the next ``*)`` after each position are found by ``str.find``
+    from a moving cursor, each search starting where the previous one for its kind ended.
+    """
+    out: list[str] = []
+    i, n = 0, len(seg)
+    next_brace, next_star = -2, -2  # cached positions of the next '}' / '*)' (−1: none left)
+    while i < n:
+        ch = seg[i]
+        if ch == "{":
+            if next_brace != -1 and next_brace < i:
+                next_brace = seg.find("}", i)
+            if next_brace != -1:
+                out.append(" " * (next_brace + 1 - i))
+                i = next_brace + 1
+                continue
+        elif ch == "(" and seg.startswith("*", i + 1):
+            if next_star != -1 and next_star < i + 2:
+                next_star = seg.find("*)", i + 2)
+            if next_star != -1:
+                out.append(" " * (next_star + 2 - i))
+                i = next_star + 2
+                continue
+        out.append(ch)
+        i += 1
+    return "".join(out)
 
 
 def _syntax_diagnostic(e: UnexpectedInput, text: str, filename: str) -> Diagnostic:
@@ -896,11 +941,11 @@ class _Builder(Transformer):
         if not _NUMBER_RE.fullmatch(text):  # NUMBER swallows trailing letters: '1e', '12abc'
             raise _malformed_number(tok)
         if re.fullmatch(r"\d+", text):
-            value = int(text)
-            if overflow := integer_overflow(value):
+            value = parse_integer(text)
+            if isinstance(value, str):
                 raise _BuildError(
                     _span(tok),
-                    overflow,
+                    value,
                     f"INTEGER literals go up to {INT_MAX} (write {-INT_MAX} - 1 for the "
                     "smallest INTEGER); a larger number needs a REAL literal such as 1e20",
                 )

@@ -128,6 +128,9 @@ SETTINGS: tuple[Setting, ...] = (
             "velocity profile: trapezoid, or jerk-limited S-curve", "TRAPEZOID"),
     Setting("jerk", "R_JERK", None, _positive("mm/s³", 1e7), (),
             "path jerk of the S-curve (PTP: runtime.md)", 10000.0),
+    Setting("override", "R_OVERRIDE", None, SettingRange(1.0, 100.0, "%", closed=True), (),
+            "program override (start value: --override): speeds ×k, accelerations ×k², "
+            "WITH TIME ÷k, k = R_OVERRIDE/100", 100.0),
 )  # fmt: skip
 
 BY_FIELD: dict[str, Setting] = {s.field: s for s in SETTINGS}

@@ -75,15 +75,24 @@ def robot_file(name_or_path: str | Path, base_dir: str | Path | None = None) -> 
         given = Path(text)
         if base_dir is not None and not given.is_absolute():
             candidate = Path(base_dir) / given
-            if candidate.is_file():
+            if is_file(candidate):
                 return candidate
-        if given.is_file():
+        if is_file(given):
             return given
         raise RobotFileError(text, "", "file not found")
     path = ROBOTS_DIR / f"{text.lower()}.toml"
-    if not text or not path.is_file():
+    if not text or not is_file(path):
         raise UnknownRobotError(text)
     return path
+
+
+def is_file(path: Path) -> bool:
+    """``path.is_file()``, but ``False`` for a name the system refuses (too long: ENAMETOOLONG,
+    or any other OSError): such a name never names a file the program can use."""
+    try:
+        return path.is_file()
+    except OSError:
+        return False
 
 
 def resolve_robot(name_or_path: str | Path, base_dir: str | Path | None = None) -> RobotModel:

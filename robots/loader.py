@@ -181,6 +181,7 @@ class Reader:
             m = np.array([self.vector(r, f"{key}.matrix[{i}]", 4) for i, r in enumerate(rows)])
             m[:3, 3] *= self.length
             _check_rigid(self, m, _join(key, "matrix"))
+            _in_range(self, _join(key, "matrix"), "point", m[:3, 3])
             return m
         out = np.eye(4)
         if "zyx" in t:
@@ -188,6 +189,7 @@ class Reader:
             out[:3, :3] = _rz(a) @ _ry(b) @ _rx(c)
         if "xyz" in t:
             out[:3, 3] = self.vector(t["xyz"], _join(key, "xyz"), 3) * self.length
+            _in_range(self, _join(key, "xyz"), "point", out[:3, 3])
         return out
 
     def assumption(self, t: dict, key: str) -> tuple[bool, str]:
@@ -422,9 +424,11 @@ def _dh_row(rd: Reader, row: dict, key: str, kind: str):
             raise rd.fail(f"{key}.dh.{k}", "missing; expected a number")
     alpha = rd.number(dh["alpha"], f"{key}.dh.alpha") * rd.angle
     a = rd.number(dh["a"], f"{key}.dh.a") * rd.length
+    _in_range(rd, f"{key}.dh.a", "point", a)
     d = theta = 0.0
     if kind == "revolute":
         d = rd.number(dh.get("d", 0.0), f"{key}.dh.d") * rd.length
+        _in_range(rd, f"{key}.dh.d", "point", d)
     else:
         theta = rd.number(dh.get("theta", 0.0), f"{key}.dh.theta") * rd.angle
     after = _trans((0.0, 0.0, d)) @ _rot4(_rz(theta)) @ _trans((a, 0.0, 0.0)) @ _rot4(_rx(alpha))
@@ -443,12 +447,14 @@ def _axes_row(rd: Reader, row: dict, key: str):
         axis = np.array(AXIS_NAMES[raw])
     else:
         axis = rd.vector(raw, f"{key}.axis", 3)
+        axis = axis / max(float(np.max(np.abs(axis))), 1e-300)  # the norm cannot overflow
         norm = float(np.linalg.norm(axis))
         if norm < 1e-9:
             raise rd.fail(f"{key}.axis", "expected a non-zero vector")
         axis = axis / norm
     this_origin = rd.transform(row["origin"], f"{key}.origin") if "origin" in row else np.eye(4)
     link = rd.vector(row.get("link", [0.0, 0.0, 0.0]), f"{key}.link", 3) * rd.length
+    _in_range(rd, f"{key}.link", "point", link)
     return axis, this_origin, _trans(link)
 
 
@@ -672,6 +678,29 @@ def _read_reachability(rd: Reader, value: Any, n: int) -> dict:
 # ----------------------------------------------------------------------------- geometry
 
 
+def geometry_problem(what: str, values_m, unit: str = "m") -> str | None:
+    """Why robot geometry (SI metres) is outside the physical range of geometry that
+    obstacles share (``irdata.GEOMETRY_*``: points within ±1 km, lengths 1 µm … 1 km),
+    else ``None``; the message speaks ``unit`` (the file's length unit). ``what`` is
+    ``"point"`` or ``"length"``. Beyond it the inertia of a solid (r⁵) overflows or its
+    volume underflows to zero."""
+    from irlc.lang.irdata import GEOMETRY_MAX_MM, GEOMETRY_MIN_LENGTH_MM
+
+    top, low, scale = GEOMETRY_MAX_MM * 1e-3, GEOMETRY_MIN_LENGTH_MM * 1e-3, LENGTH_UNITS[unit]
+    for v in np.asarray(values_m, dtype=float).ravel():
+        if what == "length" and not low <= v <= top:
+            return (
+                f"{v / scale:g} {unit} is outside the physical range of a length "
+                f"({low / scale:g} to {top / scale:g} {unit})"
+            )
+        if what == "point" and not abs(v) <= top:
+            return (
+                f"{v / scale:g} {unit} is outside the physical range of a coordinate "
+                f"(within ±{top / scale:g} {unit})"
+            )
+    return None
+
+
 def _read_geometry(rd: Reader, value: Any, n: int, assumed: dict) -> list[Capsule | Sphere]:
     rows = rd.array_of_tables(value, "geometry")
     out: list[Capsule | Sphere] = []
@@ -683,19 +712,29 @@ def _read_geometry(rd: Reader, value: Any, n: int, assumed: dict) -> list[Capsul
         link = _link_index(rd, row.get("link"), f"{key}.link", n)
         shape = rd.string(row.get("shape"), f"{key}.shape", ("capsule", "sphere"))
         radius = rd.positive(row.get("radius"), f"{key}.radius") * rd.length
+        _in_range(rd, f"{key}.radius", "length", radius)
         if shape == "capsule":
             for k in ("a", "b"):
                 if k not in row:
                     raise rd.fail(f"{key}.{k}", "missing; expected 3 numbers (segment end)")
             a = rd.vector(row["a"], f"{key}.a", 3) * rd.length
             b = rd.vector(row["b"], f"{key}.b", 3) * rd.length
+            _in_range(rd, f"{key}.a", "point", a)
+            _in_range(rd, f"{key}.b", "point", b)
             out.append(Capsule(link, a, b, radius))
         else:
             if "center" not in row:
                 raise rd.fail(f"{key}.center", "missing; expected 3 numbers")
             c = rd.vector(row["center"], f"{key}.center", 3) * rd.length
+            _in_range(rd, f"{key}.center", "point", c)
             out.append(Sphere(link, c, radius))
     return out
+
+
+def _in_range(rd: Reader, key: str, what: str, values_m) -> None:
+    unit = next(name for name, scale in LENGTH_UNITS.items() if scale == rd.length)
+    if problem := geometry_problem(what, np.atleast_1d(values_m), unit):
+        raise rd.fail(key, problem)
 
 
 def _link_index(rd: Reader, value: Any, key: str, n: int) -> int:

@@ -27,7 +27,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from irlc.robots.loader import MissingExtraError, RobotFileError
+from irlc.robots.loader import MissingExtraError, RobotFileError, geometry_problem
 from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
 
 MOVABLE = {"revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"}
@@ -63,6 +63,7 @@ def load_urdf(path: str | Path, tip: str | None = None, name: str | None = None)
 def _convert(robot, file: str, tip: str | None, name: str) -> RobotModel:
     by_child = {j.child: j for j in robot.joints}
     links = {link.name: link for link in robot.links}
+    _check_tree(robot, file, links)
     for j in robot.joints:
         if j.mimic is not None:
             raise RobotFileError(file, f"joint '{j.name}'", "mimic joints are not supported")
@@ -94,10 +95,10 @@ def _convert(robot, file: str, tip: str | None, name: str) -> RobotModel:
     geometry, inertials = [], []
     for link_name, index in owner.items():
         link = links[link_name]
-        geometry += _shapes(link, index, frame_of[link_name], notes)
+        geometry += _shapes(link, index, frame_of[link_name], notes, file)
     for index in range(len(joints) + 1):
         parts = [(links[n], frame_of[n]) for n, k in owner.items() if k == index]
-        merged = _merged_inertial(parts, index)
+        merged = _merged_inertial(parts, index, file)
         if merged is not None:
             inertials.append(merged)
     if not joints:
@@ -116,6 +117,42 @@ def _convert(robot, file: str, tip: str | None, name: str) -> RobotModel:
         source=file,
         description=f"imported from URDF {Path(file).name}",
     )
+
+
+def _check_tree(robot, file: str, links: dict) -> None:
+    """Every joint joins two declared links, each link has at most one parent joint, and
+    every link hangs from the one root (no cycle): the walks below rely on a tree."""
+    parent_joint: dict[str, str] = {}
+    for j in robot.joints:
+        for end in ("parent", "child"):
+            if getattr(j, end) not in links:
+                raise RobotFileError(
+                    file, f"joint '{j.name}'.{end}", f"no link named {getattr(j, end)!r}"
+                )
+        if j.child in parent_joint:
+            raise RobotFileError(
+                file,
+                f"joint '{j.name}'.child",
+                f"link {j.child!r} already hangs from joint '{parent_joint[j.child]}'",
+            )
+        parent_joint[j.child] = j.name
+    roots = [n for n in links if n not in parent_joint]
+    if len(roots) != 1:
+        raise RobotFileError(file, "", f"expected one root link, found {roots}")
+    children: dict[str, list[str]] = {}
+    for j in robot.joints:
+        children.setdefault(j.parent, []).append(j.child)
+    reached, todo = {roots[0]}, [roots[0]]
+    while todo:
+        for child in children.get(todo.pop(), []):
+            if child not in reached:
+                reached.add(child)
+                todo.append(child)
+    if len(reached) != len(links):
+        loose = sorted(set(links) - reached)
+        raise RobotFileError(
+            file, f"link '{loose[0]}'", "not connected to the root link (the joints form a cycle)"
+        )
 
 
 def _chain(robot, file: str, root: str, by_child: dict, tip: str | None) -> list:
@@ -177,7 +214,13 @@ def _origin(j) -> np.ndarray:
 
 def _joint(j, file: str, origin: np.ndarray, assumed: dict) -> Joint:
     kind = MOVABLE[j.type]
+    _check_point(file, f"joint '{j.name}'.origin", origin[:3, 3])
+    _check_finite(file, f"joint '{j.name}'.origin", origin)
     axis = np.array([1.0, 0.0, 0.0]) if j.axis is None else np.asarray(j.axis, dtype=float)
+    if axis.shape != (3,):
+        raise RobotFileError(file, f"joint '{j.name}'.axis", "expected 3 numbers")
+    _check_finite(file, f"joint '{j.name}'.axis", axis)
+    axis = axis / max(float(np.max(np.abs(axis))), 1e-300)  # no overflow in the norm below
     norm = float(np.linalg.norm(axis))
     if norm < 1e-12:
         raise RobotFileError(file, f"joint '{j.name}'.axis", "expected a non-zero axis")
@@ -188,6 +231,7 @@ def _joint(j, file: str, origin: np.ndarray, assumed: dict) -> Joint:
         if lim is None or lim.lower is None or lim.upper is None:
             raise RobotFileError(file, f"joint '{j.name}'.limit", "expected lower and upper")
         position = (float(lim.lower), float(lim.upper))
+        _check_finite(file, f"joint '{j.name}'.limit", np.array(position))
         if position[0] > position[1]:
             raise RobotFileError(file, f"joint '{j.name}'.limit", "expected lower ≤ upper")
     velocity = None if lim is None else lim.velocity
@@ -198,6 +242,7 @@ def _joint(j, file: str, origin: np.ndarray, assumed: dict) -> Joint:
             "expected a positive velocity limit (the runtime needs one)",
         )
     v = float(velocity)
+    _check_finite(file, f"joint '{j.name}'.limit.velocity", np.array([ACCEL_PER_VELOCITY * v]))
     a = ACCEL_PER_VELOCITY * v
     assumed[f"joint '{j.name}' acceleration"] = (
         f"URDF has no acceleration limit: {ACCEL_PER_VELOCITY:g} × velocity = {a:g}/s²"
@@ -210,20 +255,30 @@ def _home_value(j: Joint) -> float:
     return 0.0 if lo <= 0.0 <= hi else 0.5 * (lo + hi)
 
 
-def _shapes(link, index: int, frame: np.ndarray, notes: list[str]) -> list:
+def _shapes(link, index: int, frame: np.ndarray, notes: list[str], file: str) -> list:
     out: list[Capsule | Sphere] = []
     for c in link.collisions or []:
-        t = frame @ (np.eye(4) if c.origin is None else np.asarray(c.origin, dtype=float))
+        key = f"link '{link.name}'.collision"
+        local = np.eye(4) if c.origin is None else np.asarray(c.origin, dtype=float)
+        _check_finite(file, f"{key}.origin", local)
+        _check_point(file, f"{key}.origin", local[:3, 3])
+        t = frame @ local
         g = c.geometry
         if g.sphere is not None:
-            out.append(Sphere(index, t[:3, 3].copy(), float(g.sphere.radius)))
+            radius = _length(file, f"{key}.sphere.radius", g.sphere.radius)
+            out.append(Sphere(index, t[:3, 3].copy(), radius))
         elif g.cylinder is not None:
-            half = 0.5 * float(g.cylinder.length)
+            half = 0.5 * _length(file, f"{key}.cylinder.length", g.cylinder.length)
             a, b = _segment(t, 2, half)
-            out.append(Capsule(index, a, b, float(g.cylinder.radius)))
+            radius = _length(file, f"{key}.cylinder.radius", g.cylinder.radius)
+            out.append(Capsule(index, a, b, radius))
             notes.append(f"{link.name}: cylinder → capsule (ends bulge by the radius)")
         elif g.box is not None:
             size = np.asarray(g.box.size, dtype=float)
+            if size.shape != (3,):
+                raise RobotFileError(file, f"{key}.box.size", "expected 3 numbers")
+            for s in size:
+                _length(file, f"{key}.box.size", s)
             k = int(np.argmax(size))
             others = [s for i, s in enumerate(size) if i != k]
             radius = 0.5 * math.hypot(*others)
@@ -235,12 +290,34 @@ def _shapes(link, index: int, frame: np.ndarray, notes: list[str]) -> list:
     return out
 
 
+def _check_finite(file: str, key: str, values: np.ndarray) -> None:
+    if not np.all(np.isfinite(values)):
+        raise RobotFileError(file, key, "expected finite numbers")
+
+
+def _check_point(file: str, key: str, xyz: np.ndarray) -> None:
+    """A position (m) inside the physical range of geometry (loader.geometry_problem)."""
+    if problem := geometry_problem("point", xyz):
+        raise RobotFileError(file, key, problem)
+
+
+def _length(file: str, key: str, value) -> float:
+    """A length (m): a number inside the physical range of geometry."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise RobotFileError(file, key, f"expected a number, got {value!r}") from None
+    if problem := geometry_problem("length", np.array([v])):
+        raise RobotFileError(file, key, problem)
+    return v
+
+
 def _segment(t: np.ndarray, axis: int, half: float) -> tuple[np.ndarray, np.ndarray]:
     d = t[:3, axis] * half
     return t[:3, 3] - d, t[:3, 3] + d
 
 
-def _merged_inertial(parts: list, index: int) -> Inertial | None:
+def _merged_inertial(parts: list, index: int, file: str) -> Inertial | None:
     """Combine the inertials of rigidly joined links (in the chain link's frame)."""
     items = []
     for link, frame in parts:
@@ -250,6 +327,9 @@ def _merged_inertial(parts: list, index: int) -> Inertial | None:
         t = frame @ (np.eye(4) if inertial.origin is None else np.asarray(inertial.origin))
         r = t[:3, :3]
         inertia = np.zeros((3, 3)) if inertial.inertia is None else np.asarray(inertial.inertia)
+        key = f"link '{link.name}'.inertial"
+        _check_finite(file, key, np.array([inertial.mass, *t.ravel(), *inertia.ravel()]))
+        _check_point(file, f"{key}.origin", t[:3, 3])
         items.append((float(inertial.mass), t[:3, 3], r @ inertia @ r.T))
     if not items:
         return None

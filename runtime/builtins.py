@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from irlc.lang.irdata import integer_overflow
+from irlc.lang.irdata import integer_overflow, string_too_long
 from irlc.runtime import units
 from irlc.runtime import values as V
 from irlc.runtime.errors import RunFailure
@@ -87,6 +87,8 @@ def add(a: object, b: object) -> object:
         _joint_pair("addition", a, b)
         return JointTuple(a.type, _checked_tuple(V.joint_add(a, b).values, "addition"))
     if isinstance(a, str) and isinstance(b, str):
+        if too_long := string_too_long(len(a) + len(b)):
+            raise RunFailure(f"string concatenation: {too_long}")
         return a + b
     raise _type_error("add", a, b)
 

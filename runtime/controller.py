@@ -68,6 +68,7 @@ class Settings:
     path_tol: float = _default("path_tol")  # R_PATH_TOL, mm (start: --path-tolerance)
     profile: str = _default_word("profile")  # R_PROFILE: 'TRAPEZOID' | 'SCURVE'
     jerk: float = _default("jerk")  # R_JERK, mm/s³ (S-curve path jerk)
+    override: float = _default("override")  # R_OVERRIDE, % (start: --override)
 
 
 # The range table of the numeric settings is lang/settings.py (one row per setting; the

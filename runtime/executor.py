@@ -36,6 +36,7 @@ import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime import spatial, units
 from irlc.runtime.controller import ModalOptions, MotionCommand, Settings, setting_error
+from irlc.runtime.cycle_time import KIND_WORDS, StatementSpan, motion_limit
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik import cause
 from irlc.runtime.ik.freeze import FrozenJoints
@@ -56,6 +57,10 @@ from irlc.runtime.preinterp import (
 from irlc.runtime.recorder import Recorder
 from irlc.runtime.values import JointTuple, Pose
 
+WAIT_SAMPLED_CYCLES = 1000
+"""A WAIT records one sample per IPO cycle for this many cycles, then only its last cycle:
+the robot stands still, and a long WAIT must not fill the memory with equal samples."""
+
 
 @dataclass
 class ExecutionOptions:
@@ -65,6 +70,7 @@ class ExecutionOptions:
     tol_position: float = 5e-5  # m: a path deviation beyond this fails the run
     tol_orientation: float = 0.01 * units.DEG  # rad
     reconf_settle_s: float = 10.0  # s after the reference arrived before giving up
+    max_time_s: float = 86_400.0  # simulated-time budget of a run (``--max-time``): 24 h
     progress_every: int = 200  # cycles between progress callbacks
     manipulability_every: int = 10  # cycles between manipulability samples (an SVD each)
     ik: IKParams | None = None
@@ -96,6 +102,7 @@ class SimulatedController:
         self.obstacles = dict(obstacles or {})
         self.recorder = Recorder(model.n, tuple(self.obstacles), self.ik_params.task_rows)
         self.pre = PreInterpolator(model, self._solve_pose, self.ik_params.task_rows)
+        self.pre.max_duration = self.opts.max_time_s
         self.pre.naming = self._naming
         self.progress = progress
         self.scale = units.joint_scale(model.joint_kinds)
@@ -113,6 +120,7 @@ class SimulatedController:
         self.dt_used = self.opts.ipo if self.opts.ipo is not None else Settings().ipo
         self.recorder.tol_position = self.opts.tol_position
         self._start_tool = b""  # the tool (bytes) the start sample was stamped with
+        self.statements: list[StatementSpan] = []  # cycle time per statement (cycle_time.py)
         self._record_initial()
 
     # ------------------------------------------------------------------ protocol
@@ -149,13 +157,26 @@ class SimulatedController:
         solver = self._solver(settings)
         state = self._plan_state(settings, solver)
         self._settings = settings
-        segments = self.pre.plan(cmd, settings, options, state)
-        cartesian = [seg for seg in segments if not seg.is_joint]
-        if cartesian:  # reachability of the end (and via) points, before anything moves
-            reach = self._reach(cartesian[0].limits[0], options, solver)
-            check_targets(reach, cartesian, self.q, cmd.line, self._t, f"MOVE {_shown(cmd)}")
-        for seg in segments:
-            self._run_segment(seg, settings, options, solver)
+        t0, segments, stop = self._t, [], "failed"
+        try:
+            segments = self.pre.plan(cmd, settings, options, state)
+            cycles = sum(seg.cycles for seg in segments)
+            self._within_budget(cycles * state.dt, cmd.line, "the motion")
+            cartesian = [seg for seg in segments if not seg.is_joint]
+            if cartesian:  # reachability of the end (and via) points, before anything moves
+                reach = self._reach(cartesian[0].limits[0], options, solver)
+                check_targets(reach, cartesian, self.q, cmd.line, self._t, f"MOVE {_shown(cmd)}")
+            for seg in segments:
+                self._run_segment(seg, settings, options, solver)
+            stop = "approximated" if (getattr(cmd, "approx", None) or 0) > 0 else "exact"
+        finally:
+            self._log_motion(cmd, segments, t0, stop, settings.override)
+
+    def _log_motion(self, cmd: MotionCommand, segments, t0: float, stop: str, override) -> None:
+        """The motion's span of the cycle-time table, with what set its time."""
+        limit = motion_limit([s.limiting for s in segments], cmd.time is not None)
+        kind = KIND_WORDS.get(cmd.kind, cmd.kind)
+        self._log_statement(kind, cmd.line, t0, stop, limit, override)
 
     def reconfigure(
         self, target: JointTuple, line: int, settings: Settings, options: ModalOptions
@@ -169,12 +190,24 @@ class SimulatedController:
         k = self.pre.joints_si(target)
         # reference profile: a synchronised joint move from here to k (PTP timing)
         cmd = MotionCommand("PTP", (target,), line)
+        self.pre.check_inside(k, lims[0], line, "RECONFIGURATION target")
         ref_seg = self.pre._ptp_segment(cmd, settings, self.q, k, lims, state.dt, 1)
         hold = self.pre.hold("reconf", line, state, 0, lims)
         dt = state.dt
         cycle_opts = self._cycle_options(hold, options)
         cycle_opts.self_motion = True
         settle = max(1, math.ceil(self.opts.reconf_settle_s / dt))
+        self._within_budget((ref_seg.cycles + settle) * dt, line, "the RECONFIGURATION")
+        t0, stop = self._t, "failed"
+        try:
+            self._reconf_cycles(ref_seg, k, hold, cycle_opts, solver, dt, settle, line)
+            stop = "exact"
+        finally:
+            limit = ref_seg.limiting
+            self._log_statement("RECONFIGURATION", line, t0, stop, limit, settings.override)
+
+    def _reconf_cycles(self, ref_seg, k, hold, cycle_opts, solver, dt, settle, line) -> None:
+        """The self-motion's cycles: follow the reference, then settle (module doc)."""
         k_cyc = 0
         while True:
             k_cyc += 1
@@ -201,6 +234,7 @@ class SimulatedController:
             raise RunFailure(f"WAIT needs a finite time ≥ 0 s, got {seconds!r}", line, self._t)
         self._line = line
         dt = self._dt(settings)
+        self._within_budget(seconds, line, "the WAIT")
         n = round(seconds / dt)
         if abs(n * dt - seconds) > 1e-9 * max(1.0, seconds):
             n = math.ceil(seconds / dt)
@@ -209,10 +243,22 @@ class SimulatedController:
         self.q_prev = self.q.copy()  # standing still: q, and so the sample, do not change
         tcp = self._solver(settings).kin.tcp(self.q)
         rec = self.recorder
-        for _ in range(n):
+        t0, sampled = self._t, min(n, WAIT_SAMPLED_CYCLES)
+        for _ in range(sampled):
             self._t = _advance(self._t, dt)
             rec.add(self._t, line, self.q, tcp, None)
             self._tick()
+        if n > sampled:  # the rest of a long WAIT: its last cycle stands for all of them
+            self._t = round(t0 + n * dt, 9)
+            rec.add(self._t, line, self.q, tcp, None)
+            self._cycles += n - sampled - 1
+            self._tick()
+        self._log_statement("WAIT", line, t0, None, "")
+
+    def _log_statement(self, kind, line: int, t0: float, stop, limit: str, override=None) -> None:
+        """One span of the cycle-time table (``statements`` of the report)."""
+        span = StatementSpan(line, kind, t0, self._t, stop, limit, override)
+        self.statements.append(span)
 
     def check_switch_on(
         self, option: str, line: int, settings: Settings, options: ModalOptions
@@ -417,6 +463,20 @@ class SimulatedController:
 
         cps = critical_points(solver.kin, frames, tuple(self.obstacles.values()))
         return {cp.name: (cp.distance, cp.link) for cp in cps}
+
+    def _within_budget(self, seconds: float, line: int, what: str) -> None:
+        """:class:`RunFailure` (line, time) when ``seconds`` more would take the run past
+        its simulated-time budget (``ExecutionOptions.max_time_s``), checked before any
+        cycle of the statement is simulated (so a WAIT 1e9 SEC fails at once)."""
+        budget = self.opts.max_time_s
+        if self._t + seconds <= budget:
+            return
+        raise RunFailure(
+            f"{what} would take {seconds:.6g} s and the run past its simulated-time budget "
+            f"of {budget:g} s (at t = {self._t:.3f} s; raise it with --max-time)",
+            line,
+            self._t,
+        )
 
     def _tick(self) -> None:
         self._cycles += 1

@@ -46,6 +46,7 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from irlc.lang.digital_io import output_error, pulse_error
 from irlc.lang.irdata import JOINT_TUPLE_TYPES, Code, Routine, Slot, Target, Value
 from irlc.lang.settings import BY_WITH_WORD, SYSTEM_VARIABLES, reconfiguration_counts
 from irlc.runtime import builtins as B
@@ -58,6 +59,7 @@ from irlc.runtime.controller import (
     Settings,
     check_setting,
 )
+from irlc.runtime.digital_io import Outputs
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.values import ArrayValue, JointTuple, Orientation, Pose, Position, RecordValue
 
@@ -105,6 +107,7 @@ class MachineState:
     output: list[str] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
     input_clock: float = 0.0  # s; input values are read at max(controller.time, this)
+    outputs: Outputs = field(default_factory=Outputs)  # OUT[n] switches (digital_io.py)
 
     def value(self, name: str) -> object | None:
         """The value of global ``name`` (case-insensitive); None when unknown or unset."""
@@ -227,8 +230,8 @@ class Interpreter:
             self._running = True
             status = self._execute()
         except RunFailure as e:
-            if e.line is None and self._running:
-                e.line = self._lines[self._cur]
+            if not e.line and self._running:
+                e.line = self._nearest_line(self._cur) or e.line
             if e.time_s is None:
                 e.time_s = self._time()
             error = e
@@ -302,6 +305,14 @@ class Interpreter:
 
     def _line(self) -> int:
         return self._lines[self._cur]
+
+    def _nearest_line(self, index: int) -> int:
+        """The source line of instruction ``index``, else of the nearest instruction before
+        it that records one (code read from a hand-made .ird may say ``L0``); 0 if none."""
+        for k in range(min(index, len(self._lines) - 1), -1, -1):
+            if self._lines[k] > 0:
+                return self._lines[k]
+        return 0
 
     def _ctl(self, fn: Callable, *args, **kwargs):
         """Call the controller; its own RunFailures pass, other exceptions are bugs there."""
@@ -865,9 +876,12 @@ class Interpreter:
         return value
 
     def _next_input_change(self, t: float) -> float | None:
+        """The next time an input — or an output with a PULSE's end still ahead — changes."""
+        outputs = self.state.outputs
+        timelines = [(events, self._input(n, t)) for n, events in self._inputs.items()]
+        timelines += [(events, outputs.value(n, t)) for n, events in outputs.switches.items()]
         best = None
-        for n, events in self._inputs.items():
-            current = self._input(n, t)
+        for events, current in timelines:
             for time, v in events:
                 if time > t + TIME_TOLERANCE and v != current:
                     best = time if best is None else min(best, time)
@@ -910,6 +924,49 @@ class Interpreter:
         v = self._coerce(self.stack.pop(), "BOOLEAN", f"signal {slot.name!r}")
         self.state.globals[args[0]] = v
         self._event("signal", name=slot.name, value=v)
+
+    def _output_number(self) -> int:
+        n = self.stack.pop()
+        if not isinstance(n, int) or isinstance(n, bool):
+            raise _malformed(f"an output number must be an INTEGER, got {V.type_name(n)}")
+        error = output_error(n)
+        if error is not None:
+            raise RunFailure(error)
+        return n
+
+    def _op_outset(self, args) -> None:
+        """``OUT[n] := b``: switch now (the statement's time in the advance run)."""
+        v = self._coerce(self.stack.pop(), "BOOLEAN", "OUT[…]")
+        n = self._output_number()
+        self._drop_event(self.state.outputs.set(n, self._time(), v))
+        self._event("output", output=n, value=v)
+
+    def _op_pushout(self, args) -> None:
+        n = self._output_number()
+        self._push(self.state.outputs.value(n, self._time()))
+
+    def _op_pulse(self, args) -> None:
+        """``PULSE(OUT[n], d)``: TRUE now, FALSE ``d`` s later; the program goes on."""
+        d = self._number(self.stack.pop(), "PULSE")
+        error = pulse_error(d)
+        if error is not None:
+            raise RunFailure(error)
+        n = self._output_number()
+        now = self._time()
+        end = {"kind": "output", "line": self._line(), "time_s": now + d, "output": n,
+               "value": False}  # fmt: skip
+        self._drop_event(self.state.outputs.pulse(n, now, d, end))
+        self._event("output", output=n, value=True, pulse_s=d)
+        self.state.events.append(end)  # its time is ahead: the report sorts events by time
+        self._run_events.append(end)
+
+    def _drop_event(self, event: dict | None) -> None:
+        """Remove a pulse's end that an assignment overrode (``digital_io.Outputs.set``)."""
+        for events in (self.state.events, self._run_events):
+            for i, e in enumerate(events):
+                if e is event:
+                    del events[i]
+                    break
 
     def _write(self, argc: int) -> None:
         for v in self._pop_n(argc):

@@ -36,10 +36,12 @@ configuration at the start of the statement (or the previous point's) to each po
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from irlc.lang.irdata import GEOMETRY_MAX_MM
 from irlc.lang.settings import BY_FIELD, reconfiguration_counts, setting_message
 from irlc.robots.model import RobotModel
 from irlc.runtime import scurve as sc
@@ -102,6 +104,20 @@ def scurve_on(cmd: MotionCommand, settings: Settings) -> bool:
     return value.upper() == "SCURVE"
 
 
+def check_coordinates(frame: np.ndarray, what: str, line: int | None) -> None:
+    """:class:`RunFailure` unless the translation of ``frame`` (4×4, SI) is finite and
+    inside the physical range of a coordinate (``irdata.GEOMETRY_MAX_MM``, ±1 km): beyond
+    it a path length or a normalised speed overflows or underflows."""
+    top = GEOMETRY_MAX_MM * units.MM
+    for axis, v in zip("xyz", frame[:3, 3], strict=True):
+        if not abs(v) <= top:
+            raise RunFailure(
+                f"{what}: {axis} = {v / units.MM:g} mm is outside the physical range of a "
+                f"coordinate (within ±{GEOMETRY_MAX_MM:g} mm)",
+                line,
+            )
+
+
 def _setting(cmd: MotionCommand, settings: Settings, name: str) -> float:
     """The statement's WITH value of setting ``name``, else the system variable's; checked
     against the one range table (lang/settings.py) — the interpreter checks both when they
@@ -113,7 +129,20 @@ def _setting(cmd: MotionCommand, settings: Settings, name: str) -> float:
     message = setting_message(name, value, what)
     if message is not None:
         raise RunFailure(message, cmd.line)
-    return float(value)
+    return float(value) * override_factor(settings) ** _OVERRIDE_POWER.get(name, 0)
+
+
+# How R_OVERRIDE scales a setting: value · k^power (a time scaling, see the module doc;
+# a jerk limit, where a profile has one, scales with k³).
+_OVERRIDE_POWER = {"speed": 1, "speed_ori": 1, "speed_ptp": 1, "acc": 2, "acc_ptp": 2, "jerk": 3}
+
+
+def override_factor(settings: Settings) -> float:
+    """``k = R_OVERRIDE / 100`` (checked against its row of lang/settings.py)."""
+    message = setting_message("override", settings.override, "R_OVERRIDE")
+    if message is not None:
+        raise RunFailure(message)
+    return float(settings.override) / 100.0
 
 
 def tool_transform(model: RobotModel, settings: Settings) -> np.ndarray:
@@ -155,6 +184,7 @@ class PreInterpolator:
         self.kinds = model.joint_kinds
         self.scale = units.joint_scale(self.kinds)
         self.solve_pose = solve_pose
+        self.max_duration = math.inf  # s: the run's simulated-time budget (the controller's)
 
     # ------------------------------------------------------------------ units
     def joints_si(self, values: Sequence[float] | JointTuple) -> np.ndarray:
@@ -220,6 +250,8 @@ class PreInterpolator:
             (cmd.joint_limits, cmd.speed_limits, cmd.accel_limits), options, cmd.line
         )
         self.check_inside(state.q, lims[0], cmd.line, "the limits exclude the current state")
+        check_coordinates(units.pose_value_to_si(settings.tool), "R_TOOL", cmd.line)
+        check_coordinates(state.base, "R_BASE", cmd.line)
         kind = cmd.kind
         if kind in ("PTP", "PTPINC"):
             return self._plan_ptp(cmd, settings, options, state, lims)
@@ -275,7 +307,7 @@ class PreInterpolator:
         if isinstance(target, Pose):
             if self.solve_pose is None:
                 raise RunFailure("MOVE PTP to a POSE needs the pose solver", cmd.line)
-            world = self._world(target, state)
+            world = self._world(target, state, cmd.line)
             return self.solve_pose(world, q0, frozen, lims, cmd.line)
         raise RunFailure(f"MOVE PTP: unsupported target {type(target).__name__}", cmd.line)
 
@@ -285,7 +317,7 @@ class PreInterpolator:
         builds up its (active) acceleration bound ``accel`` in the time ``R_ACC / R_JERK``
         the path takes for its own."""
         ramp = _setting(cmd, settings, "acc") / _setting(cmd, settings, "jerk")
-        known = self.model.jerk_limits
+        known = self.model.jerk_limits * override_factor(settings)  # × R_ACC_PTP: k³ in all
         return np.where(np.isnan(known), accel / ramp, known)
 
     def _ptp_segment(self, cmd, settings, q0, q1, lims, dt, npts) -> Segment:
@@ -307,7 +339,7 @@ class PreInterpolator:
                 )
         b = segment_bounds(np.abs(delta), vmax, amax, jmax)
         slowest = b.slowest
-        duration = self._time(cmd, npts, b.t_min)
+        duration = self._time(cmd, settings, npts)
         profile = self._profile(b, duration, dt, cmd.line)
         limiting = ""
         if slowest >= 0:
@@ -333,8 +365,10 @@ class PreInterpolator:
     def _plan_lin(self, cmd, settings, state: PlanState, lims) -> list[Segment]:
         if cmd.kind == "LININC":
             poses = [state.tcp @ units.pose_value_to_si(t) for t in cmd.targets]
+            for p in poses:
+                check_coordinates(p, "MOVE_INC LIN target", cmd.line)
         else:
-            poses = [self._world(t, state) for t in cmd.targets]
+            poses = [self._world(t, state, cmd.line) for t in cmd.targets]
         paths, start = [], state.tcp
         for p in poses:
             paths.append(CartesianLine(start.copy(), p))
@@ -344,7 +378,7 @@ class PreInterpolator:
     def _plan_circle(self, cmd, settings, state: PlanState, lims) -> list[Segment]:
         if len(cmd.targets) != 2:
             raise RunFailure("MOVE CIRCLE needs a via point and a target", cmd.line)
-        via, target = (self._world(t, state) for t in cmd.targets)
+        via, target = (self._world(t, state, cmd.line) for t in cmd.targets)
         try:
             arc = CartesianArc(state.tcp.copy(), via[:3, 3].copy(), target)
         except CircleError as exc:
@@ -355,6 +389,12 @@ class PreInterpolator:
         speed = _setting(cmd, settings, "speed") * units.MM
         acc = _setting(cmd, settings, "acc") * units.MM
         w = _setting(cmd, settings, "speed_ori") * units.DEG
+        if not (speed > 0.0 and acc > 0.0 and w > 0.0):  # a denormal setting underflowed in SI
+            raise RunFailure(
+                "the path speed, acceleration or orientation speed is too small to move "
+                "(it underflows to zero in SI units)",
+                cmd.line,
+            )
         w_acc = w * acc / speed
         jerks = None
         if scurve_on(cmd, settings):
@@ -364,7 +404,7 @@ class PreInterpolator:
         for path in paths:
             angle = path.angle if self.timed_orientation else 0.0
             bounds.append(segment_bounds([path.length, angle], [speed, w], [acc, w_acc], jerks))
-        times = self._split_time(cmd, [b.t_min for b in bounds])
+        times = self._split_time(cmd, settings, [b.t_min for b in bounds])
         refs = self._references(cmd, state.q, paths)
         out = []
         for path, b, t, ref in zip(paths, bounds, times, refs, strict=True):
@@ -413,27 +453,33 @@ class PreInterpolator:
         return out
 
     # helpers --------------------------------------------------------------
-    def _world(self, pose: Pose, state: PlanState) -> np.ndarray:
+    def _world(self, pose: Pose, state: PlanState, line: int | None = None) -> np.ndarray:
         if not isinstance(pose, Pose):
             raise RunFailure(f"expected a POSE target, got {type(pose).__name__}")
-        return state.base @ units.pose_value_to_si(pose)
+        check_coordinates(units.pose_value_to_si(pose), "MOVE target", line)
+        world = state.base @ units.pose_value_to_si(pose)
+        check_coordinates(world, "MOVE target in the world (with R_BASE)", line)
+        return world
 
-    def _time(self, cmd, npts: int, t_min: float) -> float | None:
+    def _time(self, cmd, settings, npts: int) -> float | None:
+        """``WITH TIME`` stretched by the override (``t / k``), or ``None``."""
         if cmd.time is None:
             return None
         if npts > 1:
             raise RunFailure("WITH TIME on a multi-target PTP is not supported", cmd.line)
-        return float(cmd.time)
+        return float(cmd.time) / override_factor(settings)
 
-    def _split_time(self, cmd, tmins: list[float]) -> list[float | None]:
+    def _split_time(self, cmd, settings, tmins: list[float]) -> list[float | None]:
         if cmd.time is None:
             return [None] * len(tmins)
-        total = float(cmd.time)
+        k = override_factor(settings)
+        total = float(cmd.time) / k
         tsum = sum(tmins)
         if total < tsum * (1.0 - 1e-12):
+            at = "" if k == 1.0 else f" at R_OVERRIDE {settings.override:g} %"
             raise RunFailure(
-                f"WITH TIME := {total:g} s is shorter than the {tsum:.6g} s the speed and "
-                "acceleration limits allow",
+                f"WITH TIME := {float(cmd.time):g} s{at} is shorter than the {tsum * k:.6g} s "
+                "the speed and acceleration limits allow",
                 cmd.line,
             )
         if tsum == 0.0:
@@ -442,11 +488,30 @@ class PreInterpolator:
 
     def _profile(self, b: Bounds, duration, dt, line) -> Profile:
         """The trapezoid or the S-curve (stretched to ``duration`` if given), rounded up to
-        whole cycles."""
+        whole cycles.
+
+        A motion longer than the run's simulated-time budget (``max_duration``; a speed or
+        acceleration so small that the motion never arrives has ``T_min = ∞``; the
+        trapezoid's ``T_min`` bounds the S-curve's from below) fails here, before a cycle
+        is simulated."""
         v, a, j = b.speed, b.accel, b.jerk
+        if duration is not None and not duration <= self.max_duration:
+            raise RunFailure(
+                f"WITH TIME := {duration:g} s is longer than the run's simulated-time budget "
+                f"of {self.max_duration:g} s (raise it with --max-time)",
+                line,
+            )
         if v == np.inf:  # nothing moves
             n = cycles(duration or 0.0, dt)
             return Trapezoid(n * dt, 0.0, 0.0) if n else Trapezoid(0.0, np.inf, np.inf)
+        t_min = minimum_time(v, a)
+        if not t_min <= self.max_duration:
+            raise RunFailure(
+                f"the motion would take {t_min:.6g} s at the active speed and acceleration, "
+                f"longer than the run's simulated-time budget of {self.max_duration:g} s "
+                "(a speed or acceleration too small for the distance?)",
+                line,
+            )
         try:
             if j is not None:
                 base = sc.scurve(v, a, j, duration)
@@ -454,4 +519,5 @@ class PreInterpolator:
             base = trapezoid(v, a, duration)
             return trapezoid(v, a, cycles(base.duration, dt) * dt)
         except ProfileError as exc:
-            raise RunFailure(f"WITH TIME: {exc}", line) from None
+            prefix = "WITH TIME: " if duration is not None else ""
+            raise RunFailure(f"{prefix}{exc}", line) from None

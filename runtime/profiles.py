@@ -56,7 +56,7 @@ class Trapezoid:
         if t <= 0.0:
             return 0.0
         a, vc = self.accel, self.cruise
-        ta = vc / a
+        ta = vc / a if a > 0.0 else 0.0  # a = 0: a hold (nothing moves), as in t_acc
         if t <= ta:
             return 0.5 * a * t * t
         if t >= T - ta:
@@ -92,6 +92,8 @@ def minimum_time(speed: float, accel: float) -> float:
     """Time-optimal duration for a unit distance under normalised bounds (s)."""
     if speed == math.inf and accel == math.inf:
         return 0.0
+    if not (speed > 0.0 and accel > 0.0):  # a bound that underflowed: it never arrives
+        return math.inf
     if 1.0 * accel >= speed * speed:  # reaches the cruise speed
         return 1.0 / speed + speed / accel
     return 2.0 / math.sqrt(accel)
@@ -141,5 +143,9 @@ def common_bounds(
 
 
 def cycles(duration: float, dt: float) -> int:
-    """Number of IPO cycles covering ``duration`` (rounded up, tolerant to rounding)."""
-    return max(0, math.ceil(duration / dt - 1e-9))
+    """Number of IPO cycles covering ``duration`` (rounded up, tolerant to rounding);
+    :class:`ProfileError` for a duration that is not a finite number of cycles."""
+    n = duration / dt - 1e-9
+    if not math.isfinite(n):
+        raise ProfileError(f"a duration of {duration:g} s is not a finite number of cycles")
+    return max(0, math.ceil(n))

@@ -26,6 +26,8 @@ from typing import Any
 
 import numpy as np
 from irlc.runtime import units
+from irlc.runtime.cycle_time import source_lines, statement_rows
+from irlc.runtime.digital_io import io_columns, signal_timelines
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.recorder import RecordedRun, backward_jerk, finite_differences
@@ -43,7 +45,10 @@ def rnd(x: float | None, digits: int = ROUND) -> float | None:
     return v + 0.0  # no negative zero
 
 
-def assemble(code, model, controller, obstacles, execution, opts, drives: str, every_step: bool):
+def assemble(
+    code, model, controller, obstacles, execution, opts, drives: str, every_step: bool,
+    base_dir=None,
+):  # fmt: skip
     """The :class:`RunResult`. With drives the report, the trace and the verdict are those
     of the actual motion (:mod:`irlc.runtime.actual_motion`, :mod:`irlc.runtime.verdict`);
     the first violated criterion fails the run (exit 2) unless it failed already."""
@@ -84,10 +89,16 @@ def assemble(code, model, controller, obstacles, execution, opts, drives: str, e
     )
     if error is not None and error is not execution.error:  # a drive failure
         report["status"], report["error"] = "failed", _error_dict(error)
+    report["statements"] = statement_rows(
+        controller.statements, source_lines(code.source, base_dir), rnd
+    )
     trace_motion = actual
     if drive is not None and every_step:
         trace_motion = measure_actual(model, rec, controller, obstacles, drive.t, drive.q_actual)
     columns, table = build_trace(model, rec, names, drive, trace_motion)
+    signals = signal_timelines(execution.events)
+    io_names, io_table = io_columns(table[:, 0], code.inputs, execution.state.outputs, signals)
+    columns, table = columns + io_names, np.hstack((table, io_table))
     if trace_motion is not None:
         times, q_actual, tcp = trace_motion.times, trace_motion.q, trace_motion.tcp
     else:
@@ -260,7 +271,7 @@ def build_report(
         },
         "output": list(execution.output),
         "warnings": warnings,
-        "events": [_clean(e) for e in execution.events],
+        "events": [_clean(e) for e in sorted(execution.events, key=lambda e: e["time_s"])],
         "tolerances": {
             "path_mm": rnd(opts.tol_position / units.MM),
             "orientation_deg": rnd(opts.tol_orientation / units.DEG),
@@ -269,6 +280,7 @@ def build_report(
         "robot_joint_names": list(model.joint_names),
         "program_name": code.program,
         "tool": tool_report(model, execution.state.settings.tool),
+        "statements": [],  # cycle time per statement, filled by assemble (cycle_time.py)
     }
     if drive is not None:
         from irlc.runtime.drives import report_axes

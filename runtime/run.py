@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from irlc.files import read_user_text
 from irlc.lang.irdata import Code
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
@@ -33,8 +34,6 @@ from irlc.runtime.errors import RunFailure
 from irlc.runtime.executor import ExecutionOptions, SimulatedController
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.recorder import RecordedRun
-
-from irlc.files import read_user_text
 
 DRIVE_LEVELS = ("ideal", "decoupled", "coupled", "pwm")
 
@@ -173,25 +172,36 @@ def run_code(
     path_tolerance: float | None = None,
     orientation_tolerance: float | None = None,
     instruction_budget: int | None = None,
+    max_time: float | None = None,
+    override: float | None = None,
 ) -> RunResult:
     """Execute compiled ``code`` (see the module doc). ``path_tolerance`` (mm, the start
     value of ``R_PATH_TOL``) and ``orientation_tolerance`` (deg) override ``options``'
     ``tol_position`` / ``tol_orientation``; a path deviation beyond them fails the run —
     with drives, of the actual motion (:mod:`irlc.runtime.verdict`). ``instruction_budget``:
     the endless-loop guard (instructions without motion; default
-    :data:`~irlc.runtime.interpreter.DEFAULT_INSTRUCTION_BUDGET`)."""
+    :data:`~irlc.runtime.interpreter.DEFAULT_INSTRUCTION_BUDGET`). ``max_time``: the
+    simulated-time budget in s (default ``ExecutionOptions.max_time_s``, 24 h).
+    ``override`` (%): the start value of ``R_OVERRIDE`` (``--override``; lang/settings.py's
+    range, 1–100)."""
     if drives not in DRIVE_LEVELS:
         raise RunSetupError(f"unknown drive level {drives!r} (known: {', '.join(DRIVE_LEVELS)})")
     if ipo is not None and setting_error("ipo", ipo):
         raise RunSetupError(f"--ipo {ipo!r}: {setting_error('ipo', ipo)}")
+    if override is not None and setting_error("override", override):
+        raise RunSetupError(f"--override {override!r}: {setting_error('override', override)}")
     budget = _budget(instruction_budget)
     base = Path(base_dir) if base_dir is not None else None
     model = resolve_model(code, robot, base)
     obstacles = obstacle_shapes(code)
     q0 = start_configuration(code, model, seed_config)
+    if max_time is not None:
+        _positive("--max-time", max_time, "seconds")
     opts = options or ExecutionOptions()
     if ipo is not None:
         opts.ipo = float(ipo)
+    if max_time is not None:
+        opts.max_time_s = float(max_time)
     naming = JointNaming.for_model(model, code.joint_names)  # joints in failure messages
     tol_mm = opts.tol_position / units.MM
     if path_tolerance is not None:
@@ -206,10 +216,14 @@ def run_code(
     settings = Settings(path_tol=tol_mm)  # R_PATH_TOL's start value, as given
     if opts.ipo is not None:
         settings.ipo = opts.ipo
+    if override is not None:
+        settings.override = float(override)  # R_OVERRIDE's start value
     execution = _interpret(code, controller, settings, output, budget)
     from irlc.runtime.results import assemble
 
-    return assemble(code, model, controller, obstacles, execution, opts, drives, trace_every_step)
+    return assemble(
+        code, model, controller, obstacles, execution, opts, drives, trace_every_step, base
+    )
 
 
 def _positive(option: str, value, unit: str) -> float:

@@ -4,12 +4,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import irlc
 import numpy as np
 import pytest
 from irlc.lang.diagnostics import CompileError
 from irlc.runtime import units
-
-import irlc
 
 PROGRAMS = Path(__file__).resolve().parents[1] / "programs"
 

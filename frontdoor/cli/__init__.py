@@ -7,9 +7,13 @@ input.
 
 from __future__ import annotations
 
+import contextlib
+import logging
 import sys
+import warnings
 
 import click
+import numpy as np
 
 # Command modules register themselves on `cli` when imported.
 from irlc.cli import lang_cmds, robot_cmds, run_cmds, study_cmds, tool_cmds  # noqa: F401
@@ -21,7 +25,8 @@ __all__ = ["cli", "main"]
 
 def main(argv: list[str] | None = None) -> int:
     try:
-        rv = cli.main(args=argv, prog_name="irlc", standalone_mode=False)
+        with _quiet_libraries():
+            rv = cli.main(args=argv, prog_name="irlc", standalone_mode=False)
     except click.exceptions.Exit as e:
         return e.exit_code
     except click.Abort:
@@ -47,6 +52,25 @@ def main(argv: list[str] | None = None) -> int:
             traceback.print_exc()
         return EXIT_INTERNAL
     return rv if isinstance(rv, int) else 0
+
+
+@contextlib.contextmanager
+def _quiet_libraries():
+    """No library noise on stderr: numpy's floating-point RuntimeWarnings (a non-finite
+    result is caught where it matters: every output is checked finite) and the warnings
+    yourdfpy and lxml log while parsing a URDF (a bad URDF is a RobotFileError)."""
+    loggers = [logging.getLogger(name) for name in ("yourdfpy", "trimesh", "lxml")]
+    levels = [lg.level for lg in loggers]
+    for lg in loggers:
+        lg.setLevel(logging.ERROR + 1)
+    try:
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", category=RuntimeWarning, module=r"numpy(\.|$)")
+            with np.errstate(all="ignore"):
+                yield
+    finally:
+        for lg, level in zip(loggers, levels, strict=True):
+            lg.setLevel(level)
 
 
 def entry() -> None:

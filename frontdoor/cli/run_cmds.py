@@ -51,6 +51,13 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
 )
 @click.option("--ipo", type=float, default=None, help="IPO cycle in seconds (overrides R_IPO).")
 @click.option(
+    "--max-time",
+    "max_time",
+    type=float,
+    default=None,
+    help="Simulated-time budget of the run in seconds (default 86400 = 24 h).",
+)
+@click.option(
     "--instruction-budget",
     "instruction_budget",
     type=int,
@@ -72,6 +79,14 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
     default=None,
     help="Path tolerance in mm (start value of R_PATH_TOL; default 0.05). A larger TCP "
     "deviation fails the run; with --drives, that of the actual motion.",
+)
+@click.option(
+    "--override",
+    type=float,
+    default=None,
+    metavar="PERCENT",
+    help="Program override in % (start value of R_OVERRIDE, 1-100; default 100): "
+    "speeds ×k, accelerations ×k², k = PERCENT/100.",
 )
 @click.option(
     "--orientation-tolerance",
@@ -134,9 +149,11 @@ def run_cmd(
     robot,
     datalist_path,
     ipo,
+    max_time,
     instruction_budget,
     drives,
     path_tolerance,
+    override,
     orientation_tolerance,
     report_path,
     trace_path,
@@ -169,8 +186,10 @@ def run_cmd(
             ipo=ipo,
             drives=drives,
             path_tolerance=path_tolerance,
+            override=override,
             orientation_tolerance=orientation_tolerance,
             instruction_budget=instruction_budget,
+            max_time=max_time,
         ),
         seed,
         trace_every_step,
@@ -242,6 +261,8 @@ def _render_failure(program: Path, code, error) -> str:
     from irlc.lang.diagnostics import Diagnostic, Span, render
 
     when = f" at t = {error.time_s:.3f} s" if error.time_s is not None else ""
+    if not error.line:
+        when += " (the code records no source line for it)"
     span = Span(error.line, 1) if error.line else None
     source = _source_file(program, code)
     hint = f"binding constraint: {error.constraint}" if error.constraint else None

@@ -15,12 +15,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from irlc.cli import main
 from irlc.robots.loader import load_toml
 from irlc.runtime.kinematics import Kinematics
 from irlc.runtime.run import run_file
 from irlc.runtime.units import joints_to_si
-
-from irlc.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
 ROBOT = ROOT / "robots" / "irb6_track.toml"

@@ -6,9 +6,8 @@ import re
 from pathlib import Path
 
 import pytest
-from irlc.lang import read_code
-
 from irlc.cli import main
+from irlc.lang import read_code
 
 ROOT = Path(__file__).resolve().parents[2]
 SQUARE = ROOT / "programs" / "square.irl"

@@ -9,9 +9,10 @@ from __future__ import annotations
 
 import re
 
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
+from ..fuzz_budget import fuzz_settings
 from .conftest import GOLDEN, HERE, compile_text
 
 SEEDS = [p.read_text(encoding="utf-8") for p in sorted(GOLDEN.glob("*.irl"))]
@@ -51,7 +52,7 @@ def _mutate(tokens: list[str], ops: list[tuple[int, int, int]]) -> str:
     return " ".join(toks)
 
 
-_settings = settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+_settings = fuzz_settings(200)
 
 
 @_settings

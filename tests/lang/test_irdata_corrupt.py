@@ -68,12 +68,54 @@ def test_the_uncorrupted_code_reads_back(ird: str) -> None:
             19,
             "INTEGER: INTEGER overflow (9223372036854775808 is outside the 64-bit range)",
         ),
+        (  # int() refuses more than 4,300 digits: this was a ValueError (issue 11)
+            r"(\d+ CONST 1 INTEGER) 0",
+            r"\1 " + "9" * 5000,
+            19,
+            "INTEGER: INTEGER overflow (a 5000-digit number is outside the 64-bit range)",
+        ),
+        (  # an integer too large for a float: this was an OverflowError
+            r"(\d+ CONST 4 REAL) 2.5",
+            r"\1 " + "9" * 400,
+            12,
+            "REAL: expected numbers",
+        ),
+        (  # STRING holds at most 65,535 characters (issue 11)
+            r"(\d+ CONST 3 STRING) 'x'",
+            r"\1 '" + "x" * 65536 + "'",
+            18,
+            "STRING: a STRING of 65536 characters is too long (at most 65535)",
+        ),
         (r"(\d+ CONST) 1 (INTEGER 0)", r"\1 7 \2", 9, "CONST: expected index 1, got 7"),
         (r"(\d+ CONST) 1 (INTEGER 0)", r"\1 one \2", 9, "CONST: expected an index, got 'one'"),
         (r"(\d+ CONST) 1 INTEGER 0", r"\1 1", 9, "CONST: expected at least 2 operands"),
         # a bad instruction before a loop: the jump targets after it stay right
         (r"(\d+ L6 JF) @\d+", r"\1 @x28", 10, "JF: expected a jump target '@<record>', got '@x28'"),
         (r"(\d+ L5 PUSHC) 0 ; 3", r"\1 zero", 13, "PUSHC: expected an integer, got 'zero'"),
+        (
+            r"(\d+ L5 PUSHC) 0 ; 3",
+            r"\1 " + "1" * 5000,
+            13,
+            "PUSHC: INTEGER overflow (a 5000-digit number is outside the 64-bit range)",
+        ),
+        (
+            r"(\d+) L7 SUB",
+            r"\1 L" + "7" * 5000 + " SUB",
+            4,
+            "expected a source line 'L<n>' and an opcode",
+        ),
+        (
+            r"(\d+ L6 JF) @\d+",
+            r"\1 @" + "2" * 5000,
+            10,
+            "JF: expected a jump target '@<record>', got '@" + "2" * 5000 + "'",
+        ),
+        (
+            r"(\d+ L6 JF) @\d+",
+            "\\1 @\u00b2",
+            10,
+            "JF: expected a jump target '@<record>', got '@²'",
+        ),
         (r"(\d+ L7) SUB", r"\1 SUBB", 7, "unknown opcode 'SUBB'"),
         (r"(\d+ L7 SUB)", r"\1 1", 7, "SUB: expected 0 operand(s), got 1"),
         # bad table indices in the header: a placeholder, no Python exception
@@ -83,6 +125,21 @@ def test_the_uncorrupted_code_reads_back(ird: str) -> None:
             r"\1 main \2",
             12,
             "ROUTINE: expected an index, got 'main'",
+        ),
+        *(  # float-looking entries were ValueErrors in int() (issue 11)
+            (
+                r"(\d+ ROUTINE 0 t MAIN 0 0) @\d+",
+                rf"\1 {entry}",
+                25,
+                f"ROUTINE: expected an entry @record, got {entry!r}",
+            )
+            for entry in ("@1.5", "@-0.0", "@4.9e-324", "@" + "1" * 5000)
+        ),
+        (
+            r"(\d+ GLOBAL) 0 (INTEGER i)",
+            r"\1 " + "8" * 5000 + r" \2",
+            11,
+            "GLOBAL: INTEGER overflow (a 5000-digit number is outside the 64-bit range)",
         ),
     ],
 )

@@ -34,7 +34,6 @@ import sys
 from pathlib import Path
 
 import pytest
-
 from irlc.cli import main
 
 HERE = Path(__file__).parent

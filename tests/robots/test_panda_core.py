@@ -11,12 +11,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from irlc.cli import cli
 from irlc.robots import ROBOTS_DIR, RobotFileError, load_robot
 from irlc.robots import _cache as robot_cache
 from irlc.robots.loader import MissingExtraError, load_toml
 from irlc.robots.toml_export import generated_header, model_to_toml
-
-from irlc.cli import cli
 
 CORE = ROBOTS_DIR / "panda.toml"
 URDF_BACKED = ROBOTS_DIR / "urdf" / "panda.toml"

@@ -5,9 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from irlc.robots import ROBOTS_DIR, list_robots, loader
-
 from irlc.cli import main
+from irlc.robots import ROBOTS_DIR, list_robots, loader
 
 PROGRAM = """\
 PROGRAM p;

@@ -10,10 +10,9 @@ import time
 from pathlib import Path
 
 import pytest
+from irlc.cli import main
 from irlc.runtime.interpreter import DEFAULT_INSTRUCTION_BUDGET
 from irlc.runtime.run import RunSetupError, run_file
-
-from irlc.cli import main
 
 LOOPS = {  # body (from line 6), the lines the failure may name (inside the loop)
     "empty": ("  WHILE TRUE DO\n  ENDWHILE;", (6, 7)),
@@ -96,9 +95,8 @@ def test_golden_options_take_the_budget(tmp_path):
 
 def test_cli_help_states_the_defaults():
     from click.testing import CliRunner
-    from irlc.runtime.interpreter import WAIT_CYCLE_COST
-
     from irlc.cli.app import cli
+    from irlc.runtime.interpreter import WAIT_CYCLE_COST
 
     text = " ".join(CliRunner().invoke(cli, ["run", "--help"]).output.split())
     assert f"[default: {DEFAULT_INSTRUCTION_BUDGET}]" in text

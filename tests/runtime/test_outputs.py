@@ -8,10 +8,9 @@ import os
 
 import numpy as np
 import pytest
-from irlc.runtime.run import run_code
-
 from irlc.cli import main
 from irlc.report import NonFiniteError, load_run, trace_csv, write_report, write_trace
+from irlc.runtime.run import run_code
 
 from .conftest import Ird, planar_robot
 

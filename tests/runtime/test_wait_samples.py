@@ -27,3 +27,17 @@ def test_wait_samples_stand_still_at_the_fk_pose(planar3):
         np.testing.assert_allclose(tcp, fk, atol=1e-12)
     # the robot stands where the LIN ended
     np.testing.assert_array_equal(q[0], run.q[np.flatnonzero(run.lines == 3)[-1]])
+
+
+def test_a_long_wait_records_its_first_cycles_and_its_end(planar3):
+    # A WAIT allocated one sample per IPO cycle (24 h: 8.6 million; MemoryError for more).
+    from irlc.runtime.executor import WAIT_SAMPLED_CYCLES
+
+    p = Ird("planar3t", "RRR")
+    p.push(3, p.const("REAL", 100.0)).op(3, "WAIT")
+    run = run_code(p.code_object(), robot=planar3)
+    assert run.status == "ok", run.error
+    times = run.times[run.lines == 3]
+    assert len(times) == WAIT_SAMPLED_CYCLES + 1
+    np.testing.assert_allclose(np.diff(times[:WAIT_SAMPLED_CYCLES]), 0.01, atol=1e-9)
+    assert times[-1] == 100.0

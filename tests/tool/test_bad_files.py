@@ -6,7 +6,6 @@ import os
 import stat
 
 import pytest
-
 from irlc.cli import main
 from irlc.files import atomic_write_text, read_user_text
 from irlc.golden import ExpectationError, load_expectation, run_case

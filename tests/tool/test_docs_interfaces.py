@@ -1,7 +1,8 @@
 """docs/interfaces.md lists exactly the report keys and trace columns a run writes.
 
 The tables of its "Report" and "Trace" sections are parsed (first column: the backticked
-keys, ``NAME`` standing for a joint name and ``OBSTACLE`` for an obstacle name); a row
+keys, ``NAME`` standing for a joint name, ``OBSTACLE`` for an obstacle name, ``NUM`` for an
+input or output number and ``SIGNAL`` for a SIGNAL's name); a row
 ending in ``<!-- pending: … -->`` documents planned work and may be absent. A run with drives
 (so the drive keys and columns appear) must write every documented key and column, in the
 documented order for the trace, and nothing undocumented.
@@ -14,7 +15,6 @@ import re
 from pathlib import Path
 
 import pytest
-
 from irlc.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -24,6 +24,7 @@ PROGRAM = """PROGRAM s;
 ROBOT r := koch11;
 BEGIN
   MOVE LIN (11400, 1000, 3500, 0, 0, 0);
+  OUT[1] := TRUE;
   WRITELN('done');
 ENDPROGRAM
 """
@@ -91,6 +92,7 @@ def test_report_keys_are_the_documented_ones(run_files):
 def _pattern(doc_name: str, joints: list[str]) -> re.Pattern:
     name = "(?:" + "|".join(map(re.escape, joints)) + ")"
     text = re.escape(doc_name).replace("NAME", name).replace("OBSTACLE", r"\w+")
+    text = text.replace("NUM", r"\d+").replace("SIGNAL", r"\w+")
     return re.compile(text + r"\Z")
 
 
@@ -109,5 +111,6 @@ def test_trace_columns_are_the_documented_ones_in_order(run_files):
         row_of.append(found[0])
     assert row_of == sorted(row_of), "trace columns are not in the documented order"
     for i, (ks, pending) in enumerate(rows):
-        if not pending and not any("OBSTACLE" in k for k in ks):  # the run has no obstacle
+        optional = any(w in k for k in ks for w in ("OBSTACLE", "NUM", "SIGNAL"))
+        if not pending and not optional:
             assert i in row_of, f"documented trace columns {ks} are not written"

@@ -6,7 +6,6 @@ import json
 import math
 
 import numpy as np
-
 from irlc.export import run_data, sample_derivatives, write_trajectory
 
 from .tool_fixtures import AMPL, DT, FREQ, make_run

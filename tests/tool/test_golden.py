@@ -6,7 +6,6 @@ import json
 import math
 
 import pytest
-
 from irlc import golden
 from irlc.cli import main
 from irlc.golden import compare, nice_bound, reduce_report, run_case, run_golden
@@ -137,9 +136,8 @@ def test_failure_table_never_cuts_the_key():
     import io
     from pathlib import Path
 
-    from rich.console import Console
-
     from irlc.golden import CaseResult, Mismatch, render_results
+    from rich.console import Console
 
     key = "obstacles.a_long_obstacle_name.min_distance_mm"
     case = CaseResult(Path("cell.irl"), "fail", [Mismatch(key, 146.6, -77.8, "tolerance 0.1")])

@@ -9,14 +9,13 @@ import json
 import re
 
 import pytest
-from irlc.robots import load_robot
-from irlc.runtime.run import run_file
-
 from irlc.animate import animation_data
 from irlc.cli import main
 from irlc.export import run_data
 from irlc.plots import _axis_label
 from irlc.repl import Session
+from irlc.robots import load_robot
+from irlc.runtime.run import run_file
 
 PROGRAMS = {
     "mobile8": "MOVE PTP (100, 0, 0, -30, 60, 0, -30, 0);",

@@ -8,7 +8,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-
 from irlc.golden import find_programs, run_case
 
 PROGRAMS = Path(__file__).resolve().parents[2] / "programs"

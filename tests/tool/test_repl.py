@@ -7,7 +7,6 @@ import subprocess
 import sys
 
 import pytest
-
 from irlc.repl import (
     block_depth,
     classify,
@@ -269,3 +268,57 @@ def test_a_move_that_goes_nowhere_says_so():
     t = float(moved[0].split()[3])
     assert t > 0
     assert s.enter("MOVE LIN R_ACT_POSE").lines == [f"→ already there (t = {t:.3f} s)"]
+
+
+def test_the_input_ending_inside_a_block_names_the_block_and_its_line():
+    # It compiled the half block with the session's ENDPROGRAM: "<session>: unexpected
+    # 'ENDPROGRAM'", a line the user never typed and no line number.
+    script = "VAR REAL: x;\nx := 1;\nIF x > 0 THEN\n  WHILE x < 3 DO\n    x := x + 1;\n"
+    script += "  ENDWHILE;\n"
+    proc = _session(script)
+    assert proc.returncode == 1, proc.stderr
+    assert proc.stdout.strip() == (
+        "<stdin>:6: error: the input ends inside a block: IF on line 3 is not closed "
+        "(expected ENDIF)"
+    )
+    assert "ENDPROGRAM" not in proc.stdout + proc.stderr
+
+
+def test_unclosed_block_finds_the_innermost_open_block():
+    from irlc.repl import unclosed_block
+
+    assert unclosed_block("IF a THEN\n  WHILE b DO\n x := 'ENDWHILE';\n") == ("WHILE", 2)
+    assert unclosed_block("IF a THEN\n  WHILE b DO\n  ENDWHILE;\n") == ("IF", 1)
+    assert unclosed_block("IF a THEN x := 1; ENDIF;") is None
+
+
+@pytest.mark.skipif(not _compiler_available(), reason="compiler/runtime not installed")
+def test_the_session_survives_an_entry_that_escapes_the_interpreter(monkeypatch):
+    # A failure escaping the interpreter ended the whole session with exit 4 (state lost).
+    from irlc.repl import Session
+    from irlc.robots import RobotFileError
+    from irlc.runtime.interpreter import Interpreter
+
+    session = Session("planar3")
+    assert session.enter("VAR REAL: x;").failure == 0
+    assert session.enter("x := 41;").failure == 0
+    real_run = Interpreter.run
+    for exc, status in ((ZeroDivisionError("bug"), 4), (RobotFileError("f.toml", "k", "bad"), 3)):
+
+        def broken(self, *a, _exc=exc, **k):
+            raise _exc
+
+        monkeypatch.setattr(Interpreter, "run", broken)
+        result = session.enter("x := x + 1;", 5)
+        assert result.failure == status
+        assert result.lines[0].startswith("<stdin>:5: ")
+        monkeypatch.setattr(Interpreter, "run", real_run)
+    assert session.enter("WRITELN(x + 1);").lines == ["42.0"]  # the state survived
+
+
+@pytest.mark.skipif(not _compiler_available(), reason="compiler/runtime not installed")
+def test_a_scripted_session_goes_on_after_a_failing_line():
+    proc = _session("VAR REAL: x;\nx := 2;\nWAIT 1e308 SEC;\nWRITELN(x * 21);\n")
+    assert "internal error" not in proc.stdout + proc.stderr
+    assert proc.returncode in (2, 3), proc.stdout
+    assert proc.stdout.strip().splitlines()[-1] == "42.0"

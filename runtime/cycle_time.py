@@ -1,0 +1,102 @@
+"""Cycle time per statement: which statement used which span of simulated time.
+
+The controller logs one :class:`StatementSpan` for every statement that advances
+simulated time — a motion (``MOVE …``), ``RECONFIGURATION``, ``WAIT … SEC`` and
+``WAIT FOR`` (the latter two stand still) — from the time it started to the time it
+ended (its last IPO sample). Statements run one after the other on one clock, so the
+spans tile ``[0, duration]``: their durations sum to the run's duration (the start
+sample at t = 0 takes no time). A motion that ends in an exact stop is ``"exact"``; one
+that is blended into the next (approximate positioning) ``"approximated"``; a span
+cut short by a run failure ``"failed"``; WAITs have no stop (``None``).
+
+The report lists them under ``statements`` (docs/interfaces.md), with the statement's
+source line where the program's source file is at hand.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+# IRDATA motion kinds → how the statement is written (for runs without the source text)
+KIND_WORDS = {
+    "PTP": "MOVE PTP",
+    "LIN": "MOVE LIN",
+    "CIRCLE": "MOVE CIRCLE",
+    "LINPATH": "MOVE LIN PATH",
+    "PTPINC": "MOVE_INC PTP",
+    "LININC": "MOVE_INC LIN",
+}
+
+
+@dataclass(frozen=True)
+class StatementSpan:
+    """One statement's share of simulated time (s)."""
+
+    line: int
+    kind: str  # "MOVE LIN", …, "RECONFIGURATION", "WAIT"
+    start: float
+    end: float
+    stop: str | None  # "exact" | "approximated" | "failed" | None (no motion)
+    limit: str = ""  # what set the motion's time ("path speed/acceleration", "WITH TIME", …)
+    override: float | None = None  # R_OVERRIDE (%) the motion ran at; None for a WAIT
+
+    @property
+    def duration(self) -> float:
+        return self.end - self.start
+
+
+def motion_limit(limits: Sequence[str], fixed_time: bool) -> str:
+    """The binding limit of a motion from its segments' ``limiting`` (distinct, in order),
+    or ``"WITH TIME"`` when the statement fixed its time."""
+    if fixed_time:
+        return "WITH TIME"
+    return "; ".join(dict.fromkeys(s for s in limits if s))
+
+
+def source_lines(source: str, base_dir: str | Path | None) -> list[str]:
+    """The lines of the program's source file (``code.source``, an ``.irl`` file looked up
+    next to the program, else as given), or ``[]`` when it cannot be read."""
+    if not source or Path(source).suffix.lower() != ".irl":
+        return []
+    candidates = [Path(source)]
+    if base_dir is not None:
+        candidates.insert(0, Path(base_dir) / Path(source).name)
+    for path in candidates:
+        try:
+            return path.read_text(encoding="utf-8").splitlines()
+        except (OSError, UnicodeDecodeError):
+            continue
+    return []
+
+
+_TRAILING_COMMENT = re.compile(r"\s*(?:\{[^{}']*\}|\(\*(?:(?!\*\)).)*\*\)|//[^']*)\s*\Z")
+
+
+def code_text(line: str) -> str:
+    """A source line without its trailing comment (``{ … }``, ``(* … *)``, ``// …``)."""
+    return _TRAILING_COMMENT.sub("", line).strip()
+
+
+def statement_rows(spans: Sequence[StatementSpan], lines: Sequence[str], rnd) -> list[dict]:
+    """The report's ``statements``: one object per span (``rnd`` rounds the numbers; a
+    joint in ``limit`` is named by the pre-interpolator's naming, runtime/naming.py)."""
+    rows = []
+    for s in spans:
+        text = code_text(lines[s.line - 1]) if 0 < s.line <= len(lines) else ""
+        limit = s.limit
+        rows.append(
+            {
+                "line": s.line,
+                "statement": text or s.kind,
+                "kind": s.kind,
+                "start_s": rnd(s.start),
+                "duration_s": rnd(s.duration),
+                "stop": s.stop,
+                "limit": limit or None,
+                "override_percent": rnd(s.override),
+            }
+        )
+    return rows
