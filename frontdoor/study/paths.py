@@ -57,8 +57,8 @@ def check_run_value(key: str, value: Any) -> str | None:
     if key == "drives":
         ok = isinstance(value, str) and value in DRIVE_LEVELS
         return None if ok else f"expected one of {', '.join(DRIVE_LEVELS)}, got {value!r}"
-    if key == "ipo":
-        return setting_error("ipo", value)
+    if key in ("ipo", "override"):  # the settings table's ranges (R_IPO, R_OVERRIDE)
+        return setting_error(key, value)
     if key == "seed_config":
         ok = isinstance(value, list) and all(
             isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
@@ -72,6 +72,8 @@ def check_run_value(key: str, value: Any) -> str | None:
             _positive("path_tolerance", value, "mm")
         elif key == "orientation_tolerance":
             _positive("orientation_tolerance", value, "deg")
+        elif key == "max_time":
+            _positive("max_time", value, "seconds")
         else:
             return f"unknown run option; run.KEY is one of {', '.join(_run_keys())}"
     except RunSetupError as e:

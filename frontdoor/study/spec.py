@@ -14,6 +14,8 @@ Format (docs/studies.md)::
     orientation_tolerance = 0.01     # deg
     instruction_budget = 500000
     seed_config = [0, 90, -90]       # deg | mm
+    max_time = 60                    # s: the simulated-time budget
+    override = 100                   # %: R_OVERRIDE's start value
 
     [grid]                           # every combination of the listed values
     "robot.joints.10.weight" = [5.0, 20.0]
@@ -52,6 +54,8 @@ RUN_KEYS = (
     "orientation_tolerance",
     "instruction_budget",
     "seed_config",
+    "max_time",
+    "override",
 )
 OUTPUT_KEYS = ("reports", "traces")
 DISTRIBUTIONS = ("uniform", "normal")

@@ -136,6 +136,8 @@ BAD = [
     ('colour = 1\n[grid]\n"run.ipo" = [0.01]\n', "colour", "unknown key"),
     ('robot = "nosuch"\n[grid]\n"run.ipo" = [0.01]\n', "nosuch", "unknown robot"),
     ('[grid]\n"run.drives" = ["ideal", "decoupled"]\n', '"run.drives"', "no drive data"),
+    ('[grid]\n"run.override" = [50, 150]\n', '"run.override"', "[1, 100] %"),
+    ('[run]\nmax_time = 0\n[grid]\n"run.ipo" = [0.01]\n', "max_time", "positive"),
     ('[grid]\n"run.seed_config" = [[0, 90, -90], [1, 2]]\n', "seed_config", "has 3 joints"),
 ]
 
@@ -542,3 +544,15 @@ def test_drive_columns_are_the_drive_runs_report(tmp_path):
         unit = j["unit"]
         assert row[f"max_following_error_{j['name']}_{unit}"] == repr(j["max_following_error"])
     assert float(row["peak_current_a2_A"]) > 0
+
+
+@pytest.mark.scenario
+def test_the_speed_override_scales_the_motion_time(cell):
+    """R_OVERRIDE at 50 % halves every speed and quarters every acceleration: the motion
+    takes twice as long (time scaling, lang/settings.py's R_OVERRIDE)."""
+    path = write_study(cell, '[grid]\n"run.override" = [100, 50]\n')
+    full, half = run_study(path, out=cell / "o", workers=1).rows
+    assert full["status"] == half["status"] == "ok"
+    report = run_program(cell / "p3.irl", override=50).report
+    assert half["duration_s"] == repr(report["duration_s"])
+    assert float(half["duration_s"]) == pytest.approx(2 * float(full["duration_s"]), abs=0.02)
