@@ -301,9 +301,20 @@ def run_case(program: Path, update: bool = False, runner: Runner | None = None) 
     return CaseResult(program, status, mismatches, diff)
 
 
-def run_golden(directory: Path, update: bool = False, runner: Runner | None = None):
-    """All cases of ``directory`` (``*.irl``, sorted by name)."""
-    return [run_case(p, update, runner) for p in find_programs(directory)]
+def run_golden(directory: Path, update: bool = False, runner: Runner | None = None, jobs: int = 1):
+    """All cases of ``directory`` (``*.irl``, sorted by name); ``jobs`` > 1 runs them on
+    that many local processes (the default runner only; same results, same order)."""
+    programs = find_programs(directory)
+    if jobs <= 1 or runner is not None or len(programs) < 2:
+        return [run_case(p, update, runner) for p in programs]
+    from functools import partial
+
+    from irlc.study.runner import ordered_map
+
+    def crashed(program: Path) -> CaseResult:
+        return CaseResult(program, "error", message="the worker process died running it")
+
+    return ordered_map(partial(run_case, update=update), programs, jobs, crashed)
 
 
 # --------------------------------------------------------------------------- running

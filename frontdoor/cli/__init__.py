@@ -16,7 +16,7 @@ import click
 import numpy as np
 
 # Command modules register themselves on `cli` when imported.
-from irlc.cli import lang_cmds, robot_cmds, run_cmds, tool_cmds  # noqa: F401
+from irlc.cli import lang_cmds, robot_cmds, run_cmds, study_cmds, tool_cmds  # noqa: F401
 from irlc.cli.app import cli
 from irlc.errors import EXIT_INTERNAL, EXIT_USAGE, UsageError
 

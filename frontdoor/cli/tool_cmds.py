@@ -14,7 +14,11 @@ EXIT_TEST_FAILED = 1  # some golden test failed (like pytest); 3 for usage error
 @cli.command("test")
 @click.argument("directory", required=False, default=".", type=click.Path(path_type=Path))
 @click.option("--update", is_flag=True, help="Rewrite NAME.expected.json / .txt from this run.")
-def test_cmd(directory: Path, update: bool) -> int:
+@click.option(
+    "-j", "--jobs", type=click.IntRange(min=1), default=1, show_default=True,
+    help="Programs run at once on local processes (results in the same order).",
+)  # fmt: skip
+def test_cmd(directory: Path, update: bool, jobs: int) -> int:
     """Run every NAME.irl in DIRECTORY against NAME.expected.json (+ .expected.txt).
 
     Exit status: 0 all passed (or updated), 1 some failed or have no expectation,
@@ -27,7 +31,7 @@ def test_cmd(directory: Path, update: bool) -> int:
         raise UsageError(f"{directory}: no such directory")
     if not find_programs(directory):
         raise UsageError(f"{directory}: no *.irl programs")
-    results = run_golden(directory, update=update)
+    results = run_golden(directory, update=update, jobs=jobs)
     render_results(results, Console(highlight=False))
     return EXIT_OK if all(r.ok for r in results) else EXIT_TEST_FAILED
 

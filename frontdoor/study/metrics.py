@@ -1,0 +1,122 @@
+"""The columns of ``results.csv`` and one row from a run's report (program units).
+
+Columns, in this order (docs/studies.md, docs/interfaces.md):
+
+* ``variant`` (0-based, the study's order), then one column per varied key (its dotted
+  path; a list value as JSON text);
+* ``status`` — ``ok`` | ``failed`` (run failure) | ``compile_error`` | ``setup_error``
+  (robot, data, option) | ``internal_error`` | ``crashed`` (the worker process died);
+  ``exit_code`` as ``irlc run`` would give (0 … 4; empty when crashed);
+  ``error``, ``error_line``, ``error_time_s``;
+* ``duration_s``, ``samples``, ``max_path_error_mm``, ``max_orientation_error_deg``,
+  ``ik_relaxed_cycles``; ``min_clearance_<obstacle>_mm`` per obstacle of the program;
+* ``active_bounds`` — the bounds that became active, ``a10 position max; a11 speed min``
+  (joint order), and ``limit_active_s``, the report's per-joint active times summed over
+  the joints (two joints on a bound for 1 s count 2 s);
+* ``peak_speed_<j>_<u>_s`` and ``peak_accel_<j>_<u>_s2`` per joint (``u`` deg | mm);
+* with drives (when some variant simulates them): ``drives_could_follow``,
+  ``peak_current_<j>_A`` and ``max_following_error_<j>_<u>`` per joint.
+
+Values are the report's (rounded to 9 significant digits there), so the same variant gives
+the same bytes on any worker.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from typing import Any
+
+from irlc.study.plan import Plan
+
+STATUS_COLUMNS = ("status", "exit_code", "error", "error_line", "error_time_s")
+RUN_COLUMNS = (
+    "duration_s",
+    "samples",
+    "max_path_error_mm",
+    "max_orientation_error_deg",
+    "ik_relaxed_cycles",
+)
+
+
+def columns(plan: Plan) -> list[str]:
+    cols = ["variant", *plan.keys, *STATUS_COLUMNS, *RUN_COLUMNS]
+    cols += [f"min_clearance_{o}_mm" for o in plan.obstacles]
+    cols += ["active_bounds", "limit_active_s"]
+    cols += [f"peak_speed_{j}_{u}_s" for j, u in plan.joints]
+    cols += [f"peak_accel_{j}_{u}_s2" for j, u in plan.joints]
+    if plan.drives:
+        cols += ["drives_could_follow"]
+        cols += [f"peak_current_{j}_A" for j, _ in plan.joints]
+        cols += [f"max_following_error_{j}_{u}" for j, u in plan.joints]
+    return cols
+
+
+def cell(value: Any) -> str:
+    """The CSV text of a value: ``repr`` of a float (exact, shortest), JSON of a list."""
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return repr(value + 0.0) if math.isfinite(value) else ""
+    if isinstance(value, list | tuple):
+        return json.dumps(list(value))
+    return " | ".join(str(value).splitlines())  # one line per row
+
+
+def parameter_cells(plan: Plan, index: int, values: tuple) -> dict[str, str]:
+    return {"variant": str(index), **{k: cell(v) for k, v in zip(plan.keys, values, strict=True)}}
+
+
+def report_cells(plan: Plan, report: dict) -> dict[str, str]:
+    """The metrics of a finished run (ok or failed) from its report."""
+    error = report.get("error") or {}
+    row: dict[str, Any] = {
+        "status": report["status"],
+        "exit_code": 0 if report["status"] == "ok" else 2,
+        "error": error.get("message"),
+        "error_line": error.get("line"),
+        "error_time_s": error.get("time_s"),
+        "duration_s": report.get("duration_s"),
+        "samples": report.get("samples"),
+        "max_path_error_mm": report.get("max_path_error_mm"),
+        "max_orientation_error_deg": report.get("max_orientation_error_deg"),
+        "ik_relaxed_cycles": (report.get("ik") or {}).get("relaxed_cycles"),
+    }
+    obstacles = report.get("obstacles") or {}
+    for o in plan.obstacles:
+        row[f"min_clearance_{o}_mm"] = (obstacles.get(o) or {}).get("min_distance_mm")
+    joints = report.get("joints") or []
+    bounds = [
+        f"{j['name']} {label}" for j in joints for label in sorted(j.get("limit_activity") or {})
+    ]
+    row["active_bounds"] = "; ".join(bounds)
+    row["limit_active_s"] = _round(sum(j.get("limit_active_s") or 0.0 for j in joints))
+    for (name, unit), j in zip(plan.joints, joints, strict=False):
+        row[f"peak_speed_{name}_{unit}_s"] = j.get("max_abs_speed")
+        row[f"peak_accel_{name}_{unit}_s2"] = j.get("max_abs_accel")
+    drives = report.get("drives_summary")
+    if plan.drives and drives:
+        row["drives_could_follow"] = drives.get("could_follow")
+        for (name, _), axis in zip(plan.joints, drives.get("axes") or [], strict=False):
+            row[f"peak_current_{name}_A"] = axis.get("peak_current_A")
+        for (name, unit), j in zip(plan.joints, joints, strict=False):
+            row[f"max_following_error_{name}_{unit}"] = j.get("max_following_error")
+    return {k: cell(v) for k, v in row.items()}
+
+
+def error_cells(status: str, exit_code: int | None, message: str, line: int | None) -> dict:
+    """A variant that did not run to a report (compile, setup, internal error, crash)."""
+    return {
+        "status": status,
+        "exit_code": cell(exit_code),
+        "error": cell(message),
+        "error_line": cell(line),
+    }
+
+
+def _round(x: float) -> float:
+    from irlc.runtime.results import rnd
+
+    return rnd(x) or 0.0

@@ -1,0 +1,323 @@
+"""The study file (``STUDY.toml``): what to run and what to vary. Read and checked here.
+
+Format (docs/studies.md)::
+
+    program = "../square.irl"        # relative to the study file (required)
+    robot = "koch11"                 # optional: overrides the program's ROBOT clause
+    datalist_path = ["cells"]        # optional: folders IMPORT DATALIST searches
+    name = "w10"                     # optional: shown in the summary
+
+    [run]                            # optional: options of every variant (as `irlc run`)
+    ipo = 0.01                       # s
+    drives = "ideal"                 # ideal | decoupled | coupled | pwm
+    path_tolerance = 0.05            # mm
+    orientation_tolerance = 0.01     # deg
+    instruction_budget = 500000
+    seed_config = [0, 90, -90]       # deg | mm
+    max_time = 60                    # s: the simulated-time budget
+    override = 100                   # %: R_OVERRIDE's start value
+
+    [grid]                           # every combination of the listed values
+    "robot.joints.10.weight" = [5.0, 20.0]
+
+    [random]                         # n samples drawn with seed (numpy PCG64)
+    n = 100
+    seed = 1
+    "datalist.cell.obstacles.post.center.1" = { uniform = [900, 1100] }
+    "robot.inertials.3.mass" = { normal = [700, 35] }
+
+Keys of ``[grid]`` and ``[random]`` may be written quoted (one key with dots) or as TOML
+dotted keys; both name the same path (:mod:`irlc.study.paths`). With both tables the
+variants are every grid point crossed with every random sample, grid-major.
+
+Every problem raises :class:`StudyError` naming the study file and the line of the key
+(``tomllib`` gives no positions, so the line is searched in the text: :func:`key_line`).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from irlc.errors import UsageError
+from irlc.files import read_user_text
+
+TOP_KEYS = ("program", "robot", "datalist_path", "name", "run", "grid", "random", "output")
+RUN_KEYS = (
+    "ipo",
+    "drives",
+    "path_tolerance",
+    "orientation_tolerance",
+    "instruction_budget",
+    "seed_config",
+    "max_time",
+    "override",
+)
+OUTPUT_KEYS = ("reports", "traces")
+DISTRIBUTIONS = ("uniform", "normal")
+MAX_VARIANTS = 10_000_000  # a guard against a typo such as n = 1e9
+
+
+class StudyError(UsageError):
+    """A bad study file (exit 3): ``FILE:LINE: key: message``."""
+
+    def __init__(self, file: str, line: int | None, key: str, message: str):
+        self.file, self.line, self.key, self.message = file, line, key, message
+        where = f"{file}:{line}" if line else file
+        super().__init__(f"{where}: {key}: {message}" if key else f"{where}: {message}")
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One varied parameter: its dotted path and how its values come about."""
+
+    key: str  # e.g. "robot.joints.10.weight"
+    section: str  # "grid" | "random"
+    values: tuple = ()  # grid: the listed values
+    distribution: str = ""  # random: "uniform" | "normal"
+    params: tuple[float, float] = (0.0, 0.0)  # (a, b) or (mu, sigma)
+
+
+@dataclass
+class Study:
+    file: Path
+    text: str
+    program: Path
+    robot: str | None = None
+    datalist_path: tuple[Path, ...] = ()
+    name: str = ""
+    run: dict[str, Any] = field(default_factory=dict)
+    grid: list[Axis] = field(default_factory=list)
+    random: list[Axis] = field(default_factory=list)
+    n: int = 0
+    seed: int = 0
+    reports: bool = False  # [output] reports: DIR/variants/variant_NNNNNNN.report.json
+    traces: bool = False  # [output] traces: DIR/variants/variant_NNNNNNN.trace.csv
+
+    @property
+    def axes(self) -> list[Axis]:
+        return [*self.grid, *self.random]
+
+    @property
+    def keys(self) -> list[str]:
+        return [a.key for a in self.axes]
+
+    def line(self, key: str) -> int | None:
+        return key_line(self.text, key)
+
+    def error(self, key: str, message: str, section: str | None = None) -> StudyError:
+        full = ".".join(p for p in (section, key) if p)
+        return StudyError(str(self.file), self.line(full), full, message)
+
+
+# --------------------------------------------------------------------------- line search
+
+_HEADER = re.compile(r"^\s*\[\s*([^\[\]]+?)\s*\]\s*(#.*)?$")
+_ASSIGN = re.compile(
+    r"^\s*((?:\"[^\"]*\"|'[^']*'|[A-Za-z0-9_\-]+)(?:\s*\.\s*(?:\"[^\"]*\"|'[^']*'|[A-Za-z0-9_\-]+))*)\s*="
+)
+
+
+def _norm(key_text: str) -> str:
+    """A TOML key as written (``a . "b.c"``) → the dotted path ``a.b.c``."""
+    parts = re.findall(r"\"([^\"]*)\"|'([^']*)'|([A-Za-z0-9_\-]+)", key_text)
+    return ".".join(next(p for p in groups if p) if any(groups) else "" for groups in parts)
+
+
+def key_line(text: str, key: str) -> int | None:
+    """The 1-based line of ``key`` (a dotted path such as ``grid.robot.joints.10.weight``)
+    in the TOML ``text``: the line whose table header plus assigned key equals it, else the
+    line of the longest such prefix (a table that holds it), else ``None``."""
+    best: tuple[int, int] | None = None  # (matched length, line)
+    table = ""
+    for no, raw in enumerate(text.splitlines(), start=1):
+        m = _HEADER.match(raw)
+        if m:
+            table = _norm(m.group(1))
+            path = table
+        else:
+            m = _ASSIGN.match(raw)
+            if not m:
+                continue
+            path = f"{table}.{_norm(m.group(1))}" if table else _norm(m.group(1))
+        if path == key:
+            return no
+        if key.startswith(path + ".") and (best is None or len(path) > best[0]):
+            best = (len(path), no)
+    return best[1] if best else None
+
+
+# --------------------------------------------------------------------------- reading
+
+
+def read_study(path: str | Path) -> Study:
+    """Parse and check the study file's own structure (not yet the values' meaning: that
+    needs the program and the robot, :func:`irlc.study.validate.validate`)."""
+    path = Path(path)
+    text = read_user_text(path, lambda f, reason: StudyError(f, None, "", reason))
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        m = re.search(r"\(at line (\d+), column (\d+)\)", str(e))
+        msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(e))
+        raise StudyError(
+            str(path), int(m.group(1)) if m else None, "", f"invalid TOML: {msg}"
+        ) from None
+    study = Study(file=path, text=text, program=Path())
+    for key in doc:
+        if key not in TOP_KEYS:
+            raise study.error(key, f"unknown key; a study file has {', '.join(TOP_KEYS)}")
+    _read_top(study, doc)
+    study.run = _read_run(study, doc.get("run", {}))
+    if "grid" in doc:
+        study.grid = _read_grid(study, _table(study, doc["grid"], "grid"))
+    if "random" in doc:
+        _read_random(study, _table(study, doc["random"], "random"))
+    if not study.axes:
+        raise study.error("", "nothing varies: add a [grid] or a [random] table")
+    dup = _duplicate([a.key for a in study.axes])
+    if dup:
+        raise study.error(dup, "varied both in [grid] and in [random]", "random")
+    if count_variants(study) > MAX_VARIANTS:
+        raise study.error("", f"{count_variants(study)} variants; at most {MAX_VARIANTS}")
+    return study
+
+
+def count_variants(study: Study) -> int:
+    grid = math.prod(len(a.values) for a in study.grid) if study.grid else 1
+    return grid * (study.n if study.random else 1)
+
+
+def _duplicate(keys: list[str]) -> str | None:
+    seen: set[str] = set()
+    for k in keys:
+        if k in seen:
+            return k
+        seen.add(k)
+    return None
+
+
+def _table(study: Study, value: Any, key: str) -> dict:
+    if not isinstance(value, dict):
+        raise study.error(key, f"expected a table [{key}], got {_show(value)}")
+    return value
+
+
+def _show(v: Any) -> str:
+    text = repr(v)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _read_top(study: Study, doc: dict) -> None:
+    program = doc.get("program")
+    if not isinstance(program, str) or not program:
+        raise study.error("program", "required: the program's path, relative to the study file")
+    study.program = (study.file.parent / program).resolve()
+    if not study.program.is_file():
+        raise study.error("program", f"{program}: no such file (relative to the study file)")
+    robot = doc.get("robot")
+    if robot is not None and (not isinstance(robot, str) or not robot):
+        raise study.error("robot", f"expected a robot name or file, got {_show(robot)}")
+    from irlc.robots import is_robot_path
+
+    if robot is not None and is_robot_path(robot):  # a file: relative to the study file
+        robot = str((study.file.parent / robot).resolve())
+    study.robot = robot
+    dl = doc.get("datalist_path", [])
+    if not isinstance(dl, list) or not all(isinstance(p, str) for p in dl):
+        raise study.error("datalist_path", f"expected a list of folders, got {_show(dl)}")
+    study.datalist_path = tuple((study.file.parent / p).resolve() for p in dl)
+    name = doc.get("name", study.file.stem)
+    if not isinstance(name, str):
+        raise study.error("name", f"expected a string, got {_show(name)}")
+    study.name = name
+    out = _table(study, doc.get("output", {}), "output")
+    for k in out:
+        if k not in OUTPUT_KEYS:
+            raise study.error(k, f"unknown key; [output] has {', '.join(OUTPUT_KEYS)}", "output")
+    for k in OUTPUT_KEYS:
+        if not isinstance(out.get(k, False), bool):
+            raise study.error(k, "expected true or false", "output")
+    study.reports = bool(out.get("reports", False))
+    study.traces = bool(out.get("traces", False))
+
+
+def _read_run(study: Study, value: Any) -> dict:
+    from irlc.study.paths import check_run_value
+
+    run = _table(study, value, "run")
+    for k, v in run.items():
+        if k not in RUN_KEYS:
+            raise study.error(k, f"unknown key; [run] has {', '.join(RUN_KEYS)}", "run")
+        problem = check_run_value(k, v)
+        if problem:
+            raise study.error(k, problem, "run")
+    return dict(run)
+
+
+def flatten(table: dict, prefix: str = "") -> list[tuple[str, Any]]:
+    """``{"robot": {"joints": {"10": {"weight": [...]}}}}`` → ``[("robot.joints.10.weight",
+    [...])]``; a table that names a distribution (``{uniform = [a, b]}``) is a leaf."""
+    out: list[tuple[str, Any]] = []
+    for k, v in table.items():
+        key = f"{prefix}.{k}" if prefix else k
+        if isinstance(v, dict) and not (set(v) & set(DISTRIBUTIONS)):
+            out += flatten(v, key)
+        else:
+            out.append((key, v))
+    return out
+
+
+def _read_grid(study: Study, table: dict) -> list[Axis]:
+    axes = []
+    for key, values in flatten(table):
+        if not isinstance(values, list) or not values:
+            raise study.error(
+                key, f"expected a non-empty list of values, got {_show(values)}", "grid"
+            )
+        axes.append(Axis(key, "grid", values=tuple(values)))
+    return axes
+
+
+def _read_random(study: Study, table: dict) -> None:
+    for k in ("n", "seed"):
+        v = table.get(k)
+        if isinstance(v, bool) or not isinstance(v, int):
+            raise study.error(k, f"required: a whole number, got {_show(v)}", "random")
+    if table["n"] < 1:
+        raise study.error("n", f"must be at least 1, got {table['n']}", "random")
+    if table["seed"] < 0:
+        raise study.error("seed", f"must be 0 or more, got {table['seed']}", "random")
+    study.n, study.seed = table["n"], table["seed"]
+    rest = {k: v for k, v in table.items() if k not in ("n", "seed")}
+    for key, spec in flatten(rest):
+        study.random.append(_distribution(study, key, spec))
+    if not study.random:
+        raise study.error("", "[random] names no key to vary", "random")
+
+
+def _distribution(study: Study, key: str, spec: Any) -> Axis:
+    expected = "{ uniform = [a, b] } or { normal = [mu, sigma] }"
+    if not isinstance(spec, dict) or len(spec) != 1 or next(iter(spec)) not in DISTRIBUTIONS:
+        raise study.error(key, f"expected {expected}, got {_show(spec)}", "random")
+    dist, params = next(iter(spec.items()))
+    ok = (
+        isinstance(params, list)
+        and len(params) == 2
+        and all(isinstance(p, int | float) and not isinstance(p, bool) for p in params)
+        and all(math.isfinite(p) for p in params)
+    )
+    if not ok:
+        raise study.error(
+            key, f"{dist}: expected two finite numbers, got {_show(params)}", "random"
+        )
+    a, b = float(params[0]), float(params[1])
+    if dist == "uniform" and not a < b:
+        raise study.error(key, f"uniform = [a, b] needs a < b, got [{a:g}, {b:g}]", "random")
+    if dist == "normal" and not b > 0:
+        raise study.error(key, f"normal = [mu, sigma] needs sigma > 0, got {b:g}", "random")
+    return Axis(key, "random", distribution=dist, params=(a, b))
