@@ -69,10 +69,6 @@ class ApproximatePositioning:
             last = self.statements[-1]
             self.statements[-1] = dataclasses.replace(last, end=self._t, stop="exact")
 
-    def finish(self) -> None:
-        """The end of the program: the last point is reached exactly."""
-        self.flush("the program ends")
-
     def _approx(self, cmd: MotionCommand, settings: Settings) -> float:
         """The statement's blend distance (m): WITH APPROX, else R_APPROX."""
         value = cmd.approx if cmd.approx is not None else settings.approx
