@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from irlc.lang.errors import IrlcError
+
 EXIT_OK = 0
 EXIT_COMPILE = 1  # the program does not compile
 EXIT_RUN = 2  # compiled, but failed at run time
@@ -9,5 +11,5 @@ EXIT_USAGE = 3  # usage or environment error (missing file, unknown robot, bad o
 EXIT_INTERNAL = 4  # a bug in irlc
 
 
-class UsageError(Exception):
+class UsageError(IrlcError):
     """Bad command-line usage or environment (exit code 3)."""

@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from irlc.files import atomic_write_text, read_user_text
+from irlc.lang.errors import IrlcError
 
 GOLDEN_FORMAT = "irlc-golden 1"
 USER_KEYS = ("options", "tolerances")  # kept as written by the user on --update
@@ -201,7 +202,7 @@ def _dump(doc: dict) -> str:
     return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
 
 
-class ExpectationError(ValueError):
+class ExpectationError(IrlcError, ValueError):
     """An expected file cannot be used: ``FILE: key 'K': reason``."""
 
 

@@ -26,15 +26,16 @@ from typing import Any
 
 import numpy as np
 from irlc.files import atomic_write_text, read_user_text
+from irlc.lang.errors import IrlcError
 
 FLOAT_FORMAT = "%.10g"
 
 
-class NonFiniteError(ValueError):
+class NonFiniteError(IrlcError, ValueError):
     """A NaN or infinity reached a report or trace (a bug: never written)."""
 
 
-class RunFileError(ValueError):
+class RunFileError(IrlcError, ValueError):
     """A report or trace file cannot be read back."""
 
 

@@ -25,13 +25,14 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from irlc.files import atomic_write_text
+from irlc.lang.errors import IrlcError
 
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 JOINTS_SUFFIX = "_joints"
 NEW_FILE = "# Data list written by irlc :teach — poses mm, deg (ZYX); joints deg | mm\n"
 
 
-class TeachError(Exception):
+class TeachError(IrlcError):
     """The pose cannot be stored (bad name, unreadable or unsuitable file)."""
 
 

@@ -12,6 +12,8 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from irlc.lang.errors import IrlcError
+
 
 @dataclass(frozen=True, order=True)
 class Span:
@@ -75,7 +77,7 @@ def render(diag: Diagnostic, source: str | None = None) -> str:
     return "\n".join(out)
 
 
-class CompileError(Exception):
+class CompileError(IrlcError):
     """Raised at the API boundary when compilation produced errors."""
 
     def __init__(self, diagnostics: Iterable[Diagnostic]):

@@ -18,6 +18,7 @@ from importlib import resources
 import lark
 from irlc.lang import ast
 from irlc.lang.diagnostics import Diagnostic, Span
+from irlc.lang.errors import IrlcError
 from irlc.lang.irdata import parse_integer
 from irlc.lang.settings import approximation_hint
 from irlc.lang.types import INT_MAX
@@ -27,7 +28,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 _KEYWORD_RE = re.compile(r"[A-Z_]+")
 
 
-class _LexError(Exception):
+class _LexError(IrlcError):
     def __init__(self, span: Span, message: str, hint: str | None = None):
         super().__init__(message)
         self.span, self.message, self.hint = span, message, hint
@@ -510,7 +511,7 @@ def _token_hint(tok: Token, expected: set[str]) -> str | None:
 # ============================================================ tree → AST
 
 
-class _BuildError(Exception):
+class _BuildError(IrlcError):
     def __init__(self, span: Span, message: str, hint: str | None = None):
         super().__init__(message)
         self.span, self.message, self.hint = span, message, hint

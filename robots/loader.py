@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 from irlc.files import read_user_text
+from irlc.lang.errors import IrlcError
 from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
 
 ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
@@ -83,7 +84,7 @@ JOINT_KEYS = {
 TRANSFORM_KEYS = {"xyz", "zyx", "matrix", "assumed", "reason"}
 
 
-class RobotFileError(LookupError):
+class RobotFileError(IrlcError, LookupError):
     """A robot description file is malformed: ``FILE: key 'K': expected ..., got ...``.
 
     A ``LookupError``: the robot cannot be had, which is what the compiler's robot

@@ -43,10 +43,11 @@ against RNEA/CRBA in the tests.
 from __future__ import annotations
 
 import numpy as np
+from irlc.lang.errors import IrlcError
 from irlc.robots.model import RobotModel
 
 
-class MissingInertialData(ValueError):
+class MissingInertialData(IrlcError, ValueError):
     """The robot file has no ``[[inertials]]``: coupled dynamics cannot be simulated."""
 
 

@@ -19,6 +19,8 @@ decided from the solver's state, not from the last bound the relaxed step touche
 
 from __future__ import annotations
 
+from irlc.lang.errors import IrlcError
+
 CAUSES = (
     "unreachable",
     "singular",
@@ -31,7 +33,7 @@ CAUSES = (
 )
 
 
-class RunFailure(Exception):
+class RunFailure(IrlcError):
     """A failure of the simulated run, pointing at the program line and simulated time.
 
     ``constraint`` names what bound the solution when the failure is an infeasible

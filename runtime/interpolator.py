@@ -25,6 +25,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from irlc.lang.errors import IrlcError
 from irlc.runtime import spatial
 from irlc.runtime.profiles import Trapezoid
 from irlc.runtime.scurve import SCurve
@@ -129,7 +130,7 @@ def _pose(rows, x: float, y: float, z: float) -> np.ndarray:
     )
 
 
-class CircleError(ValueError):
+class CircleError(IrlcError, ValueError):
     """Start, via and target do not define a circle."""
 
 

@@ -47,6 +47,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from irlc.lang.digital_io import output_error, pulse_error
+from irlc.lang.errors import IrlcError
 from irlc.lang.irdata import JOINT_TUPLE_TYPES, Code, Routine, Slot, Target, Value
 from irlc.lang.settings import BY_WITH_WORD, SYSTEM_VARIABLES, reconfiguration_counts
 from irlc.runtime import builtins as B
@@ -135,12 +136,12 @@ class ExecutionResult:
         return self.error is None
 
 
-class _Finished(Exception):
+class _Finished(IrlcError):
     def __init__(self, status: str):
         self.status = status
 
 
-class _ControllerError(Exception):
+class _ControllerError(IrlcError):
     """A non-RunFailure exception raised by the controller: re-raised unchanged."""
 
     def __init__(self, original: BaseException):

@@ -29,9 +29,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from irlc.lang.errors import IrlcError
 
 
-class ProfileError(ValueError):
+class ProfileError(IrlcError, ValueError):
     """A requested profile is impossible (time shorter than the limits allow, bad bounds)."""
 
 

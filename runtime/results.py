@@ -25,6 +25,7 @@ import os
 from typing import Any
 
 import numpy as np
+from irlc.lang.errors import IrlcError
 from irlc.runtime import units
 from irlc.runtime.cycle_time import source_lines, statement_rows
 from irlc.runtime.digital_io import io_columns, signal_timelines
@@ -132,7 +133,7 @@ def measure_actual(model, rec, controller, obstacles, times, q):
 # --------------------------------------------------------------------------- drives
 
 
-class DriveSetupError(Exception):
+class DriveSetupError(IrlcError):
     """Drives requested but not available (module missing, robot without drive data)."""
 
 

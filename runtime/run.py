@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 from irlc.files import read_user_text
+from irlc.lang.errors import IrlcError
 from irlc.lang.irdata import Code
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
@@ -38,7 +39,7 @@ from irlc.runtime.recorder import RecordedRun
 DRIVE_LEVELS = ("ideal", "decoupled", "coupled", "pwm")
 
 
-class RunSetupError(Exception):
+class RunSetupError(IrlcError):
     """The run cannot start: unknown robot, mismatching code, bad options (exit 3)."""
 
 

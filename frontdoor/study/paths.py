@@ -26,12 +26,14 @@ import math
 import re
 from typing import Any
 
+from irlc.lang.errors import IrlcError
+
 TARGETS = ("run", "robot", "datalist")
 POSE = ("x", "y", "z", "a", "b", "c")  # a pose's components, in order
 _A_N = re.compile(r"[aA][1-9][0-9]*")  # a program joint name aN
 
 
-class PathError(ValueError):
+class PathError(IrlcError, ValueError):
     """The path does not name a value of its document (the message says why)."""
 
 

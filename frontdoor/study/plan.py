@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from irlc.lang.errors import IrlcError
 from irlc.lang.irdata import Code
 from irlc.study import paths
 from irlc.study.expand import axis_values
@@ -218,7 +219,7 @@ def check_value(plan: Plan, key: str, value: Any) -> str | None:
         return str(e)
 
 
-class VariantSetupError(Exception):
+class VariantSetupError(IrlcError):
     """A value does not fit its document (a robot-file or data-list message)."""
 
 

@@ -28,6 +28,7 @@ from collections.abc import Callable, Iterable
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 
+from irlc.lang.errors import IrlcError
 from irlc.study import metrics
 from irlc.study.expand import Variant
 from irlc.study.plan import Plan
@@ -139,7 +140,7 @@ def _run_alone(plan: Plan, variant: Variant) -> dict[str, str]:
 # --------------------------------------------------------------------------- dask
 
 
-class ClusterError(Exception):
+class ClusterError(IrlcError):
     """No Dask, or the scheduler cannot be reached (exit 3)."""
 
 

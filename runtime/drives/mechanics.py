@@ -20,12 +20,13 @@ Integration (in the caller): semi-implicit Euler ``q̇ += h q̈; q += h q̇`` (s
 from __future__ import annotations
 
 import numpy as np
+from irlc.lang.errors import IrlcError
 from irlc.robots.model import RobotModel
 from irlc.runtime.drives import friction
 from irlc.runtime.dynamics import Dynamics
 
 
-class NoInertialData(ValueError):
+class NoInertialData(IrlcError, ValueError):
     pass
 
 

@@ -20,6 +20,7 @@ that settling is seen.
 from __future__ import annotations
 
 import numpy as np
+from irlc.lang.errors import IrlcError
 from irlc.robots.model import RobotModel
 from irlc.runtime.drives import friction as fr
 from irlc.runtime.drives import setpoint, stepsize
@@ -36,7 +37,7 @@ LEVELS = ("ideal", "decoupled", "coupled", "pwm")
 STEP_CAP = 1e-3  # the largest default step (s) of the averaged levels
 
 
-class DriveInputError(ValueError):
+class DriveInputError(IrlcError, ValueError):
     """Bad arguments to :func:`simulate_drives` (shape, level, NaN, times)."""
 
 

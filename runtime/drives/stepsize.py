@@ -22,6 +22,7 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
+from irlc.lang.errors import IrlcError
 from irlc.runtime.drives.params import DcDrives, StepperDrives
 
 
@@ -29,7 +30,7 @@ class StepSizeWarning(UserWarning):
     pass
 
 
-class StepSizeError(ValueError):
+class StepSizeError(IrlcError, ValueError):
     pass
 
 

@@ -1,0 +1,15 @@
+"""The one base class of every exception irlc defines.
+
+``except IrlcError`` catches any failure the project raises on purpose — a compile error,
+a run failure, a bad robot file, a usage error — and nothing else (a bug in irlc raises
+a built-in exception, exit code 4). Each subclass keeps its other bases (``ValueError``,
+``LookupError`` …) where callers catch it by them. It lives in the front end, the one
+package that lang, runtime, robots and the front door all import without a cycle (lang
+imports none of the others).
+"""
+
+from __future__ import annotations
+
+
+class IrlcError(Exception):
+    """Base of all irlc exceptions (see the module docstring)."""
