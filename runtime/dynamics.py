@@ -48,7 +48,9 @@ from irlc.robots.model import RobotModel
 
 
 class MissingInertialData(IrlcError, ValueError):
-    """The robot file has no ``[[inertials]]``: coupled dynamics cannot be simulated."""
+    """The robot has no inertial data the simulation needs: no ``[[inertials]]`` for the
+    coupled dynamics, neither inertials nor ``[drives] load_inertia`` for decoupled drives,
+    or a joint with no inertia at all (no link mass and no rotor)."""
 
 
 _C1 = np.array([1, 2, 0])

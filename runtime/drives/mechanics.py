@@ -20,14 +20,9 @@ Integration (in the caller): semi-implicit Euler ``q̇ += h q̈; q += h q̇`` (s
 from __future__ import annotations
 
 import numpy as np
-from irlc.lang.errors import IrlcError
 from irlc.robots.model import RobotModel
 from irlc.runtime.drives import friction
-from irlc.runtime.dynamics import Dynamics
-
-
-class NoInertialData(IrlcError, ValueError):
-    pass
+from irlc.runtime.dynamics import Dynamics, MissingInertialData
 
 
 class Mechanics:
@@ -50,12 +45,12 @@ class Mechanics:
         self.dyn = Dynamics(model, rotor_inertia=rotor) if model.inertials else None
         if self.dyn is None:
             if self.coupled:
-                raise NoInertialData(
+                raise MissingInertialData(
                     f"robot {model.name} has no inertial data; --drives "
                     f"{level} needs it ([[inertials]] in the robot file)"
                 )
             if load_inertia is None:
-                raise NoInertialData(
+                raise MissingInertialData(
                     f"robot {model.name} has no inertial data; --drives "
                     "decoupled needs it or [drives] load_inertia"
                 )
@@ -72,7 +67,7 @@ class Mechanics:
             self.decoupled = kmat.T @ (motor[:, None] * kmat)
         if np.any(self.diag <= 0.0):
             j = int(np.flatnonzero(self.diag <= 0.0)[0])
-            raise NoInertialData(
+            raise MissingInertialData(
                 f"robot {model.name}: joint {model.joints[j].name} has no "
                 "inertia (no link mass and no rotor): cannot simulate it"
             )

@@ -12,7 +12,7 @@ from irlc.runtime.drives import (
     simulate_drives,
     trace_columns,
 )
-from irlc.runtime.drives.mechanics import NoInertialData
+from irlc.runtime.dynamics import MissingInertialData
 
 from .drive_models import dc_drives, planar
 
@@ -94,7 +94,8 @@ def test_bad_input_is_a_clear_error():
         simulate_drives(model, TIMES, PROF[:, None, None], level="decoupled")
     bare = planar(1, drives=dc_drives(1))
     bare = type(bare)(bare.name, bare.joints, extra=bare.extra)
-    with pytest.raises(NoInertialData, match="has no inertial data; --drives coupled needs it"):
+    message = "has no inertial data; --drives coupled needs it"
+    with pytest.raises(MissingInertialData, match=message):
         simulate_drives(bare, TIMES, PROF[:, None], level="coupled")
 
 
@@ -118,7 +119,8 @@ def test_decoupled_without_inertials_needs_load_inertia():
     drives = dc_drives(1, 30.0)
     model = planar(1, drives=drives)
     bare = type(model)(model.name, model.joints, extra=model.extra, source="<bare>")
-    with pytest.raises(NoInertialData, match="decoupled needs it or \\[drives\\] load_inertia"):
+    message = "decoupled needs it or \\[drives\\] load_inertia"
+    with pytest.raises(MissingInertialData, match=message):
         simulate_drives(bare, TIMES, (0.1 * PROF)[:, None], level="decoupled")
     drives = dict(drives, load_inertia=0.5)
     bare = type(model)(model.name, model.joints, extra={"drives": drives}, source="<bare>")
