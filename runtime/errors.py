@@ -68,3 +68,8 @@ class RunFailure(IrlcError):
             out["cause"] = self.cause
         out.update(self.details)
         return out
+
+
+class DriveSetupError(IrlcError):
+    """Drives requested but not available (module missing, robot without drive data):
+    a usage error (exit code 3), raised before the drive simulation runs."""

@@ -25,11 +25,10 @@ import os
 from typing import Any
 
 import numpy as np
-from irlc.lang.errors import IrlcError
 from irlc.runtime import units
 from irlc.runtime.cycle_time import source_lines, statement_rows
 from irlc.runtime.digital_io import io_columns, signal_timelines
-from irlc.runtime.errors import RunFailure
+from irlc.runtime.errors import DriveSetupError, RunFailure
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.recorder import RecordedRun, backward_jerk, finite_differences
 
@@ -131,10 +130,6 @@ def measure_actual(model, rec, controller, obstacles, times, q):
 
 
 # --------------------------------------------------------------------------- drives
-
-
-class DriveSetupError(IrlcError):
-    """Drives requested but not available (module missing, robot without drive data)."""
 
 
 def drive_data(model):

@@ -223,7 +223,7 @@ def _run(program, robot, datalist_path, options, seed, every_step, show_progress
     """Compile and run; returns the RunResult, or an exit code after printing the error."""
     from irlc.lang.diagnostics import CompileError
     from irlc.robots import RobotFileError
-    from irlc.runtime.results import DriveSetupError
+    from irlc.runtime.errors import DriveSetupError
     from irlc.runtime.run import RunSetupError, run_file
 
     progress, stop = _progress(show_progress)

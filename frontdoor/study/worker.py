@@ -60,7 +60,7 @@ def run_variant(plan: Plan, index: int, values: tuple) -> dict[str, str]:
     """One row of results.csv for variant ``index`` (see :mod:`irlc.study.metrics`)."""
     from irlc.lang.diagnostics import CompileError
     from irlc.robots import RobotFileError
-    from irlc.runtime.results import DriveSetupError
+    from irlc.runtime.errors import DriveSetupError
     from irlc.runtime.run import RunSetupError, run_code
 
     row = metrics.parameter_cells(plan, index, values)

@@ -15,12 +15,12 @@ from irlc.runtime.ik.limits import LimitViolation, LimitViolationError, intersec
 from irlc.runtime.ik.newton import IKFailure, InverseTransformation
 from irlc.runtime.ik.params import (
     CycleOptions,
-    CycleResult,
     IKParams,
     ObstacleParams,
     task_rows_for,
 )
 from irlc.runtime.ik.pose import PoseSolution, solve_pose
+from irlc.runtime.ik.result import CycleResult
 from irlc.runtime.ik.self_motion import reconfiguration_done
 
 __all__ = [

@@ -41,8 +41,9 @@ from irlc.runtime.ik.freeze import FreezeError, FrozenJoints
 from irlc.runtime.ik.limits import JointBox, active_codes
 from irlc.runtime.ik.newton_step import NewtonStep, StepOutcome
 from irlc.runtime.ik.obstacle import obstacle_terms
-from irlc.runtime.ik.params import CycleOptions, CycleResult, IKParams
+from irlc.runtime.ik.params import CycleOptions, IKParams
 from irlc.runtime.ik.qp import make_solver
+from irlc.runtime.ik.result import CycleResult
 from irlc.runtime.ik.state import IterationState
 from irlc.runtime.ik.task_error import pose_error_list
 from irlc.runtime.ik.weighted import WeightedDisplacement
