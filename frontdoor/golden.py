@@ -33,7 +33,6 @@ QUANTA = {
     "max_following_error": 0.001,
     "min_distance_mm": 0.1,
 }
-EXACT_KEYS = ("format", "status", "error_line", "samples", "ik_relaxed_cycles", "output")
 BOUND_SUFFIX = "_below"  # "x_below": passes when actual x ≤ expected bound
 BOUND_FLOOR = 1e-3  # mm | deg: path errors below this are solver noise, not behaviour
 

@@ -25,8 +25,6 @@ from irlc.lang.types import INT_MAX
 from lark import Lark, Token, Transformer
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
-_KEYWORD_RE = re.compile(r"[A-Z_]+")
-
 
 class _LexError(IrlcError):
     def __init__(self, span: Span, message: str, hint: str | None = None):

@@ -81,7 +81,6 @@ ORIENTATION = Type("ORIENTATION")
 POSE = Type("POSE")
 SIGNAL = Type("SIGNAL")
 ERROR = Type("<error>")
-VOID = Type("<no value>")
 
 SIMPLE = {
     t.name: t for t in (INTEGER, REAL, BOOLEAN, CHAR, STRING, POSITION, ORIENTATION, POSE, SIGNAL)

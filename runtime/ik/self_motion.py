@@ -1,9 +1,10 @@
 """Self-motion RECONFIGURATION k (seed 4.2.3): move the joints towards ``k``, keep the TCP.
 
-The cost is the cyclic one with ``θ⁰ := k`` (``g = W(θ_k − k)``, ``H = W``), and in the
-*first* Newton iteration of every cycle the task residual is set to ``F := 0`` so the
-first step is a pure null-space motion; later iterations pull the TCP back onto the held
-pose (removing the linearisation error). The joint box keeps each cycle's change small.
+The cost is the cyclic one (:class:`~irlc.runtime.ik.cyclic.CyclicReference`) with
+``θ⁰ := k`` (``g = W(θ_k − k)``, ``H = W``), and in the *first* Newton iteration of every
+cycle the task residual is set to ``F := 0`` (in the Newton loop) so the first step is a
+pure null-space motion; later iterations pull the TCP back onto the held pose (removing
+the linearisation error). The joint box keeps each cycle's change small.
 
 If ``k`` is not compatible with the held pose the arm gets as close to ``k`` as the
 weighted criterion allows. The statement ends when the configuration stops changing:
@@ -14,9 +15,6 @@ weighted criterion allows. The statement ends when the configuration stops chang
 from __future__ import annotations
 
 import numpy as np
-from irlc.runtime.ik.cyclic import CyclicReference
-
-SelfMotion = CyclicReference  # same (g, H); the F := 0 rule lives in the Newton loop
 
 
 def reconfiguration_done(
