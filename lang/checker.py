@@ -1,4 +1,4 @@
-"""Static checks of an IRL program: names, types, arities and the rules of language.md §5.2.
+"""Static checks of an IRL program: names, types, arities and the rules of docs/language.md.
 
 The checker walks the AST once, resolves every name (case-insensitively; messages use the
 declared spelling), gives every expression its type (``Expr.ty``) and folds constants

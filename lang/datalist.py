@@ -2,7 +2,7 @@
 
 A data list is a TOML file ``name.toml`` found in the program's folder, then in each
 ``--datalist-path`` directory, then in the robot library's ``datalists`` folder. Sections
-(language.md §6, plus ``[limits]``)::
+(docs/language.md §8, plus ``[limits]``)::
 
     [poses]               name = [x, y, z, a, b, c]        mm, deg (ZYX)
     [joints]              name = [q1, ..., qN]             deg / mm per joint

@@ -248,7 +248,7 @@ def reconfiguration_counts(kind: str, points: int) -> tuple[int, ...]:
     """How many configurations ``WITH RECONFIGURATION`` may give for a motion of ``kind``
     through ``points`` points: one per point; a LIN through several points may also give
     one for the whole move (its reference is spread along the path by arc length).
-    CIRCLE (via, target) and LIN PATH need one per point (language.md §5.1)."""
+    CIRCLE (via, target) and LIN PATH need one per point (docs/language.md §6)."""
     if kind == "LIN" and points > 1:
         return (1, points)
     return (points,)

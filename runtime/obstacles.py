@@ -90,7 +90,7 @@ Obstacle = PointObstacle | SphereObstacle | BoxObstacle | CapsuleObstacle | Plan
 
 def from_program_units(name: str, spec: Mapping) -> Obstacle:
     """Build an obstacle from a data-list table (mm, degrees; the keys of
-    ``language.md`` §6 and of IRDATA's OBSTACLE record). Raises ``ValueError``
+    docs/language.md §8 and of IRDATA's OBSTACLE record). Raises ``ValueError``
     naming the key for unknown kinds, missing or unknown keys and bad values."""
     kind = spec.get("kind")
     if not isinstance(kind, str) or kind not in OBSTACLE_KEYS:

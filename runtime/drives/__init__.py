@@ -1,4 +1,4 @@
-"""Simulated joint drives (runtime.md §4): setpoint interpolation → position P → velocity
+"""Simulated joint drives: setpoint interpolation → position P → velocity
 PI → current controller → power stage → DC motor (or stepper) → friction → transmission
 → manipulator dynamics. Entry point: :func:`simulate_drives`; schema: ``docs/drives.md``.
 """

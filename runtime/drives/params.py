@@ -76,7 +76,7 @@ OPTIONAL_DC = {"u_ref_max": 5.0, "pwm_frequency": 8000.0}
 
 @dataclass(frozen=True)
 class DcDrives:
-    """Per-axis arrays (length = number of driven axes) of the cascade of runtime.md §4."""
+    """Per-axis arrays (length = number of driven axes) of the cascade of docs/drives.md."""
 
     ke: np.ndarray
     kp: np.ndarray

@@ -6,7 +6,7 @@ One fixed step ``h`` for all axes (vectorised across axes). Per step, DC drives:
           → τ_m = k_s ī → friction (Karnopp) → i·(τ_m − τ_f) → mechanics → q̈
     q̇ += h q̈,  q += h q̇          (semi-implicit Euler)
 
-Levels (runtime.md §4): ``ideal`` (actual = setpoint), ``decoupled`` (constant diagonal
+Levels (docs/drives.md): ``ideal`` (actual = setpoint), ``decoupled`` (constant diagonal
 inertia + gravity), ``coupled`` (M, C, G), ``pwm`` (coupled + PWM with exact switching,
 one step per PWM period). Stepper axes use :mod:`.stepper`; stepper drives have no PWM
 stage (``pwm`` runs them as ``coupled``). Joints without drive data follow their setpoint

@@ -222,7 +222,7 @@ def test_critical_points_equal_exhaustive_search_for_every_kind(koch11):
 
 
 def test_obstacle_keys_are_the_data_list_keys():
-    """The keys of language.md §6 (point ``center``, box ``rotation`` as ZYX degrees)."""
+    """The keys of docs/language.md §8 (point ``center``, box ``rotation`` as ZYX degrees)."""
     point = from_program_units("p", {"kind": "point", "center": [1000, 2000, 3000]})
     np.testing.assert_allclose(point.position, [1.0, 2.0, 3.0])
     box = from_program_units(

@@ -457,7 +457,7 @@ CASES: list[tuple[str, str, int, int, str]] = [
         35,
         "WITH RECONFIGURATION: expected MAIN_JOINT, got POSE",
     ),
-    # ---------------------------------------------------------------- §5.2 static checks
+    # ------------------------------------ redundancy constructs' static checks (language.md §7)
     (
         "end_without_start",
         body("  JOINTLIMITEND;"),

@@ -2,7 +2,7 @@
 points compiles (``RECONF:1``) and runs: the reference θ⁰ is spread along the path by arc
 length, i.e. it equals giving the per-point configurations
 ``(q0 + f·(k − q0), k)`` with ``f = |a − p0| / (|a − p0| + |b − a|)``. LIN PATH and CIRCLE
-need one per point (language.md §5.1) — in the compiler and the interpreter alike."""
+need one per point (docs/language.md §6) — in the compiler and the interpreter alike."""
 
 from __future__ import annotations
 

@@ -1,0 +1,111 @@
+"""Every citation of a document points at a file and a section that exist.
+
+A citation is a ``NAME.md`` (or ``docs/NAME.md``) in a doc (``docs/*.md``, ``README.md``)
+or in the source of the four packages (docstrings, comments, messages), optionally
+followed by a numbered section ``§N`` / ``§N.M``. The file must exist (in ``docs/``, at
+the repository root, or beside the citing doc) and the section must be a numbered heading
+of it (``## 6. Motion``, ``### 6.1 Approximate positioning``). A bare ``§N`` inside a doc
+with numbered headings cites that doc itself. Relative Markdown links must resolve, and
+docs never cite files outside the repository (the specification lives elsewhere).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+SOURCE_DIRS = ("lang", "runtime", "robots", "frontdoor")
+SOURCE_SUFFIXES = {".py", ".lark", ".toml", ".md"}
+
+CITATION = re.compile(r"(?<![\w/.-])((?:[\w.-]+/)*[\w-]+\.md)\b")
+# after a citation: closing backticks / quotes, spaces, an opening parenthesis, then §N
+SECTION_AFTER = re.compile(r"[`'\"]*\s*\(?\s*§\s*(\d+(?:\.\d+)*)")
+BARE_SECTION = re.compile(r"§\s*(\d+(?:\.\d+)*)")
+NUMBERED_HEADING = re.compile(r"^#{1,6}\s+(\d+(?:\.\d+)*)\.?\s", re.MULTILINE)
+LINK = re.compile(r"\]\(([^)\s]+)\)")
+
+
+def _citing_files() -> list[Path]:
+    files = [*sorted(DOCS.glob("*.md")), ROOT / "README.md"]
+    for folder in SOURCE_DIRS:
+        files += sorted(
+            p for p in (ROOT / folder).rglob("*") if p.is_file() and p.suffix in SOURCE_SUFFIXES
+        )
+    return files
+
+
+def _resolve(name: str, citing: Path) -> Path | None:
+    for base in (citing.parent, DOCS, ROOT):
+        candidate = base / name
+        if candidate.is_file():
+            return candidate.resolve()
+    return None
+
+
+def _sections(doc: Path) -> set[str]:
+    return set(NUMBERED_HEADING.findall(doc.read_text(encoding="utf-8")))
+
+
+def _line(text: str, pos: int) -> int:
+    return text.count("\n", 0, pos) + 1
+
+
+def _problems(path: Path) -> list[str]:
+    text = path.read_text(encoding="utf-8")
+    where = path.relative_to(ROOT) if path.is_relative_to(ROOT) else path.name
+    problems, cited_spans = [], []
+    for m in CITATION.finditer(text):
+        name = m.group(1)
+        target = _resolve(name, path)
+        if target is None:
+            problems.append(f"{where}:{_line(text, m.start())}: {name} does not exist")
+            continue
+        sec = SECTION_AFTER.match(text, m.end())
+        if sec:
+            cited_spans.append(sec.start(1))
+            if sec.group(1) not in _sections(target):
+                problems.append(
+                    f"{where}:{_line(text, m.start())}: {name} has no section §{sec.group(1)}"
+                )
+    if path.suffix == ".md" and (own := _sections(path)):
+        for m in BARE_SECTION.finditer(text):
+            if m.start(1) not in cited_spans and m.group(1) not in own:
+                problems.append(f"{where}:{_line(text, m.start())}: no section §{m.group(1)}")
+    if path.suffix == ".md":
+        for m in LINK.finditer(text):
+            link = m.group(1).split("#")[0]
+            if link and "://" not in link and not (path.parent / link).exists():
+                problems.append(f"{where}:{_line(text, m.start())}: link {link} does not exist")
+    return problems
+
+
+@pytest.mark.parametrize("path", _citing_files(), ids=lambda p: str(p.relative_to(ROOT)))
+def test_citations_point_at_existing_files_and_sections(path):
+    assert _problems(path) == []
+
+
+def test_docs_cite_nothing_outside_the_repository():
+    offenders = [
+        str(p.relative_to(ROOT))
+        for p in [*DOCS.glob("*.md"), ROOT / "README.md"]
+        if re.search(r"\.\./shared|shared/spec|/work/", p.read_text(encoding="utf-8"))
+    ]
+    assert offenders == []
+
+
+def test_the_checker_sees_a_stale_section_and_a_missing_file(tmp_path):
+    doc = tmp_path / "cites.md"
+    doc.write_text(
+        "# Cites\n\n## 1. One\n\nSee language.md §6.1, language.md §5.2,\n"
+        "nowhere.md, §1, §2 and [a link](img/none.png).\n"
+    )
+    assert _problems(doc) == [
+        "cites.md:5: language.md has no section §5.2",
+        "cites.md:6: nowhere.md does not exist",
+        "cites.md:6: no section §2",
+        "cites.md:6: link img/none.png does not exist",
+    ]
