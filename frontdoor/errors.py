@@ -1,4 +1,4 @@
-"""Exit codes of the command line (``interfaces.md``) and the errors that map onto them."""
+"""Exit codes of the command line (``docs/interfaces.md``) and the errors that map onto them."""
 
 from __future__ import annotations
 

@@ -3,7 +3,7 @@
 :func:`run_data` turns what a run produced — a ``RunResult`` of :mod:`irlc.runtime.run`,
 what :func:`irlc.report.load_run` read back from a report or trace, or a path to one —
 into one :class:`RunData` with plain arrays in SI (rad | m, s). Columns of the trace are
-found by their ``interfaces.md`` names (``a1_deg``, ``a1_speed_deg_s``, ``a1_cmd_deg``,
+found by their ``docs/interfaces.md`` names (``a1_deg``, ``a1_speed_deg_s``, ``a1_cmd_deg``,
 ``a1_current_A``, ``x_mm`` …) and converted with :mod:`irlc.runtime.units` only.
 
 When the trace has no speed / acceleration columns they are the finite differences of

@@ -619,7 +619,7 @@ class Session:
 
 
 def _failure_status(e: Exception) -> int:
-    """The exit status a failure escaping an entry stands for (interfaces.md)."""
+    """The exit status a failure escaping an entry stands for (docs/interfaces.md)."""
     from irlc.robots import RobotFileError
     from irlc.runtime.errors import RunFailure
     from irlc.runtime.run import RunSetupError

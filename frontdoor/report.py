@@ -4,7 +4,7 @@ Both writers are
 
 * **atomic**: :func:`irlc.files.atomic_write_text` (temporary file, fsync, rename);
 * **deterministic**: same run → same bytes. JSON: two-space indent, keys in the order of
-  ``interfaces.md`` (the report dict's insertion order), UTF-8, a final newline. CSV:
+  ``docs/interfaces.md`` (the report dict's insertion order), UTF-8, a final newline. CSV:
   numbers with ``%.10g`` (no negative zero), ``line`` as an integer, ``\\n`` line ends;
 * **never NaN**: a non-finite number raises :class:`NonFiniteError` (a bug upstream),
   nothing is written.

@@ -1,6 +1,6 @@
 """Coupled joint limits: linear inequalities ``lower ≤ c·q ≤ upper`` from the robot file.
 
-The IRb-6's piecewise bounds of θ3 over θ2 (robots.md) are exactly
+The IRb-6's piecewise bounds of θ3 over θ2 (Szkodny; docs/robots.md) are exactly
 ``max(−40, −40−θ2) ≤ θ3 ≤ min(40, 25−θ2)``: the box of θ3 plus ``−40 ≤ θ2+θ3 ≤ 25``;
 with ``−90 ≤ θ2+θ3+θ4 ≤ 90`` the set is convex, so all of it is ``A q ≥ b``:
 

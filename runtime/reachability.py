@@ -2,7 +2,7 @@
 
 The IRb-6's axes 2, 3, 4 are parallel and horizontal, axis 5 is the approach axis:
 flange origin ``d`` and approach vector ``c`` (flange z) always lie in the vertical plane
-through axis 1. In the base frame that is the key equation of robots.md,
+through axis 1. In the base frame that is the book's key equation of the IRb-6,
 
     c_x·d_y − c_y·d_x = 0,
 

@@ -1,11 +1,11 @@
-"""Assemble a run's result: the report (``interfaces.md`` keys) and the trace table.
+"""Assemble a run's result: the report (``docs/interfaces.md`` keys) and the trace table.
 
 Everything user-facing is in program units (mm, deg, s; joints deg | mm) through
 :mod:`units`. Numbers in the report are rounded to fixed precision (``ROUND``) so that the
 same input gives the same bytes; non-finite values never appear (an infinite clearance —
 no geometry — is reported as ``null``).
 
-Trace columns (``interfaces.md``): ``t_s, line, <j>_<unit> …, <j>_speed_<unit>_s …,
+Trace columns (``docs/interfaces.md``): ``t_s, line, <j>_<unit> …, <j>_speed_<unit>_s …,
 <j>_accel_<unit>_s2 …, x_mm, y_mm, z_mm, a_deg, b_deg, c_deg, path_error_mm``; with drives
 ``<j>_cmd_<unit> …, <j>_current_A …``; then the extras ``orientation_error_deg`` and
 ``clearance_<obstacle>_mm`` per obstacle. Joint names are the program's (MAIN_JOINT
@@ -202,7 +202,7 @@ def build_report(
     actual=None,
     verdict=None,
 ) -> dict:
-    """The report (``interfaces.md``). With drives (``actual`` given) the joints, path
+    """The report (``docs/interfaces.md``). With drives (``actual`` given) the joints, path
     errors and clearances are the actual motion's; the ideal ones are under ``ideal``."""
     kinds = model.joint_kinds
     scale = units.joint_scale(kinds)

@@ -8,8 +8,8 @@ the robot's ``home``; the target of the program's first motion statement if that
 ``MOVE PTP`` to a constant MAIN_JOINT (the robot starts there, the PTP takes no time);
 else the zero configuration.
 
-The result carries the samples (SI), the report (``interfaces.md`` keys, program units)
-and the trace table (program units, column names per ``interfaces.md``). A run failure
+The result carries the samples (SI), the report (``docs/interfaces.md`` keys, program units)
+and the trace table (program units, column names per ``docs/interfaces.md``). A run failure
 (:class:`~irlc.runtime.errors.RunFailure`) does not raise: the result has
 ``status = "failed"``, the error, and everything recorded up to the failure.
 Bad setup (unknown robot, joint count mismatch, bad ``seed_config``) raises

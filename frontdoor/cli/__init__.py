@@ -1,7 +1,7 @@
 """Command line: a thin layer over the public API (``irlc.api``).
 
 Each area registers its commands in its own module; ``main`` maps errors to the
-exit codes of ``interfaces.md`` and never lets a traceback reach the user for bad
+exit codes of ``docs/interfaces.md`` and never lets a traceback reach the user for bad
 input.
 """
 

@@ -1,6 +1,6 @@
 """``irlc run PROGRAM.irl|PROGRAM.ird`` (and the bare form ``irlc PROGRAM.irl``).
 
-Exit codes (``interfaces.md``): 0 ok; 1 the program does not compile (diagnostics on
+Exit codes (``docs/interfaces.md``): 0 ok; 1 the program does not compile (diagnostics on
 stderr); 2 run-time failure (report and trace up to the failure are still written, with
 ``status = "failed"``); 3 usage or environment error.
 
