@@ -1,12 +1,14 @@
 """Every citation of a document points at a file and a section that exist.
 
 A citation is a ``NAME.md`` (or ``docs/NAME.md``) in a doc (``docs/*.md``, ``README.md``)
-or in the source of the four packages (docstrings, comments, messages), optionally
-followed by a numbered section ``§N`` / ``§N.M``. The file must exist (in ``docs/``, at
-the repository root, or beside the citing doc) and the section must be a numbered heading
-of it (``## 6. Motion``, ``### 6.1 Approximate positioning``). A bare ``§N`` inside a doc
-with numbered headings cites that doc itself. Relative Markdown links must resolve, and
-docs never cite files outside the repository (the specification lives elsewhere).
+or in the source of the four packages and the tests (docstrings, comments, messages),
+optionally followed by a section: numbered ``§N`` / ``§N.M`` or named ``§ Name``. The file
+must exist (in ``docs/``, at the repository root, or beside the citing doc); a numbered
+section must be a numbered heading of it (``## 6. Motion``, ``### 6.1 Approximate
+positioning``), a named one the start of a heading (``§ REPL`` for ``## REPL (`irlc
+repl`)``). A bare ``§N`` inside a doc with numbered headings cites that doc itself.
+Relative Markdown links must resolve, and docs cite nothing outside the repository (the
+specification lives elsewhere).
 """
 
 from __future__ import annotations
@@ -18,14 +20,16 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
-SOURCE_DIRS = ("lang", "runtime", "robots", "frontdoor")
+SOURCE_DIRS = ("lang", "runtime", "robots", "frontdoor", "tests")
 SOURCE_SUFFIXES = {".py", ".lark", ".toml", ".md"}
 
 CITATION = re.compile(r"(?<![\w/.-])((?:[\w.-]+/)*[\w-]+\.md)\b")
 # after a citation: closing backticks / quotes, spaces, an opening parenthesis, then §N
 SECTION_AFTER = re.compile(r"[`'\"]*\s*\(?\s*§\s*(\d+(?:\.\d+)*)")
+NAMED_AFTER = re.compile(r"[`'\"]*\s*\(?\s*§\s*([A-Za-z][^,;)\n]*)")
 BARE_SECTION = re.compile(r"§\s*(\d+(?:\.\d+)*)")
 NUMBERED_HEADING = re.compile(r"^#{1,6}\s+(\d+(?:\.\d+)*)\.?\s", re.MULTILINE)
+HEADING = re.compile(r"^#{1,6}\s+(.*)$", re.MULTILINE)
 LINK = re.compile(r"\]\(([^)\s]+)\)")
 
 
@@ -33,7 +37,9 @@ def _citing_files() -> list[Path]:
     files = [*sorted(DOCS.glob("*.md")), ROOT / "README.md"]
     for folder in SOURCE_DIRS:
         files += sorted(
-            p for p in (ROOT / folder).rglob("*") if p.is_file() and p.suffix in SOURCE_SUFFIXES
+            p
+            for p in (ROOT / folder).rglob("*")
+            if p.is_file() and p.suffix in SOURCE_SUFFIXES and p != Path(__file__).resolve()
         )
     return files
 
@@ -50,6 +56,12 @@ def _sections(doc: Path) -> set[str]:
     return set(NUMBERED_HEADING.findall(doc.read_text(encoding="utf-8")))
 
 
+def _named(doc: Path, name: str) -> bool:
+    """Whether a heading of ``doc`` starts with ``name`` (case-insensitive)."""
+    headings = HEADING.findall(doc.read_text(encoding="utf-8"))
+    return any(h.strip().lower().startswith(name.strip().lower()) for h in headings)
+
+
 def _line(text: str, pos: int) -> int:
     return text.count("\n", 0, pos) + 1
 
@@ -64,6 +76,11 @@ def _problems(path: Path) -> list[str]:
         if target is None:
             problems.append(f"{where}:{_line(text, m.start())}: {name} does not exist")
             continue
+        named = NAMED_AFTER.match(text, m.end())
+        if named and not _named(target, named.group(1)):
+            problems.append(
+                f"{where}:{_line(text, m.start())}: {name} has no section § {named.group(1)}"
+            )
         sec = SECTION_AFTER.match(text, m.end())
         if sec:
             cited_spans.append(sec.start(1))
@@ -80,7 +97,8 @@ def _problems(path: Path) -> list[str]:
             link = m.group(1).split("#")[0]
             if link and "://" not in link and not (path.parent / link).exists():
                 problems.append(f"{where}:{_line(text, m.start())}: link {link} does not exist")
-    return problems
+    # by line (stable: within a line, citations, then bare sections, then links)
+    return sorted(problems, key=lambda s: int(s.split(":")[1]))
 
 
 @pytest.mark.parametrize("path", _citing_files(), ids=lambda p: str(p.relative_to(ROOT)))
@@ -101,11 +119,14 @@ def test_the_checker_sees_a_stale_section_and_a_missing_file(tmp_path):
     doc = tmp_path / "cites.md"
     doc.write_text(
         "# Cites\n\n## 1. One\n\nSee language.md §6.1, language.md §5.2,\n"
-        "nowhere.md, §1, §2 and [a link](img/none.png).\n"
+        "nowhere.md, §1, §2, [a link](img/none.png), interfaces.md § REPL,\n"
+        "interfaces.md § Nothing, golden.md § 1.\n"
     )
     assert _problems(doc) == [
         "cites.md:5: language.md has no section §5.2",
         "cites.md:6: nowhere.md does not exist",
         "cites.md:6: no section §2",
         "cites.md:6: link img/none.png does not exist",
+        "cites.md:7: interfaces.md has no section § Nothing",
+        "cites.md:7: golden.md has no section §1",
     ]

@@ -1,5 +1,5 @@
 """`irlc run` on a held-out program: report, trace, plots, --compare, animation, trajectory
-export, --json / --quiet and the plain (non-terminal) output. interfaces.md § Command line,
+export, --json / --quiet and the plain (non-terminal) output. interfaces.md § Commands,
 Report, Trace; tutorial § 2."""
 
 from __future__ import annotations
