@@ -7,8 +7,9 @@ must exist (in ``docs/``, at the repository root, or beside the citing doc); a n
 section must be a numbered heading of it (``## 6. Motion``, ``### 6.1 Approximate
 positioning``), a named one the start of a heading (``§ REPL`` for ``## REPL (`irlc
 repl`)``). A bare ``§N`` inside a doc with numbered headings cites that doc itself.
-Relative Markdown links must resolve, and docs cite nothing outside the repository (the
-specification lives elsewhere).
+Relative Markdown links must resolve, a repository path (``runtime/profiles.py``,
+``programs/square.irl``) must exist unless it is a placeholder (``robots/NAME.toml``), and
+docs cite nothing outside the repository (the specification lives elsewhere).
 """
 
 from __future__ import annotations
@@ -30,6 +31,11 @@ NAMED_AFTER = re.compile(r"[`'\"]*\s*\(?\s*§\s*([A-Za-z][^,;)\n]*)")
 BARE_SECTION = re.compile(r"§\s*(\d+(?:\.\d+)*)")
 NUMBERED_HEADING = re.compile(r"^#{1,6}\s+(\d+(?:\.\d+)*)\.?\s", re.MULTILINE)
 HEADING = re.compile(r"^#{1,6}\s+(.*)$", re.MULTILINE)
+TOP_FOLDERS = "lang|runtime|robots|frontdoor|tests|docs|bench|programs"
+REPO_PATH = re.compile(
+    rf"(?<![\w/.-])((?:{TOP_FOLDERS})/[\w./-]+\.(?:py|toml|lark|md|json|csv|txt|irl|ird))\b"
+)
+PLACEHOLDER = re.compile(r"(?:^|/)(?:[A-Z]+|x)(?:\.|/)")  # NAME.toml, x.toml
 LINK = re.compile(r"\]\(([^)\s]+)\)")
 
 
@@ -92,6 +98,10 @@ def _problems(path: Path) -> list[str]:
         for m in BARE_SECTION.finditer(text):
             if m.start(1) not in cited_spans and m.group(1) not in own:
                 problems.append(f"{where}:{_line(text, m.start())}: no section §{m.group(1)}")
+    for m in REPO_PATH.finditer(text):
+        cited = m.group(1)
+        if not PLACEHOLDER.search(cited) and not (ROOT / cited).exists():
+            problems.append(f"{where}:{_line(text, m.start())}: {cited} does not exist")
     if path.suffix == ".md":
         for m in LINK.finditer(text):
             link = m.group(1).split("#")[0]
@@ -120,7 +130,7 @@ def test_the_checker_sees_a_stale_section_and_a_missing_file(tmp_path):
     doc.write_text(
         "# Cites\n\n## 1. One\n\nSee language.md §6.1, language.md §5.2,\n"
         "nowhere.md, §1, §2, [a link](img/none.png), interfaces.md § REPL,\n"
-        "interfaces.md § Nothing, golden.md § 1.\n"
+        "interfaces.md § Nothing, golden.md § 1, runtime/none.py, robots/NAME.toml.\n"
     )
     assert _problems(doc) == [
         "cites.md:5: language.md has no section §5.2",
@@ -129,4 +139,5 @@ def test_the_checker_sees_a_stale_section_and_a_missing_file(tmp_path):
         "cites.md:6: link img/none.png does not exist",
         "cites.md:7: interfaces.md has no section § Nothing",
         "cites.md:7: golden.md has no section §1",
+        "cites.md:7: runtime/none.py does not exist",
     ]
