@@ -60,6 +60,7 @@ from irlc.runtime.ik.self_motion import reconfiguration_done
 from irlc.runtime.interpolator import JointLine, ReferencePath, Segment
 from irlc.runtime.kinematics import Kinematics
 from irlc.runtime.naming import JointNaming
+from irlc.runtime.plan_start import planning_start
 from irlc.runtime.preinterp import (
     Limits3,
     PlanState,
@@ -129,6 +130,7 @@ class SimulatedController(ApproximatePositioning):
         self.dt_used = self.opts.ipo if self.opts.ipo is not None else Settings().ipo
         self.recorder.tol_position = self.opts.tol_position
         self._start_tool = b""  # the tool (bytes) the start sample was stamped with
+        self._programmed_end: tuple[bytes, np.ndarray] | None = None  # (tool, world TCP)
         self._pending: PendingSegment | None = None  # an approximated segment's unrun tail
         self.blends: list[dict] = []  # one entry per approximated point (the report's)
         self.statements: list[StatementSpan] = []  # cycle time per statement (cycle_time.py)
@@ -193,6 +195,10 @@ class SimulatedController(ApproximatePositioning):
             for point, seg in enumerate(segments, start=1):
                 run = SegmentRun(self, seg, options, solver, settings)
                 self._feed(run, approx, context, point)
+            if segments:  # the next motion is planned from this point (plan_start.py)
+                last = segments[-1]
+                end = None if last.is_joint else last.path.at(1.0).copy()
+                self._programmed_end = None if end is None else (solver.kin.tool.tobytes(), end)
             stop = "approximated" if self._pending is not None else "exact"
         finally:
             self._log_motion(cmd, segments, t0, stop, settings.override)
@@ -583,8 +589,20 @@ class SimulatedController(ApproximatePositioning):
                 if pending.chain:  # LIN/CIRCLE → PTP: its end joints (_joint_chain)
                     q = pending.chain[seg.cycles].copy()
         if tcp is None:
-            tcp = solver.kin.tcp(q)
+            tcp = self._start_pose(solver, q)
         return PlanState(q, tcp, self._dt(settings), base_transform(settings))
+
+    def _start_pose(self, solver: _Solver, q: np.ndarray) -> np.ndarray:
+        """The TCP a motion from ``q`` is planned from: the last Cartesian point as
+        programmed when the actual TCP is on it within the path tolerance (the same
+        tool), else the actual TCP (:mod:`plan_start`)."""
+        actual = solver.kin.tcp(q)
+        last = self._programmed_end
+        if last is None or last[0] != solver.kin.tool.tobytes():
+            return actual
+        rows = self.ik_params.task_rows
+        tol_p, tol_o = self.recorder.tol_position, self.opts.tol_orientation
+        return planning_start(actual, last[1], rows, tol_p, tol_o)
 
     def _tcp(self, q: np.ndarray, settings: Settings) -> np.ndarray:
         return self._solver(settings).kin.tcp(q)
