@@ -28,7 +28,9 @@ geometry is :mod:`~irlc.runtime.blending`. Statements that stop the advance run 
 to ``k`` along a synchronised joint profile (PTP timing under the active limits and
 ``R_SPEED_PTP``/``R_ACC_PTP``) while the TCP is held; after the profile ends the
 reference stays at ``k`` and the statement ends at the first cycle with
-``‖θ(t) − θ(t−Δt)‖ < ε_conf`` (``IKParams.eps_conf``) or after ``reconf_settle_s``
+``‖θ(t) − θ(t−Δt)‖ < ε_conf`` *and* ``‖θ(t−Δt) − θ(t−2Δt)‖ < ε_conf``
+(``IKParams.eps_conf``; the second condition is our addition to seed 4.2.3, see
+:func:`~irlc.runtime.ik.self_motion.reconfiguration_done`) or after ``reconf_settle_s``
 seconds (a warning).
 """
 
@@ -248,10 +250,11 @@ class SimulatedController(ApproximatePositioning):
             else:
                 ref = k
             cycle_opts.reference = ref
+            q_prev2 = self.q_prev  # θ(t − 2Δt) after this cycle: the two-cycle rule
             self._ik_cycle(hold, hold.path.pose, dt, cycle_opts, solver)
             self._last_reference = np.array(ref, dtype=float)
             if k_cyc > ref_seg.cycles and reconfiguration_done(
-                self.q, self.q_prev, self.ik_params.eps_conf
+                self.q, self.q_prev, self.ik_params.eps_conf, q_prev2
             ):
                 break
             if k_cyc > ref_seg.cycles + settle:
