@@ -62,7 +62,7 @@ from irlc.runtime.ik.self_motion import reconfiguration_done
 from irlc.runtime.interpolator import JointLine, ReferencePath, Segment
 from irlc.runtime.kinematics import Kinematics
 from irlc.runtime.naming import JointNaming
-from irlc.runtime.plan_start import planning_start
+from irlc.runtime.plan_start import ROUND_OFF, planning_start
 from irlc.runtime.preinterp import (
     Limits3,
     PlanState,
@@ -597,14 +597,16 @@ class SimulatedController(ApproximatePositioning):
 
     def _start_pose(self, solver: _Solver, q: np.ndarray) -> np.ndarray:
         """The TCP a motion from ``q`` is planned from: the last Cartesian point as
-        programmed when the actual TCP is on it within the path tolerance (the same
+        programmed when the actual TCP is on it within the round-off bound (the same
         tool), else the actual TCP (:mod:`plan_start`)."""
         actual = solver.kin.tcp(q)
         last = self._programmed_end
         if last is None or last[0] != solver.kin.tool.tobytes():
             return actual
         rows = self.ik_params.task_rows
-        tol_p, tol_o = self.recorder.tol_position, self.opts.tol_orientation
+        p = self.ik_params
+        tol_p = min(self.recorder.tol_position, ROUND_OFF * p.tol_position)
+        tol_o = min(self.opts.tol_orientation, ROUND_OFF * p.tol_orientation)
         return planning_start(actual, last[1], rows, tol_p, tol_o)
 
     def _tcp(self, q: np.ndarray, settings: Settings) -> np.ndarray:

@@ -9,13 +9,17 @@ whole number of cycles gains one cycle when ``L`` grows by 1e-9 m (two laps of t
 square took 2564 samples with CYCLIC and 2560 without).
 
 The rule: the next Cartesian segment starts at the **programmed** previous point (world
-frame, the same tool) when the actual TCP agrees with it within the path tolerance
-(``R_PATH_TOL`` and the orientation tolerance, on the rows the task controls); otherwise
-(a tool changed, a relaxed stop further off, a PTP or RECONFIGURATION in between) at the
-actual pose. Within the tolerance the robot is *on* the point by the run's own
-definition, and the first cycle of the new segment removes the residual as every cycle
-removes its own. The segment's geometry, length and cycle count are then those of the
-program alone: the same program and options give the same sample count whatever the
+frame, the same tool) when the actual TCP agrees with it within the round-off bound
+``ROUND_OFF`` × the inverse transformation's convergence tolerance (1e-9 m, 1e-9 rad →
+1 µm, 1 µrad; never more than ``R_PATH_TOL`` and the orientation tolerance), on the
+rows the task controls; otherwise (a tool changed, a relaxed stop that ended off the
+point, a joint move in between) at the actual pose. Below that bound the difference is
+the solver's residual, and the first cycle of the new segment removes it as every cycle
+removes its own (a 1 µm correction in one 10 ms cycle: 0.1 mm/s). A larger, real
+deviation (a relaxed stop within a wide ``R_PATH_TOL``) keeps the old behaviour: the
+segment starts where the robot is, without a jump back to the programmed point.
+With a residual-sized offset the segment's geometry, length and cycle count are those of
+the program alone: the same program and options give the same sample count whatever the
 redundancy criterion.
 """
 
@@ -23,6 +27,8 @@ from __future__ import annotations
 
 import numpy as np
 from irlc.runtime import spatial
+
+ROUND_OFF = 1e3  # × the IK convergence tolerance: below this a TCP offset is residual
 
 
 def planning_start(

@@ -107,3 +107,24 @@ def test_at_half_override_every_side_takes_its_closed_form_time(tmp_path):
     expected = _expected_durations(0.01, 0.5)
     assert expected[0] == pytest.approx(5.0, abs=1e-12)
     assert [s["duration_s"] for s in lins] == pytest.approx(expected, abs=1e-9)
+
+
+def test_only_a_residual_sized_offset_snaps_to_the_programmed_point():
+    """1e-9 m (the IK's residual): plan from the programmed point; 5 µm (a real offset, a
+    relaxed stop within R_PATH_TOL): from the actual pose, no jump back; a rotation
+    offset counts only where the task controls orientation."""
+    from irlc.runtime.plan_start import planning_start
+
+    programmed = spatial.transform(spatial.rot_z(0.3), (1.0, 0.5, 0.2))
+    near = programmed.copy()
+    near[:3, 3] += 1e-9
+    far = programmed.copy()
+    far[:3, 3] += 5e-6
+    turned = programmed @ spatial.transform(spatial.rot_z(1e-3))
+    rows6, rows_xy = (0, 1, 2, 3, 4, 5), (0, 1)
+    tol = (1e-6, 1e-6)
+    assert np.array_equal(planning_start(near, programmed, rows6, *tol), programmed)
+    assert np.array_equal(planning_start(far, programmed, rows6, *tol), far)
+    assert np.array_equal(planning_start(turned, programmed, rows6, *tol), turned)
+    assert np.array_equal(planning_start(turned, programmed, rows_xy, *tol), programmed)
+    assert np.array_equal(planning_start(near, None, rows6, *tol), near)
