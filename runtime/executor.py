@@ -198,12 +198,22 @@ class SimulatedController(ApproximatePositioning):
                 run = SegmentRun(self, seg, options, solver, settings)
                 self._feed(run, approx, context, point)
             if segments:  # the next motion is planned from this point (plan_start.py)
-                last = segments[-1]
-                end = None if last.is_joint else last.path.at(1.0).copy()
+                end = self._programmed_point(cmd, segments[-1], state)
                 self._programmed_end = None if end is None else (solver.kin.tool.tobytes(), end)
             stop = "approximated" if self._pending is not None else "exact"
         finally:
             self._log_motion(cmd, segments, t0, stop, settings.override)
+
+    def _programmed_point(self, cmd: MotionCommand, last: Segment, state) -> np.ndarray | None:
+        """The world TCP pose the motion's last point was programmed at: a Cartesian
+        segment's end; a PTP to a POSE, that pose (its joints come from the pose solver,
+        with its residual); ``None`` for a PTP to joints (the TCP is exact there)."""
+        if not last.is_joint:
+            return last.path.at(1.0).copy()
+        target = cmd.targets[-1] if cmd.kind == "PTP" and cmd.targets else None
+        if isinstance(target, Pose):
+            return self.pre._world(target, state, cmd.line)
+        return None
 
     def _log_motion(self, cmd: MotionCommand, segments, t0: float, stop: str, override) -> None:
         """The motion's span of the cycle-time table, with what set its time."""
