@@ -686,7 +686,8 @@ def _drop_temporaries(state) -> None:
 
 
 def _fmt(v: float) -> str:
-    text = f"{v:.3f}".rstrip("0").rstrip(".")
+    """Up to 3 decimals, trailing zeros dropped; snapped (:func:`units.fixed`)."""
+    text = units.fixed(v, 3).rstrip("0").rstrip(".")
     return "0" if text in ("-0", "") else text
 
 

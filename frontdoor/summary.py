@@ -4,6 +4,7 @@ so it shows a loaded report the same way as a fresh run."""
 
 from __future__ import annotations
 
+from irlc.runtime import units
 from irlc.runtime.naming import joint_label
 from rich.console import Console, Group
 from rich.panel import Panel
@@ -12,7 +13,12 @@ from rich.text import Text
 
 
 def _num(v, fmt: str = ".4g") -> str:
-    return "—" if v is None else format(v, fmt)
+    """``v`` in ``fmt``, snapped (:func:`units.shown`, :func:`units.fixed` for ``.Nf``)."""
+    if v is None:
+        return "—"
+    if fmt.startswith(".") and fmt.endswith("f"):
+        return units.fixed(v, int(fmt[1:-1]))
+    return format(units.shown(v), fmt)
 
 
 MAX_WIDTH = 120  # columns of the summary written to a file or pipe

@@ -28,7 +28,9 @@ geometry is :mod:`~irlc.runtime.blending`. Statements that stop the advance run 
 to ``k`` along a synchronised joint profile (PTP timing under the active limits and
 ``R_SPEED_PTP``/``R_ACC_PTP``) while the TCP is held; after the profile ends the
 reference stays at ``k`` and the statement ends at the first cycle with
-``‖θ(t) − θ(t−Δt)‖ < ε_conf`` (``IKParams.eps_conf``) or after ``reconf_settle_s``
+``‖θ(t) − θ(t−Δt)‖ < ε_conf`` *and* ``‖θ(t−Δt) − θ(t−2Δt)‖ < ε_conf``
+(``IKParams.eps_conf``; the second condition is our addition to seed 4.2.3, see
+:func:`~irlc.runtime.ik.self_motion.reconfiguration_done`) or after ``reconf_settle_s``
 seconds (a warning).
 """
 
@@ -60,6 +62,7 @@ from irlc.runtime.ik.self_motion import reconfiguration_done
 from irlc.runtime.interpolator import JointLine, ReferencePath, Segment
 from irlc.runtime.kinematics import Kinematics
 from irlc.runtime.naming import JointNaming
+from irlc.runtime.plan_start import ROUND_OFF, planning_start
 from irlc.runtime.preinterp import (
     Limits3,
     PlanState,
@@ -129,6 +132,7 @@ class SimulatedController(ApproximatePositioning):
         self.dt_used = self.opts.ipo if self.opts.ipo is not None else Settings().ipo
         self.recorder.tol_position = self.opts.tol_position
         self._start_tool = b""  # the tool (bytes) the start sample was stamped with
+        self._programmed_end: tuple[bytes, np.ndarray] | None = None  # (tool, world TCP)
         self._pending: PendingSegment | None = None  # an approximated segment's unrun tail
         self.blends: list[dict] = []  # one entry per approximated point (the report's)
         self.statements: list[StatementSpan] = []  # cycle time per statement (cycle_time.py)
@@ -193,9 +197,23 @@ class SimulatedController(ApproximatePositioning):
             for point, seg in enumerate(segments, start=1):
                 run = SegmentRun(self, seg, options, solver, settings)
                 self._feed(run, approx, context, point)
+            if segments:  # the next motion is planned from this point (plan_start.py)
+                end = self._programmed_point(cmd, segments[-1], state)
+                self._programmed_end = None if end is None else (solver.kin.tool.tobytes(), end)
             stop = "approximated" if self._pending is not None else "exact"
         finally:
             self._log_motion(cmd, segments, t0, stop, settings.override)
+
+    def _programmed_point(self, cmd: MotionCommand, last: Segment, state) -> np.ndarray | None:
+        """The world TCP pose the motion's last point was programmed at: a Cartesian
+        segment's end; a PTP to a POSE, that pose (its joints come from the pose solver,
+        with its residual); ``None`` for a PTP to joints (the TCP is exact there)."""
+        if not last.is_joint:
+            return last.path.at(1.0).copy()
+        target = cmd.targets[-1] if cmd.kind == "PTP" and cmd.targets else None
+        if isinstance(target, Pose):
+            return self.pre._world(target, state, cmd.line)
+        return None
 
     def _log_motion(self, cmd: MotionCommand, segments, t0: float, stop: str, override) -> None:
         """The motion's span of the cycle-time table, with what set its time."""
@@ -242,10 +260,11 @@ class SimulatedController(ApproximatePositioning):
             else:
                 ref = k
             cycle_opts.reference = ref
+            q_prev2 = self.q_prev  # θ(t − 2Δt) after this cycle: the two-cycle rule
             self._ik_cycle(hold, hold.path.pose, dt, cycle_opts, solver)
             self._last_reference = np.array(ref, dtype=float)
             if k_cyc > ref_seg.cycles and reconfiguration_done(
-                self.q, self.q_prev, self.ik_params.eps_conf
+                self.q, self.q_prev, self.ik_params.eps_conf, q_prev2
             ):
                 break
             if k_cyc > ref_seg.cycles + settle:
@@ -583,8 +602,22 @@ class SimulatedController(ApproximatePositioning):
                 if pending.chain:  # LIN/CIRCLE → PTP: its end joints (_joint_chain)
                     q = pending.chain[seg.cycles].copy()
         if tcp is None:
-            tcp = solver.kin.tcp(q)
+            tcp = self._start_pose(solver, q)
         return PlanState(q, tcp, self._dt(settings), base_transform(settings))
+
+    def _start_pose(self, solver: _Solver, q: np.ndarray) -> np.ndarray:
+        """The TCP a motion from ``q`` is planned from: the last Cartesian point as
+        programmed when the actual TCP is on it within the round-off bound (the same
+        tool), else the actual TCP (:mod:`plan_start`)."""
+        actual = solver.kin.tcp(q)
+        last = self._programmed_end
+        if last is None or last[0] != solver.kin.tool.tobytes():
+            return actual
+        rows = self.ik_params.task_rows
+        p = self.ik_params
+        tol_p = min(self.recorder.tol_position, ROUND_OFF * p.tol_position)
+        tol_o = min(self.opts.tol_orientation, ROUND_OFF * p.tol_orientation)
+        return planning_start(actual, last[1], rows, tol_p, tol_o)
 
     def _tcp(self, q: np.ndarray, settings: Settings) -> np.ndarray:
         return self._solver(settings).kin.tcp(q)

@@ -36,9 +36,11 @@ ROUND = 9  # significant digits of report numbers
 
 
 def rnd(x: float | None, digits: int = ROUND) -> float | None:
-    """``x`` rounded to ``digits`` significant digits; ``None`` for non-finite / None."""
+    """``x`` rounded to ``digits`` significant digits; ``None`` for non-finite / None;
+    0 for round-off of a zero (:func:`units.shown`: no ``1.99e-32``)."""
     if x is None or not math.isfinite(x):
         return None
+    x = units.shown(x)
     if x == 0.0:
         return 0.0
     v = float(f"{x:.{digits}g}")

@@ -20,6 +20,27 @@ DEG = math.pi / 180.0  # radians per degree
 REVOLUTE = "revolute"
 PRISMATIC = "prismatic"
 
+# Below this magnitude a value in program units (mm, deg, s and their rates) is
+# round-off of a zero (a 1e-16 relative error on a 1e3-scale quantity, a sum of
+# conversions) and is shown as 0: no "1.99e-32 deg", no "-0.0000".
+SNAP = 5e-13
+
+
+def shown(value: float, unit: float = 1.0) -> float:
+    """``value`` (program units) as a user sees it: 0.0 when ``|value| < SNAP·unit``
+    (``unit`` scales the threshold for a quantity whose natural size differs, e.g. a
+    value in SI metres: ``unit = MM``), never a negative zero; non-finite values pass."""
+    v = float(value)
+    if abs(v) < SNAP * unit:
+        return 0.0
+    return v + 0.0
+
+
+def fixed(value: float, decimals: int) -> str:
+    """``value`` with ``decimals`` fixed decimals, snapped (:func:`shown`) and without a
+    negative zero after rounding (``-0.00004`` → ``"0.0000"``)."""
+    return f"{shown(round(shown(value), decimals)):.{decimals}f}"
+
 
 def joint_scale(kinds: Sequence[str]) -> np.ndarray:
     """Per-joint factor from program units to SI (deg → rad, mm → m)."""

@@ -64,7 +64,7 @@ def _joint_values(model: RobotModel, values: list[str], what: str = "joint value
 
 
 def _fmt(values) -> list[float]:
-    return [round(float(v), 9) + 0.0 for v in values]  # + 0.0: no "-0.0"
+    return [units.shown(round(units.shown(v), 9)) for v in values]  # no "-0.0", no 1e-32
 
 
 def _print_json(data: dict) -> None:
@@ -120,7 +120,7 @@ def robots_cmd() -> None:
 
 def _range(lo: float, hi: float, kind: str, scale: float = 1.0) -> str:
     """``-166..166`` in program units (4 digits); ``±124.6`` for a symmetric range."""
-    lo, hi = units.joints_from_si([lo * scale, hi * scale], [kind, kind])
+    lo, hi = (units.shown(v) for v in units.joints_from_si([lo * scale, hi * scale], [kind] * 2))
     if f"{-lo:.4g}" == f"{hi:.4g}":
         return f"±{hi:.4g}"
     return f"{lo:.4g}..{hi:.4g}"
@@ -225,11 +225,12 @@ def _pose_table(model: RobotModel, joints, pose, title: str) -> None:
     table.add_column("value")
     naming = JointNaming.for_model(model)
     for j, (kind, v) in enumerate(zip(model.joint_kinds, joints, strict=True)):
-        table.add_row(escape(f"{naming.label(j)} [{units.joint_unit(kind)}]"), f"{v:.4f}")
+        label = f"{naming.label(j)} [{units.joint_unit(kind)}]"
+        table.add_row(escape(label), units.fixed(v, 4))
     for label, v in zip(
         ("x [mm]", "y [mm]", "z [mm]", "a [deg]", "b [deg]", "c [deg]"), pose, strict=True
     ):
-        table.add_row(escape(label), f"{v:.4f}")
+        table.add_row(escape(label), units.fixed(v, 4))
     Console().print(table)
 
 

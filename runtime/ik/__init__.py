@@ -6,7 +6,7 @@ Public API::
     InverseTransformation(model, kinematics, IKParams).step(     # one IPO cycle
         q_start, q_prev, target, dt, CycleOptions) -> CycleResult
     intersect_limits(model, position, speed, accel)
-    reconfiguration_done(q, q_prev, eps_conf)
+    reconfiguration_done(q, q_prev, eps_conf, q_prev2)         # the two-cycle stop rule
 """
 
 from irlc.runtime.ik.coupled import CoupledLimitError

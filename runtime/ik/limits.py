@@ -56,7 +56,7 @@ _TOL = 1e-9  # absolute slack for "outside the limits" (rounding of earlier cycl
 def format_joint_value(model: RobotModel, joint: int, value_si: float, derivative: int) -> str:
     """``"60 deg"``, ``"25 deg/s"``, ``"500 mm"`` — program units via :mod:`units`."""
     kind = model.joints[joint].kind
-    value = float(units.joints_from_si([value_si], [kind])[0])
+    value = units.shown(units.joints_from_si([value_si], [kind])[0])
     return f"{value:.6g} {units.joint_unit_label(kind, derivative)}"
 
 

@@ -8,8 +8,9 @@ the linearisation error). The joint box keeps each cycle's change small.
 
 If ``k`` is not compatible with the held pose the arm gets as close to ``k`` as the
 weighted criterion allows. The statement ends when the configuration stops changing:
-``‖θ(t) − θ(t − Δt)‖ < ε_conf`` — decided by the caller with :func:`reconfiguration_done`
-(pass the configuration two cycles back as well, see there).
+``‖θ(t) − θ(t − Δt)‖ < ε_conf`` (seed 4.2.3) — decided by the caller with
+:func:`reconfiguration_done`; the executor passes the configuration two cycles back as
+well (the two-cycle rule, a departure from the seed, see there and docs/ik.md).
 """
 
 from __future__ import annotations
