@@ -37,7 +37,7 @@ def approx_warnings(body: list[ast.Stmt]) -> list[tuple[ast.Node, str, str]]:
     out: list[tuple[ast.Node, str, str]] = []
     modal = False
     pending: _Approximated | None = None
-    for s in _in_order(body):
+    for s in ast.statements_in_order(body):
         if pending is not None:
             why = _stops(s)
             if why:
@@ -92,24 +92,6 @@ def _stops(s: ast.Stmt) -> str | None:
             if isinstance(node, ast.Name) and node.name.upper() in ("R_ACT_POSE", "R_ACT_JOINT"):
                 return f"reading {node.name.upper()}"
     return None
-
-
-def _in_order(body: list[ast.Stmt]) -> Iterator[ast.Stmt]:
-    """The statements in source order, nested bodies after their statement."""
-    for s in body:
-        yield s
-        if isinstance(s, ast.If):
-            for _, arm in s.arms:
-                yield from _in_order(arm)
-            if s.else_body:
-                yield from _in_order(s.else_body)
-        elif isinstance(s, ast.Case):
-            for arm in s.arms:
-                yield from _in_order(arm.body)
-            if s.else_body:
-                yield from _in_order(s.else_body)
-        elif isinstance(s, ast.While | ast.Repeat | ast.For):
-            yield from _in_order(s.body)
 
 
 def _own_exprs(s: ast.Stmt) -> list[ast.Expr]:

@@ -7,6 +7,7 @@ written at that place; resolution is case-insensitive.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -353,3 +354,22 @@ class Program(Node):
     routines: list[Routine]
     body: list[Stmt]
     end_span: Span
+
+
+def statements_in_order(body: list[Stmt]) -> Iterator[Stmt]:
+    """Every statement of ``body`` in source order, each nested body (IF and CASE arms,
+    loop bodies) right after its statement."""
+    for s in body:
+        yield s
+        if isinstance(s, If):
+            for _, arm in s.arms:
+                yield from statements_in_order(arm)
+            if s.else_body:
+                yield from statements_in_order(s.else_body)
+        elif isinstance(s, Case):
+            for arm in s.arms:
+                yield from statements_in_order(arm.body)
+            if s.else_body:
+                yield from statements_in_order(s.else_body)
+        elif isinstance(s, While | Repeat | For):
+            yield from statements_in_order(s.body)

@@ -1022,7 +1022,7 @@ class Checker:
     # ------------------------------------------------------------------ statements
     def collect_labels(self, body: list[ast.Stmt]) -> None:
         self.labels = {}
-        for s in _walk(body):
+        for s in ast.statements_in_order(body):
             if isinstance(s, ast.Label):
                 prev = self.labels.get(s.name.lower())
                 if prev is not None:
@@ -1525,23 +1525,6 @@ class Checker:
 
 
 # ---------------------------------------------------------------------- helpers
-
-
-def _walk(body: list[ast.Stmt]):
-    for s in body:
-        yield s
-        if isinstance(s, ast.If):
-            for _, b in s.arms:
-                yield from _walk(b)
-            if s.else_body:
-                yield from _walk(s.else_body)
-        elif isinstance(s, ast.While | ast.Repeat | ast.For):
-            yield from _walk(s.body)
-        elif isinstance(s, ast.Case):
-            for a in s.arms:
-                yield from _walk(a.body)
-            if s.else_body:
-                yield from _walk(s.else_body)
 
 
 def _arith(op: str, a, b):

@@ -41,14 +41,13 @@ def test_golden(path) -> None:
 
 def test_golden_covers_every_statement_kind() -> None:
     from irlc.lang import ast
-    from irlc.lang.checker import _walk
     from irlc.lang.parser import parse
 
     kinds: set[str] = set()
     for path in PROGRAMS:
         program, _ = parse(path.read_text(encoding="utf-8"), path.name)
         for r in [program.body, *(rt.body for rt in program.routines)]:
-            kinds |= {type(s).__name__ for s in _walk(r)}
+            kinds |= {type(s).__name__ for s in ast.statements_in_order(r)}
     statement_kinds = {
         c.__name__
         for c in vars(ast).values()
