@@ -61,7 +61,7 @@ from irlc.runtime.ik.reach import Reach, check_targets, unreachable_failure
 from irlc.runtime.ik.self_motion import reconfiguration_done
 from irlc.runtime.interpolator import JointLine, ReferencePath, Segment
 from irlc.runtime.kinematics import Kinematics
-from irlc.runtime.naming import JointNaming
+from irlc.runtime.naming import JointNaming, naming_or_default
 from irlc.runtime.plan_start import ROUND_OFF, planning_start
 from irlc.runtime.preinterp import (
     Limits3,
@@ -108,7 +108,7 @@ class SimulatedController(ApproximatePositioning):
         naming: JointNaming | None = None,
     ):
         self.model = model
-        self._naming = naming or JointNaming.for_model(model)  # joints in failure messages
+        self._naming = naming_or_default(naming, model)  # joints in failure messages
         self.opts = options or ExecutionOptions()
         self.ik_params = self.opts.ik or IKParams.for_robot(model)
         self.obstacles = dict(obstacles or {})
@@ -193,7 +193,8 @@ class SimulatedController(ApproximatePositioning):
             cartesian = [seg for seg in segments if not seg.is_joint]
             if cartesian:  # reachability of the end (and via) points, before anything moves
                 reach = self._reach(cartesian[0].limits[0], options, solver)
-                check_targets(reach, cartesian, self.q, cmd.line, self._t, f"MOVE {_shown(cmd)}")
+                what = KIND_WORDS.get(cmd.kind, cmd.kind)
+                check_targets(reach, cartesian, self.q, cmd.line, self._t, what)
             for point, seg in enumerate(segments, start=1):
                 run = SegmentRun(self, seg, options, solver, settings)
                 self._feed(run, approx, context, point)
@@ -682,11 +683,6 @@ def _ptp_bounds(seg: Segment) -> tuple[list, list]:
                 at_speed.append((j, up))
         cached = seg.info["at_bounds"] = (at_accel, at_speed)
     return cached
-
-
-def _shown(cmd: MotionCommand) -> str:
-    """The statement as a user wrote it: ``LIN``, ``LIN PATH``, ``CIRCLE``, ``_INC LIN``."""
-    return {"LINPATH": "LIN PATH", "LININC": "_INC LIN"}.get(cmd.kind, cmd.kind)
 
 
 def _located(exc: RunFailure, line: int, t: float) -> RunFailure:

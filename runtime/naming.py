@@ -54,3 +54,9 @@ def joint_label(program: str, robot: str | None) -> str:
     if not robot or program.lower() == robot.lower():
         return program
     return f"{program} ({robot})"
+
+
+def naming_or_default(naming: JointNaming | None, model) -> JointNaming:
+    """``naming`` where a caller passes the program's, else the default ``a1 … aN``
+    beside the robot file's names (the one fallback of every message that names joints)."""
+    return naming if naming is not None else JointNaming.for_model(model)

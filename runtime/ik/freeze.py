@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime.errors import RunFailure
-from irlc.runtime.naming import JointNaming
+from irlc.runtime.naming import JointNaming, naming_or_default
 
 
 class FreezeError(RunFailure):
@@ -68,7 +68,7 @@ class FrozenJoints:
     def describe_impossible(
         self, model: RobotModel, task_rows: int, naming: JointNaming | None = None
     ) -> str:
-        naming = naming if naming is not None else JointNaming.for_model(model)
+        naming = naming_or_default(naming, model)
         names = naming.labels(self.frozen.tolist())
         return (
             f"FREEZE of joints {names} leaves {self.free.size} free joints, which cannot "

@@ -44,7 +44,7 @@ import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
-from irlc.runtime.naming import JointNaming
+from irlc.runtime.naming import JointNaming, naming_or_default
 
 POSITION, SPEED, ACCEL, BRAKING = 0, 1, 2, 3
 SOURCE_NAMES = ("position", "speed", "accel", "braking")
@@ -71,7 +71,7 @@ class LimitViolation:
     bound: float  # SI
 
     def describe(self, model: RobotModel, naming: JointNaming | None = None) -> str:
-        name = _naming(model, naming).label(self.joint)
+        name = naming_or_default(naming, model).label(self.joint)
         deriv = {"speed": 1, "accel": 2}.get(self.source, 0)
         bound = format_joint_value(model, self.joint, self.bound, deriv)
         value = format_joint_value(model, self.joint, self.value, deriv)
@@ -79,11 +79,6 @@ class LimitViolation:
 
 
 _CAUSE = {"position": "position_limit", "speed": "speed_limit"}
-
-
-def _naming(model: RobotModel, naming: JointNaming | None) -> JointNaming:
-    """The naming of messages: the program's (passed down), else ``a1 … aN``."""
-    return naming if naming is not None else JointNaming.for_model(model)
 
 
 class LimitViolationError(RunFailure):
@@ -125,7 +120,7 @@ def intersect_limits(
         bad = np.flatnonzero(lim[:, 0] > lim[:, 1])
         if bad.size:
             j = int(bad[0])
-            name = _naming(model, naming).label(j)
+            name = naming_or_default(naming, model).label(j)
             raise ValueError(f"{what} limits of joint {name} are empty: {lim[j]}")
         out.append(lim)
     return out[0], out[1], out[2]
@@ -225,7 +220,7 @@ def describe_box_bound(
     limit = _limit_value(snapshot.limits, joint, src, upper_side)
     side = "max" if upper_side else "min"
     value = format_joint_value(model, joint, limit, _DERIVATIVE[src])
-    return f"{_naming(model, naming).label(joint)} {SOURCE_NAMES[src]} {side} {value}"
+    return f"{naming_or_default(naming, model).label(joint)} {SOURCE_NAMES[src]} {side} {value}"
 
 
 class JointBox:

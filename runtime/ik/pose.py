@@ -43,7 +43,7 @@ from irlc.runtime.ik.newton_step import NewtonStep
 from irlc.runtime.ik.params import task_rows_for
 from irlc.runtime.ik.qp import QuadprogSolver
 from irlc.runtime.kinematics import Kinematics
-from irlc.runtime.naming import JointNaming
+from irlc.runtime.naming import JointNaming, naming_or_default
 
 
 @dataclass
@@ -72,7 +72,7 @@ def solve_pose(
 ) -> PoseSolution:
     """Solve ``f(q) = target`` (4×4 world pose, m) starting from ``seed`` (SI); messages
     name joints by ``naming`` (default ``a1 … aN``)."""
-    naming = naming if naming is not None else JointNaming.for_model(model)
+    naming = naming_or_default(naming, model)
     target = np.asarray(target, dtype=float)
     q = np.array(seed, dtype=float)
     if target.shape != (4, 4) or not np.all(np.isfinite(target)):
@@ -152,7 +152,7 @@ def seed_problem(model: RobotModel, q: np.ndarray, naming: JointNaming | None = 
     if outside.size:
         j = int(outside[0])
         side = 0 if q[j] < limits[j, 0] else 1
-        name = (naming or JointNaming.for_model(model)).label(j)
+        name = naming_or_default(naming, model).label(j)
         return (
             f"seed joint {name} = {format_joint_value(model, j, q[j], 0)} is "
             f"outside its position {('min', 'max')[side]} "
