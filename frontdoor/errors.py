@@ -9,6 +9,7 @@ EXIT_COMPILE = 1  # the program does not compile
 EXIT_RUN = 2  # compiled, but failed at run time
 EXIT_USAGE = 3  # usage or environment error (missing file, unknown robot, bad option)
 EXIT_INTERNAL = 4  # a bug in irlc
+EXIT_INTERRUPTED = 130  # Ctrl-C (128 + SIGINT, as shells report it)
 
 
 class UsageError(IrlcError):

@@ -605,7 +605,8 @@ class Session:
         return Entry([
             f"taught {name}: pose ({', '.join(_fmt(v) for v in xyzabc)}) [mm, deg ZYX] and "
             f"joints → {', '.join(keys)} in {path}",
-            f"  use it: IMPORT DATALIST {path.stem};  MOVE LIN {name};  MOVE PTP {keys[1][7:]};",
+            f"  use it: IMPORT DATALIST {path.stem};  MOVE LIN {name};  "
+            f"MOVE PTP {name}{JOINTS_SUFFIX};",
         ])  # fmt: skip
 
     # ------------------------------------------------------------------ completion

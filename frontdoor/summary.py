@@ -222,7 +222,7 @@ def statements_table(report: dict) -> Table | None:
         ]  # fmt: skip
         table.add_row(*cells, *([_num(r.get("override_percent"), "g")] if shown else []))
     blank = [""] * (3 if shown else 2)
-    table.add_row("", Text("sum", style="dim"), "", Text(f"{total:.3f}", style="bold"), *blank)
+    table.add_row("", Text("sum", style="dim"), "", Text(_num(total, ".3f"), style="bold"), *blank)
     return table
 
 
@@ -238,10 +238,10 @@ def _statement_lines_table(rows: list[dict], total: float) -> Table:
     shown = list(per_line.items())[:MAX_STATEMENT_ROWS]
     for line, (text, runs, t) in shown:
         share = f"{100.0 * t / total:.1f} %" if total > 0 else "—"
-        table.add_row(str(line), _short(text), str(runs), f"{t:.3f}", share)
+        table.add_row(str(line), _short(text), str(runs), _num(t, ".3f"), share)
     more = len(per_line) - len(shown)
     label = f"… {more} more lines (report: statements)" if more > 0 else "sum"
-    table.add_row("", Text(label, style="dim"), "", Text(f"{total:.3f}", style="bold"), "")
+    table.add_row("", Text(label, style="dim"), "", Text(_num(total, ".3f"), style="bold"), "")
     return table
 
 

@@ -24,7 +24,7 @@ import tomllib
 from collections.abc import Sequence
 from pathlib import Path
 
-from irlc.files import atomic_write_text
+from irlc.files import atomic_write_text, read_user_text
 from irlc.lang.errors import IrlcError
 
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
@@ -53,7 +53,8 @@ def teach(path: Path, name: str, pose: Sequence[float], joints: Sequence[float])
     returns the keys written (``["poses.p1", "joints.p1_joints"]``)."""
     if not NAME.match(name):
         raise TeachError(f"{name!r} is not a name (letters, digits, _; not starting with a digit)")
-    old = path.read_text(encoding="utf-8") if path.exists() else NEW_FILE
+    unreadable = lambda f, reason: TeachError(f"{f}: {reason}; nothing written")  # noqa: E731
+    old = read_user_text(path, unreadable) if path.exists() else NEW_FILE
     before = _parse(old, path)
     entries = (("poses", name, list(pose)), ("joints", name + JOINTS_SUFFIX, list(joints)))
     text = old

@@ -18,7 +18,7 @@ import numpy as np
 # Command modules register themselves on `cli` when imported.
 from irlc.cli import lang_cmds, robot_cmds, run_cmds, study_cmds, tool_cmds  # noqa: F401
 from irlc.cli.app import cli
-from irlc.errors import EXIT_INTERNAL, EXIT_USAGE, UsageError
+from irlc.errors import EXIT_INTERNAL, EXIT_INTERRUPTED, EXIT_USAGE, UsageError
 
 __all__ = ["cli", "main"]
 
@@ -31,7 +31,7 @@ def main(argv: list[str] | None = None) -> int:
         return e.exit_code
     except click.Abort:
         click.echo("aborted", err=True)
-        return 130
+        return EXIT_INTERRUPTED
     except click.ClickException as e:  # usage errors: exit 3, not click's 2
         e.show()
         return EXIT_USAGE
@@ -39,7 +39,7 @@ def main(argv: list[str] | None = None) -> int:
         click.echo(f"irlc: error: {e}", err=True)
         return EXIT_USAGE
     except KeyboardInterrupt:
-        return 130
+        return EXIT_INTERRUPTED
     except Exception as e:
         import traceback
 

@@ -6,9 +6,8 @@ from pathlib import Path
 
 import click
 from irlc.cli.app import cli
-from irlc.errors import EXIT_COMPILE, EXIT_OK, UsageError
-
-EXIT_INTERRUPTED = 130  # as irlc.cli.main gives for Ctrl-C
+from irlc.errors import EXIT_COMPILE, EXIT_INTERRUPTED, EXIT_OK, UsageError
+from irlc.study.summary import DEFAULT_SORT
 
 
 @cli.command("study")
@@ -20,7 +19,7 @@ EXIT_INTERRUPTED = 130  # as irlc.cli.main gives for Ctrl-C
 @click.option("--out", type=click.Path(path_type=Path), default=None,
               help="Results folder (default: STUDY.results next to the study file).")  # fmt: skip
 @click.option("--resume", is_flag=True, help="Run only the variants not yet in DIR/results.csv.")
-@click.option("--sort", "sort", default="max_path_error_mm", show_default=True,
+@click.option("--sort", "sort", default=DEFAULT_SORT, show_default=True,
               help="Best/worst by this metric (smallest first; -METRIC: largest).")  # fmt: skip
 @click.option("--plot", "plot", type=click.Path(path_type=Path), default=None,
               help="Draw the --sort metric against the varied keys into FILE.png.")  # fmt: skip

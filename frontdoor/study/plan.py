@@ -93,7 +93,7 @@ def build_plan(study: Study, variants_dir: Path | None = None) -> Plan:
         robot_doc=robot_doc,
         datalists=datalists,
         joints=tuple(
-            (name, "mm" if kind == units.PRISMATIC else "deg")
+            (name, units.joint_unit(kind))
             for name, kind in zip(code.joint_names, model.joint_kinds, strict=True)
         ),
         obstacles=tuple(o.name for o in code.obstacles),
@@ -211,7 +211,6 @@ def check_value(plan: Plan, key: str, value: Any) -> str | None:
         if head == "robot":
             robot_model(plan, [(parts, value)])
             return None
-        datalist_text(plan, parts[0], [(parts[1:], value)])
         return _check_datalist(plan, parts[0], [(parts[1:], value)])
     except paths.PathError as e:
         return str(e)

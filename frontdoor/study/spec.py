@@ -156,7 +156,7 @@ def key_line(text: str, key: str) -> int | None:
 
 def read_study(path: str | Path) -> Study:
     """Parse and check the study file's own structure (not yet the values' meaning: that
-    needs the program and the robot, :func:`irlc.study.validate.validate`)."""
+    needs the program and the robot, :func:`irlc.study.plan.build_plan`)."""
     path = Path(path)
     text = read_user_text(path, lambda f, reason: StudyError(f, None, "", reason))
     try:
@@ -182,8 +182,9 @@ def read_study(path: str | Path) -> Study:
     dup = _duplicate([a.key for a in study.axes])
     if dup:
         raise study.error(dup, "varied both in [grid] and in [random]", "random")
-    if count_variants(study) > MAX_VARIANTS:
-        raise study.error("", f"{count_variants(study)} variants; at most {MAX_VARIANTS}")
+    count = count_variants(study)
+    if count > MAX_VARIANTS:
+        raise study.error("", f"{count} variants; at most {MAX_VARIANTS}")
     return study
 
 
