@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from irlc.runtime import spatial
+from irlc.runtime.interpolator import CartesianLine
 from irlc.runtime.recorder import RecordedRun
 
 
@@ -53,6 +54,7 @@ def measure(
     model, rec: RecordedRun, times: np.ndarray, q: np.ndarray, task_rows, obstacles: dict
 ) -> ActualMotion:
     """The actual TCP, path errors and clearances of joints ``q`` at ``times`` (module doc)."""
+    from irlc.runtime.distance import critical_points
     from irlc.runtime.kinematics import Kinematics
 
     kin = Kinematics(model)
@@ -61,9 +63,18 @@ def measure(
         np.searchsorted(rec.times, times, side="right") - 1, 0, max(len(rec.times) - 1, 0)
     )
     tcp = np.empty((m, 4, 4))
+    program_tool: dict[int, np.ndarray] = {}  # K(θ_k)⁻¹·T_k per IPO sample, once each
+    shapes = tuple(obstacles.values())
+    clearance = {name: np.empty(m) for name in obstacles}
     for i in range(m):
-        k = idx[i]
-        tcp[i] = kin.tcp(q[i]) @ spatial.inverse(kin.tcp(rec.q[k])) @ rec.tcp[k]
+        k = int(idx[i])
+        if k not in program_tool:
+            program_tool[k] = spatial.inverse(kin.tcp(rec.q[k])) @ rec.tcp[k]
+        frames = kin.link_frames(q[i])  # one forward kinematics for the TCP and clearances
+        tcp[i] = kin.tcp_from_frames(frames) @ program_tool[k]
+        if shapes:
+            for cp in critical_points(kin, frames, shapes):
+                clearance[cp.name][i] = cp.distance
     on_path = rec.on_path[idx].copy()
     rows = np.array(tuple(task_rows), dtype=int)
     pos_rows, ori_rows = rows[rows < 3], rows[rows >= 3]
@@ -72,7 +83,7 @@ def measure(
     path = _CommandedPath(rec)
     for i in np.flatnonzero(on_path):
         pos[i], ori[i] = path.contour_error(times[i], tcp[i], pos_rows, ori_rows)
-    return ActualMotion(times, idx, q, tcp, pos, ori, on_path, _clearances(kin, q, obstacles))
+    return ActualMotion(times, idx, q, tcp, pos, ori, on_path, clearance)
 
 
 WINDOW_BACK_S = 2.0  # how far back along the path the nearest point is searched
@@ -114,7 +125,7 @@ class _CommandedPath:
         seg = lo + np.flatnonzero(self.joined[lo : max(hi - 1, lo)])
         if seg.size:
             best, s = self._nearest(seg, tcp, pos_rows, len(ori_rows) > 0)
-            desired = _between(self.desired[best], self.desired[best + 1], s)
+            desired = CartesianLine(self.desired[best], self.desired[best + 1]).at(s)
         else:  # a single Cartesian sample in reach: its own pose
             k = lo + int(np.argmin(np.abs(self.times[lo:hi] - t))) if hi > lo else 0
             desired = self.desired[k]
@@ -151,28 +162,3 @@ def _log(r: np.ndarray) -> np.ndarray:
     sin_t = np.sin(theta)
     scale = np.where(sin_t > 1e-6, theta / (2.0 * np.where(sin_t > 1e-6, sin_t, 1.0)), 0.5)
     return scale[:, None] * w
-
-
-def _between(a: np.ndarray, b: np.ndarray, s: float) -> np.ndarray:
-    """The pose at ``s ∈ [0, 1]`` from ``a`` to ``b``: position linear, orientation slerp."""
-    out = a.copy()
-    out[:3, 3] = (1.0 - s) * a[:3, 3] + s * b[:3, 3]
-    if s > 0.0:
-        quat = spatial.slerp(
-            spatial.matrix_to_quat(a[:3, :3]), spatial.matrix_to_quat(b[:3, :3]), s
-        )
-        out[:3, :3] = spatial.quat_to_matrix(quat)
-    return out
-
-
-def _clearances(kin, q: np.ndarray, obstacles: dict) -> dict[str, np.ndarray]:
-    if not obstacles:
-        return {}
-    from irlc.runtime.distance import critical_points
-
-    shapes = tuple(obstacles.values())
-    out = {name: np.empty(len(q)) for name in obstacles}
-    for i, qi in enumerate(q):
-        for cp in critical_points(kin, kin.link_frames(qi), shapes):
-            out[cp.name][i] = cp.distance
-    return out
