@@ -125,13 +125,19 @@ def _per_joint(naming, values, kinds=None) -> list | None:
     return out
 
 
+def _first_over_tolerance(rec, actual) -> int | None:
+    """The first sample whose actual path error exceeds the R_PATH_TOL in effect."""
+    over = np.flatnonzero(actual.on_path & (actual.pos_error > rec.tol_position))
+    return int(over[0]) if over.size else None
+
+
 def _tolerance_mm(rec, actual) -> float:
     """The path tolerance that decides: at the first violation, else the strictest one in
     effect on the commanded path (R_PATH_TOL may change during a run)."""
     tol = rec.tol_position
-    over = np.flatnonzero(actual.on_path & (actual.pos_error > tol))
-    if over.size:
-        return tol[over[0]] / units.MM
+    first = _first_over_tolerance(rec, actual)
+    if first is not None:
+        return tol[first] / units.MM
     on = tol[actual.on_path]
     return float((on.min() if on.size else tol[0]) / units.MM)
 
@@ -158,10 +164,9 @@ HINT = (
 
 def _path(rec, actual):
     tol = rec.tol_position
-    over = np.flatnonzero(actual.on_path & (actual.pos_error > tol))
-    if not over.size:
+    k = _first_over_tolerance(rec, actual)
+    if k is None:
         return None
-    k = int(over[0])
     err, lim = actual.pos_error[k] / units.MM, tol[k] / units.MM
     worst = float(actual.pos_error.max() / units.MM)
     msg = (
@@ -231,8 +236,8 @@ def _following(naming, rec, drive, bound):
 
 
 def _limits(model, naming, rec, actual):
-    lo = np.array([jt.limits.position[0] for jt in model.joints]) - LIMIT_SLACK
-    hi = np.array([jt.limits.position[1] for jt in model.joints]) + LIMIT_SLACK
+    lo = model.position_limits[:, 0] - LIMIT_SLACK
+    hi = model.position_limits[:, 1] + LIMIT_SLACK
     out = (actual.q < lo) | (actual.q > hi)
     if not out.any():
         return None

@@ -88,7 +88,8 @@ def classify(
                 return _freeze_failure(message, reach, "are singular here", line, time_s)
             return _singular_failure(message, sing, reach, line, time_s, constraint, "here")
     at_limit = _at_position_limit(res.q, reach)
-    if at_limit and constraint and (" position " in constraint or " braking " in constraint):
+    by_position = bool(constraint) and of_bound(constraint) == "position_limit"
+    if at_limit and by_position:
         return _position_failure(message, reach, res.q, at_limit, constraint, line, time_s)
     held = _survey(reach, seg, q_start, kin, frozen=True)
     if held.failed is not None:
@@ -107,7 +108,7 @@ def classify(
             message, held.worst, reach, line, time_s, constraint, "on the path"
         )
     pressed = _pressed_on_walk(held.q, reach)
-    if pressed and constraint and (" position " in constraint or " braking " in constraint):
+    if pressed and by_position:
         # the walk itself needs a joint at its limit: the cycles, which cannot jump to the
         # walk's configurations, would need it beyond; slower does not help
         return _position_failure(message, reach, res.q, pressed, constraint, line, time_s)
