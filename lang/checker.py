@@ -512,6 +512,11 @@ class Checker:
         return None
 
     def suggest(self, name: str, kinds: tuple[str, ...] | None = None) -> str | None:
+        """A hint for an unknown name: approximate positioning's foreign words (C_DIS,
+        ZONE, z50, …), else the closest known name."""
+        hint = approximation_hint(name)
+        if hint is not None:
+            return hint
         pool = []
         for scope in (self.locals or {}, self.globals):
             pool += [s.name for s in scope.values() if kinds is None or s.kind in kinds]
@@ -575,7 +580,7 @@ class Checker:
             self.error(
                 e.span,
                 f"unknown name '{e.name}'",
-                approximation_hint(e.name) or self.suggest(e.name),
+                self.suggest(e.name),
             )
             return T.ERROR
         e.sym = sym
@@ -1061,7 +1066,7 @@ class Checker:
         assert isinstance(root, ast.Name)
         sym = self.lookup(root.name)
         if sym is None:
-            hint = approximation_hint(root.name) or self.suggest(root.name)
+            hint = self.suggest(root.name)
             self.error(root.span, f"unknown name '{root.name}'", hint)
             self.expr(s.value, None)
             return
@@ -1325,12 +1330,13 @@ class Checker:
             self.expr(c.args[0], None)
             return
         row = BY_WITH_WORD[c.kind]
-        if ptp and s.kind not in row.kinds:
+        if s.kind not in row.kinds:
             self.error(
-                c.span, f"WITH {c.kind} sets a path speed; PTP motion uses SPEED_PTP / ACC_PTP (%)"
+                c.span,
+                f"WITH {c.kind} sets a path speed; PTP motion uses SPEED_PTP / ACC_PTP (%)"
+                if ptp
+                else f"WITH {c.kind} is for PTP motion; path motion uses SPEED / ACC",
             )
-        elif not ptp and s.kind not in row.kinds:
-            self.error(c.span, f"WITH {c.kind} is for PTP motion; path motion uses SPEED / ACC")
         t = self.expr(c.args[0], T.REAL)
         if self.require(c.args[0], T.REAL, t, f"WITH {c.kind}"):
             self.constant_setting(row.field, c.args[0], f"WITH {c.kind}")
