@@ -46,7 +46,9 @@ FIGURE_STEMS = (
 )
 
 
-def _pyplot():
+def pyplot(what: str = "plots"):
+    """matplotlib.pyplot on the file-only Agg backend, or a UsageError naming ``what``
+    needs it and how to install it (the one place the optional dependency is imported)."""
     try:
         import matplotlib
 
@@ -54,14 +56,14 @@ def _pyplot():
         import matplotlib.pyplot as plt
     except ImportError as e:
         raise UsageError(
-            "plots need matplotlib: pip install 'irlc[plot]' (or pip install matplotlib)"
+            f"{what} need matplotlib: pip install 'irlc[plot]' (or pip install matplotlib)"
         ) from e
     return plt
 
 
 def write_plots(run: Any, out_dir: str | Path, compare: Any = None) -> list[Path]:
     """Write the figures of ``run`` (optionally overlaid with ``compare``) into ``out_dir``."""
-    plt = _pyplot()
+    plt = pyplot()
     d = run_data(run)
     c = None if compare is None else run_data(compare)
     out = Path(out_dir)

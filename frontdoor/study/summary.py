@@ -86,19 +86,6 @@ def summary_table(
     return table
 
 
-def _pyplot():
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError as e:
-        raise UsageError(
-            "--plot needs matplotlib: pip install 'irlc[plot]' (or pip install matplotlib)"
-        ) from e
-    return plt
-
-
 def plot(
     rows: list[dict[str, str]],
     keys: list[str],
@@ -111,7 +98,9 @@ def plot(
     the first key on x, one line per value of a second grid key, or for a second random
     key the samples as dots coloured by the metric. Text values (``run.drives``) are
     categories, in the order they appear."""
-    plt = _pyplot()
+    from irlc.plots import pyplot
+
+    plt = pyplot("--plot figures")
     from irlc.files import atomic_write_bytes
 
     fig, ax = plt.subplots(figsize=(7, 4.5))
