@@ -31,12 +31,11 @@ from irlc.lang.irdata import Code
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
 from irlc.runtime.controller import Settings, setting_error
+from irlc.runtime.drive_levels import LEVELS as DRIVE_LEVELS
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.executor import ExecutionOptions, SimulatedController
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.recorder import RecordedRun
-
-DRIVE_LEVELS = ("ideal", "decoupled", "coupled", "pwm")
 
 
 class RunSetupError(IrlcError):

@@ -19,8 +19,7 @@ from pathlib import Path
 import click
 from irlc.cli.app import cli
 from irlc.errors import EXIT_COMPILE, EXIT_OK, EXIT_RUN, UsageError
-
-DRIVE_CHOICES = ("ideal", "decoupled", "coupled", "pwm")
+from irlc.runtime.drive_levels import LEVELS as DRIVE_LEVELS
 
 
 def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
@@ -67,7 +66,7 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
 )
 @click.option(
     "--drives",
-    type=click.Choice(DRIVE_CHOICES),
+    type=click.Choice(DRIVE_LEVELS),
     default="ideal",
     show_default=True,
     help="Drive simulation level after the kinematic run.",

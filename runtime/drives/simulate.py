@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 from irlc.lang.errors import IrlcError
 from irlc.robots.model import RobotModel
+from irlc.runtime.drive_levels import LEVELS
 from irlc.runtime.drives import friction as fr
 from irlc.runtime.drives import setpoint, stepsize
 from irlc.runtime.drives.cascade import DcBank
@@ -33,7 +34,6 @@ from irlc.runtime.drives.stepper import StepperBank
 from irlc.runtime.drives.transmission import Transmission
 from irlc.runtime.dynamics import Dynamics
 
-LEVELS = ("ideal", "decoupled", "coupled", "pwm")
 STEP_CAP = 1e-3  # the largest default step (s) of the averaged levels
 
 
