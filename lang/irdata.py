@@ -47,23 +47,34 @@ _OBSTACLE_LENGTHS = ("radius", "size")
 _OBSTACLE_POINTS = ("center", "a", "b", "point")
 
 
+def geometry_problem(what: str, values, unit: str = "mm", unit_mm: float = 1.0) -> str | None:
+    """Why one of ``values`` (finite numbers in ``unit``, one ``unit`` being ``unit_mm`` mm)
+    is outside the physical range of geometry, else ``None``: ``what = "point"`` is a
+    coordinate, within ``±GEOMETRY_MAX_MM``; ``what = "length"`` (a radius, a size, a link
+    length) lies in ``[GEOMETRY_MIN_LENGTH_MM, GEOMETRY_MAX_MM]``. The one rule for
+    obstacles (data lists, the runtime) and robot geometry (robot files, URDF)."""
+    top, low = GEOMETRY_MAX_MM / unit_mm, GEOMETRY_MIN_LENGTH_MM / unit_mm
+    for v in values:
+        if what == "length" and not low <= v <= top:
+            return (
+                f"{v:g} {unit} is outside the physical range of a length "
+                f"({low:g} to {top:g} {unit})"
+            )
+        if what == "point" and not abs(v) <= top:
+            return (
+                f"{v:g} {unit} is outside the physical range of a coordinate "
+                f"(within ±{top:g} {unit})"
+            )
+    return None
+
+
 def obstacle_range_problem(key: str, nums: tuple[float, ...]) -> str | None:
-    """Why an obstacle field's numbers (finite, positive where required) are outside the
-    physical range, or ``None``; the one rule for the data-list loader and the runtime."""
+    """Why an obstacle field's numbers (mm; finite, positive where required) are outside
+    the physical range (:func:`geometry_problem`), or ``None``."""
     if key in _OBSTACLE_LENGTHS:
-        bad = [x for x in nums if not GEOMETRY_MIN_LENGTH_MM <= x <= GEOMETRY_MAX_MM]
-        if bad:
-            return (
-                f"{bad[0]:g} mm is outside the physical range of a length "
-                f"({GEOMETRY_MIN_LENGTH_MM:g} to {GEOMETRY_MAX_MM:g} mm)"
-            )
-    elif key in _OBSTACLE_POINTS:
-        bad = [x for x in nums if abs(x) > GEOMETRY_MAX_MM]
-        if bad:
-            return (
-                f"{bad[0]:g} mm is outside the physical range of a coordinate "
-                f"(within ±{GEOMETRY_MAX_MM:g} mm)"
-            )
+        return geometry_problem("length", nums)
+    if key in _OBSTACLE_POINTS:
+        return geometry_problem("point", nums)
     return None
 
 
