@@ -16,7 +16,7 @@ robot must be able to stand still), position bounds contain the current joints (
 
 from __future__ import annotations
 
-from irlc.lang.settings import BY_WITH_WORD, reconfiguration_counts
+from irlc.lang.settings import ALL_KINDS, BY_WITH_WORD, PATH_KINDS, reconfiguration_counts
 from irlc.runtime import builtins as B
 from irlc.runtime import units
 from irlc.runtime import values as V
@@ -32,7 +32,6 @@ LIMIT_OPTIONS = {  # option → (field of MotionCommand / ModalOptions, derivati
     "JOINTACCELLIMIT": ("accel_limits", 2),
 }
 LIMIT_TOLERANCE = 1e-6  # deg | mm (per derivative) when checking a bound against the state
-_POSE_TARGET_KINDS = ("LIN", "LINPATH", "CIRCLE", "LININC")
 _POINT_COUNTS = {"CIRCLE": 2, "PTP": 1, "PTPINC": 1, "LININC": 1}  # LIN, LINPATH: any
 
 
@@ -71,7 +70,7 @@ class MotionOps:
         self._progress()
 
     def _move_target(self, kind: str, t: object) -> object:
-        if kind in _POSE_TARGET_KINDS:
+        if kind in PATH_KINDS:  # a Cartesian path goes to POSE targets
             if not isinstance(t, Pose):
                 raise B.malformed(f"MOVE {kind} needs POSE targets, got {V.type_name(t)}")
             return t
@@ -230,9 +229,9 @@ class MotionOps:
 
 
 def _check_point_count(kind: str, npts: int) -> None:
-    expected = _POINT_COUNTS.get(kind)
-    if kind not in ("LIN", "LINPATH") and expected is None:
+    if kind not in ALL_KINDS:
         raise B.malformed(f"unknown motion kind {kind!r}")
+    expected = _POINT_COUNTS.get(kind)
     if expected is not None and npts != expected:
         raise B.malformed(f"MOVE {kind} with {npts} points")
 
