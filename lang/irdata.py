@@ -78,6 +78,19 @@ def obstacle_range_problem(key: str, nums: tuple[float, ...]) -> str | None:
     return None
 
 
+def obstacle_field_problem(key: str, nums: tuple[float, ...]) -> str | None:
+    """Why an obstacle field's finite numbers (mm) are not valid, or ``None``: box sizes
+    must be positive, a plane normal must not be zero, and every field lies in the physical
+    range (:func:`obstacle_range_problem`). The one rule for the data-list loader and the
+    runtime, so a hand-written ``.ird`` cannot pass what a data list would reject (each
+    reader checks that a radius is a positive number while reading it)."""
+    if key == "size" and min(nums) <= 0:
+        return "box sizes must be positive"
+    if key == "normal" and not any(nums):
+        return "the plane normal must not be zero"
+    return obstacle_range_problem(key, nums)
+
+
 INT_MIN, INT_MAX = -(2**63), 2**63 - 1  # INTEGER is signed 64-bit, as in the runtime
 MAX_STRING = 65_535
 """The most characters a STRING holds: a longer literal, .ird constant or concatenation
