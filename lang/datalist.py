@@ -29,7 +29,7 @@ from irlc.lang.irdata import (
     OBSTACLE_KEYS,
     ObstacleDef,
     Value,
-    obstacle_range_problem,
+    obstacle_field_problem,
 )
 
 SECTIONS = ("poses", "joints", "limits", "obstacles", "inputs")
@@ -283,7 +283,7 @@ def _obstacle_fields(ld: _Loader, key: str, kind: str, table: dict, spec) -> lis
                 ld.error(f"{key}.{k}", f"expected a positive number (mm), got {_show(raw)}")
                 ok = False
                 continue
-            if problem := obstacle_range_problem(k, (float(raw),)):
+            if problem := obstacle_field_problem(k, (float(raw),)):
                 ld.error(f"{key}.{k}", problem)
                 ok = False
                 continue
@@ -292,13 +292,7 @@ def _obstacle_fields(ld: _Loader, key: str, kind: str, table: dict, spec) -> lis
         nums = ld.numbers(raw, f"{key}.{k}", size, f"{size} numbers")
         if nums is None:
             ok = False
-        elif k == "size" and min(nums) <= 0:
-            ld.error(f"{key}.{k}", "box sizes must be positive")
-            ok = False
-        elif k == "normal" and not any(nums):
-            ld.error(f"{key}.{k}", "the plane normal must not be zero")
-            ok = False
-        elif problem := obstacle_range_problem(k, nums):
+        elif problem := obstacle_field_problem(k, nums):
             ld.error(f"{key}.{k}", problem)
             ok = False
         else:

@@ -47,24 +47,48 @@ _OBSTACLE_LENGTHS = ("radius", "size")
 _OBSTACLE_POINTS = ("center", "a", "b", "point")
 
 
-def obstacle_range_problem(key: str, nums: tuple[float, ...]) -> str | None:
-    """Why an obstacle field's numbers (finite, positive where required) are outside the
-    physical range, or ``None``; the one rule for the data-list loader and the runtime."""
-    if key in _OBSTACLE_LENGTHS:
-        bad = [x for x in nums if not GEOMETRY_MIN_LENGTH_MM <= x <= GEOMETRY_MAX_MM]
-        if bad:
+def geometry_problem(what: str, values, unit: str = "mm", unit_mm: float = 1.0) -> str | None:
+    """Why one of ``values`` (finite numbers in ``unit``, one ``unit`` being ``unit_mm`` mm)
+    is outside the physical range of geometry, else ``None``: ``what = "point"`` is a
+    coordinate, within ``±GEOMETRY_MAX_MM``; ``what = "length"`` (a radius, a size, a link
+    length) lies in ``[GEOMETRY_MIN_LENGTH_MM, GEOMETRY_MAX_MM]``. The one rule for
+    obstacles (data lists, the runtime) and robot geometry (robot files, URDF)."""
+    top, low = GEOMETRY_MAX_MM / unit_mm, GEOMETRY_MIN_LENGTH_MM / unit_mm
+    for v in values:
+        if what == "length" and not low <= v <= top:
             return (
-                f"{bad[0]:g} mm is outside the physical range of a length "
-                f"({GEOMETRY_MIN_LENGTH_MM:g} to {GEOMETRY_MAX_MM:g} mm)"
+                f"{v:g} {unit} is outside the physical range of a length "
+                f"({low:g} to {top:g} {unit})"
             )
-    elif key in _OBSTACLE_POINTS:
-        bad = [x for x in nums if abs(x) > GEOMETRY_MAX_MM]
-        if bad:
+        if what == "point" and not abs(v) <= top:
             return (
-                f"{bad[0]:g} mm is outside the physical range of a coordinate "
-                f"(within ±{GEOMETRY_MAX_MM:g} mm)"
+                f"{v:g} {unit} is outside the physical range of a coordinate "
+                f"(within ±{top:g} {unit})"
             )
     return None
+
+
+def obstacle_range_problem(key: str, nums: tuple[float, ...]) -> str | None:
+    """Why an obstacle field's numbers (mm; finite, positive where required) are outside
+    the physical range (:func:`geometry_problem`), or ``None``."""
+    if key in _OBSTACLE_LENGTHS:
+        return geometry_problem("length", nums)
+    if key in _OBSTACLE_POINTS:
+        return geometry_problem("point", nums)
+    return None
+
+
+def obstacle_field_problem(key: str, nums: tuple[float, ...]) -> str | None:
+    """Why an obstacle field's finite numbers (mm) are not valid, or ``None``: box sizes
+    must be positive, a plane normal must not be zero, and every field lies in the physical
+    range (:func:`obstacle_range_problem`). The one rule for the data-list loader and the
+    runtime, so a hand-written ``.ird`` cannot pass what a data list would reject (each
+    reader checks that a radius is a positive number while reading it)."""
+    if key == "size" and min(nums) <= 0:
+        return "box sizes must be positive"
+    if key == "normal" and not any(nums):
+        return "the plane normal must not be zero"
+    return obstacle_range_problem(key, nums)
 
 
 INT_MIN, INT_MAX = -(2**63), 2**63 - 1  # INTEGER is signed 64-bit, as in the runtime

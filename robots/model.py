@@ -27,6 +27,9 @@ from typing import Any, Literal
 import numpy as np
 
 JointKind = Literal["revolute", "prismatic"]
+# The pose-error components in error-vector order: a robot file's ``[ik] task`` names the
+# ones the inverse transformation controls (extra["ik"]["task"]; default all six).
+TASK_COMPONENTS = ("x", "y", "z", "rx", "ry", "rz")
 
 
 @dataclass(frozen=True)

@@ -27,8 +27,8 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from irlc.robots.loader import MissingExtraError, RobotFileError, geometry_problem
 from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
+from irlc.robots.toml_reader import MissingExtraError, RobotFileError, robot_geometry_problem
 
 MOVABLE = {"revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"}
 ACCEL_PER_VELOCITY = 5.0  # 1/s: assumed acceleration limit = 5 × velocity limit
@@ -296,8 +296,8 @@ def _check_finite(file: str, key: str, values: np.ndarray) -> None:
 
 
 def _check_point(file: str, key: str, xyz: np.ndarray) -> None:
-    """A position (m) inside the physical range of geometry (loader.geometry_problem)."""
-    if problem := geometry_problem("point", xyz):
+    """A position (m) inside the physical range of geometry (irdata.geometry_problem)."""
+    if problem := robot_geometry_problem("point", xyz):
         raise RobotFileError(file, key, problem)
 
 
@@ -307,7 +307,7 @@ def _length(file: str, key: str, value) -> float:
         v = float(value)
     except (TypeError, ValueError):
         raise RobotFileError(file, key, f"expected a number, got {value!r}") from None
-    if problem := geometry_problem("length", np.array([v])):
+    if problem := robot_geometry_problem("length", np.array([v])):
         raise RobotFileError(file, key, problem)
     return v
 

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
-from irlc.lang.irdata import OBSTACLE_KEYS, OBSTACLE_KINDS, obstacle_range_problem
+from irlc.lang.irdata import OBSTACLE_KEYS, OBSTACLE_KINDS, obstacle_field_problem
 from irlc.runtime import spatial, units
 
 KINDS = OBSTACLE_KINDS
@@ -104,22 +104,20 @@ def from_program_units(name: str, spec: Mapping) -> Obstacle:
     if missing:
         raise ValueError(f"obstacle {name}: missing key(s) {sorted(missing)} for kind {kind}")
 
-    def in_range(key: str, value: np.ndarray) -> None:  # the data-list rule (irdata.py)
-        if problem := obstacle_range_problem(key, tuple(float(x) for x in value)):
+    def checked(key: str, value: np.ndarray) -> np.ndarray:  # the data-list rule (irdata.py)
+        if problem := obstacle_field_problem(key, tuple(float(x) for x in value)):
             raise ValueError(f"obstacle {name}.{key}: {problem}")
+        return value
 
     def mm3(key: str) -> np.ndarray:
-        v = _vec3(spec[key], f"obstacle {name}.{key}")
-        if key != "size":  # sizes: positivity first (below), then the range
-            in_range(key, v)
-        return v * units.MM
+        return checked(key, _vec3(spec[key], f"obstacle {name}.{key}")) * units.MM
 
     def radius() -> float:
         raw = spec["radius"]
         r = float(raw) if isinstance(raw, int | float) and not isinstance(raw, bool) else -1.0
-        if not np.isfinite(r) or r <= 0.0:  # the data-list rule (lang/datalist.py)
+        if not np.isfinite(r) or r <= 0.0:  # read as the data list reads it (datalist.py)
             raise ValueError(f"obstacle {name}.radius must be > 0, got {spec['radius']!r}")
-        in_range("radius", np.array([r]))
+        checked("radius", np.array([r]))
         return r * units.MM
 
     if kind == "point":
@@ -129,16 +127,10 @@ def from_program_units(name: str, spec: Mapping) -> Obstacle:
     if kind == "capsule":
         return CapsuleObstacle(name, mm3("a"), mm3("b"), radius())
     if kind == "plane":
-        normal = _vec3(spec["normal"], f"obstacle {name}.normal")
-        biggest = float(np.max(np.abs(normal)))
-        if biggest == 0.0:
-            raise ValueError(f"obstacle {name}.normal must not be zero")
-        normal = normal / biggest  # scaled first: the norm of (1e308, 1e308, 0) overflows
+        normal = checked("normal", _vec3(spec["normal"], f"obstacle {name}.normal"))
+        normal = normal / float(np.max(np.abs(normal)))  # first: ‖(1e308, 1e308, 0)‖ overflows
         return PlaneObstacle(name, mm3("point"), normal / float(np.linalg.norm(normal)))
     size = mm3("size")
-    if np.any(size <= 0.0):  # the data-list rule (lang/datalist.py)
-        raise ValueError(f"obstacle {name}.size must be > 0, got {spec['size']!r}")
-    in_range("size", size / units.MM)
     rotation = np.eye(3)
     if "rotation" in spec:
         a, b, c = _vec3(spec["rotation"], f"obstacle {name}.rotation") * units.DEG

@@ -42,7 +42,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from irlc.lang.irdata import GEOMETRY_MAX_MM
+from irlc.lang.irdata import geometry_problem
 from irlc.lang.settings import BY_FIELD, reconfiguration_counts, setting_message
 from irlc.robots.model import RobotModel
 from irlc.runtime import scurve as sc
@@ -107,16 +107,11 @@ def scurve_on(cmd: MotionCommand, settings: Settings) -> bool:
 
 def check_coordinates(frame: np.ndarray, what: str, line: int | None) -> None:
     """:class:`RunFailure` unless the translation of ``frame`` (4×4, SI) is finite and
-    inside the physical range of a coordinate (``irdata.GEOMETRY_MAX_MM``, ±1 km): beyond
+    inside the physical range of a coordinate (``irdata.geometry_problem``, ±1 km): beyond
     it a path length or a normalised speed overflows or underflows."""
-    top = GEOMETRY_MAX_MM * units.MM
     for axis, v in zip("xyz", frame[:3, 3], strict=True):
-        if not abs(v) <= top:
-            raise RunFailure(
-                f"{what}: {axis} = {v / units.MM:g} mm is outside the physical range of a "
-                f"coordinate (within ±{GEOMETRY_MAX_MM:g} mm)",
-                line,
-            )
+        if problem := geometry_problem("point", (v / units.MM,)):
+            raise RunFailure(f"{what}: {axis} = {problem}", line)
 
 
 def _setting(cmd: MotionCommand, settings: Settings, name: str) -> float:

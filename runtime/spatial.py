@@ -4,7 +4,10 @@ Conventions (fixed by the spec):
 
 * A pose is a 4×4 homogeneous transform ``T = [[R, p], [0, 1]]``, metres.
 * ZYX angles ``(a, b, c)`` mean ``R = Rz(a) · Ry(b) · Rx(c)`` (KUKA's A, B, C).
-* Quaternions are ``(w, x, y, z)`` with ``w ≥ 0`` after normalisation.
+* Quaternions are ``(w, x, y, z)`` with ``w ≥ 0`` after normalisation. The algebra on
+  them (:func:`quat_unit`, :func:`quat_multiply`, :func:`quat_conjugate`,
+  :func:`quat_rotate`, :func:`quat_from_axis_angle`) works on plain float 4-tuples: the
+  interpreter's ORIENTATION values (:mod:`irlc.runtime.values`) call it per operation.
 * The orientation error of ``R`` against a desired ``R_d`` is the rotation vector
   ``log(R · R_dᵀ)`` expressed in the world frame, so that for a small joint step
   ``e ≈ J_ω Δθ`` with ``J_ω`` the angular rows of the geometric Jacobian.
@@ -125,6 +128,58 @@ def matrix_to_quat(r: Mat) -> Vec:
     qa = np.array(q)
     qa /= np.linalg.norm(qa)
     return -qa if qa[0] < 0.0 else qa
+
+
+Quat = tuple[float, float, float, float]
+
+
+def quat_unit(w: float, x: float, y: float, z: float) -> Quat:
+    """``q / ‖q‖`` with the sign chosen so that ``w ≥ 0``; the caller guarantees ``q ≠ 0``."""
+    n = math.sqrt(w * w + x * x + y * y + z * z)
+    if w < 0.0:
+        n = -n
+    return (w / n, x / n, y / n, z / n)
+
+
+def quat_multiply(p: Quat, q: Quat) -> Quat:
+    """Hamilton product ``p ⊗ q`` (the rotation ``R_p·R_q``), normalised, ``w ≥ 0``."""
+    pw, px, py, pz = p
+    qw, qx, qy, qz = q
+    return quat_unit(
+        pw * qw - px * qx - py * qy - pz * qz,
+        pw * qx + px * qw + py * qz - pz * qy,
+        pw * qy - px * qz + py * qw + pz * qx,
+        pw * qz + px * qy - py * qx + pz * qw,
+    )
+
+
+def quat_conjugate(q: Quat) -> Quat:
+    """``q* = (w, −x, −y, −z)``: the inverse rotation of a unit quaternion."""
+    return (q[0], -q[1], -q[2], -q[3])
+
+
+def quat_rotate(q: Quat, v: tuple[float, float, float]) -> tuple[float, float, float]:
+    """``R(q) · v`` for a unit ``q``: ``v' = v + 2w(u×v) + 2u×(u×v)``, ``u`` the vector part."""
+    w, ux, uy, uz = q
+    vx, vy, vz = v
+    tx = 2.0 * (uy * vz - uz * vy)
+    ty = 2.0 * (uz * vx - ux * vz)
+    tz = 2.0 * (ux * vy - uy * vx)
+    return (
+        vx + w * tx + (uy * tz - uz * ty),
+        vy + w * ty + (uz * tx - ux * tz),
+        vz + w * tz + (ux * ty - uy * tx),
+    )
+
+
+def quat_from_axis_angle(axis: tuple[float, float, float], angle: float) -> Quat:
+    """The rotation by ``angle`` (rad) about ``axis`` (any length > 0, the caller's check):
+    ``(cos(θ/2), sin(θ/2)·axis/‖axis‖)``, ``w ≥ 0``."""
+    x, y, z = axis
+    n = math.sqrt(x**2 + y**2 + z**2)
+    h = 0.5 * angle
+    s = math.sin(h) / n
+    return quat_unit(math.cos(h), x * s, y * s, z * s)
 
 
 def slerp(q0: Vec, q1: Vec, s: float) -> Vec:

@@ -112,19 +112,15 @@ def joint_scale(s: float, j: JointTuple) -> JointTuple:
 # --------------------------------------------------------------------------- orientations
 
 
-def _unit_quat(w: float, x: float, y: float, z: float) -> Orientation:
-    """Normalised quaternion with ``w ≥ 0``; the caller guarantees a non-zero norm."""
-    n = math.sqrt(w * w + x * x + y * y + z * z)
-    if w < 0.0:
-        n = -n
-    return Orientation(w / n, x / n, y / n, z / n)
+def _orientation(q: spatial.Quat) -> Orientation:
+    return Orientation(*q)
 
 
 def orientation_from_quat(w: float, x: float, y: float, z: float) -> Orientation:
     """``ORIQUAT``: normalised; raises ``ValueError`` for the zero quaternion."""
     if math.sqrt(w * w + x * x + y * y + z * z) < 1e-12:
         raise ValueError("the quaternion (0, 0, 0, 0) is not a rotation")
-    return _unit_quat(w, x, y, z)
+    return _orientation(spatial.quat_unit(w, x, y, z))
 
 
 def orientation_from_matrix(r: np.ndarray) -> Orientation:
@@ -164,9 +160,7 @@ def orientation_from_axis_angle(axis: Position, angle: float) -> Orientation:
     n = math.sqrt(axis.x**2 + axis.y**2 + axis.z**2)
     if n < 1e-12:
         raise ValueError("the rotation axis (0, 0, 0) has no direction")
-    h = 0.5 * angle * units.DEG
-    s = math.sin(h) / n
-    return _unit_quat(math.cos(h), axis.x * s, axis.y * s, axis.z * s)
+    return _orientation(spatial.quat_from_axis_angle(axis.as_tuple(), angle * units.DEG))
 
 
 def orientation_to_zyx(o: Orientation) -> tuple[float, float, float]:
@@ -177,28 +171,16 @@ def orientation_to_zyx(o: Orientation) -> tuple[float, float, float]:
 
 def quat_multiply(p: Orientation, q: Orientation) -> Orientation:
     """Hamilton product ``p ⊗ q`` (the rotation ``R_p·R_q``), normalised, ``w ≥ 0``."""
-    w = p.w * q.w - p.x * q.x - p.y * q.y - p.z * q.z
-    x = p.w * q.x + p.x * q.w + p.y * q.z - p.z * q.y
-    y = p.w * q.y - p.x * q.z + p.y * q.w + p.z * q.x
-    z = p.w * q.z + p.x * q.y - p.y * q.x + p.z * q.w
-    return _unit_quat(w, x, y, z)
+    return _orientation(spatial.quat_multiply(p.as_tuple(), q.as_tuple()))
 
 
 def orientation_inverse(o: Orientation) -> Orientation:
-    return Orientation(o.w, -o.x, -o.y, -o.z)
+    return _orientation(spatial.quat_conjugate(o.as_tuple()))
 
 
 def rotate(o: Orientation, v: Position) -> Position:
-    """``R(o) · v`` (``v' = v + 2w(u×v) + 2u×(u×v)`` with ``u`` the vector part)."""
-    ux, uy, uz = o.x, o.y, o.z
-    tx = 2.0 * (uy * v.z - uz * v.y)
-    ty = 2.0 * (uz * v.x - ux * v.z)
-    tz = 2.0 * (ux * v.y - uy * v.x)
-    return Position(
-        v.x + o.w * tx + (uy * tz - uz * ty),
-        v.y + o.w * ty + (uz * tx - ux * tz),
-        v.z + o.w * tz + (ux * ty - uy * tx),
-    )
+    """``R(o) · v`` (:func:`irlc.runtime.spatial.quat_rotate`)."""
+    return Position(*spatial.quat_rotate(o.as_tuple(), v.as_tuple()))
 
 
 # --------------------------------------------------------------------------- poses

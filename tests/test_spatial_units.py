@@ -53,6 +53,27 @@ def test_rotation_vector_near_pi():
     assert np.allclose(spatial.axis_angle(w / np.linalg.norm(w), np.linalg.norm(w)), r, atol=1e-6)
 
 
+@pytest.mark.parametrize("_", range(20))
+def test_quaternion_algebra_matches_the_matrices(_):
+    """The tuple algebra the interpreter's ORIENTATION values use, against rotation
+    matrices built independently (Rodrigues, matrix products)."""
+    p, q = rng.normal(size=4), rng.normal(size=4)
+    p, q = spatial.quat_unit(*p), spatial.quat_unit(*q)
+    assert p[0] >= 0.0 and math.isclose(math.fsum(c * c for c in p), 1.0, rel_tol=1e-15)
+    rp, rq = spatial.quat_to_matrix(p), spatial.quat_to_matrix(q)
+    pq = spatial.quat_multiply(p, q)
+    assert pq[0] >= 0.0
+    assert np.allclose(spatial.quat_to_matrix(pq), rp @ rq, atol=1e-12)
+    assert np.allclose(spatial.quat_to_matrix(spatial.quat_conjugate(p)), rp.T, atol=1e-12)
+    v = tuple(rng.normal(size=3))
+    assert np.allclose(spatial.quat_rotate(p, v), rp @ np.array(v), atol=1e-12)
+    axis, angle = rng.normal(size=3) * 5.0, rng.uniform(-2 * math.pi, 2 * math.pi)
+    got = spatial.quat_from_axis_angle(tuple(axis), angle)
+    assert got[0] >= 0.0
+    expected = spatial.axis_angle(axis / np.linalg.norm(axis), angle)
+    assert np.allclose(spatial.quat_to_matrix(got), expected, atol=1e-12)
+
+
 def test_slerp_halfway_is_half_angle():
     q0 = spatial.matrix_to_quat(np.eye(3))
     q1 = spatial.matrix_to_quat(spatial.rot_z(1.0))

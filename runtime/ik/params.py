@@ -23,9 +23,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from irlc.robots.model import RobotModel
-
-TASK_COMPONENTS = ("x", "y", "z", "rx", "ry", "rz")
+from irlc.robots.model import TASK_COMPONENTS, RobotModel
 
 
 @dataclass

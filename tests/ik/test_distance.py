@@ -237,7 +237,9 @@ def test_runtime_obstacle_rules_are_the_data_list_rules():
     a hand-written .ird cannot pass what a data list would reject."""
     with pytest.raises(ValueError, match="radius must be > 0"):
         from_program_units("s", {"kind": "sphere", "center": [0, 0, 0], "radius": 0})
-    with pytest.raises(ValueError, match="size must be > 0"):
+    with pytest.raises(ValueError, match=r"size: box sizes must be positive"):
         from_program_units("b", {"kind": "box", "center": [0, 0, 0], "size": [1, 0, 1]})
+    with pytest.raises(ValueError, match=r"normal: the plane normal must not be zero"):
+        from_program_units("p", {"kind": "plane", "point": [0, 0, 0], "normal": [0, 0, 0]})
     with pytest.raises(ValueError, match="missing key"):
         from_program_units("b", {"kind": "box", "size": [1, 1, 1]})

@@ -87,14 +87,15 @@ def test_ipo_option_uses_the_same_range(planar3, ipo):
 def test_one_table_feeds_checker_interpreter_and_controller():
     """Each setting is one row: the runtime's tables are the lang table's (not copies)."""
     from irlc.lang import builtins, irdata, settings
-    from irlc.runtime import controller, interpreter
+    from irlc.runtime import controller
+    from irlc.runtime.interpreter import data, motion
 
     assert controller.SETTING_RANGES is settings.SETTING_RANGES
     assert controller.setting_error is settings.setting_error
-    assert set(interpreter._MOVE_NUMBERS) == {s.with_word for s in settings.SETTINGS if s.with_word}
+    assert set(motion.MOVE_NUMBERS) == {s.with_word for s in settings.SETTINGS if s.with_word}
     for name, var in settings.SYSTEM_VARIABLES.items():
         assert name in irdata.SYSTEM_VARIABLES and name in builtins.SYSTEM_VARIABLES
-        assert interpreter._SETTINGS_FIELDS.get(name) == var.field
+        assert data.SETTINGS_FIELDS.get(name) == var.field
     command_fields = {f.name for f in dataclasses.fields(controller.MotionCommand)}
     for row in settings.SETTINGS:  # every row has its field where the runtime keeps it
         if row.with_word:

@@ -1,0 +1,400 @@
+"""The IRDATA machine: executes compiled code (``docs/irdata.md``) against a controller.
+
+A stack machine with one operand stack and a stack of frames. Globals live in the
+:class:`MachineState`; a frame holds the cells of one routine activation (parameters,
+then locals, numbered by their slot index). This module is the machine itself: decoding
+the instructions into handlers once, the fetch–dispatch loop, frames and the operand stack,
+control flow, and the endless-loop guard. The handlers of the other instructions are the
+mixins beside it, one concept each: :mod:`.data` (variables, fields, operators, built-ins),
+:mod:`.io` (WAIT, inputs and outputs, WRITE, events) and :mod:`.motion` (MOVE,
+RECONFIGURATION, the modal options); what a value of a type is, is :mod:`.datatypes`.
+An instruction ``OP`` is handled by the method ``_op_op``; an optional ``_decode_op``
+turns its operands into the handler's arguments once, when the code is loaded.
+
+Values are immutable (:mod:`irlc.runtime.values`), so pass-by-value needs no copy and
+``SETF`` / ``SETI`` build a new value. Variables start *unset* (reading one is a run-time
+error naming it), except ARRAY and RECORD variables, whose elements start unset one by one
+(so they can be filled element-wise), and SIGNAL outputs, which start FALSE.
+
+Motion, RECONFIGURATION and WAIT go to the :class:`~irlc.runtime.controller.Controller`
+with a snapshot of the current :class:`Settings` (system variables) and
+:class:`ModalOptions` (the redundancy options). Simulated time is the controller's.
+
+Run-time errors are :class:`RunFailure` with the instruction's source line and the
+simulated time. :meth:`Interpreter.run` raises them (``run(check=False)`` returns an
+:class:`ExecutionResult` with ``status == "failed"`` and ``error`` set instead); the output
+and events up to the failure are kept either way (``interpreter.result``, ``state``).
+Code that would make Python fail (stack underflow, wrong operand types in a hand-written
+``.ird``) is reported as malformed code.
+
+Incremental execution (the REPL): each entered chunk is compiled as a whole program
+whose declarations are the accumulated ones (same order, so the same global slot
+indices) and whose main code is only the new statements. Run it with the state of the
+previous chunk::
+
+    first = Interpreter(code1, controller).run()
+    second = Interpreter(code2, controller, state=first.state).run()
+
+Globals, system variables (Settings), modal options, events, output and the simulated
+input clock carry over; new globals (a longer ``code.globals``) are appended unset. A
+global whose name or type changed at the same slot index is an error (the chunk does not
+extend the previous declarations). ``ExecutionResult.output`` / ``events`` hold only this
+run's; ``state.output`` / ``state.events`` all of them. A line left open by WRITE is
+flushed at the end of every run.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+
+from irlc.lang.irdata import Code, Routine, Slot, Target
+from irlc.runtime import builtins as B
+from irlc.runtime import values as V
+from irlc.runtime.controller import WAIT_SAMPLED_CYCLES, Controller, ModalOptions, Settings
+from irlc.runtime.errors import RunFailure
+from irlc.runtime.interpreter.data import DataOps
+from irlc.runtime.interpreter.datatypes import DataTypes
+from irlc.runtime.interpreter.io import IoOps
+from irlc.runtime.interpreter.motion import MotionOps
+from irlc.runtime.interpreter.state import (
+    ControllerError,
+    ExecutionResult,
+    Finished,
+    Frame,
+    MachineState,
+    Ref,
+)
+
+# The endless-loop guard: at most this many instructions without motion (about 0.3 s of
+# CPython); a recorded cycle of waiting counts as WAIT_CYCLE_COST instructions (about its run
+# time), so a loop that only waits is caught as fast, while one long WAIT (at most
+# WAIT_SAMPLED_CYCLES recorded cycles) never exhausts it. Users raise it: --instruction-budget.
+DEFAULT_INSTRUCTION_BUDGET = 500_000
+WAIT_CYCLE_COST = 25
+MAX_CALL_DEPTH = 10_000
+MAX_STACK = 1_000_000
+
+
+class Interpreter(DataOps, IoOps, MotionOps):
+    """Executes one :class:`Code` against ``controller``; see the module docstring."""
+
+    def __init__(
+        self,
+        code: Code,
+        controller: Controller,
+        *,
+        settings: Settings | None = None,
+        output: Callable[[str], None] | list[str] | None = None,
+        wait_timeout: float = 60.0,
+        instruction_budget: int = DEFAULT_INSTRUCTION_BUDGET,
+        state: MachineState | None = None,
+    ):
+        if not (wait_timeout > 0 and math.isfinite(wait_timeout)):
+            raise ValueError(f"wait_timeout must be a positive number of seconds: {wait_timeout}")
+        if instruction_budget < 1:
+            raise ValueError(f"instruction_budget must be positive: {instruction_budget}")
+        self.code = code
+        self.controller = controller
+        self.state = state if state is not None else MachineState()
+        if settings is not None:
+            self.state.settings = settings
+        self._output_cb = output.append if isinstance(output, list) else output
+        self.result: ExecutionResult | None = None
+        self.wait_timeout = float(wait_timeout)
+        self.budget = instruction_budget
+        self.pc = 0
+        self._cur = 0
+        self._steps = 0
+        self._progress_at = 0
+        self._progress_time = -math.inf
+        self.stack: list = []
+        self.frames: list[Frame] = []
+        self._line_buffer: list[str] = []
+        self._run_output: list[str] = []
+        self._run_events: list[dict] = []
+        self._run_warnings: list[str] = []
+        self._waitfor: tuple[int, float] | None = None  # (instruction, start time)
+        self._prepared = False
+        self._running = False
+
+    # ------------------------------------------------------------------ running
+
+    def run(self, *, check: bool = True) -> ExecutionResult:
+        """Execute the code once (an Interpreter is single-use).
+
+        On a run-time error: with ``check`` (default) raise the :class:`RunFailure` (line and
+        simulated time filled in; ``self.result`` holds the partial result); otherwise
+        return the result with ``status == "failed"`` and ``error`` set.
+        """
+        if self._prepared:
+            raise RuntimeError("Interpreter.run() may be called only once")
+        status, error = "failed", None
+        try:
+            self._prepare()
+            self._running = True
+            status = self._execute()
+            self._stop_advance("the program ends")
+        except RunFailure as e:
+            if not e.line and self._running:
+                e.line = self._nearest_line(self._cur) or e.line
+            if e.time_s is None:
+                e.time_s = self._time()
+            error = e
+        self._flush_line()
+        self.result = ExecutionResult(
+            status,
+            self._run_output,
+            self._run_events,
+            self._run_warnings,
+            error,
+            self.state,
+            self._steps,
+        )
+        if check and error is not None:
+            raise error
+        return self.result
+
+    def _execute(self) -> str:
+        prog = self._prog
+        budget = self.budget
+        try:
+            while True:
+                cur = self.pc
+                handler, args = prog[cur]
+                self._cur = cur
+                self.pc = cur + 1
+                self._steps += 1
+                if self._steps - self._progress_at > budget:
+                    raise self._budget_failure()
+                handler(args)
+        except Finished as f:
+            return f.status
+        except ControllerError as e:
+            raise e.original from None
+        except IndexError:
+            raise self._bad_code("stack underflow or an operand out of range") from None
+        except (TypeError, ValueError, AttributeError, KeyError, ZeroDivisionError) as e:
+            raise self._bad_code(f"{type(e).__name__}: {e}") from None
+
+    def _bad_code(self, what: str) -> RunFailure:
+        op = self.code.code[self._cur].op if self._cur < len(self.code.code) else "?"
+        return B.malformed(f"{what} at instruction {self._cur} ({op})")
+
+    def _progress(self) -> None:
+        """Restart the instruction budget if simulated time advanced by motion."""
+        t = self._time()
+        if t > self._progress_time:
+            self._progress_time = t
+            self._progress_at = self._steps
+
+    def _waited(self, t_before: float) -> None:
+        """Charge the budget for the cycles a WAIT (or a WAIT FOR) stood still; fail at the
+        waiting statement once it is used up."""
+        t = self._time()
+        if t > t_before:
+            cycles = math.ceil((t - t_before) / self.state.settings.ipo - 1e-9)
+            cycles = min(cycles, WAIT_SAMPLED_CYCLES)  # what the wait costs to simulate
+            self._progress_at -= WAIT_CYCLE_COST * cycles
+            self._progress_time = max(self._progress_time, t)
+            if self._steps - self._progress_at > self.budget:
+                raise self._budget_failure()
+
+    def _budget_failure(self) -> RunFailure:
+        return RunFailure(
+            f"more than {self.budget} instructions without motion (a cycle of waiting counts "
+            f"as {WAIT_CYCLE_COST}) — endless loop? If not, raise the budget: "
+            "--instruction-budget N (Python: instruction_budget=N)"
+        )
+
+    def _time(self) -> float:
+        return float(self.controller.time)
+
+    def _line(self) -> int:
+        return self._lines[self._cur]
+
+    def _nearest_line(self, index: int) -> int:
+        """The source line of instruction ``index``, else of the nearest instruction before
+        it that records one (code read from a hand-made .ird may say ``L0``); 0 if none."""
+        for k in range(min(index, len(self._lines) - 1), -1, -1):
+            if self._lines[k] > 0:
+                return self._lines[k]
+        return 0
+
+    def _ctl(self, fn: Callable, *args, **kwargs):
+        """Call the controller; its own RunFailures pass, other exceptions are bugs there."""
+        try:
+            return fn(*args, **kwargs)
+        except RunFailure:
+            raise
+        except Exception as e:  # re-raised unchanged by _execute
+            raise ControllerError(e) from e
+
+    # ------------------------------------------------------------------ preparation
+
+    def _prepare(self) -> None:
+        code = self.code
+        self._lines = [ins.line for ins in code.code] + [0]
+        self._prepared = True
+        if len(code.joint_names) != code.joint_count:
+            raise B.malformed(f"{len(code.joint_names)} joint names for {code.joint_count} joints")
+        self.types = DataTypes(code.types, code.joint_names)
+        self._consts = [self.types.constant(k, v) for k, v in enumerate(code.consts)]
+        self._inputs = {n: sorted(ev) for n, ev in code.inputs.items()}
+        self._routines = {r.index: r for r in code.routines}
+        self._slot_tables = {r.index: self._slot_table(r) for r in code.routines}
+        self._bind_globals()
+        self._prog = [self._decode(ins) for ins in code.code]
+        self._prog.append((self._op_fell_off, ()))
+        main = next((r for r in code.routines if r.kind == "MAIN"), None)
+        if main is None or main.params:
+            raise B.malformed("no MAIN routine without parameters")
+        self._push_frame(main, [], return_pc=-1)
+
+    def _slot_table(self, r: Routine) -> list[Slot]:
+        slots = sorted(r.params + r.locals, key=lambda s: s.index)
+        if [s.index for s in slots] != list(range(len(slots))):
+            raise B.malformed(f"the slots of routine {r.name!r} are not numbered 0..n-1")
+        return slots
+
+    def _bind_globals(self) -> None:
+        st = self.state
+        slots = self.code.globals
+        if [s.index for s in slots] != list(range(len(slots))):
+            raise B.malformed("the global slots are not numbered 0..n-1")
+        if len(slots) < len(st.globals):
+            raise RunFailure(
+                f"the code declares {len(slots)} globals but the session state has"
+                f" {len(st.globals)}: it does not extend the previous declarations"
+            )
+        for old, new in zip(st.global_slots, slots, strict=False):
+            if old.name.lower() != new.name.lower() or old.type != new.type:
+                raise RunFailure(
+                    f"global {new.index} is {new.type} {new.name!r} in the code but"
+                    f" {old.type} {old.name!r} in the session state"
+                )
+        st.globals.extend(self.types.initial(s.type) for s in slots[len(st.globals) :])
+        st.global_slots = list(slots)
+
+    def _decode(self, ins) -> tuple[Callable, tuple]:
+        if ins.op in B.BINARY:
+            return self._op_binary, (B.BINARY[ins.op],)
+        handler = getattr(self, "_op_" + ins.op.lower(), None)
+        if handler is None:
+            raise B.malformed(f"unknown opcode {ins.op!r}")
+        args = tuple(a.index if isinstance(a, Target) else a for a in ins.args)
+        decode = getattr(self, "_decode_" + ins.op.lower(), None)
+        if decode is not None:
+            args = decode(args)
+        return handler, args
+
+    # ------------------------------------------------------------------ frames
+
+    def _push_frame(self, r: Routine, args: list, return_pc: int) -> None:
+        if len(self.frames) >= MAX_CALL_DEPTH:
+            raise RunFailure(f"more than {MAX_CALL_DEPTH} nested calls — endless recursion?")
+        slots = self._slot_tables[r.index]
+        cells: list = []
+        for slot, arg in zip(r.params, args, strict=True):
+            if slot.by_ref:
+                if not isinstance(arg, Ref):
+                    raise B.malformed(
+                        f"VAR parameter {slot.name!r} of {r.name!r} needs a reference"
+                    )
+                cells.append(arg)
+            else:
+                if isinstance(arg, Ref):
+                    raise B.malformed(f"parameter {slot.name!r} of {r.name!r} got a reference")
+                cells.append(self.types.coerce(arg, slot.type, f"parameter {slot.name!r}"))
+        cells.extend(self.types.initial(s.type) for s in slots[len(cells) :])
+        self.frames.append(Frame(r, cells, slots, return_pc, len(self.stack)))
+
+    def _pop_n(self, n: int) -> list:
+        if n < 0 or len(self.stack) < n:
+            raise B.malformed(f"stack underflow: {n} operands needed, {len(self.stack)} present")
+        if n == 0:
+            return []
+        out = self.stack[-n:]
+        del self.stack[-n:]
+        return out
+
+    def _push(self, v: object) -> None:
+        if len(self.stack) >= MAX_STACK:
+            raise B.malformed(f"the operand stack grew beyond {MAX_STACK} values")
+        self.stack.append(v)
+
+    # ------------------------------------------------------------------ control flow
+
+    def _op_call(self, args) -> None:
+        r, argc = args
+        routine = self._routines.get(r)
+        if routine is None or routine.kind == "MAIN":
+            raise B.malformed(f"CALL of routine {r}, which is not a procedure or function")
+        if argc != len(routine.params):
+            raise B.malformed(f"{routine.name!r} takes {len(routine.params)} arguments, got {argc}")
+        values = self._pop_n(argc)
+        self._push_frame(routine, values, return_pc=self.pc)
+        self.pc = routine.entry
+
+    def _op_ret(self, args) -> None:
+        frame = self.frames[-1]
+        if frame.routine.kind == "MAIN":
+            raise Finished("ok")
+        if frame.routine.result_type is not None:
+            raise RunFailure(
+                f"function '{frame.routine.name}' ended without returning a value (RETURN missing)"
+            )
+        self._leave(frame)
+
+    def _op_retv(self, args) -> None:
+        frame = self.frames[-1]
+        ty = frame.routine.result_type
+        if ty is None:
+            raise B.malformed(f"RETV in {frame.routine.name!r}, which is not a function")
+        v = self.types.coerce(self.stack.pop(), ty, f"the result of {frame.routine.name!r}")
+        self._leave(frame)
+        self._push(v)
+
+    def _leave(self, frame: Frame) -> None:
+        self.frames.pop()
+        del self.stack[frame.stack_base :]
+        self.pc = frame.return_pc
+
+    def _op_jmp(self, args) -> None:
+        self.pc = args[0]
+
+    def _condition(self, what: str) -> bool:
+        b = self.stack.pop()
+        if not isinstance(b, bool):
+            raise B.malformed(f"{what} needs a BOOLEAN, got {V.type_name(b)}")
+        return b
+
+    def _op_jf(self, args) -> None:
+        if not self._condition("JF"):
+            self.pc = args[0]
+
+    def _op_jt(self, args) -> None:
+        if self._condition("JT"):
+            self.pc = args[0]
+
+    def _op_halt(self, args) -> None:
+        self._stop_advance(f"HALT at line {self._line()}")
+        self._event("halt")
+        raise Finished("halted")
+
+    def _op_end(self, args) -> None:
+        raise Finished("ok")
+
+    def _op_fell_off(self, args) -> None:
+        raise B.malformed("execution ran past the last instruction (no END)")
+
+    def _op_pause(self, args) -> None:
+        self._stop_advance(f"PAUSE at line {self._line()}")
+        self._event("pause")
+        self._warn(f"line {self._line()}: PAUSE in a batch run — execution continues")
+
+    def _snapshot(self) -> tuple[Settings, ModalOptions]:
+        st = self.state
+        opts = dataclasses.replace(st.options, frozen=dict(st.options.frozen))
+        return dataclasses.replace(st.settings), opts

@@ -1,0 +1,241 @@
+"""The motion instructions: MOVE, RECONFIGURATION and the modal options (OPTON / OPTOFF of
+JOINTLIMIT, JOINTSPEEDLIMIT, JOINTACCELLIMIT, CYCLIC, OBSTACLE, FREEZE).
+
+A mixin of :class:`~irlc.runtime.interpreter.machine.Interpreter`. A motion instruction
+builds a :class:`~irlc.runtime.controller.MotionCommand` from its operands (targets, then
+the WITH clauses in the order of the instruction: ``docs/irdata.md``) and hands it to the
+controller with a snapshot of the current :class:`Settings` (system variables) and
+:class:`ModalOptions`; the controller plans and executes it and advances simulated time.
+
+The WITH words and the system variables are rows of :mod:`irlc.lang.settings`; the limit
+options' rows are :data:`LIMIT_OPTIONS`. A limit option's bounds are checked here, where the
+program's units are known: lower ≤ upper, speed and acceleration bounds contain 0 (the
+robot must be able to stand still), position bounds contain the current joints (within
+:data:`LIMIT_TOLERANCE`).
+"""
+
+from __future__ import annotations
+
+from irlc.lang.settings import ALL_KINDS, BY_WITH_WORD, PATH_KINDS, reconfiguration_counts
+from irlc.runtime import builtins as B
+from irlc.runtime import units
+from irlc.runtime import values as V
+from irlc.runtime.controller import MotionCommand, check_setting
+from irlc.runtime.errors import RunFailure
+from irlc.runtime.interpreter.datatypes import number
+from irlc.runtime.values import JointTuple, Pose
+
+MOVE_NUMBERS = {word: s.field for word, s in BY_WITH_WORD.items()}  # WITH word → field
+LIMIT_OPTIONS = {  # option → (field of MotionCommand / ModalOptions, derivative)
+    "JOINTLIMIT": ("joint_limits", 0),
+    "JOINTSPEEDLIMIT": ("speed_limits", 1),
+    "JOINTACCELLIMIT": ("accel_limits", 2),
+}
+LIMIT_TOLERANCE = 1e-6  # deg | mm (per derivative) when checking a bound against the state
+_POINT_COUNTS = {"CIRCLE": 2, "PTP": 1, "PTPINC": 1, "LININC": 1}  # LIN, LINPATH: any
+
+
+class MotionOps:
+    """``MOVE``, ``RECONF``, ``OPTON``, ``OPTOFF``; see the module docstring."""
+
+    # ------------------------------------------------------------------ MOVE
+
+    def _decode_move(self, args: tuple) -> tuple:
+        """``MOVE kind npts clause…`` → ``(kind, npts, ((word, field, operands), …))``."""
+        if len(args) < 2 or not isinstance(args[1], int) or args[1] < 1:
+            raise B.malformed("MOVE needs a kind and a positive number of points")
+        clauses = []
+        for c in args[2:]:
+            word = str(c)
+            if word in MOVE_NUMBERS:
+                clauses.append((word, MOVE_NUMBERS[word], 1))
+            elif word in LIMIT_OPTIONS:
+                clauses.append((word, LIMIT_OPTIONS[word][0], 2))
+            elif word.startswith("RECONF:") and word[7:].isdigit() and int(word[7:]) > 0:
+                clauses.append(("RECONFIGURATION", "reconfiguration", int(word[7:])))
+            else:
+                raise B.malformed(f"unknown MOVE clause {word!r}")
+        return (args[0], args[1], tuple(clauses))
+
+    def _op_move(self, args) -> None:
+        kind, npts, clauses = args
+        fields: dict[str, object] = {}
+        for word, name, count in reversed(clauses):
+            operands = self._pop_n(count)
+            fields[name] = self._move_clause(word, operands, kind, npts)
+        targets = tuple(self._move_target(kind, t) for t in self._pop_n(npts))
+        _check_point_count(kind, npts)
+        cmd = MotionCommand(kind, targets, self._line(), **fields)
+        self._ctl(self.controller.move, cmd, *self._snapshot())
+        self._progress()
+
+    def _move_target(self, kind: str, t: object) -> object:
+        if kind in PATH_KINDS:  # a Cartesian path goes to POSE targets
+            if not isinstance(t, Pose):
+                raise B.malformed(f"MOVE {kind} needs POSE targets, got {V.type_name(t)}")
+            return t
+        if kind == "PTP" and isinstance(t, Pose):
+            return t
+        return self.types.main_joint(t, f"MOVE {kind} target")
+
+    def _move_clause(self, word: str, operands: list, kind: str, npts: int) -> object:
+        if word in MOVE_NUMBERS:
+            what = f"WITH {word}"
+            return check_setting(MOVE_NUMBERS[word], number(operands[0], what), what)
+        if word in LIMIT_OPTIONS:
+            return self._checked_limits(word, operands[0], operands[1])
+        if len(operands) not in reconfiguration_counts(kind, npts):
+            raise B.malformed(f"{len(operands)} RECONFIGURATION targets for {npts} points")
+        return tuple(self.types.main_joint(k, "RECONFIGURATION") for k in operands)
+
+    def _op_reconf(self, args) -> None:
+        k = self.types.main_joint(self.stack.pop(), "RECONFIGURATION")
+        self._ctl(self.controller.reconfigure, k, self._line(), *self._snapshot())
+        self._progress()
+
+    # ------------------------------------------------------------------ limit options
+
+    def _joint_unit(self, i: int, derivative: int) -> str:
+        kind = units.REVOLUTE if self.code.joint_kinds[i] == "R" else units.PRISMATIC
+        return units.joint_unit_label(kind, derivative)
+
+    def _joint_labels(self) -> tuple[str, ...]:
+        """Joint names for messages (the naming rule: the program's name, the robot's in
+        parentheses where it differs), from the controller's naming when it has one."""
+        naming = getattr(self.controller, "naming", None)
+        if naming is None or len(naming.program) != len(self.code.joint_names):
+            return tuple(self.code.joint_names)
+        return tuple(naming.label(i) for i in range(len(naming.program)))
+
+    def _checked_limits(self, option: str, lo: object, hi: object) -> tuple[JointTuple, JointTuple]:
+        lo = self.types.joint_tuple(lo, f"{option} lower bounds")
+        hi = self.types.joint_tuple(hi, f"{option} upper bounds")
+        derivative = LIMIT_OPTIONS[option][1]
+        names = self._joint_labels()
+        fmt = V.format_real
+        for i, (a, b) in enumerate(zip(lo.values, hi.values, strict=True)):
+            unit = self._joint_unit(i, derivative)
+            if a > b:
+                raise RunFailure(
+                    f"{option}: joint {names[i]} has the lower bound {fmt(a)} {unit}"
+                    f" above the upper bound {fmt(b)} {unit}"
+                )
+            if derivative and (a > LIMIT_TOLERANCE or b < -LIMIT_TOLERANCE):
+                raise RunFailure(
+                    f"{option} must allow standing still: joint {names[i]} has the bounds"
+                    f" [{fmt(a)}, {fmt(b)}] {unit}, which exclude 0",
+                    constraint=f"joint {names[i]} {('speed', 'accel')[derivative - 1]}"
+                    f" {'min' if a > 0 else 'max'} {fmt(a if a > 0 else b)} {unit}",
+                )
+        if derivative == 0:
+            self._check_joints_inside(option, lo, hi)
+        return lo, hi
+
+    def _check_joints_inside(self, option: str, lo: JointTuple, hi: JointTuple) -> None:
+        q = self._ctl(self.controller.joints)
+        fmt = V.format_real
+        for i, (v, a, b) in enumerate(zip(q, lo.values, hi.values, strict=True)):
+            name, unit = self._joint_labels()[i], self._joint_unit(i, 0)
+            if v < a - LIMIT_TOLERANCE or v > b + LIMIT_TOLERANCE:
+                below = v < a
+                side, bound = ("lower", a) if below else ("upper", b)
+                raise RunFailure(
+                    f"{option} excludes the current state: joint {name} is at {fmt(v)} {unit},"
+                    f" {'below' if below else 'above'} the {side} bound {fmt(bound)} {unit}",
+                    constraint=f"joint {name} position {'min' if below else 'max'}"
+                    f" {fmt(bound)} {unit}",
+                )
+
+    # ------------------------------------------------------------------ OPTON / OPTOFF
+
+    def _op_opton(self, args) -> None:
+        option, rest = args[0], args[1:]
+        self._stop_advance(f"{option} switched on at line {self._line()}")
+        opts = self.state.options
+        if option in LIMIT_OPTIONS:
+            hi = self.stack.pop()
+            lo = self.stack.pop()
+            attr = LIMIT_OPTIONS[option][0]
+            if getattr(opts, attr) is not None:
+                raise RunFailure(f"{option} is already on (close it with {option}END first)")
+            setattr(opts, attr, self._checked_limits(option, lo, hi))
+        elif option == "CYCLIC":
+            if opts.cyclic_reference is not None:
+                raise RunFailure("CYCLICSTART while CYCLIC is already on")
+            opts.cyclic_reference = tuple(float(x) for x in self._ctl(self.controller.joints))
+        elif option == "OBSTACLE":
+            self._obstacle_on(rest)
+            self._check_switch_on(option)
+        elif option == "FREEZE":
+            self._freeze_on(rest)
+            self._check_switch_on(option)
+        else:
+            raise B.malformed(f"unknown modal option {option!r}")
+
+    def _check_switch_on(self, option: str) -> None:
+        """Let the controller reject an option that cannot hold from this very statement
+        (an obstacle the arm is inside, too many frozen joints); optional for controllers."""
+        check = getattr(self.controller, "check_switch_on", None)
+        if check is not None:
+            self._ctl(check, option, self._line(), *self._snapshot())
+
+    def _obstacle_on(self, rest: tuple) -> None:
+        if len(rest) != 1:
+            raise B.malformed("OPTON OBSTACLE needs one obstacle name")
+        obstacle = self.code.obstacle(str(rest[0]))
+        if obstacle is None:
+            known = ", ".join(o.name for o in self.code.obstacles) or "none"
+            raise RunFailure(f"unknown obstacle '{rest[0]}' (known: {known})")
+        opts = self.state.options
+        if obstacle.name in opts.obstacles:
+            raise RunFailure(f"OBSTACLE {obstacle.name} is already on")
+        opts.obstacles = (*opts.obstacles, obstacle.name)
+
+    def _freeze_on(self, rest: tuple) -> None:
+        opts = self.state.options
+        if opts.frozen:
+            raise RunFailure("FREEZESTART while joints are already frozen")
+        n = self.types.joint_count
+        if not rest or any(not isinstance(j, int) or not 1 <= j <= n for j in rest):
+            raise B.malformed(
+                f"FREEZE needs joint numbers in 1..{n}, got {' '.join(map(str, rest))}"
+            )
+        q = self._ctl(self.controller.joints)
+        opts.frozen = {j - 1: float(q[j - 1]) for j in rest}
+
+    def _op_optoff(self, args) -> None:
+        option, rest = args[0], args[1:]
+        self._stop_advance(f"{option} switched off at line {self._line()}")
+        opts = self.state.options
+        if option in LIMIT_OPTIONS:
+            attr = LIMIT_OPTIONS[option][0]
+            _require_on(getattr(opts, attr) is not None, option)
+            setattr(opts, attr, None)
+        elif option == "CYCLIC":
+            _require_on(opts.cyclic_reference is not None, "CYCLIC")
+            opts.cyclic_reference = None
+        elif option == "OBSTACLE":
+            if len(rest) != 1:
+                raise B.malformed("OPTOFF OBSTACLE needs one obstacle name")
+            key = str(rest[0]).lower()
+            active = [o for o in opts.obstacles if o.lower() == key]
+            _require_on(bool(active), f"OBSTACLE {rest[0]}")
+            opts.obstacles = tuple(o for o in opts.obstacles if o.lower() != key)
+        elif option == "FREEZE":
+            _require_on(bool(opts.frozen), "FREEZE")
+            opts.frozen = {}
+        else:
+            raise B.malformed(f"unknown modal option {option!r}")
+
+
+def _check_point_count(kind: str, npts: int) -> None:
+    if kind not in ALL_KINDS:
+        raise B.malformed(f"unknown motion kind {kind!r}")
+    expected = _POINT_COUNTS.get(kind)
+    if expected is not None and npts != expected:
+        raise B.malformed(f"MOVE {kind} with {npts} points")
+
+
+def _require_on(on: bool, what: str) -> None:
+    if not on:
+        raise RunFailure(f"{what} is switched off but it is not on")
