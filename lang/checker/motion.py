@@ -18,6 +18,7 @@ from irlc.lang.checker.scope import Reporter, Scope
 from irlc.lang.diagnostics import Span
 from irlc.lang.settings import (
     BY_WITH_WORD,
+    KIND_WORDS,
     approximation_hint,
     reconfiguration_counts,
     setting_message,
@@ -71,8 +72,7 @@ class MotionChecker:
             return
         want = joint if s.kind == "PTPINC" else T.POSE
         got = self.typer.expr(t, want)
-        word = {"PTPINC": "MOVE_INC PTP", "LININC": "MOVE_INC LIN", "LINPATH": "MOVE LIN PATH"}
-        self.typer.require(t, want, got, f"{word.get(s.kind, 'MOVE ' + s.kind)} target")
+        self.typer.require(t, want, got, f"{KIND_WORDS[s.kind]} target")
 
     def with_clause(self, s: ast.Move, c: ast.WithClause) -> None:
         ptp = s.kind in ("PTP", "PTPINC")
