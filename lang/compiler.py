@@ -7,7 +7,9 @@ missing or malformed data lists and every static check end up as diagnostics, an
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+import gc
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -56,6 +58,39 @@ def compile_source(
     Data lists are searched in ``filename``'s folder, then in ``datalist_path``, then in
     the robot library. ``robot_override`` is the command line's ``--robot``.
     """
+    with _cycle_collector_paused():
+        return _compile(text, filename, resolve_robot, tuple(datalist_path), robot_override, repl)
+
+
+@contextmanager
+def _cycle_collector_paused() -> Iterator[None]:
+    """Pause CPython's cycle collector while the front end builds its trees.
+
+    Parsing, checking and code generation allocate some 60 objects per source line, alive
+    until the code is built. The collector runs a full collection each time the long-lived
+    objects grow by a quarter, and each one traverses every object: ~log(n) passes over a
+    heap growing to n objects, which made up half the compile time of a 1 MB program
+    (40,000 lines: 3.3 s of 6.2 s in full collections). The front end's objects form
+    trees, freed by reference counting without the collector, so the collector is paused
+    for the compilation and restarted after (by the caller that paused it only).
+    """
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was_enabled:
+            gc.enable()
+
+
+def _compile(
+    text: str,
+    filename: str,
+    resolve_robot: RobotResolver,
+    datalist_path: tuple[str, ...],
+    robot_override: str | None,
+    repl: bool,
+) -> CompileResult:
     result = CompileResult(None, [], text, filename)
     program, diags = parse(text, filename)
     result.diagnostics += diags
@@ -67,7 +102,7 @@ def compile_source(
     robot, robot_text, robot_var = _robot(program, filename, resolve_robot, robot_override, result)
     if robot is None:  # every joint check depends on the robot: report only its diagnostic
         return result
-    datalists = _datalists(program, filename, tuple(datalist_path), robot, result)
+    datalists = _datalists(program, filename, datalist_path, robot, result)
     checker = Checker(program, filename, robot, datalists, repl=repl)
     checked = checker.check()
     result.diagnostics += checker.diags

@@ -30,7 +30,16 @@ import math
 import re
 from dataclasses import dataclass
 
-ALL_KINDS = ("PTP", "LIN", "CIRCLE", "LINPATH", "PTPINC", "LININC")  # IRDATA motion kinds
+KIND_WORDS = {
+    "PTP": "MOVE PTP",
+    "LIN": "MOVE LIN",
+    "CIRCLE": "MOVE CIRCLE",
+    "LINPATH": "MOVE LIN PATH",
+    "PTPINC": "MOVE_INC PTP",
+    "LININC": "MOVE_INC LIN",
+}
+"""The IRDATA motion kinds and how their statement is written (messages, reports)."""
+ALL_KINDS = tuple(KIND_WORDS)  # IRDATA motion kinds
 PTP_KINDS = ("PTP", "PTPINC")  # joint interpolation: SPEED_PTP, ACC_PTP (%)
 PATH_KINDS = ("LIN", "CIRCLE", "LINPATH", "LININC")  # Cartesian path: SPEED, ACC, SPEED_ORI
 
@@ -200,16 +209,6 @@ def setting_message(field_name: str, value: object, what: str) -> str | None:
     return None if error is None else f"{what} := {shown_value(value)}: {error}"
 
 
-_KIND_WORDS = {
-    "PTP": "PTP",
-    "LIN": "LIN",
-    "CIRCLE": "CIRCLE",
-    "LINPATH": "LIN PATH",
-    "PTPINC": "MOVE_INC PTP",
-    "LININC": "MOVE_INC LIN",
-}
-
-
 def _shown_default(value: float | str) -> str:
     return f"'{value}'" if isinstance(value, str) else f"{value:g}"
 
@@ -221,7 +220,7 @@ def ranges_table() -> str:
         "|---|---|---|---|---|---|",
     ]
     for s in SETTINGS:
-        kinds = ", ".join(_KIND_WORDS[k] for k in s.kinds) or "—"
+        kinds = ", ".join(KIND_WORDS[k].removeprefix("MOVE ") for k in s.kinds) or "—"
         kinds = "all motion" if s.kinds == ALL_KINDS else kinds
         start = "—" if s.default is None else _shown_default(s.default)
         rows.append(

@@ -20,15 +20,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-# IRDATA motion kinds → how the statement is written (for runs without the source text)
-KIND_WORDS = {
-    "PTP": "MOVE PTP",
-    "LIN": "MOVE LIN",
-    "CIRCLE": "MOVE CIRCLE",
-    "LINPATH": "MOVE LIN PATH",
-    "PTPINC": "MOVE_INC PTP",
-    "LININC": "MOVE_INC LIN",
-}
+# How a motion statement is written, for runs without the source text: owned by the
+# language's settings table, re-exported here for the executor.
+from irlc.lang.settings import KIND_WORDS as KIND_WORDS
 
 
 @dataclass(frozen=True)

@@ -6,16 +6,16 @@ import logging
 from pathlib import Path
 
 import pytest
-from irlc.lang import ast, parser
+from irlc.lang import ast, grammar, parser
 
 
 @pytest.fixture
 def fresh_parser(monkeypatch: pytest.MonkeyPatch, tmp_path: Path):
-    """``parser._lark`` rebuilt with the cache under ``tmp_path``; restored afterwards."""
+    """``grammar.lark_parser`` rebuilt with the cache under ``tmp_path``; restored afterwards."""
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
-    parser._lark.cache_clear()
+    grammar.lark_parser.cache_clear()
     yield tmp_path
-    parser._lark.cache_clear()
+    grammar.lark_parser.cache_clear()
 
 
 RESERVED = "PROGRAM t;\nVAR INTEGER: then;\nBEGIN\nENDPROGRAM\n"
@@ -39,17 +39,17 @@ def test_cache_is_written_then_loaded_with_callbacks_working(
     _check_parser()  # builds the tables and saves them
     (cache,) = (fresh_parser / "irlc").iterdir()
     assert "Loading grammar from cache" not in caplog.text
-    parser._lark.cache_clear()
+    grammar.lark_parser.cache_clear()
     _check_parser()  # loads them: the transformer and lexer callbacks are attached again
     assert f"Loading grammar from cache: {cache}" in caplog.text
 
 
 def test_cache_name_follows_the_grammar(fresh_parser: Path) -> None:
-    grammar = 'start: A\nA: "a"\n'
-    first = parser.grammar_cache_file(grammar)
+    text = 'start: A\nA: "a"\n'
+    first = grammar.grammar_cache_file(text)
     assert isinstance(first, str) and Path(first).parent == fresh_parser / "irlc"
-    assert parser.grammar_cache_file(grammar) == first
-    assert parser.grammar_cache_file(grammar + 'B: "b"\n') != first
+    assert grammar.grammar_cache_file(text) == first
+    assert grammar.grammar_cache_file(text + 'B: "b"\n') != first
 
 
 def test_no_writable_cache_directory_still_parses(
@@ -58,18 +58,18 @@ def test_no_writable_cache_directory_still_parses(
     blocker = tmp_path / "not-a-directory"
     blocker.write_text("")
     monkeypatch.setenv("XDG_CACHE_HOME", str(blocker))
-    parser._lark.cache_clear()
+    grammar.lark_parser.cache_clear()
     try:
-        assert parser.grammar_cache_file('start: A\nA: "a"\n') is False
+        assert grammar.grammar_cache_file('start: A\nA: "a"\n') is False
         _check_parser()
     finally:
-        parser._lark.cache_clear()
+        grammar.lark_parser.cache_clear()
 
 
 def test_a_corrupt_cache_file_is_rebuilt(fresh_parser: Path) -> None:
     _check_parser()
     (cache,) = (fresh_parser / "irlc").iterdir()
     cache.write_bytes(b"garbage\n")
-    parser._lark.cache_clear()
+    grammar.lark_parser.cache_clear()
     _check_parser()
     assert cache.stat().st_size > 1000  # lark saw the wrong hash, rebuilt and rewrote it
