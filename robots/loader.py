@@ -265,17 +265,24 @@ def load_toml(path: str | Path) -> RobotModel:
 
 def _read_ik(rd: Reader, table: Any) -> dict:
     """``[ik] task = ["x", "y"]``: the pose-error components the inverse transformation
-    controls (default all six; a planar arm controls only its plane's position)."""
-    ik = rd.table(table, "ik", {"task"})
+    controls (default all six; a planar arm controls only its plane's position).
+    ``closed_form = "<family>"``: the robot's closed-form IK family
+    (:mod:`irlc.runtime.ik.closed_form`)."""
+    from irlc.runtime.ik.closed_form import FAMILY_NAMES
+
+    ik = rd.table(table, "ik", {"task", "closed_form"})
+    out = {}
+    if "closed_form" in ik:
+        out["closed_form"] = rd.string(ik["closed_form"], "ik.closed_form", FAMILY_NAMES)
     if "task" not in ik:
-        return {}
+        return out
     task = ik["task"]
     if not isinstance(task, list) or not task:
         raise rd.fail("ik.task", f"expected a non-empty list of {', '.join(TASK_COMPONENTS)}")
     names = [rd.string(c, f"ik.task[{i}]", TASK_COMPONENTS) for i, c in enumerate(task)]
     if len(set(names)) != len(names):
         raise rd.fail("ik.task", "a component is listed twice")
-    return {"task": names}
+    return {**out, "task": names}
 
 
 def build_model(doc: dict, file: str, folder: Path) -> RobotModel:
@@ -545,14 +552,15 @@ def _read_coupled(rd: Reader, value: Any, joints: list[Joint]) -> list[dict]:
     """``[[coupled_limits]]``: ``min ≤ Σ c_j q_j ≤ max`` over joints of one kind (file units).
 
     Stored in SI: ``{name, kind, coeffs (n,), lower, upper, text}`` (``kind``: the joints'
-    kind, which gives the bounds' unit); ``lower``/``upper`` may be
-    ``-inf``/``inf`` when ``min``/``max`` is absent."""
+    kind, which gives the bounds' unit; ``assumed``: the reason, for a row marked
+    ``assumed = true``); ``lower``/``upper`` may be ``-inf``/``inf`` when ``min``/``max``
+    is absent."""
     rows = rd.array_of_tables(value, "coupled_limits")
     out = []
     for i, row in enumerate(rows):
         key = f"coupled_limits[{i + 1}]"
         rd.table(row, key, {"name", "coeffs", "min", "max", "text", "assumed", "reason"})
-        rd.assumption(row, key)
+        row_assumed, row_reason = rd.assumption(row, key)
         coeffs = rd.vector(row.get("coeffs"), f"{key}.coeffs", len(joints))
         used = [j.kind for j, c in zip(joints, coeffs, strict=True) if c != 0.0]
         if not used:
@@ -576,6 +584,7 @@ def _read_coupled(rd: Reader, value: Any, joints: list[Joint]) -> list[dict]:
                 "lower": lo,
                 "upper": hi,
                 "text": text,
+                **({"assumed": row_reason} if row_assumed else {}),
             }
         )
     return out

@@ -17,9 +17,12 @@ box halved, so the walk ends at the closest pose instead of oscillating around i
 the solution the hard step is plain Newton–Raphson (quadratic convergence) and the cost
 picks, among the configurations reaching the pose, one close to the seed. If the relaxed
 steps stall away from the target (the step vanishes, or the error falls by less than 0.1
-% over ten steps), the target is out of reach (or behind a joint limit): the result says
-how far the closest pose is and which limits are reached. In relaxed steps the seed pull
-is dropped (pure damped least squares), so it cannot bias where the iteration stops.
+% over ten steps), no solution was found from this seed: the result says how far the
+closest pose is and which limits are reached, and "target not reachable" only where
+:mod:`unreachable` proves that no configuration within the limits reaches it (closed
+form, the 5-axis plane condition, the chain's reach); other seeds: :mod:`find`. In
+relaxed steps the seed pull is dropped (pure damped least squares), so it cannot bias
+where the iteration stops.
 """
 
 from __future__ import annotations
@@ -37,6 +40,7 @@ from irlc.runtime.coupled_limits import (
     row_label,
     violations,
 )
+from irlc.runtime.ik import unreachable
 from irlc.runtime.ik.compact import CompactBasis
 from irlc.runtime.ik.limits import format_joint_value
 from irlc.runtime.ik.newton_step import NewtonStep
@@ -117,7 +121,8 @@ def solve_pose(
             continue
         history.append(pe + oe)
         if last is not None and last.relaxed and _stalled(last.dtheta, history):
-            text = _unreachable(model, q, pe, oe, naming) + _coupled_reached(coupled, A, b, q)
+            why = unreachable.proof(model, target, kin.tool, limits, tuple(int(r) for r in rows))
+            text = _unreachable(model, q, pe, oe, naming, why) + _coupled_reached(coupled, A, b, q)
             return PoseSolution(q, False, pe, oe, it, text)
         J = kin.jacobian_at(frames, tcp[:3, 3])[rows]
         lower = np.maximum(limits[:, 0] - q, -scale * step)
@@ -192,11 +197,11 @@ def _coupled_reached(coupled, A, b, q) -> str:
     return f" (coupled limits reached: {', '.join(rows[i] for i in at)})"
 
 
-def _unreachable(model, q, pe, oe, naming: JointNaming) -> str:
-    text = (
-        f"target not reachable: the closest pose found is {pe * 1e3:.4g} mm and "
-        f"{np.degrees(oe):.4g} deg away"
-    )
+def _unreachable(model, q, pe, oe, naming: JointNaming, why: str | None) -> str:
+    """``target not reachable (why): …`` when :func:`unreachable.proof` proves it, else
+    ``no solution found from this start: …`` (another start may still reach the pose)."""
+    head = unreachable.NOT_FOUND if why is None else f"{unreachable.NOT_REACHABLE} ({why})"
+    text = f"{head}: the closest pose found is {pe * 1e3:.4g} mm and {np.degrees(oe):.4g} deg away"
     limits = model.position_limits
     at = [j for j in range(model.n) if q[j] <= limits[j, 0] + 1e-9 or q[j] >= limits[j, 1] - 1e-9]
     if at:
