@@ -1,12 +1,13 @@
 """One TCP pose for ``irlc ik``: the seed first, then the other starts, or a chosen branch.
 
 :func:`find_pose` solves from ``seed`` (:func:`pose.solve_pose` within the robot's
-limits); if that stalls it tries the same starts as the PTP pose search
-(:meth:`reach.Reach.starts`: the closed-form configurations within the limits, nearest to
-the seed first, then the seed moved, home, mid-range, a Halton spread), and returns the
-first solution, or the closest pose with a message that says "target not reachable" only
-when :mod:`unreachable` proves it, else "no solution found from this start nor from N
-other starts".
+limits); if that stalls it tries the starts of the PTP pose search
+(:meth:`reach.Reach.starts`: the closed-form configurations within the limits, nearest
+to the seed first, then the seed moved, home, mid-range, a Halton spread, here of
+:data:`SPREAD` points), unless the first failure already proves the pose out of reach.
+It returns the first solution, or the closest pose with a message that says "target not
+reachable" only when :mod:`unreachable` proves it, else "no solution found from this
+start nor from N other starts".
 
 ``branch`` (robots with ``[ik] closed_form``): the configuration of that closed-form
 branch (labels: :func:`closed_form.branch_labels`), polished by the same solver; a
@@ -25,6 +26,9 @@ from irlc.runtime import spatial
 from irlc.runtime.ik import closed_form, unreachable
 from irlc.runtime.ik.pose import PoseSolution, seed_problem, solve_pose
 from irlc.runtime.ik.reach import restarts, tried_starts
+
+SPREAD = 64  # Halton starts: as6 (no closed form), 100 random reachable poses from home:
+# 6 not found with 8, 1 with 32, none with 64 (each tried only while none converged)
 
 
 class BranchError(ValueError):
@@ -63,10 +67,11 @@ def find_pose(
     if branch is not None:
         return _on_branch(model, target, seed, branch, tool, found)
     sol = solve_pose(model, target, seed, tool=tool)
-    if sol.converged or not np.all(np.isfinite(sol.q)):
+    proven = sol.message.startswith(unreachable.NOT_REACHABLE)  # no start can help
+    if sol.converged or proven or not np.all(np.isfinite(sol.q)):
         return Found(sol, "seed", 1, found)
     exact = closed_form.starts(model, target, seed, None, tool)
-    starts = [q for _, q in exact] + restarts(model, seed, model.position_limits)
+    starts = [q for _, q in exact] + restarts(model, seed, model.position_limits, SPREAD)
     best = sol
     for k, start in enumerate(starts):
         trial = solve_pose(model, target, start, tool=tool)

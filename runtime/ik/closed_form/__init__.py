@@ -14,7 +14,7 @@ branch, each angle brought into its joint's box where a turn of 2π allows:
   wrist angle ≥ 0) and ``flip``.
 
 :func:`branches` verifies every candidate by forward kinematics (a candidate that does
-not reproduce the pose to 1e-9 m / 1e-9 rad is dropped, so a robot file that names the
+not reproduce the pose to 1e-6 m / 1e-6 rad is dropped, so a robot file that names the
 wrong family loses the closed form, never gets a wrong answer) and says which lie
 within the position and coupled limits. Because the families enumerate all solutions,
 "no branch within the limits" proves the pose unreachable.
@@ -31,8 +31,8 @@ from irlc.runtime import spatial
 from irlc.runtime.coupled_limits import coupled_limits, violations
 from irlc.runtime.kinematics import Kinematics
 
-VERIFY_POSITION = 1e-9  # m
-VERIFY_ORIENTATION = 1e-9  # rad
+VERIFY_POSITION = 1e-6  # m (a pose rounded to the 1e-6 mm, deg of a program still verifies)
+VERIFY_ORIENTATION = 1e-6  # rad
 
 
 @dataclass(frozen=True)
