@@ -84,3 +84,13 @@ def test_what_the_old_boxes_rejected_is_allowed(irb6):
         assert seed_problem(irb6, np.radians(deg)) is None, deg
     # and the window moves: θ5 = 200° needs θ234 ≥ 20°
     assert seed_problem(irb6, np.radians([90, 0, 0, 10, 200])) is not None
+
+
+def test_theta5_window_is_motor_5_within_plus_minus_180_deg_times_k4_k5(irb6):
+    """The row and the motor map (5.22) carry the same k5: θs5 = −k4·k5·(θ5 − θ234/k5),
+    so the window row is the motor-5 row of the map divided by −k4·k5 (k4 = 80)."""
+    from irlc.runtime.motor_maps import MotorMap
+
+    rows = {c["name"]: c for c in irb6.extra["coupled_limits"]}
+    motor5 = MotorMap.from_model(irb6).motor_jacobian(irb6.home_q())[4]
+    assert np.allclose(rows["theta5-theta234/k5"]["coeffs"], motor5 / (-80.0 * K5))
