@@ -175,6 +175,7 @@ def robot_cmd(name: str) -> None:
     _joint_notes(console, model, naming)
     if model.limit_sets:
         console.print(f"limit sets: {', '.join(model.limit_sets)}")
+    _closed_form_line(console, model)
     console.print(
         f"geometry: {len(model.geometry)} shapes; inertials: {len(model.inertials)} links"
     )
@@ -189,6 +190,16 @@ def robot_cmd(name: str) -> None:
     assumed = model.extra.get("assumed", {})
     if assumed:
         console.print(f"assumed values ({len(assumed)}): {', '.join(assumed)} — see the file")
+
+
+def _closed_form_line(console: Console, model: RobotModel) -> None:
+    """``closed-form IK: parallel_5r (branches for irlc ik --branch: …)`` when it has one."""
+    from irlc.runtime.ik import closed_form
+
+    family = closed_form.family(model)
+    if family:
+        labels = ", ".join(closed_form.branch_labels(model))
+        console.print(escape(f"closed-form IK: {family} (irlc ik --branch: {labels})"))
 
 
 def _joint_notes(console: Console, model: RobotModel, naming: JointNaming) -> None:

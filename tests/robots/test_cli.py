@@ -138,6 +138,7 @@ def test_robot_irb6_states_the_5_1b_assumptions(capsys):
     assert "coupled limit theta5-theta234/k5" in text and "k5 = 1 assumed" in text
     assert "assumed: k5" in text
     assert "note on a4: Position: (5.1b) bounds θ4 only through" in text
+    assert "closed-form IK: parallel_5r (irlc ik --branch: front-elbow-up," in text
 
 
 ik = pytest.importorskip("irlc.runtime.ik")
