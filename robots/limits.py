@@ -97,14 +97,15 @@ def read_coupled(rd: Reader, value: Any, joints: list[Joint]) -> list[dict]:
     """``[[coupled_limits]]``: ``min ≤ Σ c_j q_j ≤ max`` over joints of one kind (file units).
 
     Stored in SI: ``{name, kind, coeffs (n,), lower, upper, text}`` (``kind``: the joints'
-    kind, which gives the bounds' unit); ``lower``/``upper`` may be
-    ``-inf``/``inf`` when ``min``/``max`` is absent."""
+    kind, which gives the bounds' unit; ``assumed``: the reason, for a row marked
+    ``assumed = true``); ``lower``/``upper`` may be ``-inf``/``inf`` when ``min``/``max``
+    is absent."""
     rows = rd.array_of_tables(value, "coupled_limits")
     out = []
     for i, row in enumerate(rows):
         key = f"coupled_limits[{i + 1}]"
         rd.table(row, key, {"name", "coeffs", "min", "max", "text", "assumed", "reason"})
-        rd.assumption(row, key)
+        row_assumed, row_reason = rd.assumption(row, key)
         coeffs = rd.vector(row.get("coeffs"), f"{key}.coeffs", len(joints))
         used = [j.kind for j, c in zip(joints, coeffs, strict=True) if c != 0.0]
         if not used:
@@ -128,6 +129,7 @@ def read_coupled(rd: Reader, value: Any, joints: list[Joint]) -> list[dict]:
                 "lower": lo,
                 "upper": hi,
                 "text": text,
+                **({"assumed": row_reason} if row_assumed else {}),
             }
         )
     return out

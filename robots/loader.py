@@ -88,17 +88,24 @@ def load_toml(path: str | Path) -> RobotModel:
 
 def _read_ik(rd: Reader, table: Any) -> dict:
     """``[ik] task = ["x", "y"]``: the pose-error components the inverse transformation
-    controls (default all six; a planar arm controls only its plane's position)."""
-    ik = rd.table(table, "ik", {"task"})
+    controls (default all six; a planar arm controls only its plane's position).
+    ``closed_form = "<family>"``: the robot's closed-form IK family
+    (:mod:`irlc.runtime.ik.closed_form`)."""
+    from irlc.runtime.ik.closed_form import FAMILY_NAMES
+
+    ik = rd.table(table, "ik", {"task", "closed_form"})
+    out = {}
+    if "closed_form" in ik:
+        out["closed_form"] = rd.string(ik["closed_form"], "ik.closed_form", FAMILY_NAMES)
     if "task" not in ik:
-        return {}
+        return out
     task = ik["task"]
     if not isinstance(task, list) or not task:
         raise rd.fail("ik.task", f"expected a non-empty list of {', '.join(TASK_COMPONENTS)}")
     names = [rd.string(c, f"ik.task[{i}]", TASK_COMPONENTS) for i, c in enumerate(task)]
     if len(set(names)) != len(names):
         raise rd.fail("ik.task", "a component is listed twice")
-    return {"task": names}
+    return {**out, "task": names}
 
 
 def build_model(doc: dict, file: str, folder: Path) -> RobotModel:

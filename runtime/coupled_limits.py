@@ -2,7 +2,8 @@
 
 The IRb-6's piecewise bounds of θ3 over θ2 (Szkodny; docs/robots.md) are exactly
 ``max(−40, −40−θ2) ≤ θ3 ≤ min(40, 25−θ2)``: the box of θ3 plus ``−40 ≤ θ2+θ3 ≤ 25``;
-with ``−90 ≤ θ2+θ3+θ4 ≤ 90`` the set is convex, so all of it is ``A q ≥ b``:
+with ``−90 ≤ θ2+θ3+θ4 ≤ 90`` and the θ5 window ``−180 ≤ θ5 − θ234/k5 ≤ 180`` of (5.1b)
+the set is convex, so all of it is ``A q ≥ b``:
 
     A = [ C ; −C ],  b = [ lower ; −upper ]     (rows with an infinite bound dropped)
 

@@ -170,8 +170,12 @@ def robot_cmd(name: str) -> None:
     console.print("  a program's R_TOOL is composed after this tool: TCP = flange · tool · R_TOOL")
     for c in model.extra.get("coupled_limits", []):
         console.print(escape(f"coupled limit {c['name']}: {c['text'] or c['coeffs']}"))
+        if "assumed" in c:
+            console.print(escape(f"  assumed: {c['assumed']}"))
+    _joint_notes(console, model, naming)
     if model.limit_sets:
         console.print(f"limit sets: {', '.join(model.limit_sets)}")
+    _closed_form_line(console, model)
     console.print(
         f"geometry: {len(model.geometry)} shapes; inertials: {len(model.inertials)} links"
     )
@@ -186,6 +190,26 @@ def robot_cmd(name: str) -> None:
     assumed = model.extra.get("assumed", {})
     if assumed:
         console.print(f"assumed values ({len(assumed)}): {', '.join(assumed)} — see the file")
+
+
+def _closed_form_line(console: Console, model: RobotModel) -> None:
+    """``closed-form IK: parallel_5r (branches for irlc ik --branch: …)`` when it has one."""
+    from irlc.runtime.ik import closed_form
+
+    family = closed_form.family(model)
+    if family:
+        labels = ", ".join(closed_form.branch_labels(model))
+        console.print(escape(f"closed-form IK: {family} (irlc ik --branch: {labels})"))
+
+
+def _joint_notes(console: Console, model: RobotModel, naming: JointNaming) -> None:
+    """The robot file's reasons for assumed joint values (``joints[i]`` entries of
+    ``[assumptions]``), e.g. why the IRb-6's a4 range is what it is."""
+    assumed = model.extra.get("assumed", {})
+    for i in range(model.n):
+        reason = assumed.get(f"joints[{i + 1}]")
+        if reason:
+            console.print(escape(f"note on {naming.label(i)}: {reason}"))
 
 
 # ----------------------------------------------------------------------------- fk / ik
@@ -244,6 +268,26 @@ def _show(value: float | None) -> str:
     return "unknown" if value is None else f"{value:.3g}"
 
 
+def _start_line(found) -> str:
+    """Where the solution came from, and the closed-form branches (within the limits?)."""
+    start = {"seed": "from the seed"}.get(found.start, f"from {found.start}")
+    if not found.solution.converged:
+        text = f"starts tried: {found.tried}"
+    elif found.tried > 1:
+        text = f"solved {start} ({found.tried} starts tried)"
+    else:
+        text = f"solved {start}"
+    if found.branches:
+        marks = ", ".join(
+            f"{b.label}{'' if b.within_limits else ' (outside the limits)'}"
+            for b in found.branches
+        )
+        text += f"; closed-form branches: {marks}"
+        if found.branch and found.solution.converged:
+            text += f"; solution on {found.branch}"
+    return text
+
+
 def _split_seed(args: list[str]) -> tuple[list[str], list[str] | None]:
     if "--seed" not in args:
         return args, None
@@ -255,17 +299,26 @@ def _split_seed(args: list[str]) -> tuple[list[str], list[str] | None]:
 @click.argument("robot")
 @click.argument("args", nargs=-1, type=click.UNPROCESSED)
 @click.option("--json", "as_json", is_flag=True, help="print JSON")
-def ik_cmd(robot: str, args: tuple[str, ...], as_json: bool) -> None:
+@click.option(
+    "--branch",
+    default=None,
+    help="closed-form branch to take (robots with a closed form, e.g. irb6: "
+    "front-elbow-up; l1: noflip | flip); default: the solution found from the seed",
+)
+def ik_cmd(robot: str, args: tuple[str, ...], as_json: bool, branch: str | None) -> None:
     """Inverse kinematics: pose x y z a b c (mm, deg ZYX) [--seed q...] → joints.
 
-    Exit code 2 when the solver does not converge."""
+    Tries the seed (default: home), then the closed-form solutions and other starts.
+    Exit code 2 when no solution is found ("target not reachable" when none exists
+    within the limits)."""
     model = _robot(robot)
     pose_args, seed_args = _split_seed(list(args))
     if len(pose_args) != 6:
         raise UsageError(f"expected a pose x y z a b c (6 numbers), got {len(pose_args)} values")
     pose = _numbers(pose_args, "pose value")
     seed = model.home_q() if seed_args is None else _joint_values(model, seed_args, "seed value")
-    from irlc.runtime.ik.pose import seed_problem, solve_pose
+    from irlc.runtime.ik.find import BranchError, find_pose
+    from irlc.runtime.ik.pose import seed_problem
 
     problem = seed_problem(model, seed) if seed_args is not None else None
     if problem is not None:
@@ -275,14 +328,17 @@ def ik_cmd(robot: str, args: tuple[str, ...], as_json: bool) -> None:
             raise UsageError(f"pose {label} = {v:g} mm is out of range (|{label}| ≤ 1e9 mm)")
     target = units.pose_to_si(*pose)
     try:
-        sol = solve_pose(model, target, seed)
+        found = find_pose(model, target, seed, branch=branch)
+        sol = found.solution
+    except BranchError as e:
+        raise UsageError(str(e)) from None
     except RunFailure as e:
         click.echo(f"irlc: ik failed: {e.message}", err=True)
         raise click.exceptions.Exit(EXIT_RUN) from None
     message = str(sol.message)
     if not sol.converged and "reachability" in model.extra:
         check = check_vertical_plane(model, target)
-        if not check.reachable:
+        if not check.reachable and check.message not in message:
             message = f"{message}; {check.message}"
     joints = units.joints_from_si(sol.q, model.joint_kinds)
     pos_mm = _error_value(float(sol.position_error) / units.MM)
@@ -302,6 +358,11 @@ def ik_cmd(robot: str, args: tuple[str, ...], as_json: bool) -> None:
                 "orientation_error_deg": ori_deg,
                 "iterations": int(sol.iterations),
                 "message": message,
+                "start": found.start,
+                "branch": found.branch,
+                "branches": [
+                    {"label": b.label, "within_limits": b.within_limits} for b in found.branches
+                ],
             }
         )
     else:
@@ -312,5 +373,6 @@ def ik_cmd(robot: str, args: tuple[str, ...], as_json: bool) -> None:
             f"{state} after {sol.iterations} iterations: position error {_show(pos_mm)} mm, "
             f"orientation error {_show(ori_deg)} deg.{detail}"
         )
+        click.echo(_start_line(found))
     if not sol.converged:
         raise click.exceptions.Exit(EXIT_RUN)

@@ -47,6 +47,7 @@ from dataclasses import dataclass
 import numpy as np
 from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.ik import unreachable
 from irlc.runtime.ik.limits import format_joint_value
 from irlc.runtime.ik.reach import Reach, walk
 from irlc.runtime.kinematics import Kinematics
@@ -298,7 +299,8 @@ def _off_workspace(message, reach, path, survey: _Survey, q_start, line, time_s)
         cause, what = "position_limit", f"the path {where} needs a joint beyond its limit"
     else:
         cause, what = "unreachable", f"the path {where} is out of reach"
-    text = failed.message.replace("target not reachable", what)
+    text = failed.message.replace(unreachable.NOT_REACHABLE, what)
+    text = text.replace(unreachable.NOT_FOUND, f"no solution found for the path {where}", 1)
     return RunFailure(f"{message}; cause: {text}", line, time_s, None, cause=cause, details=details)
 
 

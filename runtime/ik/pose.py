@@ -15,11 +15,17 @@ inside the box) walks towards the target; a relaxed step that increases the erro
 (Gauss–Newton overshooting near a singular, stretched arm) is taken back and the trust
 box halved, so the walk ends at the closest pose instead of oscillating around it. Near
 the solution the hard step is plain Newton–Raphson (quadratic convergence) and the cost
-picks, among the configurations reaching the pose, one close to the seed. If the relaxed
+picks, among the configurations reaching the pose, one close to the seed (five hard steps
+in a row that do not halve the error — the pull makes long null-space moves of a
+redundant arm that the linearisation does not follow, and the error oscillates — switch
+the pull off for the rest of the search). If the relaxed
 steps stall away from the target (the step vanishes, or the error falls by less than 0.1
-% over ten steps), the target is out of reach (or behind a joint limit): the result says
-how far the closest pose is and which limits are reached. In relaxed steps the seed pull
-is dropped (pure damped least squares), so it cannot bias where the iteration stops.
+% over ten steps), no solution was found from this seed: the result says how far the
+closest pose is and which limits are reached, and "target not reachable" only where
+:mod:`unreachable` proves that no configuration within the limits reaches it (closed
+form, the 5-axis plane condition, the chain's reach); other seeds: :mod:`find`. In
+relaxed steps the seed pull is dropped (pure damped least squares), so it cannot bias
+where the iteration stops.
 """
 
 from __future__ import annotations
@@ -37,6 +43,7 @@ from irlc.runtime.coupled_limits import (
     row_label,
     violations,
 )
+from irlc.runtime.ik import unreachable
 from irlc.runtime.ik.compact import CompactBasis
 from irlc.runtime.ik.limits import format_joint_value
 from irlc.runtime.ik.newton_step import NewtonStep
@@ -44,6 +51,8 @@ from irlc.runtime.ik.params import task_rows_for
 from irlc.runtime.ik.qp import QuadprogSolver
 from irlc.runtime.kinematics import Kinematics
 from irlc.runtime.naming import JointNaming, naming_or_default
+
+SLOW_HARD_STEPS = 5  # this many hard steps in a row not halving the error: drop the pull
 
 
 @dataclass
@@ -103,6 +112,8 @@ def solve_pose(
     history: list[float] = []
     before: tuple | None = None  # (q, error) before the last relaxed step
     scale = 1.0  # trust-box scale: halved when a relaxed step overshoots
+    pull = 1.0  # weight of the seed pull in hard steps (dropped when they stop converging)
+    slow = 0  # consecutive hard steps that did not halve the error
     for it in range(max_iter + 1):
         frames = kin.link_frames(q)
         tcp = kin.tcp_from_frames(frames)
@@ -115,16 +126,23 @@ def solve_pose(
         if before is not None and pe + oe > before[1] and scale > 1e-6:
             q, scale, before = before[0], 0.5 * scale, None  # overshoot: back, shorter
             continue
+        if last is not None and not last.relaxed and pe + oe > 0.5 * history[-1]:
+            slow += 1  # a hard step that did not halve the error
+            pull = 0.0 if slow >= SLOW_HARD_STEPS else pull
+        elif last is not None and not last.relaxed:
+            slow = 0
         history.append(pe + oe)
         if last is not None and last.relaxed and _stalled(last.dtheta, history):
-            text = _unreachable(model, q, pe, oe, naming) + _coupled_reached(coupled, A, b, q)
+            why = unreachable.proof(model, target, kin.tool, limits, tuple(int(r) for r in rows))
+            text = _unreachable(model, q, pe, oe, naming, why) + _coupled_reached(coupled, A, b, q)
             return PoseSolution(q, False, pe, oe, it, text)
         J = kin.jacobian_at(frames, tcp[:3, 3])[rows]
         lower = np.maximum(limits[:, 0] - q, -scale * step)
         upper = np.minimum(limits[:, 1] - q, scale * step)
         ineq = (A, b - A @ q) if b.size else None  # coupled limits: A(q + Δθ) ≥ b
         try:  # the seed pull acts in the null space only; the relaxed step is pure DLS
-            last = stepper.hard(J, F, H, w * (q - seed), lower, upper, ineq) or stepper.relaxed(
+            g = pull * w * (q - seed)
+            last = stepper.hard(J, F, H, g, lower, upper, ineq) or stepper.relaxed(
                 J, F, H, zero, lower, upper, ineq
             )
         except FloatingPointError as exc:
@@ -139,7 +157,7 @@ def solve_pose(
         pe,
         oe,
         max_iter,
-        f"no convergence in {max_iter} iterations "
+        f"{unreachable.NOT_FOUND}: no convergence in {max_iter} iterations "
         f"(left {pe * 1e3:.4g} mm, {np.degrees(oe):.4g} deg)",
     )
 
@@ -192,11 +210,11 @@ def _coupled_reached(coupled, A, b, q) -> str:
     return f" (coupled limits reached: {', '.join(rows[i] for i in at)})"
 
 
-def _unreachable(model, q, pe, oe, naming: JointNaming) -> str:
-    text = (
-        f"target not reachable: the closest pose found is {pe * 1e3:.4g} mm and "
-        f"{np.degrees(oe):.4g} deg away"
-    )
+def _unreachable(model, q, pe, oe, naming: JointNaming, why: str | None) -> str:
+    """``target not reachable (why): …`` when :func:`unreachable.proof` proves it, else
+    ``no solution found from this start: …`` (another start may still reach the pose)."""
+    head = unreachable.NOT_FOUND if why is None else f"{unreachable.NOT_REACHABLE} ({why})"
+    text = f"{head}: the closest pose found is {pe * 1e3:.4g} mm and {np.degrees(oe):.4g} deg away"
     limits = model.position_limits
     at = [j for j in range(model.n) if q[j] <= limits[j, 0] + 1e-9 or q[j] >= limits[j, 1] - 1e-9]
     if at:

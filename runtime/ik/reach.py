@@ -14,13 +14,16 @@ search converges or leaves less than the run's path tolerance (``tol_position``,
 ``tol_orientation``: what the motion itself would accept). When the direct search
 from the seed stalls, the path is walked (:func:`walk`) in short steps (≤ 50 mm,
 ≤ 10 deg) with each solution seeding the next — the way the cycle-by-cycle motion
-follows it — and from restarts (:meth:`Reach.search`: the seed moved off a possible
+follows it — and from other starts (:meth:`Reach.search`: the closed-form configurations
+within the limits for a robot with ``[ik] closed_form``, then the seed moved off a possible
 singularity, home, mid-range, a Halton spread over the limits), so that a far but
 reachable target is not rejected because the direct search met a local minimum or a
 joint limit. A target none of these reaches fails at its line, before the robot moves
-(cause ``unreachable``, with the distance of the closest pose found); if it is
-reachable with the frozen joints released the cause is ``freeze``, if it is reachable
-within the robot's own position limits (not the JOINTLIMIT) ``position_limit``.
+(cause ``unreachable``, with the distance of the closest pose found); its message says
+"not reachable" only where :mod:`unreachable` proves that no configuration within the
+limits reaches it, else "no solution found … from this start nor from N other starts".
+If it is reachable with the frozen joints released the cause is ``freeze``, if it is
+reachable within the robot's own position limits (not the JOINTLIMIT) ``position_limit``.
 """
 
 from __future__ import annotations
@@ -34,6 +37,7 @@ import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.ik import closed_form, unreachable
 from irlc.runtime.ik.pose import PoseSolution, solve_pose
 from irlc.runtime.naming import JointNaming
 
@@ -68,19 +72,31 @@ class Reach:
         )
 
     def search(self, target: np.ndarray, seed: np.ndarray, *, frozen: bool = True) -> PoseSolution:
-        """:meth:`solve` from ``seed``; if that stalls, again from restarts (:func:`restarts`:
-        the seed moved off a possible singularity, the robot's home, the middle of the
-        limits). The first solution that reaches the pose, else the closest one."""
+        """:meth:`solve` from ``seed``; if that stalls, again from the other starts
+        (:meth:`starts`). The first solution that reaches the pose, else the closest one,
+        whose message says how many starts were tried when none proves the pose out of
+        reach."""
         best = self.solve(target, seed, frozen=frozen)
         if self.reached(best):
             return best
-        for start in restarts(self.model, seed, self.position):
+        others = self.starts(target, seed, frozen=frozen)
+        for start in others:
             sol = self.solve(target, start, frozen=frozen)
             if self.reached(sol):
                 return sol
             if _residual(sol) < _residual(best):
                 best = sol
-        return best
+        return dataclasses.replace(best, message=tried_starts(best.message, len(others)))
+
+    def starts(self, target: np.ndarray, seed: np.ndarray, *, frozen: bool = True):
+        """Other starts for a stalled search: the closed-form configurations within the
+        active limits (robots with ``[ik] closed_form``; nearest to the seed first), then
+        :func:`restarts`."""
+        pos = np.array(self.position, dtype=float)
+        for j, v in (self.frozen if frozen else {}).items():
+            pos[j] = (v, v)
+        exact = closed_form.starts(self.model, target, seed, pos, self.tool)
+        return [q for _, q in exact] + restarts(self.model, seed, self.position)
 
     def reached(self, sol: PoseSolution) -> bool:
         return sol.converged or (
@@ -146,6 +162,14 @@ def _halton(count: int, dim: int) -> np.ndarray:
                 k //= base
             out[i, d] = x
     return out
+
+
+def tried_starts(message: str, others: int) -> str:
+    """``no solution found from this start`` → ``… nor from N other starts`` (a proven
+    ``target not reachable`` message is left as it is)."""
+    return message.replace(
+        unreachable.NOT_FOUND, f"{unreachable.NOT_FOUND} nor from {others} other starts", 1
+    )
 
 
 def _residual(sol: PoseSolution) -> float:
@@ -260,7 +284,9 @@ def unreachable_failure(
             cause="freeze",
             details=details,
         )
-    text = sol.message.replace("target not reachable", f"{point} not reachable", 1)
+    text = sol.message.replace(unreachable.NOT_REACHABLE, f"{point} not reachable", 1)
+    found = f"no solution found for the {point} from this start"
+    text = text.replace(unreachable.NOT_FOUND, found, 1)
     own = reach.model.position_limits
     if not np.array_equal(reach.position, own):  # JOINTLIMIT narrows the robot's limits
         wide = dataclasses.replace(reach, position=own)

@@ -129,6 +129,18 @@ def test_robots_and_robot(capsys):
     assert code == 0 and "J10" in out and "limit sets" in out
 
 
+def test_robot_irb6_states_the_5_1b_assumptions(capsys):
+    """`irlc robot irb6` shows the θ5 window with its assumed k5, and why a4 has no box of
+    its own beyond (5.1b)."""
+    code, out, _ = run(capsys, "robot", "irb6")
+    text = " ".join(out.split())
+    assert code == 0
+    assert "coupled limit theta5-theta234/k5" in text and "k5 = 1 assumed" in text
+    assert "assumed: k5" in text
+    assert "note on a4: Position: (5.1b) bounds θ4 only through" in text
+    assert "closed-form IK: parallel_5r (irlc ik --branch: front-elbow-up," in text
+
+
 ik = pytest.importorskip("irlc.runtime.ik")
 needs_ik = pytest.mark.skipif(not hasattr(ik, "solve_pose"), reason="solve_pose not yet available")
 

@@ -52,3 +52,22 @@ def test_screw_out_of_reach_is_an_error():
     mm = MotorMap.from_model(load_robot("irb6"))
     with pytest.raises(ValueError, match="joint 2"):
         mm.joint_from_motor(np.array([0.0, 1e4, 0.0, 0.0, 0.0]))
+
+
+def test_irb6_wrist_motors_follow_5_22():
+    """(5.22): Θs4 = k4·Θ234, Θs5 = k4·Θ234 − k4·k5·Θ5 (Θ234 = Θ2+Θ3+Θ4), with the robot
+    file's assumed k4 = 80, k5 = 1; computed here from the book's form, not the map's rows.
+    Motor 5 turns when only the wrist tilts (Θ5 held), and stands when Θ5 follows Θ234/k5."""
+    k4, k5 = 80.0, 1.0
+    mm = MotorMap.from_model(load_robot("irb6"))
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        q = np.radians(rng.uniform([0, -40, -40, -115, -270], [340, 40, 40, 130, 270]))
+        t234 = q[1] + q[2] + q[3]
+        ts = mm.motor_from_joint(q)
+        assert ts[3] == pytest.approx(k4 * t234, rel=1e-12, abs=1e-12)
+        assert ts[4] == pytest.approx(k4 * t234 - k4 * k5 * q[4], rel=1e-12, abs=1e-12)
+    tilt = np.radians([90.0, 0.0, 0.0, 30.0, 0.0])
+    assert mm.motor_from_joint(tilt)[4] == pytest.approx(k4 * np.radians(30.0))
+    follow = np.radians([90.0, 0.0, 0.0, 30.0, 30.0 / k5])
+    assert mm.motor_from_joint(follow)[4] == pytest.approx(0.0, abs=1e-12)
