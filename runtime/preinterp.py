@@ -15,7 +15,10 @@ For each :class:`~irlc.runtime.controller.MotionCommand` it resolves
 
   - PTP: straight line in joint space, synchronised; joint ``i`` may use
     ``R_SPEED_PTP % · θ̇max_i`` and ``R_ACC_PTP % · θ̈max_i`` (of the active limits);
-    the slowest joint sets the time;
+    the slowest joint sets the time; where the transmission couples joints and the drive
+    data give motor limits (:mod:`motor_limits`), every motor is one more axis of the
+    profile (its travel ``|ΔΘs_m|`` at ``R_SPEED_PTP % · v_m``, ``R_ACC_PTP % · a_m``):
+    the plan is never shorter than the slowest motor allows;
   - LIN: position (``R_SPEED``, ``R_ACC``) and orientation (``R_SPEED_ORI`` with the
     same ramp time, ``ω̇ = R_SPEED_ORI · R_ACC / R_SPEED``) share one ``s(t)``; the segment
     time is the larger of the two times (orientation only counts when the robot's task
@@ -59,6 +62,7 @@ from irlc.runtime.interpolator import (
     ReferencePath,
     Segment,
 )
+from irlc.runtime.motor_limits import motor_limits
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.profiles import (
     ProfileError,
@@ -186,6 +190,7 @@ class PreInterpolator:
         self.scale = units.joint_scale(self.kinds)
         self.solve_pose = solve_pose
         self.max_duration = math.inf  # s: the run's simulated-time budget (the controller's)
+        self.motors = motor_limits(model)  # None: the joint limits say it all
 
     # ------------------------------------------------------------------ units
     def joints_si(self, values: Sequence[float] | JointTuple) -> np.ndarray:
@@ -338,14 +343,27 @@ class PreInterpolator:
                     "do not allow motion in that direction",
                     cmd.line,
                 )
-        b = segment_bounds(np.abs(delta), vmax, amax, jmax)
+        dist = np.abs(delta)
+        if self.motors is not None:  # the motors as more axes of the same s(t)
+            m = self.motors
+            dist = np.concatenate((dist, m.ptp_rates(q0, q1)))
+            vmax = np.concatenate((vmax, m.speed * pct_v))
+            amax = np.concatenate((amax, m.accel * pct_a))
+            if jmax is not None:
+                jmax = np.concatenate((jmax, np.full(m.map.n, np.inf)))
+        b = segment_bounds(dist, vmax, amax, jmax)
         slowest = b.slowest
         duration = self._time(cmd, settings, npts)
         profile = self._profile(b, duration, dt, cmd.line)
         limiting = ""
         if slowest >= 0:
             jerk = "/jerk" if b.jerk is not None else ""
-            limiting = f"joint {self.naming.label(slowest)} speed/acceleration{jerk}"
+            n = self.model.n
+            axis = self.naming.label(slowest % n)
+            limiting = f"joint {axis} speed/acceleration{jerk}"
+            if slowest >= n:
+                limiting = f"motor of {axis} speed/acceleration"
+                slowest -= n
         seg = Segment(
             "ptp",
             cmd.line,

@@ -15,7 +15,12 @@ with infinite accelerations it is the position row. In Newton iteration ``k`` th
 on ``Δθ`` are ``AΔθ ≥ −brake(s) − AΣ``. A start configuration that violates a row
 raises :class:`CoupledLimitError` (message from :func:`coupled_limits.describe`).
 
-Robots without coupled limits never build this object (zero cost).
+**Motor speed rows** (:mod:`irlc.runtime.motor_limits`): where a linear transmission
+couples joints and the drive data bound the motor speeds (the L-1 wrist), the rows
+``±K_m δ ≥ −v_m Δt`` (``K = ∂θs/∂q``, constant) are appended after the coupled rows: the
+same machinery, with a fixed bound per cycle instead of the braking slack.
+
+Robots with neither never build this object (:meth:`CoupledRows.for_model`: zero cost).
 """
 
 from __future__ import annotations
@@ -26,6 +31,7 @@ import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime import coupled_limits as cl
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.motor_limits import MotorLimits, motor_limits
 
 _TOL = 1e-9  # same slack as the joint box's "outside the limits"
 
@@ -42,21 +48,36 @@ class CoupledLimitError(RunFailure):
 class CoupledRows:
     """The rows ``A q ≥ b`` of one robot and their per-cycle bound on ``δ``."""
 
-    def __init__(self, model: RobotModel):
+    def __init__(self, model: RobotModel, motors: MotorLimits | None = None):
         self.limits = cl.coupled_limits(model)
         self.A, self.b = cl.as_inequalities(self.limits, model.n)
-        labels = []
+        labels: list[tuple] = []
         for c in self.limits:
             if math.isfinite(c.lower):
                 labels.append((c, "min", c.lower))
             if math.isfinite(c.upper):
                 labels.append((c, "max", c.upper))
+        self.npos = len(labels)  # the position rows come first, then the motor rows
+        self.motor_speed = np.zeros(0)  # v_m of each motor row (rad/s)
+        if motors is not None and motors.linear and motors.limited.size:
+            m = motors.limited
+            K = motors.map.motor_jacobian(np.zeros(model.n))[m]
+            self.A = np.ascontiguousarray(np.vstack((self.A, K, -K)))
+            self.motor_speed = np.concatenate((motors.speed[m], motors.speed[m]))
+            labels += [("motor", "min", int(j)) for j in m] + [("motor", "max", int(j)) for j in m]
         self.labels = labels
-        self.bound_d = np.zeros(self.b.shape[0])  # Aδ ≥ bound_d this cycle
+        self.naming = None  # the program's JointNaming (set by the solver); None: a1 … aN
+        self.bound_d = np.zeros(self.A.shape[0])  # Aδ ≥ bound_d this cycle
         self._accel: tuple | None = None
 
+    @classmethod
+    def for_model(cls, model: RobotModel) -> CoupledRows | None:
+        """The rows of ``model`` (coupled limits, motor speeds), or ``None`` if it has none."""
+        rows = cls(model, motor_limits(model))
+        return rows if len(rows) else None
+
     def __len__(self) -> int:
-        return self.b.shape[0]
+        return self.A.shape[0]
 
     def check(self, q: np.ndarray, tol: float = _TOL) -> None:
         """Raise :class:`CoupledLimitError` if ``q`` violates a row by more than ``tol``."""
@@ -66,13 +87,18 @@ class CoupledRows:
 
     def prepare(self, q_start: np.ndarray, dt: float, accel: np.ndarray) -> None:
         """Bounds on ``Aδ`` for this cycle (raises if ``q_start`` violates a row)."""
-        slack = self.A @ q_start - self.b
-        if slack.min() < -_TOL:
-            self.check(q_start)
-        np.maximum(slack, 0.0, out=slack)
-        two_over_eps = self._two_over_eps(accel, dt)
-        root = np.sqrt(1.0 + slack * two_over_eps)
-        self.bound_d = -2.0 * slack / (1.0 + root)
+        npos = self.npos
+        bound = np.empty(self.A.shape[0])
+        if npos:
+            slack = self.A[:npos] @ q_start - self.b
+            if slack.min() < -_TOL:
+                self.check(q_start)
+            np.maximum(slack, 0.0, out=slack)
+            two_over_eps = self._two_over_eps(accel, dt)
+            root = np.sqrt(1.0 + slack * two_over_eps)
+            bound[:npos] = -2.0 * slack / (1.0 + root)
+        bound[npos:] = -self.motor_speed * dt  # |K δ|_m ≤ v_m Δt
+        self.bound_d = bound
 
     def at(self, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(A, b_k)`` with ``AΔθ ≥ b_k`` at an iterate with increments ``sigma``."""
@@ -80,14 +106,19 @@ class CoupledRows:
 
     def describe_row(self, row: int) -> str:
         """``"coupled limit theta2+theta3 max 25 deg"`` (program units: deg | mm)."""
-        c, side, _ = self.labels[row]
+        c, side, value = self.labels[row]
+        if c == "motor":
+            v = self.motor_speed[row - self.npos] * (1.0 if side == "max" else -1.0)
+            name = f"a{value + 1}" if self.naming is None else self.naming.label(value)
+            return f"motor speed of {name} {side} {v:.6g} rad/s"
         return f"coupled limit {cl.row_label(c, side)}"
 
     def _two_over_eps(self, accel: np.ndarray, dt: float) -> np.ndarray:
         key = self._accel
         if key is None or key[0] is not accel or key[1] != dt:
             acc = np.clip(np.abs(np.asarray(accel, dtype=float)), 0.0, 1e30)
-            away = np.where(self.A > 0.0, acc[:, 1], acc[:, 0])  # a_rj per row and joint
-            eps = dt * dt * (np.abs(self.A) * away).sum(axis=1)
+            A = self.A[: self.npos]
+            away = np.where(A > 0.0, acc[:, 1], acc[:, 0])  # a_rj per row and joint
+            eps = dt * dt * (np.abs(A) * away).sum(axis=1)
             self._accel = (accel, dt, 2.0 / np.maximum(eps, 1e-300))
         return self._accel[2]
