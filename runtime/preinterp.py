@@ -343,15 +343,9 @@ class PreInterpolator:
                     "do not allow motion in that direction",
                     cmd.line,
                 )
-        dist = np.abs(delta)
-        if self.motors is not None:  # the motors as more axes of the same s(t)
-            m = self.motors
-            dist = np.concatenate((dist, m.ptp_rates(q0, q1)))
-            vmax = np.concatenate((vmax, m.speed * pct_v))
-            amax = np.concatenate((amax, m.accel * pct_a))
-            if jmax is not None:
-                jmax = np.concatenate((jmax, np.full(m.map.n, np.inf)))
-        b = segment_bounds(dist, vmax, amax, jmax)
+        b = segment_bounds(np.abs(delta), vmax, amax, jmax)
+        if self.motors is not None:
+            b = self._motor_bounds(b, q0, q1, pct_v, pct_a)
         slowest = b.slowest
         duration = self._time(cmd, settings, npts)
         profile = self._profile(b, duration, dt, cmd.line)
@@ -379,6 +373,23 @@ class PreInterpolator:
         seg.info["joint_speed"] = np.abs(delta) * (profile.cruise if moving else 0.0)
         seg.info["joint_accel"] = np.abs(delta) * (profile.accel if moving else 0.0)
         return seg
+
+    def _motor_bounds(self, b: Bounds, q0, q1, pct_v: float, pct_a: float) -> Bounds:
+        """``b`` tightened by the motors (:mod:`motor_limits`) as more axes of the same
+        ``s(t)``: ``v ≤ R_SPEED_PTP % · v_m / D_m``, ``a ≤ R_ACC_PTP % · a_m / D_m``; the
+        jerk stays the joints'. ``slowest ≥ n`` names motor ``slowest − n``."""
+        m = self.motors
+        v, a, k = common_bounds(m.ptp_rates(q0, q1), m.speed * pct_v, m.accel * pct_a)
+        if k < 0:
+            return b
+        t_motor = minimum_time(v, a)
+        slowest = b.slowest if b.slowest >= 0 and b.t_min >= t_motor else self.model.n + k
+        speed, accel = min(b.speed, v), min(b.accel, a)
+        if b.jerk is None:
+            t_min = minimum_time(speed, accel)
+        else:
+            t_min = sc.minimum_time(speed, accel, b.jerk)
+        return Bounds(speed, accel, b.jerk, slowest, t_min)
 
     # LIN ------------------------------------------------------------------
     def _plan_lin(self, cmd, settings, state: PlanState, lims) -> list[Segment]:
