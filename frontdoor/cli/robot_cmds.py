@@ -181,6 +181,7 @@ def robot_cmd(name: str) -> None:
     if "transmission" in model.extra:
         kinds = sorted({t["type"] for t in model.extra["transmission"]})
         console.print(f"transmission: {', '.join(kinds)}")
+        console.print(escape(_motor_limits_line(model)))
     drives = model.extra.get("drives")
     if isinstance(drives, dict):
         console.print(f"drives: {', '.join(sorted(drives)) or '(empty table)'}")
@@ -189,6 +190,21 @@ def robot_cmd(name: str) -> None:
     assumed = model.extra.get("assumed", {})
     if assumed:
         console.print(f"assumed values ({len(assumed)}): {', '.join(assumed)} — see the file")
+
+
+def _motor_limits_line(model: RobotModel) -> str:
+    """What bounds the motors of a coupled transmission (:mod:`motor_limits`)."""
+    from irlc.runtime.motor_limits import motor_limits
+
+    try:
+        limits = motor_limits(model)
+    except RobotFileError as e:
+        return f"motor limits: unknown ({e})"
+    if limits is None:
+        return "motor limits: none beyond the joint limits (no coupled transmission with limits)"
+    speeds = ", ".join(f"{v:.6g}" for v in limits.speed)
+    who = "PTP timing and the IK respect" if limits.linear else "PTP timing respects"
+    return f"motor limits [rad/s] ({limits.source}): {speeds} — {who} them"
 
 
 # ----------------------------------------------------------------------------- fk / ik

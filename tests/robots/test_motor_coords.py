@@ -153,3 +153,11 @@ def test_robots_without_motor_maps_have_no_motor_columns(tmp_path):
     assert run_.ok
     assert not any(c.endswith("_motor_rad") for c in run_.trace_columns)
     assert "motors" not in run_.report
+
+
+def test_robot_command_names_the_motor_limits(capsys):
+    code, out = run(capsys, "robot", "l1")
+    assert code == 0
+    assert "motor limits [rad/s] ([drives.stepper] step_rate): 7.85398" in " ".join(out.split())
+    code, out = run(capsys, "robot", "planar3")
+    assert "motor limits" not in out
