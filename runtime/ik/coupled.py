@@ -85,8 +85,15 @@ class CoupledRows:
         if found:
             raise CoupledLimitError(max(found, key=lambda v: v.amount))
 
-    def prepare(self, q_start: np.ndarray, dt: float, accel: np.ndarray) -> None:
-        """Bounds on ``Aδ`` for this cycle (raises if ``q_start`` violates a row)."""
+    def prepare(
+        self, q_start: np.ndarray, dt: float, accel: np.ndarray, q_prev: np.ndarray | None = None
+    ) -> None:
+        """Bounds on ``Aδ`` for this cycle (raises if ``q_start`` violates a row).
+
+        A motor row's bound is ``v_m Δt``, or — when the motor already runs faster
+        (``q_prev``: the previous cycle's start; a blend can superpose two profiles) — the
+        fastest it can be braked within the joints' acceleration box,
+        ``|K_m d| − Σ_j |K_mj| a_j Δt²`` with ``d = q_start − q_prev``: never an empty QP."""
         npos = self.npos
         bound = np.empty(self.A.shape[0])
         if npos:
@@ -97,12 +104,24 @@ class CoupledRows:
             two_over_eps = self._two_over_eps(accel, dt)
             root = np.sqrt(1.0 + slack * two_over_eps)
             bound[:npos] = -2.0 * slack / (1.0 + root)
-        bound[npos:] = -self.motor_speed * dt  # |K δ|_m ≤ v_m Δt
+        if len(self.motor_speed):
+            bound[npos:] = -self._motor_bound(q_start, dt, accel, q_prev)
         self.bound_d = bound
 
     def at(self, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(A, b_k)`` with ``AΔθ ≥ b_k`` at an iterate with increments ``sigma``."""
         return self.A, self.bound_d - self.A @ sigma
+
+    def _motor_bound(self, q_start, dt, accel, q_prev) -> np.ndarray:
+        """Per motor row: the largest ``±K_m δ`` allowed this cycle (see :meth:`prepare`)."""
+        limit = self.motor_speed * dt
+        if q_prev is None:
+            return limit
+        K = self.A[self.npos :]
+        acc = np.clip(np.minimum(-accel[:, 0], accel[:, 1]), 0.0, 1e30)  # no 0·inf
+        brake = np.abs(K) @ (acc * dt * dt)
+        running = np.abs(K @ (np.asarray(q_start) - np.asarray(q_prev))) - brake
+        return np.maximum(limit, running)
 
     def describe_row(self, row: int) -> str:
         """``"coupled limit theta2+theta3 max 25 deg"`` (program units: deg | mm)."""

@@ -159,7 +159,7 @@ class InverseTransformation:
         )
         coupled = self.coupled
         if coupled is not None:
-            coupled.prepare(q_start, dt, acc)
+            coupled.prepare(q_start, dt, acc, q_prev)
         if opts.frozen:
             frozen = self._frozen(opts.frozen)
             frozen.check_task(self.model, self.rows.size, self.naming)

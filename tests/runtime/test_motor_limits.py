@@ -150,3 +150,17 @@ def test_ik_cycle_respects_the_motor_speeds():
     _, old = _cycle(bare, q, prev, step)
     old_travel = 7.2 * ((old.q[5] - q[5]) - 2 * (old.q[4] - q[4]))
     assert abs(old_travel) > V_STEP * IPO * 1.1
+
+
+def test_ik_cycle_brakes_a_motor_that_runs_too_fast():
+    """Entering a cycle with motor 6 at 0.176 rad per cycle (more than v·Δt: e.g. after a
+    blend), the QP is not empty: the motor row admits the fastest braking the joint box
+    allows, |K₆d| − Σ|K₆j|a_jΔt² = 0.176 − 7.2·(1 + 2)·500°/s²·1e-4 s² ≈ 0.157 rad."""
+    model = load_robot("l1")
+    q = np.array([0.2, 0.3, 0.3, math.radians(90), math.radians(30), math.radians(90)])
+    prev = np.array([0.0, 0.0, 0.0, 0.0, math.radians(-0.4), math.radians(0.6)])
+    _, res = _cycle(model, q, prev, prev)
+    d6 = 7.2 * ((res.q[5] - q[5]) - 2 * (res.q[4] - q[4]))
+    braked = 7.2 * math.radians(1.4) - 7.2 * 3 * math.radians(500.0) * IPO**2
+    assert abs(d6) <= braked * (1 + 1e-9)
+    assert abs(d6) < 7.2 * math.radians(1.4)
