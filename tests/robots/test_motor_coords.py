@@ -161,3 +161,16 @@ def test_robot_command_names_the_motor_limits(capsys):
     assert "motor limits [rad/s] ([drives.stepper] step_rate): 7.85398" in " ".join(out.split())
     code, out = run(capsys, "robot", "planar3")
     assert "motor limits" not in out
+
+
+def test_summary_prints_the_motor_travel_times(tmp_path, capsys):
+    prog = tmp_path / "w.irl"
+    prog.write_text(
+        "PROGRAM w;\nROBOT r := l1;\nBEGIN\n  MOVE PTP (200, 300, 300, 90, 30, 90);\n"
+        "  MOVE PTP (200, 300, 300, 90, -15, 135);\nENDPROGRAM\n"
+    )
+    assert main(["run", str(prog)]) == 0
+    out = capsys.readouterr().out
+    assert "motors (rad, rad/s, s)" in out
+    row = next(line for line in out.splitlines() if "a6 (W6)" in line and "20.7345" in line)
+    assert f"{7.2 * math.radians(135.0) / (2.5 * math.pi):.4f}" in row  # 2.1600 s
