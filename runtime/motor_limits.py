@@ -18,7 +18,9 @@ trapezoid then needs ``T ≥ |ΔΘs_m| / v_m + v_m / a_m`` for every motor — t
 constant-speed part. (For a non-linear map the curvature term ``(dK/ds Δq) ṡ²`` of the
 motor acceleration is not bounded: a documented approximation.)
 
-**LIN / CIRCLE / PATH** (the IK of every cycle): the rows ``|K δ|_m ≤ v_m Δt`` on the
+**LIN / CIRCLE / PATH**: the pre-interpolator samples the joint path with the pose solver
+and times the motors on its secant slopes (``PreInterpolator._path_motor_rates``); in the
+IK of every cycle the rows ``|K δ|_m ≤ v_m Δt`` on the
 cycle displacement ``δ`` join the coupled joint limits in the QP
 (:class:`irlc.runtime.ik.coupled.CoupledRows`) — only for linear maps, whose ``K`` is
 constant (the L-1); a non-linear coupled map is bounded in PTP timing only.

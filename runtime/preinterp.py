@@ -75,6 +75,7 @@ from irlc.runtime.profiles import (
 from irlc.runtime.values import JointTuple, Pose
 
 Limits3 = tuple[np.ndarray, np.ndarray, np.ndarray]
+PATH_SAMPLES = 32  # intervals of a Cartesian path sampled for its motors' timing
 Profile = Trapezoid | sc.SCurve
 
 
@@ -345,7 +346,7 @@ class PreInterpolator:
                 )
         b = segment_bounds(np.abs(delta), vmax, amax, jmax)
         if self.motors is not None:
-            b = self._motor_bounds(b, q0, q1, pct_v, pct_a)
+            b = self._motor_bounds(b, self.motors.ptp_rates(q0, q1), pct_v, pct_a)
         slowest = b.slowest
         duration = self._time(cmd, settings, npts)
         profile = self._profile(b, duration, dt, cmd.line)
@@ -374,22 +375,47 @@ class PreInterpolator:
         seg.info["joint_accel"] = np.abs(delta) * (profile.accel if moving else 0.0)
         return seg
 
-    def _motor_bounds(self, b: Bounds, q0, q1, pct_v: float, pct_a: float) -> Bounds:
+    def _motor_bounds(
+        self, b: Bounds, rates: np.ndarray, pct_v: float, pct_a: float, axes: int | None = None
+    ) -> Bounds:
         """``b`` tightened by the motors (:mod:`motor_limits`) as more axes of the same
-        ``s(t)``: ``v ≤ R_SPEED_PTP % · v_m / D_m``, ``a ≤ R_ACC_PTP % · a_m / D_m``; the
-        jerk stays the joints'. ``slowest ≥ n`` names motor ``slowest − n``."""
+        ``s(t)``, ``rates`` their ``D_m = max |dθs_m/ds|``: ``v ≤ pct_v · v_m / D_m``,
+        ``a ≤ pct_a · a_m / D_m``; the jerk stays the path's. ``slowest ≥ axes`` (default
+        the joint count) names motor ``slowest − axes``."""
         m = self.motors
-        v, a, k = common_bounds(m.ptp_rates(q0, q1), m.speed * pct_v, m.accel * pct_a)
+        v, a, k = common_bounds(rates, m.speed * pct_v, m.accel * pct_a)
         if k < 0:
             return b
         t_motor = minimum_time(v, a)
-        slowest = b.slowest if b.slowest >= 0 and b.t_min >= t_motor else self.model.n + k
+        axes = self.model.n if axes is None else axes
+        slowest = b.slowest if b.slowest >= 0 and b.t_min >= t_motor else axes + k
         speed, accel = min(b.speed, v), min(b.accel, a)
         if b.jerk is None:
             t_min = minimum_time(speed, accel)
         else:
             t_min = sc.minimum_time(speed, accel, b.jerk)
         return Bounds(speed, accel, b.jerk, slowest, t_min)
+
+    def _path_motor_rates(self, path, q, lims, line) -> tuple[np.ndarray | None, np.ndarray]:
+        """``(D_m, q_end)`` of a Cartesian path: the joints at ``PATH_SAMPLES + 1`` points
+        of it (the pose solver, warm-started along the path), their motor angles, and per
+        motor the largest secant slope ``|Δθs_m| / Δs`` plus the largest change between
+        neighbouring secants (the slope between samples may exceed its secant by about
+        that much; 0 on a straight joint path, e.g. the L-1's Cartesian axes). ``(None,
+        q)`` when a sample has no solution: the IK's motor rows still bound every cycle,
+        and the run reports the point."""
+        if self.solve_pose is None:
+            return None, q
+        qs = [q]
+        try:
+            for s in np.linspace(0.0, 1.0, PATH_SAMPLES + 1)[1:]:
+                qs.append(self.solve_pose(path.at(float(s)), qs[-1], {}, lims, line))
+        except RunFailure:
+            return None, q
+        theta = np.array([self.motors.map.motor_from_joint(x) for x in qs])
+        slopes = np.diff(theta, axis=0) * PATH_SAMPLES  # secants dθs/ds per interval
+        change = np.abs(np.diff(slopes, axis=0)).max(axis=0) if PATH_SAMPLES > 1 else 0.0
+        return np.abs(slopes).max(axis=0) + change, qs[-1]
 
     # LIN ------------------------------------------------------------------
     def _plan_lin(self, cmd, settings, state: PlanState, lims) -> list[Segment]:
@@ -431,9 +457,16 @@ class PreInterpolator:
             jerk = _setting(cmd, settings, "jerk") * units.MM
             jerks = [jerk, w * jerk / speed]
         bounds = []
+        q = state.q
         for path in paths:
             angle = path.angle if self.timed_orientation else 0.0
-            bounds.append(segment_bounds([path.length, angle], [speed, w], [acc, w_acc], jerks))
+            b = segment_bounds([path.length, angle], [speed, w], [acc, w_acc], jerks)
+            if self.motors is not None and b.slowest >= 0:
+                rates, q = self._path_motor_rates(path, q, lims, cmd.line)
+                if rates is not None:
+                    k = override_factor(settings)
+                    b = self._motor_bounds(b, rates, k, k * k, axes=2)
+            bounds.append(b)
         times = self._split_time(cmd, settings, [b.t_min for b in bounds])
         refs = self._references(cmd, state.q, paths)
         out = []
@@ -441,9 +474,12 @@ class PreInterpolator:
             if b.slowest < 0:  # zero-length segment: nothing to interpolate
                 continue
             profile = self._profile(b, t, state.dt, cmd.line)
-            what = ("path speed/acceleration", "orientation speed")[b.slowest]
-            if jerks is not None:
+            if b.slowest >= 2:  # a motor (_motor_bounds)
+                what = f"motor of {self.naming.label(b.slowest - 2)} speed/acceleration"
+            elif jerks is not None:
                 what = ("path speed/acceleration/jerk", "orientation speed")[b.slowest]
+            else:
+                what = ("path speed/acceleration", "orientation speed")[b.slowest]
             out.append(
                 Segment(
                     kind,

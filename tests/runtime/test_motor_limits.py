@@ -164,3 +164,30 @@ def test_ik_cycle_brakes_a_motor_that_runs_too_fast():
     braked = 7.2 * math.radians(1.4) - 7.2 * 3 * math.radians(500.0) * IPO**2
     assert abs(d6) <= braked * (1 + 1e-9)
     assert abs(d6) < 7.2 * math.radians(1.4)
+
+
+def test_lin_is_timed_for_its_motors(tmp_path):
+    """A 50 mm LIN along y0 moves λ2 only (the L-1's Cartesian axes): motor 2 turns
+    360π·0.05 = 56.55 rad, ≥ 7.2 s at 2.5π rad/s. The path speed R_SPEED = 100 mm/s would
+    take 0.5 s (and failed on the joint speed bound); the plan is the trapezoid with
+    ``v = 2.5π / 56.55`` and ``a = R_ACC / 50 mm`` per unit path."""
+    prog = tmp_path / "lin.irl"
+    prog.write_text(
+        "PROGRAM linmove;\nROBOT r := l1;\nVAR POSE: p;\nBEGIN\n  R_ACC := 40;\n"
+        "  MOVE PTP (200, 300, 300, 90, 30, 90);\n"
+        "  p := POSE(350, 436.9349, 276.75, 180, 0, 60);\n  MOVE LIN p;\nENDPROGRAM\n"
+    )
+    tcp = Kinematics(load_robot("l1")).tcp(
+        np.array([0.2, 0.3, 0.3, math.radians(90), math.radians(30), math.radians(90)])
+    )
+    assert np.allclose(tcp[:3, 3] * 1e3, [300.0, 436.9349, 276.75], atol=1e-4)
+    run = run_file(prog)
+    assert run.ok, run.error
+    travel = K * 0.05
+    v, a = V_STEP / travel, 40.0 / 50.0
+    expected = math.ceil((1.0 / v + v / a) / IPO - 1e-9) * IPO
+    assert run.report["duration_s"] == pytest.approx(expected, abs=1e-9)
+    assert run.report["statements"][-1]["limit"] == "motor of a2 (L2) speed/acceleration"
+    a2 = run.report["motors"]["axes"][1]
+    assert a2["travel_rad"] == pytest.approx(travel, rel=1e-6)
+    assert a2["max_abs_speed_rad_s"] <= V_STEP * (1 + 1e-6)
