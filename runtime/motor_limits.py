@@ -19,7 +19,7 @@ constant-speed part. (For a non-linear map the curvature term ``(dK/ds Δq) ṡ�
 motor acceleration is not bounded: a documented approximation.)
 
 **LIN / CIRCLE / PATH**: the pre-interpolator samples the joint path with the pose solver
-and times the motors on its secant slopes (``PreInterpolator._path_motor_rates``); in the
+and times the motors on its secant slopes (:meth:`MotorLimits.path_rates`); in the
 IK of every cycle the rows ``|K δ|_m ≤ v_m Δt`` on the
 cycle displacement ``δ`` join the coupled joint limits in the QP
 (:class:`irlc.runtime.ik.coupled.CoupledRows`) — only for linear maps, whose ``K`` is
@@ -32,6 +32,7 @@ Robots without such a transmission, or without motor limits in their drive data,
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -39,6 +40,7 @@ from irlc.robots.model import RobotModel
 from irlc.runtime.motor_maps import MotorMap
 
 _SAMPLES = 17  # points of a PTP line where a non-linear map's slope is evaluated
+PATH_SAMPLES = 32  # intervals of a Cartesian path sampled for its motors' timing
 
 
 @dataclass(frozen=True)
@@ -73,6 +75,26 @@ class MotorLimits:
         for s in np.linspace(0.0, 1.0, _SAMPLES):
             np.maximum(rates, np.abs(self.map.motor_jacobian(q0 + s * delta) @ delta), out=rates)
         return rates
+
+    def path_rates(
+        self,
+        pose_at: Callable[[float], np.ndarray],
+        q: np.ndarray,
+        solve: Callable[[np.ndarray, np.ndarray], np.ndarray],
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """``(D_m, q_end)`` of a Cartesian path ``pose_at(s)``, ``s ∈ [0, 1]``, from ``q``:
+        the joints at ``PATH_SAMPLES + 1`` points (``solve(pose, seed)``, warm-started
+        along the path), their motor angles, and per motor the largest secant slope
+        ``|Δθs_m| / Δs`` plus the largest change between neighbouring secants (the slope
+        between samples may exceed its secant by about that much; 0 on a straight joint
+        path, e.g. the L-1's Cartesian axes). ``solve`` raises where it finds no joints."""
+        qs = [np.asarray(q, dtype=float)]
+        for s in np.linspace(0.0, 1.0, PATH_SAMPLES + 1)[1:]:
+            qs.append(solve(pose_at(float(s)), qs[-1]))
+        theta = np.array([self.map.motor_from_joint(x) for x in qs])
+        slopes = np.diff(theta, axis=0) * PATH_SAMPLES  # secants dθs/ds per interval
+        change = np.abs(np.diff(slopes, axis=0)).max(axis=0)
+        return np.abs(slopes).max(axis=0) + change, qs[-1]
 
     def travel_times(self, q0: np.ndarray, q1: np.ndarray) -> np.ndarray:
         """The book's per-motor travel time ``|ΔΘs_m| / v_m`` (s; 0 for an unlimited motor)."""

@@ -75,7 +75,6 @@ from irlc.runtime.profiles import (
 from irlc.runtime.values import JointTuple, Pose
 
 Limits3 = tuple[np.ndarray, np.ndarray, np.ndarray]
-PATH_SAMPLES = 32  # intervals of a Cartesian path sampled for its motors' timing
 Profile = Trapezoid | sc.SCurve
 
 
@@ -397,25 +396,17 @@ class PreInterpolator:
         return Bounds(speed, accel, b.jerk, slowest, t_min)
 
     def _path_motor_rates(self, path, q, lims, line) -> tuple[np.ndarray | None, np.ndarray]:
-        """``(D_m, q_end)`` of a Cartesian path: the joints at ``PATH_SAMPLES + 1`` points
-        of it (the pose solver, warm-started along the path), their motor angles, and per
-        motor the largest secant slope ``|Δθs_m| / Δs`` plus the largest change between
-        neighbouring secants (the slope between samples may exceed its secant by about
-        that much; 0 on a straight joint path, e.g. the L-1's Cartesian axes). ``(None,
-        q)`` when a sample has no solution: the IK's motor rows still bound every cycle,
-        and the run reports the point."""
+        """``(D_m, q_end)`` of a Cartesian path (:meth:`MotorLimits.path_rates`, solved
+        with the pose solver); ``(None, q)`` without a solver or where a point of the path
+        has no solution (the IK's motor rows still bound every cycle; the run reports it)."""
         if self.solve_pose is None:
             return None, q
-        qs = [q]
         try:
-            for s in np.linspace(0.0, 1.0, PATH_SAMPLES + 1)[1:]:
-                qs.append(self.solve_pose(path.at(float(s)), qs[-1], {}, lims, line))
+            return self.motors.path_rates(
+                path.at, q, lambda pose, seed: self.solve_pose(pose, seed, {}, lims, line)
+            )
         except RunFailure:
             return None, q
-        theta = np.array([self.motors.map.motor_from_joint(x) for x in qs])
-        slopes = np.diff(theta, axis=0) * PATH_SAMPLES  # secants dθs/ds per interval
-        change = np.abs(np.diff(slopes, axis=0)).max(axis=0) if PATH_SAMPLES > 1 else 0.0
-        return np.abs(slopes).max(axis=0) + change, qs[-1]
 
     # LIN ------------------------------------------------------------------
     def _plan_lin(self, cmd, settings, state: PlanState, lims) -> list[Segment]:
