@@ -258,8 +258,13 @@ def _extras(model: RobotModel, q_si, t, motors: bool, euler: str) -> dict:
     if euler != "zyx":
         out[f"pose_{euler}"] = _fmt(units.pose_from_si(t, euler))
     if motors:
-        from irlc.runtime.motor_coords import motor_angles
+        from irlc.runtime.motor_coords import has_motors, motor_angles
 
+        if not has_motors(model):
+            raise UsageError(
+                f"--motors: robot {model.name} has no motor maps (no [transmission] table "
+                "in its robot file)"
+            )
         out["units"] = {**JSON_UNITS, "motor_angle": "rad"}
         out["motor_angles_rad"] = _fmt(motor_angles(model, q_si))
     return out

@@ -174,3 +174,10 @@ def test_summary_prints_the_motor_travel_times(tmp_path, capsys):
     assert "motors (rad, rad/s, s)" in out
     row = next(line for line in out.splitlines() if "a6 (W6)" in line and "20.7345" in line)
     assert f"{7.2 * math.radians(135.0) / (2.5 * math.pi):.4f}" in row  # 2.1600 s
+
+
+def test_motors_of_a_robot_without_motor_maps_is_a_usage_error(capsys):
+    code = main(["fk", "planar3", "0", "90", "-90", "--motors"])
+    err = capsys.readouterr().err
+    assert code == 3
+    assert "no motor maps" in err and "Traceback" not in err
