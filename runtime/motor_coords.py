@@ -9,6 +9,8 @@ The report's ``motors`` (per motor, over the run): start and end angle, the trav
 ``Σ|Δθs|`` over the samples, the largest speed, the speed limit of the drive data where
 the transmission couples joints (:mod:`motor_limits`; ``null`` otherwise) and the book's
 travel time ``travel / v_max`` (L-1: eq. 4.22) — the shortest time the motor needs.
+:func:`add_statement_motors` gives the same per statement of the report's ``statements``
+(``motor_travel_rad``, ``motor_travel_time_s``: Szkodny's per-move table).
 """
 
 from __future__ import annotations
@@ -74,3 +76,27 @@ def motor_report(model: RobotModel, names, times: np.ndarray, q: np.ndarray) -> 
         )
     source = limits.source if limits is not None else None
     return {"units": dict(UNITS), "speed_limits_from": source, "axes": axes}
+
+
+def add_statement_motors(rows: list[dict], model: RobotModel, times, q: np.ndarray, rnd) -> None:
+    """Per statement row (``start_s``, ``duration_s``): ``motor_travel_rad`` (``Σ|Δθs|``
+    per motor over the samples of the statement) and ``motor_travel_time_s`` (travel /
+    speed limit, ``None`` for an unlimited motor); ``rnd`` rounds the numbers."""
+    times = np.asarray(times, dtype=float)
+    if not len(times):
+        return
+    theta = motor_angles(model, q)
+    limits = motor_limits(model)
+    speed = limits.speed if limits is not None else np.full(model.n, np.inf)
+    for row in rows:
+        start = row["start_s"] or 0.0
+        end = start + (row["duration_s"] or 0.0)
+        i0 = int(np.searchsorted(times, start - 1e-9))
+        i1 = int(np.searchsorted(times, end + 1e-9, side="right"))
+        span = theta[i0:i1]  # from the sample at the statement's start to its end
+        travel = np.abs(np.diff(span, axis=0)).sum(axis=0) if len(span) > 1 else np.zeros(model.n)
+        row["motor_travel_rad"] = [rnd(float(v)) for v in travel]
+        row["motor_travel_time_s"] = [
+            rnd(float(t / v)) if np.isfinite(v) else None
+            for t, v in zip(travel, speed, strict=True)
+        ]

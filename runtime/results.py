@@ -94,6 +94,9 @@ def assemble(
     report["statements"] = statement_rows(
         controller.statements, source_lines(code.source, base_dir), rnd
     )
+    if motor_coords.has_motors(model):  # per statement: travel, travel time per motor
+        moved = actual.q if actual is not None else rec.q
+        motor_coords.add_statement_motors(report["statements"], model, rec.times, moved, rnd)
     trace_motion = actual
     if drive is not None and every_step:
         trace_motion = measure_actual(model, rec, controller, obstacles, drive.t, drive.q_actual)

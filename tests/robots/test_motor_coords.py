@@ -181,3 +181,21 @@ def test_motors_of_a_robot_without_motor_maps_is_a_usage_error(capsys):
     err = capsys.readouterr().err
     assert code == 3
     assert "no motor maps" in err and "Traceback" not in err
+
+
+def test_statements_give_each_moves_motor_travel_and_time(tmp_path):
+    """Two PTPs after the start: each statement's travel is the book's |ΔΘs| of its own
+    move and its travel time |ΔΘs| / 2.5π (eq. 4.22), independently of the other move."""
+    q0, q1 = (200.0, 300.0, 300.0, 90.0, 30.0, 90.0), (200.0, 300.0, 300.0, 90.0, -15.0, 135.0)
+    q2 = (230.0, 300.0, 300.0, 120.0, -15.0, 135.0)
+    prog = tmp_path / "two.irl"
+    body = "".join(f"  MOVE PTP ({', '.join(map(repr, q))});\n" for q in (q0, q1, q2))
+    prog.write_text(f"PROGRAM two;\nROBOT r := l1;\nBEGIN\n{body}ENDPROGRAM\n")
+    run_ = run_file(prog)
+    assert run_.ok, run_.error
+    rows = run_.report["statements"]
+    for row, (a, b) in zip(rows[1:], ((q0, q1), (q1, q2)), strict=True):
+        travel = np.abs(np.subtract(book_motors(b), book_motors(a)))
+        assert np.allclose(row["motor_travel_rad"], travel, rtol=1e-8, atol=1e-9)
+        assert np.allclose(row["motor_travel_time_s"], travel / (2.5 * math.pi), atol=1e-8)
+        assert row["duration_s"] >= travel.max() / (2.5 * math.pi)
