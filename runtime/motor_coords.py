@@ -32,13 +32,8 @@ def has_motors(model: RobotModel) -> bool:
 
 def motor_angles(model: RobotModel, q: np.ndarray) -> np.ndarray:
     """``θs`` (rad) of joint configurations ``q`` (SI; one ``(n,)`` or many ``(k, n)``)."""
-    mm = MotorMap.from_model(model)
     q = np.asarray(q, dtype=float)
-    rows = np.atleast_2d(q)
-    if all(e["type"] == "ratio" for e in mm.entries):  # linear: θs = K q
-        out = rows @ mm.motor_jacobian(np.zeros(mm.n)).T
-    else:
-        out = np.array([mm.motor_from_joint(r) for r in rows]).reshape(rows.shape)
+    out = MotorMap.from_model(model).motor_from_joints(q)
     return out if q.ndim == 2 else out[0]
 
 

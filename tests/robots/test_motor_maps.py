@@ -52,3 +52,13 @@ def test_screw_out_of_reach_is_an_error():
     mm = MotorMap.from_model(load_robot("irb6"))
     with pytest.raises(ValueError, match="joint 2"):
         mm.joint_from_motor(np.array([0.0, 1e4, 0.0, 0.0, 0.0]))
+
+
+@pytest.mark.parametrize("name", ["l1", "irb6", "irb6_track", "as6"])
+def test_many_configurations_at_once_match_one_by_one(name):
+    model = load_robot(name)
+    mm = MotorMap.from_model(model)
+    lim = model.position_limits
+    qs = np.random.default_rng(1).uniform(lim[:, 0], lim[:, 1], size=(25, model.n))
+    one_by_one = np.array([mm.motor_from_joint(q) for q in qs])
+    assert np.allclose(mm.motor_from_joints(qs), one_by_one, rtol=1e-13, atol=1e-12)
