@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from irlc.robots import load_robot
-from irlc.runtime.ik import CycleOptions, InverseTransformation
+from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation
 from irlc.runtime.kinematics import Kinematics
 from irlc.runtime.motor_limits import motor_limits
 from irlc.runtime.run import run_file
@@ -118,14 +118,17 @@ def test_motor_limits_only_where_the_transmission_couples():
 # ------------------------------------------------------------------------------- IK rows
 
 
-def _cycle(model, q_start, prev, step):
-    """One IK cycle towards ``fk(q_start + step)``, moving at ``prev`` per cycle before."""
-    ik = InverseTransformation(model, Kinematics(model))
+def _cycle(model, q_start, prev, step, accel=None):
+    """One IK cycle towards ``fk(q_start + step)``, moving at ``prev`` per cycle before
+    (``accel``: the compiled cycle or not, ``None``: if available)."""
+    params = dataclasses.replace(IKParams.for_robot(model), accel=accel)
+    ik = InverseTransformation(model, Kinematics(model), params)
     target = Kinematics(model).tcp(q_start + step)
     return ik, ik.step(q_start, q_start - prev, target, IPO, CycleOptions())
 
 
-def test_ik_cycle_respects_the_motor_speeds():
+@pytest.mark.parametrize("accel", [False, None])
+def test_ik_cycle_respects_the_motor_speeds(accel):
     """Moving W5 −0.2°, W6 +0.2° per 10 ms (motor 6: 7.2·0.6° = 0.075 rad per cycle,
     inside 2.5π·0.01 = 0.0785 rad), the target asks for W5 −0.4°, W6 +0.6°; the joint box
     (500 deg/s²: ±0.05° change per cycle) lets W5 −0.25°, W6 +0.25° through, which turns
@@ -136,7 +139,8 @@ def test_ik_cycle_respects_the_motor_speeds():
     prev = np.array([0.0, 0.0, 0.0, 0.0, math.radians(-0.2), math.radians(0.2)])
     step = np.array([0.0, 0.0, 0.0, 0.0, math.radians(-0.4), math.radians(0.6)])
     assert abs(7.2 * (prev[5] - 2 * prev[4])) < V_STEP * IPO
-    ik, res = _cycle(model, q, prev, step)
+    ik, res = _cycle(model, q, prev, step, accel)
+    assert accel is None or not ik.accelerated  # False: the numpy cycle
     travel = book_motors(np.concatenate((res.q[:3] * 1e3, np.degrees(res.q[3:])))) - book_motors(
         np.concatenate((q[:3] * 1e3, np.degrees(q[3:])))
     )
@@ -152,14 +156,15 @@ def test_ik_cycle_respects_the_motor_speeds():
     assert abs(old_travel) > V_STEP * IPO * 1.1
 
 
-def test_ik_cycle_brakes_a_motor_that_runs_too_fast():
+@pytest.mark.parametrize("accel", [False, None])
+def test_ik_cycle_brakes_a_motor_that_runs_too_fast(accel):
     """Entering a cycle with motor 6 at 0.176 rad per cycle (more than v·Δt: e.g. after a
     blend), the QP is not empty: the motor row admits the fastest braking the joint box
     allows, |K₆d| − Σ|K₆j|a_jΔt² = 0.176 − 7.2·(1 + 2)·500°/s²·1e-4 s² ≈ 0.157 rad."""
     model = load_robot("l1")
     q = np.array([0.2, 0.3, 0.3, math.radians(90), math.radians(30), math.radians(90)])
     prev = np.array([0.0, 0.0, 0.0, 0.0, math.radians(-0.4), math.radians(0.6)])
-    _, res = _cycle(model, q, prev, prev)
+    _, res = _cycle(model, q, prev, prev, accel)
     d6 = 7.2 * ((res.q[5] - q[5]) - 2 * (res.q[4] - q[4]))
     braked = 7.2 * math.radians(1.4) - 7.2 * 3 * math.radians(500.0) * IPO**2
     assert abs(d6) <= braked * (1 + 1e-9)
