@@ -22,8 +22,8 @@ motor acceleration is not bounded: a documented approximation.)
 and times the motors on its secant slopes (:meth:`MotorLimits.path_rates`); in the
 IK of every cycle the rows ``|K δ|_m ≤ v_m Δt`` on the
 cycle displacement ``δ`` join the coupled joint limits in the QP
-(:class:`irlc.runtime.ik.coupled.CoupledRows`) — only for linear maps, whose ``K`` is
-constant (the L-1); a non-linear coupled map is bounded in PTP timing only.
+(:class:`irlc.runtime.ik.coupled.CoupledRows`; ``K`` constant for a linear map, the L-1,
+``K(θ_s)`` at the start of each cycle for a non-linear one, the IRb-6).
 
 Robots without such a transmission, or without motor limits in their drive data, get
 ``None`` from :func:`motor_limits` (nothing changes for them).

@@ -203,8 +203,7 @@ def _motor_limits_line(model: RobotModel) -> str:
     if limits is None:
         return "motor limits: none beyond the joint limits (no coupled transmission with limits)"
     speeds = ", ".join(f"{v:.6g}" for v in limits.speed)
-    who = "PTP timing and the IK respect" if limits.linear else "PTP timing respects"
-    return f"motor limits [rad/s] ({limits.source}): {speeds} — {who} them"
+    return f"motor limits [rad/s] ({limits.source}): {speeds} — the timing and the IK respect them"
 
 
 # ----------------------------------------------------------------------------- fk / ik

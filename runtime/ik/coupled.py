@@ -15,10 +15,12 @@ with infinite accelerations it is the position row. In Newton iteration ``k`` th
 on ``Δθ`` are ``AΔθ ≥ −brake(s) − AΣ``. A start configuration that violates a row
 raises :class:`CoupledLimitError` (message from :func:`coupled_limits.describe`).
 
-**Motor speed rows** (:mod:`irlc.runtime.motor_limits`): where a linear transmission
-couples joints and the drive data bound the motor speeds (the L-1 wrist), the rows
-``±K_m δ ≥ −v_m Δt`` (``K = ∂θs/∂q``, constant) are appended after the coupled rows: the
-same machinery, with a fixed bound per cycle instead of the braking slack.
+**Motor speed rows** (:mod:`irlc.runtime.motor_limits`): where a transmission couples
+joints and the drive data bound the motor speeds (the L-1 wrist, the IRb-6), the rows
+``±K_m δ ≥ −v_m Δt`` (``K = ∂θs/∂q``: constant for a linear map; for a non-linear one
+``K(θ_s)`` at the start of each cycle, the rows updated in place — ``varying``) are
+appended after the coupled rows: the same machinery, with a fixed bound per cycle instead
+of the braking slack.
 
 Robots with neither never build this object (:meth:`CoupledRows.for_model`: zero cost).
 """
@@ -59,12 +61,15 @@ class CoupledRows:
                 labels.append((c, "max", c.upper))
         self.npos = len(labels)  # the position rows come first, then the motor rows
         self.motor_speed = np.zeros(0)  # v_m of each motor row (rad/s)
-        if motors is not None and motors.linear and motors.limited.size:
+        self.varying = False  # True: the motor rows are K(q_start) of a non-linear map
+        if motors is not None and motors.limited.size:
             m = motors.limited
-            K = motors.map.motor_jacobian(np.zeros(model.n))[m]
+            K = motors.map.motor_jacobian(model.home_q())[m]
             self.A = np.ascontiguousarray(np.vstack((self.A, K, -K)))
             self.motor_speed = np.concatenate((motors.speed[m], motors.speed[m]))
             labels += [("motor", "min", int(j)) for j in m] + [("motor", "max", int(j)) for j in m]
+            self.varying = not motors.linear
+            self._map, self._motor_rows = motors.map, m
         self.labels = labels
         self.naming = None  # the program's JointNaming (set by the solver); None: a1 … aN
         self.bound_d = np.zeros(self.A.shape[0])  # Aδ ≥ bound_d this cycle
@@ -105,6 +110,10 @@ class CoupledRows:
             root = np.sqrt(1.0 + slack * two_over_eps)
             bound[:npos] = -2.0 * slack / (1.0 + root)
         if len(self.motor_speed):
+            if self.varying:  # linearised at the start of the cycle, rows updated in place
+                K = self._map.motor_jacobian(q_start)[self._motor_rows]
+                self.A[npos : npos + len(K)] = K
+                self.A[npos + len(K) :] = -K
             bound[npos:] = -self._motor_bound(q_start, dt, accel, q_prev)
         self.bound_d = bound
 

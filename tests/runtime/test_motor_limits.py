@@ -196,3 +196,31 @@ def test_lin_is_timed_for_its_motors(tmp_path):
     a2 = run.report["motors"]["axes"][1]
     assert a2["travel_rad"] == pytest.approx(travel, rel=1e-6)
     assert a2["max_abs_speed_rad_s"] <= V_STEP * (1 + 1e-6)
+
+
+@pytest.mark.parametrize("accel", [False, None])
+def test_ik_cycle_respects_a_non_linear_motor_map(accel):
+    """IRb-6: motor 3 drives a screw on the lever of θ2+θ3 (a non-linear, coupled map),
+    47.9369 rad/s (slave controller). Moving θ2 and θ3 together with motor 3 at 99 % of
+    its limit, a target further along lets the joint box speed both joints up: without the
+    rows motor 3 overruns ``v Δt``, with them (``K(q_start)``, rows updated per cycle) it
+    stays there — checked with the map itself, not its linearisation."""
+    from irlc.runtime.motor_maps import MotorMap
+
+    model = load_robot("irb6")
+    mm = MotorMap.from_model(model)
+    v_dt = 47.9369 * IPO
+    q = np.radians([100.0, 10.0, 5.0, -30.0, 20.0])
+    k3 = mm.motor_jacobian(q)[2]
+    prev = np.zeros(5)
+    prev[1] = prev[2] = 0.99 * v_dt / (k3[1] + k3[2])
+    a = np.minimum(-model.accel_limits[:, 0], model.accel_limits[:, 1])
+    assert (k3[1] * a[1] + k3[2] * a[2]) * IPO**2 > 0.02 * v_dt  # the box could overrun it
+    ik, res = _cycle(model, q, prev, 4 * prev, accel)
+    assert ik.coupled.varying
+    travel = mm.motor_from_joint(res.q) - mm.motor_from_joint(q)
+    assert abs(travel[2]) <= v_dt * (1 + 1e-3)
+    bare = dataclasses.replace(model, extra={k: v for k, v in model.extra.items() if k != "drives"})
+    _, old = _cycle(bare, q, prev, 4 * prev, accel)
+    old_travel = mm.motor_from_joint(old.q) - mm.motor_from_joint(q)
+    assert abs(old_travel[2]) > v_dt * 1.005
