@@ -15,7 +15,10 @@ For each :class:`~irlc.runtime.controller.MotionCommand` it resolves
 
   - PTP: straight line in joint space, synchronised; joint ``i`` may use
     ``R_SPEED_PTP % · θ̇max_i`` and ``R_ACC_PTP % · θ̈max_i`` (of the active limits);
-    the slowest joint sets the time;
+    the slowest joint sets the time; where the transmission couples joints and the drive
+    data give motor limits (:mod:`motor_limits`), every motor is one more axis of the
+    profile (its travel ``|ΔΘs_m|`` at ``R_SPEED_PTP % · v_m``, ``R_ACC_PTP % · a_m``):
+    the plan is never shorter than the slowest motor allows;
   - LIN: position (``R_SPEED``, ``R_ACC``) and orientation (``R_SPEED_ORI`` with the
     same ramp time, ``ω̇ = R_SPEED_ORI · R_ACC / R_SPEED``) share one ``s(t)``; the segment
     time is the larger of the two times (orientation only counts when the robot's task
@@ -59,6 +62,7 @@ from irlc.runtime.interpolator import (
     ReferencePath,
     Segment,
 )
+from irlc.runtime.motor_limits import motor_limits
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.profiles import (
     ProfileError,
@@ -181,6 +185,7 @@ class PreInterpolator:
         self.scale = units.joint_scale(self.kinds)
         self.solve_pose = solve_pose
         self.max_duration = math.inf  # s: the run's simulated-time budget (the controller's)
+        self.motors = motor_limits(model)  # None: the joint limits say it all
 
     # ------------------------------------------------------------------ units
     def joints_si(self, values: Sequence[float] | JointTuple) -> np.ndarray:
@@ -334,13 +339,20 @@ class PreInterpolator:
                     cmd.line,
                 )
         b = segment_bounds(np.abs(delta), vmax, amax, jmax)
+        if self.motors is not None:
+            b = self._motor_bounds(b, self.motors.ptp_rates(q0, q1), pct_v, pct_a)
         slowest = b.slowest
         duration = self._time(cmd, settings, npts)
         profile = self._profile(b, duration, dt, cmd.line)
         limiting = ""
         if slowest >= 0:
             jerk = "/jerk" if b.jerk is not None else ""
-            limiting = f"joint {self.naming.label(slowest)} speed/acceleration{jerk}"
+            n = self.model.n
+            axis = self.naming.label(slowest % n)
+            limiting = f"joint {axis} speed/acceleration{jerk}"
+            if slowest >= n:
+                limiting = f"motor of {axis} speed/acceleration"
+                slowest -= n
         seg = Segment(
             "ptp",
             cmd.line,
@@ -356,6 +368,40 @@ class PreInterpolator:
         seg.info["joint_speed"] = np.abs(delta) * (profile.cruise if moving else 0.0)
         seg.info["joint_accel"] = np.abs(delta) * (profile.accel if moving else 0.0)
         return seg
+
+    def _motor_bounds(
+        self, b: Bounds, rates: np.ndarray, pct_v: float, pct_a: float, axes: int | None = None
+    ) -> Bounds:
+        """``b`` tightened by the motors (:mod:`motor_limits`) as more axes of the same
+        ``s(t)``, ``rates`` their ``D_m = max |dθs_m/ds|``: ``v ≤ pct_v · v_m / D_m``,
+        ``a ≤ pct_a · a_m / D_m``; the jerk stays the path's. ``slowest ≥ axes`` (default
+        the joint count) names motor ``slowest − axes``."""
+        m = self.motors
+        v, a, k = common_bounds(rates, m.speed * pct_v, m.accel * pct_a)
+        if k < 0:
+            return b
+        t_motor = minimum_time(v, a)
+        axes = self.model.n if axes is None else axes
+        slowest = b.slowest if b.slowest >= 0 and b.t_min >= t_motor else axes + k
+        speed, accel = min(b.speed, v), min(b.accel, a)
+        if b.jerk is None:
+            t_min = minimum_time(speed, accel)
+        else:
+            t_min = sc.minimum_time(speed, accel, b.jerk)
+        return Bounds(speed, accel, b.jerk, slowest, t_min)
+
+    def _path_motor_rates(self, path, q, lims, line) -> tuple[np.ndarray | None, np.ndarray]:
+        """``(D_m, q_end)`` of a Cartesian path (:meth:`MotorLimits.path_rates`, solved
+        with the pose solver); ``(None, q)`` without a solver or where a point of the path
+        has no solution (the IK's motor rows still bound every cycle; the run reports it)."""
+        if self.solve_pose is None:
+            return None, q
+        try:
+            return self.motors.path_rates(
+                path.at, q, lambda pose, seed: self.solve_pose(pose, seed, {}, lims, line)
+            )
+        except RunFailure:
+            return None, q
 
     # LIN ------------------------------------------------------------------
     def _plan_lin(self, cmd, settings, state: PlanState, lims) -> list[Segment]:
@@ -397,9 +443,16 @@ class PreInterpolator:
             jerk = _setting(cmd, settings, "jerk") * units.MM
             jerks = [jerk, w * jerk / speed]
         bounds = []
+        q = state.q
         for path in paths:
             angle = path.angle if self.timed_orientation else 0.0
-            bounds.append(segment_bounds([path.length, angle], [speed, w], [acc, w_acc], jerks))
+            b = segment_bounds([path.length, angle], [speed, w], [acc, w_acc], jerks)
+            if self.motors is not None and b.slowest >= 0:
+                rates, q = self._path_motor_rates(path, q, lims, cmd.line)
+                if rates is not None:
+                    k = override_factor(settings)
+                    b = self._motor_bounds(b, rates, k, k * k, axes=2)
+            bounds.append(b)
         times = self._split_time(cmd, settings, [b.t_min for b in bounds])
         refs = self._references(cmd, state.q, paths)
         out = []
@@ -407,9 +460,12 @@ class PreInterpolator:
             if b.slowest < 0:  # zero-length segment: nothing to interpolate
                 continue
             profile = self._profile(b, t, state.dt, cmd.line)
-            what = ("path speed/acceleration", "orientation speed")[b.slowest]
-            if jerks is not None:
+            if b.slowest >= 2:  # a motor (_motor_bounds)
+                what = f"motor of {self.naming.label(b.slowest - 2)} speed/acceleration"
+            elif jerks is not None:
                 what = ("path speed/acceleration/jerk", "orientation speed")[b.slowest]
+            else:
+                what = ("path speed/acceleration", "orientation speed")[b.slowest]
             out.append(
                 Segment(
                     kind,

@@ -25,7 +25,7 @@ import os
 from typing import Any
 
 import numpy as np
-from irlc.runtime import units
+from irlc.runtime import motor_coords, units
 from irlc.runtime.cycle_time import source_lines, statement_rows
 from irlc.runtime.digital_io import io_columns, signal_timelines
 from irlc.runtime.errors import DriveSetupError, RunFailure
@@ -94,6 +94,9 @@ def assemble(
     report["statements"] = statement_rows(
         controller.statements, source_lines(code.source, base_dir), rnd
     )
+    if motor_coords.has_motors(model):  # per statement: travel, travel time per motor
+        moved = actual.q if actual is not None else rec.q
+        motor_coords.add_statement_motors(report["statements"], model, rec.times, moved, rnd)
     trace_motion = actual
     if drive is not None and every_step:
         trace_motion = measure_actual(model, rec, controller, obstacles, drive.t, drive.q_actual)
@@ -281,6 +284,9 @@ def build_report(
         "tool": tool_report(model, execution.state.settings.tool),
         "statements": [],  # cycle time per statement, filled by assemble (cycle_time.py)
     }
+    if motor_coords.has_motors(model):  # per motor: travel, travel time (motor_coords)
+        moved = (actual.q if actual is not None else rec.q) if k else np.zeros((0, model.n))
+        report["motors"] = _clean(motor_coords.motor_report(model, names, rec.times, moved))
     if drive is not None:
         from irlc.runtime.drives import report_axes
 
@@ -409,12 +415,19 @@ def trace_header(names, kinds, drives: bool, obstacles) -> list[str]:
     return cols
 
 
+def _motor_header(model, names) -> list[str]:
+    """``NAME_motor_rad`` after the clearances, for robots with motor maps."""
+    return motor_coords.trace_columns(names) if motor_coords.has_motors(model) else []
+
+
 def build_trace(model, rec: RecordedRun, names, drive, actual=None):
     """``(columns, table)`` in program units; one row per IPO sample, or per time of
     ``actual`` (the measured actual motion of a drive run: IPO samples or drive steps)."""
     kinds = model.joint_kinds
     scale = units.joint_scale(kinds)
-    cols = trace_header(names, kinds, drive is not None, rec.clearance)
+    cols = trace_header(names, kinds, drive is not None, rec.clearance) + _motor_header(
+        model, names
+    )
     times, lines, q, tcp = rec.times, rec.lines, rec.q, rec.tcp
     pos_err, ori_err = rec.pos_error, rec.ori_error
     clearance = rec.clearance
@@ -450,5 +463,7 @@ def build_trace(model, rec: RecordedRun, names, drive, actual=None):
     parts.append((ori_err / units.DEG)[:, None])
     for name in sorted(clearance):
         parts.append((clearance[name] / units.MM)[:, None])
+    if motor_coords.has_motors(model) and k:
+        parts.append(motor_coords.motor_angles(model, q))  # of the joints in this row
     table = np.hstack(parts) if k else np.zeros((0, len(cols)))
     return cols, table

@@ -165,8 +165,11 @@ class AcceleratedCycle:
         accel = lim[2] if opts.accel is None else opts.accel
         c = self._box_constants(position, speed, accel, dt)
         if ik.coupled is not None:
-            ik.coupled.prepare(q_start, dt, accel)
+            ik.coupled.prepare(q_start, dt, accel, q_prev)
             self.bound_d = ik.coupled.bound_d
+            if ik.coupled.varying:  # motor rows of a non-linear map: K(q_start)
+                np.copyto(self.A, ik.coupled.A)
+                self.Cr[:, 2 * ik.n :] = ik.coupled.A.T
         V, ist, fst = self.V, self.ist, self.fst
         V[k.Q_START] = q_start
         V[k.Q_PREV] = q_prev

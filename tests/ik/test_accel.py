@@ -51,7 +51,7 @@ def _compare(model, options, *, seed=0, starts=6, cycles=25, step=0.01, jump=0.0
     for _ in range(starts):
         q = _random_q(model, rng)
         if fast.coupled is not None:  # a start inside the coupled rows
-            while np.any(fast.coupled.A @ q - fast.coupled.b < 0.0):
+            while np.any(fast.coupled.A[: fast.coupled.npos] @ q - fast.coupled.b < 0.0):
                 q = _random_q(model, rng)
         q_prev = q.copy()
         target = kin.tcp(q)
