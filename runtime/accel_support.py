@@ -138,8 +138,10 @@ class Kernels:
 
 
 def compile_message(what: str) -> str:
-    """The line a process prints before it compiles ``what`` (see the module doc)."""
-    return (
-        f"irlc: compiling the {what} for {ENV}=compiled (once per installation, "
-        "≈ 15 s; `irlc warmup` does it ahead of time)"
-    )
+    """The line a process prints before it compiles ``what`` (see the module doc); the
+    hint at ``irlc warmup`` is left out while that command runs (:data:`WARMING_UP`)."""
+    hint = "" if WARMING_UP else "; `irlc warmup` does it ahead of time"
+    return f"irlc: compiling the {what} (numba, once per installation, ≈ 5–15 s{hint}) …"
+
+
+WARMING_UP = False  # set by `irlc warmup` (the message's hint would point at itself)

@@ -68,6 +68,8 @@ def warmup_cmd() -> int:
     from irlc.runtime.drives import accel as drive_accel
     from irlc.runtime.ik import accel as ik_accel
 
+    accel_support.WARMING_UP = True
+
     for name, module in (("IK kernels", ik_accel), ("drive kernels", drive_accel)):
         warm = module.cache_warm()
         seconds = module.warm_up()

@@ -132,3 +132,12 @@ def test_compiled_bytes_do_not_depend_on_the_cache(tmp_path):
     assert "irlc: compiling the IK kernels" in outputs[0][0]
     assert outputs[1][0] == ""  # warm: silent
     assert outputs[0][1] == outputs[1][1] and outputs[0][2] == outputs[1][2]
+
+
+def test_warmup_refuses_under_numpy_and_its_message_points_nowhere_else(monkeypatch):
+    out = _irlc(["warmup"], IRLC_ENGINE="numpy")
+    assert out.returncode == 3
+    assert out.stderr.strip() == "irlc: error: warmup: IRLC_ENGINE=numpy disables the kernels"
+    assert "irlc warmup" in accel_support.compile_message("IK kernels")
+    monkeypatch.setattr(accel_support, "WARMING_UP", True)  # (set by the command itself)
+    assert "irlc warmup" not in accel_support.compile_message("IK kernels")
