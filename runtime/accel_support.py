@@ -5,20 +5,22 @@ Shared by the IK accelerator (:mod:`irlc.runtime.ik.accel`) and the drive accele
 every caller that leaves its ``accel`` flag at ``None`` (:func:`decide`):
 
 =============  ==========================================================================
-``numpy``      the numpy paths only (the reference); also disables the kernels where a
-               caller asks for them (``accel=True``). The default when the variable is
-               unset or empty.
+(unset, empty) the default engine, numpy: callers at ``None`` run numpy; a caller's
+               ``accel=True`` still runs the kernels (tests, benchmarks).
+``numpy``      the numpy paths only (the reference), even where a caller asks for the
+               kernels (``accel=True``).
 ``compiled``   the numba kernels wherever they cover the cycle (``pip install
                'irlc[fast]'``); numba missing is an environment error (exit 3).
 ``auto``       ``compiled`` when numba is importable, ``numpy`` otherwise.
 =============  ==========================================================================
 
 Any other value raises :class:`EngineChoiceError` (the command line exits 3 with its
-message). ``accel=True`` / ``False`` on a caller overrides the switch, except that
-``numpy`` wins.
+message). ``accel=True`` / ``False`` on a caller overrides the switch, except that an
+explicit ``numpy`` wins.
 
 **Why numpy is the default.** The kernels must be compiled once per installation
-(≈ 12–15 s on a loaded 2-core machine); numba caches the machine code (``__pycache__``
+(measured: ≈ 13–16 s of CPU for the IK kernels, ≈ 5 s for the drive kernels; 50–100 s of
+wall time on a loaded 2-core machine); numba caches the machine code (``__pycache__``
 next to the kernel module, or ``NUMBA_CACHE_DIR``) and later processes load it in
 ≈ 0.3 s. A default that compiles makes the first run slow; a default that switches to the
 kernels once the cache is warm makes the output bytes depend on the cache's state (the
