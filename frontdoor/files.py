@@ -4,10 +4,11 @@
   expectation) as UTF-8. A missing, unreadable or non-UTF-8 file raises the *caller's*
   error type, built by ``error(file, reason)``, so the message names the file and the
   exit code is the caller's (never a ``UnicodeDecodeError`` traceback).
-* :func:`atomic_write_bytes` / :func:`atomic_write_text` write to a temporary file in the
-  target's folder, ``fsync`` it, give it the usual mode (``0o666 & ~umask``, i.e. 0644
-  with the common umask 022; ``mkstemp`` alone would leave 0600) and rename it over the
-  target (``os.replace``), so a reader never sees half a file.
+* :func:`atomic_write_bytes` / :func:`atomic_write_text` / :func:`atomic_write_chunks`
+  write to a temporary file in the target's folder, ``fsync`` it, give it the usual mode
+  (``0o666 & ~umask``, i.e. 0644 with the common umask 022; ``mkstemp`` alone would leave
+  0600) and rename it over the target (``os.replace``), so a reader never sees half a
+  file.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from __future__ import annotations
 import contextlib
 import os
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from pathlib import Path
 
 ErrorFactory = Callable[[str, str], Exception]  # (file, reason) → the caller's error
@@ -45,12 +46,20 @@ def _umask() -> int:
 
 def atomic_write_bytes(path: str | Path, data: bytes) -> Path:
     """Write ``data`` atomically to ``path`` (folders created); returns the path."""
+    return atomic_write_chunks(path, (data,))
+
+
+def atomic_write_chunks(path: str | Path, chunks: Iterable[bytes]) -> Path:
+    """Write the concatenated ``chunks`` atomically to ``path``, one chunk at a time (a
+    long output never has to be one string in memory); an exception while producing them
+    leaves the target untouched."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
         with os.fdopen(fd, "wb") as f:
-            f.write(data)
+            for chunk in chunks:
+                f.write(chunk)
             f.flush()
             os.fsync(f.fileno())
         os.chmod(tmp, 0o666 & ~_umask())
