@@ -25,8 +25,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from irlc.files import read_user_text
 from irlc.lang.errors import IrlcError
+from irlc.lang.textfile import read_user_text
 from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
 
 ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}

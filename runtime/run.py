@@ -25,9 +25,9 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from irlc.files import read_user_text
 from irlc.lang.errors import IrlcError
 from irlc.lang.irdata import Code
+from irlc.lang.textfile import read_user_text
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
 from irlc.runtime.controller import Settings, setting_error
