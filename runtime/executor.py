@@ -55,6 +55,7 @@ from irlc.runtime.ik.reach import Reach, check_targets
 from irlc.runtime.interpolator import JointLine, ReferencePath, Segment
 from irlc.runtime.kinematics import Kinematics
 from irlc.runtime.naming import JointNaming, naming_or_default
+from irlc.runtime.obstacles import Obstacle
 from irlc.runtime.plan_start import ROUND_OFF, planning_start
 from irlc.runtime.preinterp import (
     PlanState,
@@ -95,7 +96,7 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
         model: RobotModel,
         start_q: np.ndarray,
         *,
-        obstacles: dict[str, object] | None = None,
+        obstacles: dict[str, Obstacle] | None = None,
         options: ExecutionOptions | None = None,
         progress: Callable[[float, int], None] | None = None,
         naming: JointNaming | None = None,

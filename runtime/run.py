@@ -60,7 +60,7 @@ class RunResult:
     trace_columns: list[str]
     trace: np.ndarray  # (k', len(trace_columns)), program units
     model: RobotModel
-    obstacles: tuple  # SI shapes (runtime.obstacles)
+    obstacles: tuple[Obstacle, ...]  # SI shapes (runtime.obstacles)
     output: list[str]
     drive: Any = None  # the drive simulation result, or None (ideal)
     recorded: RecordedRun | None = None
@@ -103,17 +103,14 @@ def load_model(name_or_path: str | Path, base_dir: Path | None) -> RobotModel:
         raise RunSetupError(str(exc)) from None
 
 
-def obstacle_shapes(code: Code) -> dict[str, Any]:
-    """The code's obstacles (data lists, mm) as SI shapes, by name."""
-    from irlc.runtime.obstacles import from_program_units
+def obstacle_shapes(code: Code) -> dict[str, Obstacle]:
+    """The code's obstacles (OBSTACLE records, mm) as SI shapes, by name."""
+    from irlc.runtime.obstacles import from_definition
 
     out = {}
     for o in code.obstacles:
-        spec: dict[str, Any] = {"kind": o.kind}
-        for key, vals in o.fields:
-            spec[key] = vals[0] if len(vals) == 1 else vals
         try:
-            out[o.name] = from_program_units(o.name, spec)
+            out[o.name] = from_definition(o)
         except ValueError as exc:
             raise RunSetupError(str(exc)) from None
     return out
