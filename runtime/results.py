@@ -1,5 +1,10 @@
 """Assemble a run's result: the report (``docs/interfaces.md`` keys) and the trace table.
 
+Presentation only: everything is read from the run's :class:`~irlc.runtime.samples.Samples`
+(set points and, with drives, the actual motion, each derived once by the pipeline stage
+that owns it: :mod:`irlc.runtime.run`, :mod:`irlc.runtime.drive_stage`) and the other
+parts of a :class:`RunData`; nothing is simulated or re-derived here.
+
 Everything user-facing is in program units (mm, deg, s; joints deg | mm) through
 :mod:`units`. Numbers in the report are rounded to fixed precision (``ROUND``) so that the
 same input gives the same bytes; non-finite values never appear (an infinite clearance —
@@ -23,6 +28,7 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -65,7 +71,7 @@ class RunData:
     verdict: Any = None  # irlc.runtime.verdict.Verdict (drives)
     base_dir: Any = None  # the program's folder (statement texts)
 
-    @property
+    @cached_property
     def names(self) -> tuple[str, ...]:
         """The joints' program names (:mod:`naming`)."""
         return JointNaming.for_model(self.model, self.code.joint_names).program
