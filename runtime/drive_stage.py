@@ -13,15 +13,23 @@ the verdict; bad or missing drive data is a :class:`~irlc.runtime.errors.DriveSe
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 from irlc.runtime.errors import DriveSetupError
 from irlc.runtime.recorder import RecordedRun
 from irlc.runtime.samples import Samples, measured
 
+if TYPE_CHECKING:
+    from irlc.robots.model import RobotModel
+    from irlc.runtime.executor import ExecutionOptions
+    from irlc.runtime.obstacles import Obstacle
+    from irlc.runtime.verdict import Verdict
 
-def run_drives(samples: Samples, model, level: str, every_step: bool, obstacles: dict,
-               task_rows, names, opts):  # fmt: skip
+
+def run_drives(samples: Samples, model: RobotModel, level: str, every_step: bool,
+               obstacles: dict[str, Obstacle], task_rows: tuple[int, ...],
+               names: tuple[str, ...], opts: ExecutionOptions) -> tuple[Samples, Verdict]:  # fmt: skip
     """``(samples with the actual motion, verdict)`` (module doc)."""
     from irlc.runtime.actual_motion import measure
     from irlc.runtime.verdict import judge

@@ -29,7 +29,8 @@ import math
 import os
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from irlc.runtime import units
@@ -39,6 +40,13 @@ from irlc.runtime.errors import RunFailure
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.recorder import backward_jerk
 from irlc.runtime.samples import Samples
+
+if TYPE_CHECKING:
+    from irlc.lang.irdata import Code
+    from irlc.robots.model import RobotModel
+    from irlc.runtime.executor import ExecutionOptions, SimulatedController
+    from irlc.runtime.interpreter import ExecutionResult
+    from irlc.runtime.verdict import Verdict
 
 ROUND = 9  # significant digits of report numbers
 
@@ -61,15 +69,15 @@ class RunData:
     statements, limit activity, blends, IPO cycle), the interpreter's result, the options,
     the :class:`~irlc.runtime.samples.Samples` and, with drives, the verdict."""
 
-    code: Any  # irlc.lang.irdata.Code
-    model: Any  # RobotModel
-    controller: Any  # SimulatedController
-    execution: Any  # irlc.runtime.interpreter.ExecutionResult
-    options: Any  # ExecutionOptions
+    code: Code
+    model: RobotModel
+    controller: SimulatedController
+    execution: ExecutionResult
+    options: ExecutionOptions
     samples: Samples
     level: str = "ideal"  # the drive level asked for
-    verdict: Any = None  # irlc.runtime.verdict.Verdict (drives)
-    base_dir: Any = None  # the program's folder (statement texts)
+    verdict: Verdict | None = None  # drives
+    base_dir: Path | None = None  # the program's folder (statement texts)
 
     @cached_property
     def names(self) -> tuple[str, ...]:

@@ -19,10 +19,14 @@ motion with drives, else the commanded one); :attr:`Samples.traced` the rows of 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from irlc.runtime.recorder import RecordedRun, finite_differences
+
+if TYPE_CHECKING:
+    from irlc.runtime.actual_motion import ActualMotion
+    from irlc.runtime.drives import DriveRun
 
 
 @dataclass(frozen=True)
@@ -48,7 +52,7 @@ def commanded(rec: RecordedRun) -> Motion:
                   rec.ori_error, on_path, rec.clearance)  # fmt: skip
 
 
-def measured(rec: RecordedRun, actual) -> Motion:
+def measured(rec: RecordedRun, actual: ActualMotion) -> Motion:
     """The actual motion (:class:`~irlc.runtime.actual_motion.ActualMotion`) as a
     :class:`Motion`: lines of the IPO sample at or before each time, derivatives once."""
     speed, accel = finite_differences(actual.times, actual.q)
@@ -67,7 +71,7 @@ class Samples:
     commanded: Motion
     actual: Motion | None = None  # drives: at the IPO sample times
     steps: Motion | None = None  # drives, a trace row per drive step: at the drive's times
-    drive: Any = None  # the drive simulation (DriveRun), or None (ideal)
+    drive: DriveRun | None = None  # the drive simulation (None: ideal)
 
     @classmethod
     def of(cls, rec: RecordedRun) -> Samples:
