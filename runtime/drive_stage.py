@@ -27,9 +27,16 @@ if TYPE_CHECKING:
     from irlc.runtime.verdict import Verdict
 
 
-def run_drives(samples: Samples, model: RobotModel, level: str, every_step: bool,
-               obstacles: dict[str, Obstacle], task_rows: tuple[int, ...],
-               names: tuple[str, ...], opts: ExecutionOptions) -> tuple[Samples, Verdict]:  # fmt: skip
+def run_drives(
+    samples: Samples,
+    model: RobotModel,
+    level: str,
+    every_step: bool,
+    obstacles: dict[str, Obstacle],
+    task_rows: tuple[int, ...],
+    names: tuple[str, ...],
+    opts: ExecutionOptions,
+) -> tuple[Samples, Verdict]:
     """``(samples with the actual motion, verdict)`` (module doc)."""
     from irlc.runtime.actual_motion import measure
     from irlc.runtime.verdict import judge
