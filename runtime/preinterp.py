@@ -31,6 +31,11 @@ For each :class:`~irlc.runtime.controller.MotionCommand` it resolves
     ``R_JERK`` (LIN, CIRCLE; orientation jerk ``R_SPEED_ORI · R_JERK / R_SPEED``, the same
     time constants as the position).
 
+A PTP to a POSE gets its joints from :func:`solve_ptp_pose` (the search of
+:mod:`~irlc.runtime.ik.reach` with the active position limits, frozen joints and the tool
+of :class:`PlanState` as arguments); :meth:`PreInterpolator.joint_profile` is the joint
+motion of PTP and of RECONFIGURATION's reference.
+
 ``WITH RECONFIGURATION`` gives a reference θ⁰(s), linear per segment from the
 configuration at the start of the statement (or the previous point's) to each point's.
 """
