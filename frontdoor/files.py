@@ -1,9 +1,9 @@
-"""Reading user text files and writing output files: the one place for both.
+"""Reading user text files and writing output files: the front door's one place for both.
 
 * :func:`read_user_text` reads a file the user gave (robot, program code, report,
-  expectation) as UTF-8. A missing, unreadable or non-UTF-8 file raises the *caller's*
-  error type, built by ``error(file, reason)``, so the message names the file and the
-  exit code is the caller's (never a ``UnicodeDecodeError`` traceback).
+  expectation) as UTF-8, raising the caller's error type; it is owned by
+  :mod:`irlc.lang.textfile` (the robot loader and the runtime read files too, and must
+  not import the front door) and re-exported here.
 * :func:`atomic_write_bytes` / :func:`atomic_write_text` / :func:`atomic_write_chunks`
   write to a temporary file in the target's folder, ``fsync`` it, give it the usual mode
   (``0o666 & ~umask``, i.e. 0644 with the common umask 022; ``mkstemp`` alone would leave
@@ -16,26 +16,18 @@ from __future__ import annotations
 import contextlib
 import os
 import tempfile
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable
 from pathlib import Path
 
-ErrorFactory = Callable[[str, str], Exception]  # (file, reason) → the caller's error
+from irlc.lang.textfile import ErrorFactory, read_user_text
 
-
-def read_user_text(path: str | Path, error: ErrorFactory) -> str:
-    """The UTF-8 text of ``path`` (a leading byte-order mark dropped); raises
-    ``error(str(path), reason)`` when it cannot be read."""
-    file = str(path)
-    try:
-        data = Path(path).read_bytes()
-    except OSError as e:
-        raise error(file, f"cannot read the file ({e.strerror or e})") from None
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError as e:
-        line = data.count(b"\n", 0, e.start) + 1
-        reason = f"not a UTF-8 text file (byte 0x{data[e.start]:02x} on line {line})"
-        raise error(file, reason) from None
+__all__ = [
+    "ErrorFactory",
+    "atomic_write_bytes",
+    "atomic_write_chunks",
+    "atomic_write_text",
+    "read_user_text",
+]
 
 
 def _umask() -> int:
