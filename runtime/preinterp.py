@@ -417,15 +417,14 @@ class PreInterpolator:
             t_min = sc.minimum_time(speed, accel, b.jerk)
         return Bounds(speed, accel, b.jerk, slowest, t_min)
 
-    def _path_motor_rates(self, path, q, lims, line) -> tuple[np.ndarray | None, np.ndarray]:
+    def _path_motor_rates(self, path, q, lims, settings, state: PlanState, line):
         """``(D_m, q_end)`` of a Cartesian path (:meth:`MotorLimits.path_rates`, solved
-        with the pose solver); ``(None, q)`` without a solver or where a point of the path
-        has no solution (the IK's motor rows still bound every cycle; the run reports it)."""
-        if self.solve_pose is None:
-            return None, q
+        with the PTP pose solver); ``(None, q)`` where a point of the path has no solution
+        (the IK's motor rows still bound every cycle; the run reports it)."""
+        reach = self.reach(lims[0], {}, state.tool, settings.path_tol * units.MM)
         try:
             return self.motors.path_rates(
-                path.at, q, lambda pose, seed: self.solve_pose(pose, seed, {}, lims, line)
+                path.at, q, lambda pose, seed: solve_ptp_pose(reach, pose, seed, line, state.time)
             )
         except RunFailure:
             return None, q
@@ -475,7 +474,7 @@ class PreInterpolator:
             angle = path.angle if self.timed_orientation else 0.0
             b = segment_bounds([path.length, angle], [speed, w], [acc, w_acc], jerks)
             if self.motors is not None and b.slowest >= 0:
-                rates, q = self._path_motor_rates(path, q, lims, cmd.line)
+                rates, q = self._path_motor_rates(path, q, lims, settings, state, cmd.line)
                 if rates is not None:
                     k = override_factor(settings)
                     b = self._motor_bounds(b, rates, k, k * k, axes=2)
