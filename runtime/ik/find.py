@@ -21,6 +21,7 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
+from irlc.lang.errors import IrlcError
 from irlc.robots.model import RobotModel
 from irlc.runtime import spatial
 from irlc.runtime.ik import closed_form, unreachable
@@ -31,7 +32,7 @@ SPREAD = 64  # Halton starts: as6 (no closed form), 100 random reachable poses f
 # 6 not found with 8, 1 with 32, none with 64 (each tried only while none converged)
 
 
-class BranchError(ValueError):
+class BranchError(IrlcError, ValueError):
     """``branch`` names no branch of the robot's closed form (or it has none)."""
 
 
