@@ -125,6 +125,16 @@ class Mechanics:
             qdd = np.where(broke, 0.0, qdd)
         return qdd, fric, stuck
 
+    def accel_driven(self, m, h, drive, slide, stuck, static, running, m_inv):
+        """:meth:`accel` when every joint is driven (no prescribed joints), ``m_inv`` held."""
+        if not np.count_nonzero(stuck):
+            rhs = drive - slide - h
+            return (m_inv @ rhs if m.ndim == 2 else rhs * m_inv), slide, stuck
+        if m.ndim == 2:
+            return self._karnopp(m, h, drive, slide, stuck, static, running)
+        none = np.zeros(self.n, dtype=bool)
+        return self.accel(m, h, drive, slide, stuck, static, running, none, np.zeros(self.n), m_inv)
+
     def _karnopp(self, m, h, drive, slide, stuck, static, running):
         """The Karnopp step without prescribed joints, on the held ``M``: solve the free axes
         with the stuck ones at rest (``q̈ = P_S (T − f − h)``, ``P_S`` the inverse of the free
