@@ -150,11 +150,11 @@ class Mechanics:
             both = self._embedded_inverse(m, stuck) @ (base - fric)  # [q̈; M q̈]
             qdd = both[:n]
             need = base - both[n:]
-            kept = stuck & (np.abs(need) <= static)
-            broke = stuck ^ kept
-            if not np.count_nonzero(broke):
-                fric = np.where(kept, need, fric)
+            broke = stuck & (np.abs(need) > static)
+            if not np.count_nonzero(broke):  # every stuck axis holds
+                fric = np.where(stuck, need, fric)
                 break
+            kept = stuck ^ broke
             fric = np.where(kept, need, np.where(broke, running * np.sign(need), fric))
             stuck = kept
         return qdd, fric, stuck

@@ -71,7 +71,8 @@ class PwmStage:
         self._volts = np.stack([-supply, supply, -supply]) * np.ones((3, m))
         self._tau = np.zeros((3, m))  # the three intervals' lengths
         self._a = np.zeros((3, m))  # their asymptotic currents
-        self._start = np.zeros((3, m))  # their initial currents
+        self._d = np.zeros((3, m))  # initial minus asymptotic current
+        self._ends = np.zeros((3, m))  # the currents at their ends
         self._no_hit = np.zeros(m, dtype=bool)
 
     def period(self, u_i, omega):
@@ -92,33 +93,32 @@ class PwmStage:
 
     def _unlimited(self, duty, omega):
         """The three intervals at once when the current stays within ``±i_max``, else
-        ``None``: the formulas of :func:`.motor.first_order` on ``(3, axes)`` arrays, the
-        end currents chained (each interval is monotonic, so inside at its ends means
-        never limited). Same operations as three calls of ``first_order``, same bits."""
-        T, tau, a, start = self.T, self._tau, self._a, self._start
+        ``None``: the formulas of :func:`.motor.first_order` on ``(3, axes)`` arrays (rows:
+        the intervals at ``−U``, ``+U``, ``−U``), the end currents chained (each interval
+        is monotonic, so inside at its ends means never limited)."""
+        T, tau, a, d, ends = self.T, self._tau, self._a, self._d, self._ends
         tau[0] = 0.5 * (1.0 - duty) * T
         tau[1] = duty * T
         tau[2] = tau[0]
         np.divide(self._volts - self.ks * omega, self.R, out=a)
         big_t = self._big_t
         decay = np.exp(-tau / big_t)
-        start[0] = self.i
-        np.add(a[0], (start[0] - a[0]) * decay[0], out=start[1])
-        np.add(a[1], (start[1] - a[1]) * decay[1], out=start[2])
-        end = a[2] + (start[2] - a[2]) * decay[2]
-        i_max = self.i_max
-        if np.count_nonzero(np.abs(start[1:]) > i_max) or np.count_nonzero(np.abs(end) > i_max):
+        np.subtract(self.i, a[0], out=d[0])  # d = i_start − a per interval
+        np.add(a[0], d[0] * decay[0], out=ends[0])
+        np.subtract(ends[0], a[1], out=d[1])
+        np.add(a[1], d[1] * decay[1], out=ends[1])
+        np.subtract(ends[1], a[2], out=d[2])
+        np.add(a[2], d[2] * decay[2], out=ends[2])
+        if np.count_nonzero(np.abs(ends) > self.i_max):
             return None
-        d = start - a
         one = big_t * (1.0 - decay)
         area = a * tau + d * one
         square = a * a * tau + 2.0 * a * d * one + d * d * 0.5 * big_t * (1.0 - decay * decay)
-        work = self._volts * area
         return (
-            end,
-            area[0] + area[1] + area[2],
-            work[0] + work[1] + work[2],
-            square[0] + square[1] + square[2],
+            ends[2].copy(),
+            area.sum(axis=0),
+            (self._volts * area).sum(axis=0),
+            square.sum(axis=0),
             self._no_hit,
         )
 
