@@ -165,11 +165,12 @@ class Mechanics:
         key = stuck.tobytes()
         both = self._reduced.get(key)
         if both is None:
-            free = np.flatnonzero(~stuck)
-            inv = np.zeros_like(m)
-            if len(free):
-                inv[np.ix_(free, free)] = np.linalg.inv(m[np.ix_(free, free)])
-            both = self._reduced[key] = np.vstack([inv, m @ inv])
+            free = ~stuck
+            n = self.n
+            both = self._reduced[key] = np.zeros((2 * n, n))
+            if np.count_nonzero(free):
+                both[:n][np.outer(free, free)] = np.linalg.inv(m[free][:, free]).ravel()
+                np.matmul(m, both[:n], out=both[n:])
         return both
 
     def _solve(self, m, h, tau, known, qdd):
