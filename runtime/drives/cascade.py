@@ -29,6 +29,10 @@ from irlc.runtime.drives.params import DcDrives
 from irlc.runtime.drives.position import position_p
 from irlc.runtime.drives.velocity import VelocityPI
 
+# rows of the flat map (:attr:`DcBank.flat`), as rows of ``fused_matrix``: the limited
+# quantities and the means first, then the new state [x_v', i_end, u_end] in one block
+FLAT_ROWS = (0, 1, 4, 6, 5, 3, 2)  # [u_ω, u_i, ī, ū, x_v', i_end, u_end]
+
 
 class DcBank:
     def __init__(self, c: DcDrives, h: float, pwm: bool, holding_torque: np.ndarray):
@@ -46,22 +50,80 @@ class DcBank:
             self.loop.x[:, 0], self.loop.x[:, 1] = i0, c.R * i0
             self.fused = fused_matrix(c, h, self.loop.big)
             self.limits = np.stack([c.u_ref_max, c.u_ref_max, c.U, c.i_max, c.i_max], axis=1)
-            self._z = np.zeros((len(i0), 5))
+            self._init_flat(c)
             self._no_sat = np.zeros(len(i0), dtype=bool)
             self._try_fused = True
+
+    def _init_flat(self, c: DcDrives) -> None:
+        """The fused map of all axes as one block matrix ``flat`` (7m × 5m) on the stacked
+        ``z = [d; ω; x_v; i; u]`` (blocks of m axes), rows :data:`FLAT_ROWS`, so that a step
+        is one matrix–vector product and the new state one slice copy; ``z[2m:]`` holds the
+        state ``[x_v; i; u]`` between steps (:attr:`pi` and :attr:`loop` are synced from it
+        around an element-wise step)."""
+        m = len(c.kz)
+        self.flat = np.zeros((7 * m, 5 * m))
+        ax = np.arange(m)
+        for r, row in enumerate(FLAT_ROWS):
+            for col in range(5):
+                self.flat[r * m + ax, col * m + ax] = self.fused[:, row, col]
+        inf = np.full(m, np.inf)
+        self.flat_limits = np.concatenate(
+            [c.u_ref_max, c.u_ref_max, c.i_max, inf, inf, c.i_max, c.U]
+        )
+        self.z = np.zeros(5 * m)
+        self.z[2 * m : 3 * m] = self.pi.x
+        self.z[3 * m : 4 * m] = self.loop.x[:, 0]
+        self.z[4 * m :] = self.loop.x[:, 1]
+        self._abs = np.zeros(7 * m)
 
     def step(self, theta_ref, theta, omega, t: float):
         """Motor torque, mean current, mean voltage, saturation flags, electrical energy in
         and copper loss over the step."""
         if not self.pwm:
-            if self._try_fused:
-                fast = self._fused_step(theta_ref, theta, omega)
-                if fast is not None:
-                    return fast
-                self._try_fused = False  # a limited step: the next one mostly is too
-            else:
-                self._try_fused = True
+            out = self.fused_step(theta_ref, theta, omega)
+            if out is not None:
+                m, c, h = len(self._no_sat), self.c, self.h
+                i_mean, u_mean = out[2 * m : 3 * m], out[3 * m : 4 * m]
+                return (
+                    c.ks * i_mean,
+                    i_mean,
+                    u_mean,
+                    self._no_sat,
+                    u_mean * i_mean * h,
+                    c.R * i_mean * i_mean * h,
+                )
+        return self.limited_step(theta_ref, theta, omega)
+
+    def fused_step(self, theta_ref, theta, omega):
+        """The step as one linear map (averaged stage) when no limit is reached: the flat
+        output ``[u_ω, u_i, ī, ū, x_v', i_end, u_end]`` (blocks of m axes), else ``None``
+        with the state kept (then :meth:`limited_step`). After a limited step the next one
+        goes element-wise directly (it mostly is limited too), the one after tries again."""
+        if not self._try_fused:
+            self._try_fused = True
+            return None
+        z = self.z
+        m = len(self._no_sat)
+        np.subtract(theta_ref, theta, out=z[:m])
+        z[m : 2 * m] = omega
+        out = self.flat @ z
+        np.abs(out, out=self._abs)
+        if np.count_nonzero(self._abs > self.flat_limits):
+            self._try_fused = False
+            return None
+        z[2 * m :] = out[4 * m :]
+        return out
+
+    def limited_step(self, theta_ref, theta, omega, t: float = 0.0):
+        """The step element by element, every saturation handled exactly (same tuple as
+        :meth:`step`)."""
         c = self.c
+        flat = not self.pwm
+        if flat:  # the state lives in z between fused steps
+            m = len(self._no_sat)
+            z = self.z
+            self.pi.x = z[2 * m : 3 * m].copy()
+            self.loop.x[:, 0], self.loop.x[:, 1] = z[3 * m : 4 * m], z[4 * m :]
         u_w, sat_p = position_p(c.kz, theta_ref, theta, c.u_ref_max)
         u_i, sat_v = self.pi.step(u_w, omega, self.h)
         if self.pwm:
@@ -70,30 +132,9 @@ class DcBank:
             i_mean, u_mean, energy, copper, sat_s = power_stage.averaged(
                 self.loop, u_i, omega, c, self.h
             )
+            z[2 * m : 3 * m] = self.pi.x
+            z[3 * m : 4 * m], z[4 * m :] = self.loop.x[:, 0], self.loop.x[:, 1]
         return motor.torque(c.ks, i_mean), i_mean, u_mean, sat_p | sat_v | sat_s, energy, copper
-
-    def _fused_step(self, theta_ref, theta, omega):
-        """The step as one linear map when no limit is reached, else ``None`` (state kept)."""
-        z = self._z
-        np.subtract(theta_ref, theta, out=z[:, 0])
-        z[:, 1] = omega
-        z[:, 2] = self.pi.x
-        z[:, 3:] = self.loop.x
-        out = np.einsum("aij,aj->ai", self.fused, z)
-        if np.count_nonzero(np.abs(out[:, :5]) > self.limits):
-            return None
-        self.pi.x = out[:, 5]
-        self.loop.x = out[:, 2:4][:, ::-1]
-        c, h = self.c, self.h
-        i_mean, u_mean = out[:, 4], out[:, 6]
-        return (
-            c.ks * i_mean,
-            i_mean,
-            u_mean,
-            self._no_sat,
-            u_mean * i_mean * h,
-            c.R * i_mean * i_mean * h,
-        )
 
 
 def fused_matrix(c: DcDrives, h: float, big: np.ndarray) -> np.ndarray:

@@ -125,6 +125,16 @@ class Mechanics:
             qdd = np.where(broke, 0.0, qdd)
         return qdd, fric, stuck
 
+    def accel_driven(self, m, h, drive, slide, stuck, static, running, m_inv):
+        """:meth:`accel` when every joint is driven (no prescribed joints), ``m_inv`` held."""
+        if not np.count_nonzero(stuck):
+            rhs = drive - slide - h
+            return (m_inv @ rhs if m.ndim == 2 else rhs * m_inv), slide, stuck
+        if m.ndim == 2:
+            return self._karnopp(m, h, drive, slide, stuck, static, running)
+        none = np.zeros(self.n, dtype=bool)
+        return self.accel(m, h, drive, slide, stuck, static, running, none, np.zeros(self.n), m_inv)
+
     def _karnopp(self, m, h, drive, slide, stuck, static, running):
         """The Karnopp step without prescribed joints, on the held ``M``: solve the free axes
         with the stuck ones at rest (``q̈ = P_S (T − f − h)``, ``P_S`` the inverse of the free
@@ -140,11 +150,11 @@ class Mechanics:
             both = self._embedded_inverse(m, stuck) @ (base - fric)  # [q̈; M q̈]
             qdd = both[:n]
             need = base - both[n:]
-            kept = stuck & (np.abs(need) <= static)
-            broke = stuck ^ kept
-            if not np.count_nonzero(broke):
-                fric = np.where(kept, need, fric)
+            broke = stuck & (np.abs(need) > static)
+            if not np.count_nonzero(broke):  # every stuck axis holds
+                fric = np.where(stuck, need, fric)
                 break
+            kept = stuck ^ broke
             fric = np.where(kept, need, np.where(broke, running * np.sign(need), fric))
             stuck = kept
         return qdd, fric, stuck
@@ -155,11 +165,12 @@ class Mechanics:
         key = stuck.tobytes()
         both = self._reduced.get(key)
         if both is None:
-            free = np.flatnonzero(~stuck)
-            inv = np.zeros_like(m)
-            if len(free):
-                inv[np.ix_(free, free)] = np.linalg.inv(m[np.ix_(free, free)])
-            both = self._reduced[key] = np.vstack([inv, m @ inv])
+            free = ~stuck
+            n = self.n
+            both = self._reduced[key] = np.zeros((2 * n, n))
+            if np.count_nonzero(free):
+                both[:n][np.outer(free, free)] = np.linalg.inv(m[free][:, free]).ravel()
+                np.matmul(m, both[:n], out=both[n:])
         return both
 
     def _solve(self, m, h, tau, known, qdd):

@@ -66,15 +66,67 @@ class PwmStage:
         self.T = 1.0 / frequency
         self.i = np.zeros(len(R))
         self.u_c = np.zeros(len(R))
+        m = len(R)
+        self._big_t = L / R  # the armature time constant, as motor.first_order computes it
+        self._volts = np.stack([-supply, supply, -supply]) * np.ones((3, m))
+        self._tau = np.zeros((3, m))  # the three intervals' lengths
+        self._a = np.zeros((3, m))  # their asymptotic currents
+        self._d = np.zeros((3, m))  # initial minus asymptotic current
+        self._ends = np.zeros((3, m))  # the currents at their ends
+        self._no_hit = np.zeros(m, dtype=bool)
 
     def period(self, u_i, omega):
         """Advance one period. Returns mean current, mean voltage, ``∫ u i dt`` (J),
         copper loss ``∫ R i² dt`` (J) and the saturation flags (duty or current)."""
         U, T = self.U, self.T
         raw = 0.5 * (1.0 + self.u_c / U)
-        duty = np.clip(raw, 0.0, 1.0)
+        duty = np.minimum(np.maximum(raw, 0.0), 1.0)  # np.clip, cheaper on small arrays
         sat = duty != raw
+        parts = self._unlimited(duty, omega)
+        if parts is None:
+            parts = self._limited(duty, omega)
+        i, area, energy, square, hit = parts
+        self.i = i
+        u_c = self.u_c + self.kiwzm * (u_i * T - self.k * area)
+        self.u_c = np.minimum(np.maximum(u_c, -U), U)
+        return area / T, (2.0 * duty - 1.0) * U, energy, self.R * square, sat | hit
+
+    def _unlimited(self, duty, omega):
+        """The three intervals at once when the current stays within ``±i_max``, else
+        ``None``: the formulas of :func:`.motor.first_order` on ``(3, axes)`` arrays (rows:
+        the intervals at ``−U``, ``+U``, ``−U``), the end currents chained (each interval
+        is monotonic, so inside at its ends means never limited)."""
+        T, tau, a, d, ends = self.T, self._tau, self._a, self._d, self._ends
+        tau[0] = 0.5 * (1.0 - duty) * T
+        tau[1] = duty * T
+        tau[2] = tau[0]
+        np.divide(self._volts - self.ks * omega, self.R, out=a)
+        big_t = self._big_t
+        decay = np.exp(-tau / big_t)
+        np.subtract(self.i, a[0], out=d[0])  # d = i_start − a per interval
+        np.add(a[0], d[0] * decay[0], out=ends[0])
+        np.subtract(ends[0], a[1], out=d[1])
+        np.add(a[1], d[1] * decay[1], out=ends[1])
+        np.subtract(ends[1], a[2], out=d[2])
+        np.add(a[2], d[2] * decay[2], out=ends[2])
+        if np.count_nonzero(np.abs(ends) > self.i_max):
+            return None
+        one = big_t * (1.0 - decay)
+        area = a * tau + d * one
+        square = a * a * tau + 2.0 * a * d * one + d * d * 0.5 * big_t * (1.0 - decay * decay)
+        return (
+            ends[2].copy(),
+            area.sum(axis=0),
+            (self._volts * area).sum(axis=0),
+            square.sum(axis=0),
+            self._no_hit,
+        )
+
+    def _limited(self, duty, omega):
+        """Interval by interval with the current limit (:func:`.motor.first_order`)."""
+        U, T = self.U, self.T
         i = self.i
+        sat = np.zeros(i.shape, dtype=bool)
         area = np.zeros_like(i)
         energy = np.zeros_like(i)
         square = np.zeros_like(i)
@@ -90,7 +142,4 @@ class PwmStage:
             area += part
             energy += work
             square += sq
-        self.i = i
-        u_c = self.u_c + self.kiwzm * (u_i * T - self.k * area)
-        self.u_c = np.clip(u_c, -U, U)
-        return area / T, (2.0 * duty - 1.0) * U, energy, self.R * square, sat
+        return i, area, energy, square, sat

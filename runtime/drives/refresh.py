@@ -31,14 +31,19 @@ HOLD_MAX = 10e-3  # s
 
 
 class Refresh:
-    """``due(s, q, q̇)``: recompute at step ``s``? ``mark(s, q, q̇)`` after recomputing."""
+    """``due(s, q, q̇)``: recompute at step ``s``? ``mark(s, q, q̇)`` after recomputing.
+    ``due_state(s, x)`` / ``mark_state(s, x)``: the same on the stacked state
+    ``x = [q; q̇]`` (one comparison against ``[δ_q…; δ_v…]`` instead of two)."""
 
     def __init__(self, every: int | None, h: float, n: int):
         self.every = every
         self.max_steps = max(1, int(HOLD_MAX / h + 1e-9))
         self.dq, self.dv = DELTA_Q, DELTA_V
-        self.q0 = np.full(n, np.inf)
-        self.qd0 = np.zeros(n)
+        self.x0 = np.zeros(2 * n)  # [q0; q̇0]
+        self.q0, self.qd0 = self.x0[:n], self.x0[n:]  # views
+        self.q0[:] = np.inf
+        self._bound = np.concatenate([np.full(n, DELTA_Q), np.full(n, DELTA_V)])
+        self._diff = np.zeros(2 * n)
         self.s0 = 0
         self.count = 0
 
@@ -51,6 +56,20 @@ class Refresh:
             or np.abs(qd - self.qd0).max() > self.dv
         )
 
+    def due_state(self, s: int, x: np.ndarray) -> bool:
+        if self.every is not None:
+            return s % self.every == 0
+        if s - self.s0 >= self.max_steps:
+            return True
+        diff = self._diff
+        np.subtract(x, self.x0, out=diff)
+        np.abs(diff, out=diff)
+        return bool(np.count_nonzero(diff > self._bound))
+
     def mark(self, s: int, q: np.ndarray, qd: np.ndarray) -> None:
         self.s0, self.count = s, self.count + 1
         self.q0[:], self.qd0[:] = q, qd
+
+    def mark_state(self, s: int, x: np.ndarray) -> None:
+        self.s0, self.count = s, self.count + 1
+        self.x0[:] = x

@@ -262,12 +262,15 @@ class _Simulation:
     def run(self, tol, accel: bool | None = None) -> DriveRun:
         n, h, axes, ratio, k = self.n, self.h, self.axes, self.ratio, len(self.t)
         frc = self.p.friction
-        q = self.q_ref[0].copy()
-        qd = np.zeros(n)
+        x = np.zeros(2 * n)  # the state [q; q̇], updated in place
+        q, qd = x[:n], x[n:]
+        q[:] = self.q_ref[0]
         bank = self._bank(q)
         m_ax = len(axes)
-        rec = {name: np.zeros((k, n)) for name in ("q", "qd", "tau", "f")}
-        rec_i, rec_u = np.zeros((k, m_ax)), np.zeros((k, m_ax))
+        rec_x = np.zeros((k, 2 * n))
+        rec = {name: np.zeros((k, n)) for name in ("tau", "f")}
+        rec_iu = np.zeros((k, 2 * m_ax))  # [ī, ū] per step
+        rec_i, rec_u = rec_iu[:, :m_ax], rec_iu[:, m_ax:]
         sat_rec = np.zeros((k, m_ax), dtype=bool)
         energy, copper = np.zeros(m_ax), np.zeros(m_ax)
         prescribed = ~self.driven
@@ -290,9 +293,20 @@ class _Simulation:
         if accel is not False and self._accelerated(accel):
             from irlc.runtime.drives.accel import AcceleratedLoop
 
+            rec["q"], rec["qd"] = np.zeros((k, n)), np.zeros((k, n))
+            rec_i, rec_u = np.zeros((k, m_ax)), np.zeros((k, m_ax))
             loop = AcceleratedLoop(self, bank, static_j, running_j, sticky, sliding)
             loop.run(q, qd, theta_ref, refresh, rec, rec_i, rec_u, sat_rec, energy, copper)
             return self._result(tol, rec, rec_i, rec_u, sat_rec, energy, copper, bank, q)
+        fused = self.is_dc and not self.pwm  # DcBank.fused_step applies
+        was_fused = np.zeros(k, dtype=bool)
+        ks, r_arm = (self.p.chain.ks, self.p.chain.R) if fused else (None, None)
+        # motor-side torques [τ_m; τ_f sliding] → joint side in one product with K
+        motor_side = np.zeros((2, m_ax))
+        running, viscous, band = frc.running, frc.viscous, self.band
+        viscous_any = bool(np.any(viscous != 0.0))
+        qdd_ref = self.qdd_ref
+        limited_step = bank.limited_step if fused else bank.step
         for s in range(k):
             if diagonal:
                 if all_driven:
@@ -305,42 +319,64 @@ class _Simulation:
                 else:
                     theta = trans.to_motor(q)
                 omega = kmat @ qd
-            tau_m, i_m, u_m, sat, e_in, loss = bank.step(theta_ref[s], theta, omega, self.t[s])
-            energy += e_in
-            copper += loss
-            if diagonal:
-                drive[axes] = ratio * tau_m
-                if sliding:
-                    slide[axes] = ratio * fr.sliding(omega, frc.running, frc.viscous)
+            out = bank.fused_step(theta_ref[s], theta, omega) if fused else None
+            if out is not None:
+                rec_iu[s] = out[2 * m_ax : 4 * m_ax]
+                was_fused[s] = True
+                np.multiply(ks, out[2 * m_ax : 3 * m_ax], out=motor_side[0])
             else:
-                drive = kmat.T @ tau_m
+                tau_m, i_m, u_m, sat, e_in, loss = limited_step(
+                    theta_ref[s], theta, omega, self.t[s]
+                )
+                energy += e_in
+                copper += loss
+                rec_i[s], rec_u[s], sat_rec[s] = i_m, u_m, sat
+                motor_side[0] = tau_m
+            if sliding:
+                np.multiply(running, np.sign(omega), out=motor_side[1])
+                if viscous_any:
+                    motor_side[1] += viscous * omega
+            if diagonal:
+                drive[axes] = ratio * motor_side[0]
                 if sliding:
-                    slide = kmat.T @ fr.sliding(omega, frc.running, frc.viscous)
+                    slide[axes] = ratio * motor_side[1]
+            else:
+                joint_side = motor_side @ kmat
+                drive, slide = joint_side[0], joint_side[1]
             if sticky:
                 if all_driven:
-                    np.less(np.abs(omega), self.band, out=stuck)
+                    np.less(np.abs(omega), band, out=stuck)
                 else:
-                    stuck[axes] = np.abs(omega) < self.band
-            if refresh.due(s, q, qd):
+                    stuck[axes] = np.abs(omega) < band
+            if refresh.due_state(s, x):
                 m, hb = mech.terms(q, qd)
                 m_inv = mech.inverse(m)
-                refresh.mark(s, q, qd)
-            qdd, fric, held = mech.accel(
-                m, hb, drive, slide, stuck, static_j, running_j, prescribed, self.qdd_ref[s], m_inv
-            )
+                refresh.mark_state(s, x)
             if any_prescribed:
+                qdd, fric, held = mech.accel(
+                    m, hb, drive, slide, stuck, static_j, running_j, prescribed, qdd_ref[s], m_inv
+                )
                 rec["tau"][s] = np.where(prescribed, mech.required(m, hb, qdd), drive)
             else:
+                qdd, fric, held = mech.accel_driven(
+                    m, hb, drive, slide, stuck, static_j, running_j, m_inv
+                )
                 rec["tau"][s] = drive
-            rec["q"][s], rec["qd"][s], rec["f"][s] = q, qd, fric
-            rec_i[s], rec_u[s], sat_rec[s] = i_m, u_m, sat
-            qd = qd + h * qdd
+            rec_x[s] = x
+            rec["f"][s] = fric
+            qd += h * qdd
             if sticky:
                 qd[held] = 0.0
-            q = q + h * qd
+            q += h * qd
             if any_prescribed and s + 1 < k:
                 q[prescribed] = self.q_ref[s + 1, prescribed]
                 qd[prescribed] = self.qd_ref[s + 1, prescribed]
+        if fused and was_fused.any():  # Σ ū ī h and Σ R ī² h of the fused steps
+            i_f, u_f = rec_i[was_fused], rec_u[was_fused]
+            energy += (u_f * i_f).sum(axis=0) * h
+            copper += r_arm * (i_f * i_f).sum(axis=0) * h
+        rec["q"], rec["qd"] = rec_x[:, :n].copy(), rec_x[:, n:].copy()
+        rec_i, rec_u = rec_i.copy(), rec_u.copy()
         return self._result(tol, rec, rec_i, rec_u, sat_rec, energy, copper, bank, q)
 
     def _accelerated(self, requested: bool | None) -> bool:
