@@ -57,7 +57,7 @@ from irlc.runtime.ik import cause
 from irlc.runtime.ik.freeze import FrozenJoints
 from irlc.runtime.ik.newton import InverseTransformation
 from irlc.runtime.ik.params import CycleOptions, IKParams
-from irlc.runtime.ik.reach import Reach, check_targets, unreachable_failure
+from irlc.runtime.ik.reach import LimitedModels, Reach, check_targets, unreachable_failure
 from irlc.runtime.ik.self_motion import reconfiguration_done
 from irlc.runtime.interpolator import JointLine, ReferencePath, Segment
 from irlc.runtime.kinematics import Kinematics
@@ -119,6 +119,7 @@ class SimulatedController(ApproximatePositioning):
         self.progress = progress
         self.scale = units.joint_scale(model.joint_kinds)
         self._solvers: dict[bytes, _Solver] = {}
+        self._limited = LimitedModels(model)  # the pose searches' narrowed models (ik.reach)
         self._t = 0.0
         self.q = np.array(start_q, dtype=float)
         self.q_prev = self.q.copy()
@@ -640,6 +641,7 @@ class SimulatedController(ApproximatePositioning):
             self.naming,
             self.recorder.tol_position,
             self.opts.tol_orientation,
+            self._limited,
         )
 
     def _solve_pose(
