@@ -68,6 +68,7 @@ from irlc.runtime.preinterp import (
     PlanState,
     PreInterpolator,
     base_transform,
+    override_factor,
     tool_transform,
 )
 from irlc.runtime.recorder import Recorder
@@ -561,7 +562,8 @@ class SimulatedController(ApproximatePositioning):
             reach = self._reach(seg.limits[0], None, solver, opts.frozen)
             q0 = self._segment_start
             try:
-                return cause.classify(what, res, seg, q0, reach, solver.kin, seg.line, t)
+                k = override_factor(self._settings)  # the suggested speeds are programmed
+                return cause.classify(what, res, seg, q0, reach, solver.kin, seg.line, t, k)
             except (ValueError, np.linalg.LinAlgError, FloatingPointError) as exc:
                 what += f"; the cause could not be determined ({exc})"  # (numerics)
         if res.singular or (math.isfinite(res.sigma_min) and res.sigma_min < 1e-6):
