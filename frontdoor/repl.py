@@ -547,15 +547,17 @@ class Session:
         """The session so far as a RunResult (for traces and plots)."""
         from irlc.runtime.executor import ExecutionOptions
         from irlc.runtime.interpreter import ExecutionResult
-        from irlc.runtime.results import assemble
+        from irlc.runtime.results import RunData, assemble
+        from irlc.runtime.samples import Samples
 
         if self.last_code is None:
             _, self.last_code = None, self.compile([], [], "", "", 1)[0]
         s = self.state
         execution = ExecutionResult("ok", list(s.output), list(s.events), list(s.warnings),
                                     None, s, 0)  # fmt: skip
-        run = assemble(self.last_code, self.model, self.controller, self.obstacles, execution,
-                       ExecutionOptions(), "ideal", False)  # fmt: skip
+        samples = Samples.of(self.controller.recorder.arrays())
+        run = assemble(RunData(self.last_code, self.model, self.controller, execution,
+                               ExecutionOptions(), samples))  # fmt: skip
         for row in run.report["statements"]:  # entries have no source file (a repl.irl
             row["statement"] = row["kind"]  # in the folder is not the session's)
         return run

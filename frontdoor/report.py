@@ -20,12 +20,13 @@ import csv
 import io
 import json
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from irlc.files import atomic_write_text, read_user_text
+from irlc.files import atomic_write_chunks, atomic_write_text, read_user_text
 from irlc.lang.errors import IrlcError
 
 FLOAT_FORMAT = "%.10g"
@@ -51,28 +52,44 @@ def write_report(report: dict, path: str | Path) -> Path:
     return atomic_write_text(path, report_json(report))
 
 
+TRACE_CHUNK_ROWS = 4096  # rows formatted at a time: the writer's memory is O(chunk)
+
+
 def trace_csv(columns: list[str], table: np.ndarray) -> str:
+    """The whole trace as CSV text (:func:`trace_chunks` joined)."""
+    return "".join(trace_chunks(columns, table))
+
+
+def trace_chunks(columns: list[str], table: np.ndarray) -> Iterator[str]:
+    """The trace's CSV text in pieces of :data:`TRACE_CHUNK_ROWS` rows (header first).
+    The whole table is checked finite before the first piece (nothing is written for a
+    bad table); each piece holds only its own rows' text, so writing a long trace needs
+    memory for one piece, not for the file."""
     table = np.asarray(table, dtype=float)
     if table.ndim != 2 or table.shape[1] != len(columns):
         raise ValueError(f"trace has {table.shape} values for {len(columns)} columns")
-    bad = ~np.isfinite(table)
-    if bad.any():
-        r, c = np.argwhere(bad)[0]
-        raise NonFiniteError(f"trace: non-finite value in column {columns[c]!r}, row {r}")
-    table = table + 0.0  # no negative zero
-    line_col = columns.index("line") if "line" in columns else -1
-    out = io.StringIO()
-    out.write(",".join(columns) + "\n")
-    for row in table:
-        cells = [FLOAT_FORMAT % v for v in row]
-        if line_col >= 0:
-            cells[line_col] = str(int(row[line_col]))
-        out.write(",".join(cells) + "\n")
-    return out.getvalue()
+    for start in range(0, len(table), TRACE_CHUNK_ROWS):
+        bad = ~np.isfinite(table[start : start + TRACE_CHUNK_ROWS])
+        if bad.any():
+            r, c = np.argwhere(bad)[0]
+            raise NonFiniteError(
+                f"trace: non-finite value in column {columns[c]!r}, row {start + r}"
+            )
+    cells = [FLOAT_FORMAT] * len(columns)
+    if "line" in columns:
+        cells[columns.index("line")] = "%d"  # an integer (the value is a whole number)
+    row_format = ",".join(cells) + "\n"
+    yield ",".join(columns) + "\n"
+    for start in range(0, len(table), TRACE_CHUNK_ROWS):
+        rows = (table[start : start + TRACE_CHUNK_ROWS] + 0.0).tolist()  # no negative zero
+        yield "".join([row_format % tuple(row) for row in rows])
 
 
 def write_trace(columns: list[str], table: np.ndarray, path: str | Path) -> Path:
-    return atomic_write_text(path, trace_csv(columns, table))
+    """Write the trace atomically, streamed piece by piece (:func:`trace_chunks`)."""
+    return atomic_write_chunks(
+        path, (piece.encode("utf-8") for piece in trace_chunks(columns, table))
+    )
 
 
 def _check_finite(obj: Any, where: str) -> None:

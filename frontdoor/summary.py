@@ -69,6 +69,28 @@ def joints_table(report: dict) -> Table:
     return table
 
 
+def motors_table(report: dict) -> Table | None:
+    """Per motor (robots with motor maps): start, end, travel, peak speed, limit and the
+    travel time ``travel / limit`` (rad, rad/s, s) — Szkodny's motor-side figures."""
+    motors = report.get("motors")
+    if not motors:
+        return None
+    table = _table(
+        "motors (rad, rad/s, s)", ("motor", "start", "end", "travel", "|v|max", "limit", "time")
+    )
+    for m in motors["axes"]:
+        table.add_row(
+            Text(joint_label(m["joint"], m.get("robot_name"))),
+            _num(m["start_rad"], ".4f"),
+            _num(m["end_rad"], ".4f"),
+            _num(m["travel_rad"], ".4f"),
+            _num(m["max_abs_speed_rad_s"], ".4g"),
+            _num(m["speed_limit_rad_s"], ".4g"),
+            _num(m["travel_time_s"], ".4f"),
+        )
+    return table
+
+
 def overview_table(report: dict) -> Table:
     table = Table.grid(padding=(0, 2))
     table.add_column(style="bold")
@@ -248,7 +270,7 @@ def _statement_lines_table(rows: list[dict], total: float) -> Table:
 def _table(title: str, columns: tuple[str, ...]) -> Table:
     table = Table(title=title, title_justify="left", show_edge=False, pad_edge=False)
     for name in columns:
-        left = name in ("statement", "stop", "limit")
+        left = name in ("statement", "stop", "limit", "motor")
         table.add_column(name, justify="left" if left else "right", overflow="fold")
     return table
 
@@ -257,6 +279,9 @@ def render_summary(report: dict, console: Console) -> None:
     parts: list = [overview_table(report)]
     if report.get("joints"):
         parts += [Text(""), joints_table(report)]
+    motors = motors_table(report)
+    if motors is not None:
+        parts += [Text(""), motors]
     statements = statements_table(report)
     if statements is not None:
         parts += [Text(""), statements]

@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from irlc.files import read_user_text
+from irlc.lang.textfile import read_user_text
 from irlc.robots.chain import read_chain
 from irlc.robots.inertia import read_geometry, read_inertials
 from irlc.robots.limits import read_coupled, read_home, read_limit_sets, read_pair

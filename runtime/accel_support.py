@@ -1,16 +1,35 @@
-"""When the optional compiled kernels (``pip install irlc[fast]``: numba) are used.
+"""Which engine runs the hot loops: numpy (the reference) or the compiled kernels.
 
 Shared by the IK accelerator (:mod:`irlc.runtime.ik.accel`) and the drive accelerator
-(:mod:`irlc.runtime.drives.accel`). The numpy paths are the reference; a kernel is used
-(:func:`decide`) when the caller's ``requested`` flag is ``True``, never when it is
-``False``, and by default (``None``) whenever numba is importable. The default depends
-on the installation only — not on whether numba's on-disk cache is already warm — so the
-same program gives the same output bytes on every run of one installation (the two
-paths agree to round-off, not bit for bit). The first run after installing compiles the
-kernels once (about 15 s) and caches them; ``python -m irlc.runtime.ik.accel`` and
-``python -m irlc.runtime.drives.accel`` do that ahead of time. ``IRLC_NO_ACCEL=1``
-disables every kernel whatever the flag says; ``IRLC_ACCEL=1`` / ``0`` overrides the
-default ``None``.
+(:mod:`irlc.runtime.drives.accel`). One environment switch, ``IRLC_ENGINE``, chooses for
+every caller that leaves its ``accel`` flag at ``None`` (:func:`decide`):
+
+=============  ==========================================================================
+(unset, empty) the default engine, numpy: callers at ``None`` run numpy; a caller's
+               ``accel=True`` still runs the kernels (tests, benchmarks).
+``numpy``      the numpy paths only (the reference), even where a caller asks for the
+               kernels (``accel=True``).
+``compiled``   the numba kernels wherever they cover the cycle (``pip install
+               'irlc[fast]'``); numba missing is an environment error (exit 3).
+``auto``       ``compiled`` when numba is importable, ``numpy`` otherwise.
+=============  ==========================================================================
+
+Any other value raises :class:`EngineChoiceError` (the command line exits 3 with its
+message). ``accel=True`` / ``False`` on a caller overrides the switch, except that an
+explicit ``numpy`` wins.
+
+**Why numpy is the default.** The kernels must be compiled once per installation
+(measured: ≈ 13–16 s of CPU for the IK kernels, ≈ 5 s for the drive kernels; 50–100 s of
+wall time on a loaded 2-core machine); numba caches the machine code (``__pycache__``
+next to the kernel module, or ``NUMBA_CACHE_DIR``) and later processes load it in
+≈ 0.3 s. A default that compiles makes the first run slow; a default that switches to the
+kernels once the cache is warm makes the output bytes depend on the cache's state (the
+two paths agree to round-off, not bit for bit). With ``numpy`` as the default every run
+is fast from the first one and gives the same bytes whatever the cache holds; with
+``compiled`` the bytes are those of the kernels on every run, compiled or loaded (the
+cached machine code is the compiled one), and a run that has to compile says so once on
+stderr (:meth:`Kernels.load`). ``irlc warmup`` (or ``python -m irlc.runtime.ik.accel`` and
+``python -m irlc.runtime.drives.accel``) compiles ahead of the first run.
 """
 
 from __future__ import annotations
@@ -18,16 +37,58 @@ from __future__ import annotations
 import importlib
 import importlib.util
 import os
+import sys
 
-DISABLED = os.environ.get("IRLC_NO_ACCEL", "") == "1"
-AVAILABLE = not DISABLED and importlib.util.find_spec("numba") is not None  # (not imported)
+from irlc.lang.errors import IrlcError
+
+ENV = "IRLC_ENGINE"
+ENGINES = ("numpy", "compiled", "auto")
+DEFAULT_ENGINE = "numpy"
+KERNEL_NAMES = {  # the kernel modules, as the compile message names them
+    "irlc.runtime.ik.accel_kernels": "IK kernels",
+    "irlc.runtime.drives.accel_kernels": "drive kernels",
+}
+NUMBA_INSTALLED = importlib.util.find_spec("numba") is not None  # (not imported)
+
+
+class EngineChoiceError(IrlcError, ValueError):
+    """``IRLC_ENGINE`` names no engine, or one this installation lacks (exit 3)."""
+
+
+def engine() -> str:
+    """The engine ``IRLC_ENGINE`` selects (read on every call; see the module doc).
+    Raises :class:`EngineChoiceError` for an unknown value or ``compiled`` without numba."""
+    value = os.environ.get(ENV, "").strip().lower() or DEFAULT_ENGINE
+    if value not in ENGINES:
+        raise EngineChoiceError(
+            f"{ENV}={os.environ.get(ENV)!r} is not an engine; use one of {', '.join(ENGINES)}"
+        )
+    if value == "compiled" and not NUMBA_INSTALLED:
+        raise EngineChoiceError(
+            f"{ENV}=compiled needs numba (pip install 'irlc[fast]'); or use {ENV}=auto / numpy"
+        )
+    return value
+
+
+def _forced_numpy() -> bool:
+    """``IRLC_ENGINE=numpy`` set explicitly (not merely the default)."""
+    return os.environ.get(ENV, "").strip().lower() == "numpy"
+
+
+def kernels_allowed() -> bool:
+    """May any kernel run? numba is importable and ``IRLC_ENGINE`` is not ``numpy``."""
+    return NUMBA_INSTALLED and not _forced_numpy()
+
+
+# numba importable and not IRLC_ENGINE=numpy, at import (what the accelerators' tests skip on)
+AVAILABLE = kernels_allowed()
 
 
 def kernel_cached(kernel) -> bool:
     """True when numba's on-disk cache holds ``kernel`` (a ``@njit(cache=True)`` dispatcher)
     for its current source (numba's index is keyed by the source file's time stamp and
     size)."""
-    if not AVAILABLE:
+    if not NUMBA_INSTALLED:
         return False
     try:
         return bool(kernel._cache._cache_file._load_index())
@@ -36,31 +97,53 @@ def kernel_cached(kernel) -> bool:
 
 
 def decide(requested: bool | None) -> bool:
-    """Use a kernel? (:meth:`Kernels.cache_warm` only tells benchmarks and warm-up
-    commands whether the next use will compile; it does not enter the decision.)"""
-    if not AVAILABLE or requested is False:
+    """Use a kernel? ``requested`` is the caller's ``accel`` flag; ``None`` follows
+    :func:`engine`. Never a kernel without numba or under ``IRLC_ENGINE=numpy``; the
+    state of numba's cache does not enter (same bytes on every run of one installation)."""
+    choice = engine()  # (validates the variable even when the caller decides)
+    if not kernels_allowed():
         return False
-    if requested is True:
-        return True
-    env = os.environ.get("IRLC_ACCEL", "")
-    if env in ("0", "1"):
-        return env == "1"
-    return True
+    if requested is not None:
+        return requested
+    return choice in ("compiled", "auto")
 
 
 class Kernels:
     """The kernel module of one accelerator, imported on first use (importing numba costs
     ≈ 0.2 s, which a run on the numpy path should not pay). ``probe`` names the kernel whose
-    cache entry tells whether the next use compiles."""
+    cache entry tells whether the next use compiles; ``what`` names the kernels in the
+    one-line message a compiling process prints (default: from :data:`KERNEL_NAMES`)."""
 
-    def __init__(self, module: str, probe: str):
-        self._name, self._probe, self._module = module, probe, None
+    def __init__(self, module: str, probe: str, what: str | None = None):
+        self._name, self._probe = module, probe
+        self._what = what or KERNEL_NAMES.get(module, module)
+        self._module, self._announced = None, False
 
-    def load(self):
+    def _import(self):
         if self._module is None:
             self._module = importlib.import_module(self._name)
         return self._module
 
+    def load(self):
+        """The kernel module. The first load of a process whose cache lacks the kernels
+        says on stderr that it compiles them (once; later runs load them)."""
+        module = self._import()
+        if not self._announced:
+            self._announced = True
+            if not self.cache_warm():
+                print(compile_message(self._what), file=sys.stderr, flush=True)
+        return module
+
     def cache_warm(self) -> bool:
         """True when numba's on-disk cache holds the probe kernel for the current source."""
-        return AVAILABLE and kernel_cached(getattr(self.load(), self._probe))
+        return kernel_cached(getattr(self._import(), self._probe))
+
+
+def compile_message(what: str) -> str:
+    """The line a process prints before it compiles ``what`` (see the module doc); the
+    hint at ``irlc warmup`` is left out while that command runs (:data:`WARMING_UP`)."""
+    hint = "" if WARMING_UP else "; `irlc warmup` does it ahead of time"
+    return f"irlc: compiling the {what} (numba, once per installation, ≈ 5–15 s{hint}) …"
+
+
+WARMING_UP = False  # set by `irlc warmup` (the message's hint would point at itself)

@@ -39,6 +39,7 @@ from irlc.runtime.blending import (
 from irlc.runtime.controller import MotionCommand, Settings, setting_error
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.interpolator import ReferencePath, Segment
+from irlc.runtime.preinterp import override_factor
 
 _MIN_BLEND = 1e-4  # m: a blend shortened below this is an exact stop
 _BISECTIONS = 5  # trials when a blend must be shortened (1/32 of the failed distance)
@@ -426,6 +427,8 @@ class SegmentRun:
 
     def __init__(self, ctl, seg: Segment, options, solver, settings):
         self.seg, self.solver = seg, solver
+        # the k = R_OVERRIDE/100 it was planned with: a failure's suggested speeds (ik.cause)
+        seg.info["override"] = override_factor(settings)
         self.dt = ctl._dt(settings)
         self.done = 0
         self.started = False

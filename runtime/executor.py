@@ -24,14 +24,8 @@ exact stops, the report's ``approximations`` = :attr:`SimulatedController.blends
 geometry is :mod:`~irlc.runtime.blending`. Statements that stop the advance run call
 :meth:`SimulatedController.flush`.
 
-**RECONFIGURATION k** (self-motion). The reference moves from the current configuration
-to ``k`` along a synchronised joint profile (PTP timing under the active limits and
-``R_SPEED_PTP``/``R_ACC_PTP``) while the TCP is held; after the profile ends the
-reference stays at ``k`` and the statement ends at the first cycle with
-``‖θ(t) − θ(t−Δt)‖ < ε_conf`` *and* ``‖θ(t−Δt) − θ(t−2Δt)‖ < ε_conf``
-(``IKParams.eps_conf``; the second condition is our addition to seed 4.2.3, see
-:func:`~irlc.runtime.ik.self_motion.reconfiguration_done`) or after ``reconf_settle_s``
-seconds (a warning).
+**RECONFIGURATION k** (self-motion): :class:`~irlc.runtime.reconfiguration.Reconfiguration`,
+which the controller includes as it includes approximate positioning.
 """
 
 from __future__ import annotations
@@ -42,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from irlc.robots.model import RobotModel
-from irlc.runtime import spatial, units
+from irlc.runtime import ptp_activity, spatial, units
 from irlc.runtime.approximation import ApproximatePositioning, PendingSegment, SegmentRun
 from irlc.runtime.controller import (
     WAIT_SAMPLED_CYCLES,
@@ -57,20 +51,19 @@ from irlc.runtime.ik import cause
 from irlc.runtime.ik.freeze import FrozenJoints
 from irlc.runtime.ik.newton import InverseTransformation
 from irlc.runtime.ik.params import CycleOptions, IKParams
-from irlc.runtime.ik.reach import LimitedModels, Reach, check_targets, unreachable_failure
-from irlc.runtime.ik.self_motion import reconfiguration_done
+from irlc.runtime.ik.reach import Reach, check_targets
 from irlc.runtime.interpolator import JointLine, ReferencePath, Segment
 from irlc.runtime.kinematics import Kinematics
 from irlc.runtime.naming import JointNaming, naming_or_default
+from irlc.runtime.obstacles import Obstacle
 from irlc.runtime.plan_start import ROUND_OFF, planning_start
 from irlc.runtime.preinterp import (
-    Limits3,
     PlanState,
     PreInterpolator,
     base_transform,
-    override_factor,
     tool_transform,
 )
+from irlc.runtime.reconfiguration import Reconfiguration
 from irlc.runtime.recorder import Recorder
 from irlc.runtime.values import JointTuple, Pose
 
@@ -95,7 +88,7 @@ class _Solver:
     ik: InverseTransformation
 
 
-class SimulatedController(ApproximatePositioning):
+class SimulatedController(ApproximatePositioning, Reconfiguration):
     """Kinematic simulation of one robot (``drives = ideal``); records every IPO cycle."""
 
     def __init__(
@@ -103,7 +96,7 @@ class SimulatedController(ApproximatePositioning):
         model: RobotModel,
         start_q: np.ndarray,
         *,
-        obstacles: dict[str, object] | None = None,
+        obstacles: dict[str, Obstacle] | None = None,
         options: ExecutionOptions | None = None,
         progress: Callable[[float, int], None] | None = None,
         naming: JointNaming | None = None,
@@ -114,13 +107,12 @@ class SimulatedController(ApproximatePositioning):
         self.ik_params = self.opts.ik or IKParams.for_robot(model)
         self.obstacles = dict(obstacles or {})
         self.recorder = Recorder(model.n, tuple(self.obstacles), self.ik_params.task_rows)
-        self.pre = PreInterpolator(model, self._solve_pose, self.ik_params.task_rows)
+        self.pre = PreInterpolator(model, self.ik_params.task_rows, self.opts.tol_orientation)
         self.pre.max_duration = self.opts.max_time_s
         self.pre.naming = self._naming
         self.progress = progress
         self.scale = units.joint_scale(model.joint_kinds)
         self._solvers: dict[bytes, _Solver] = {}
-        self._limited = LimitedModels(model)  # the pose searches' narrowed models (ik.reach)
         self._t = 0.0
         self.q = np.array(start_q, dtype=float)
         self.q_prev = self.q.copy()
@@ -186,7 +178,6 @@ class SimulatedController(ApproximatePositioning):
             except RunFailure:  # it cannot be followed: run it (and fail) at its own line
                 self.flush("the motion before cannot be followed")
         state = self._plan_state(settings, solver)
-        self._settings = settings
         t0, segments, stop = self._t, [], "failed"
         try:
             segments = self.pre.plan(cmd, settings, options, state)
@@ -215,7 +206,7 @@ class SimulatedController(ApproximatePositioning):
             return last.path.at(1.0).copy()
         target = cmd.targets[-1] if cmd.kind == "PTP" and cmd.targets else None
         if isinstance(target, Pose):
-            return self.pre._world(target, state, cmd.line)
+            return self.pre.world(target, state, cmd.line)
         return None
 
     def _log_motion(self, cmd: MotionCommand, segments, t0: float, stop: str, override) -> None:
@@ -223,59 +214,6 @@ class SimulatedController(ApproximatePositioning):
         limit = motion_limit([s.limiting for s in segments], cmd.time is not None)
         kind = KIND_WORDS.get(cmd.kind, cmd.kind)
         self._log_statement(kind, cmd.line, t0, stop, limit, override)
-
-    def reconfigure(
-        self, target: JointTuple, line: int, settings: Settings, options: ModalOptions
-    ) -> None:
-        self.flush(f"RECONFIGURATION at line {line}")
-        self._line = line
-        self.recorder.tol_position = settings.path_tol * units.MM  # R_PATH_TOL
-        solver = self._solver(settings)
-        state = self._plan_state(settings, solver)
-        lims = self.pre.limits((None, None, None), options, line)
-        self.pre.check_inside(self.q, lims[0], line, "the limits exclude the current state")
-        k = self.pre.joints_si(target)
-        # reference profile: a synchronised joint move from here to k (PTP timing)
-        cmd = MotionCommand("PTP", (target,), line)
-        self.pre.check_inside(k, lims[0], line, "RECONFIGURATION target")
-        ref_seg = self.pre._ptp_segment(cmd, settings, self.q, k, lims, state.dt, 1)
-        hold = self.pre.hold("reconf", line, state, 0, lims)
-        dt = state.dt
-        cycle_opts = self._cycle_options(hold, options)
-        cycle_opts.self_motion = True
-        settle = max(1, math.ceil(self.opts.reconf_settle_s / dt))
-        self._within_budget((ref_seg.cycles + settle) * dt, line, "the RECONFIGURATION")
-        t0, stop = self._t, "failed"
-        try:
-            self._reconf_cycles(ref_seg, k, hold, cycle_opts, solver, dt, settle, line)
-            stop = "exact"
-        finally:
-            limit = ref_seg.limiting
-            self._log_statement("RECONFIGURATION", line, t0, stop, limit, settings.override)
-
-    def _reconf_cycles(self, ref_seg, k, hold, cycle_opts, solver, dt, settle, line) -> None:
-        """The self-motion's cycles: follow the reference, then settle (module doc)."""
-        k_cyc = 0
-        while True:
-            k_cyc += 1
-            if k_cyc <= ref_seg.cycles:
-                _, ref = ref_seg.setpoint(k_cyc, dt)
-            else:
-                ref = k
-            cycle_opts.reference = ref
-            q_prev2 = self.q_prev  # θ(t − 2Δt) after this cycle: the two-cycle rule
-            self._ik_cycle(hold, hold.path.pose, dt, cycle_opts, solver)
-            self._last_reference = np.array(ref, dtype=float)
-            if k_cyc > ref_seg.cycles and reconfiguration_done(
-                self.q, self.q_prev, self.ik_params.eps_conf, q_prev2
-            ):
-                break
-            if k_cyc > ref_seg.cycles + settle:
-                self.recorder.warnings.append(
-                    f"line {line}: RECONFIGURATION did not settle within "
-                    f"{self.opts.reconf_settle_s:g} s after its reference arrived"
-                )
-                break
 
     def wait(self, seconds: float, line: int, settings: Settings, options: ModalOptions) -> None:
         if not (seconds >= 0.0 and math.isfinite(seconds)):
@@ -455,7 +393,7 @@ class SimulatedController(ApproximatePositioning):
         self._t = _advance(self._t, dt)
         frames = solver.kin.link_frames(self.q)
         tcp = solver.kin.tcp_from_frames(frames)
-        active = self._ptp_active(seg, k, dt) if profiled else None
+        active = ptp_activity.at_bounds(seg, k, dt) if profiled else None
         clearances = self._clearances(solver, frames)
         self.recorder.add(
             self._t, seg.line, self.q, tcp, None, active=active, clearances=clearances, dt=dt
@@ -486,23 +424,6 @@ class SimulatedController(ApproximatePositioning):
                     f"line {line}: the arm touches obstacle {name} at t = {t:.3f} s ({depth}); "
                     "it is not avoided (no OBSTACLE statement active)"
                 )
-
-    def _ptp_active(self, seg: Segment, k: int, dt: float) -> dict[int, str] | None:
-        """The joints of a PTP segment that are at a bound in cycle ``k``: while ramping,
-        those whose acceleration equals their active acceleration limit (none at
-        ``R_ACC_PTP`` < 100 %); while cruising, those whose speed equals their speed
-        limit (none at ``R_SPEED_PTP`` < 100 % or on a stretched profile). The side is
-        that of the joint's acceleration (``max`` when it speeds up in the positive
-        direction or brakes a negative motion) or speed."""
-        phase = int(seg.profile.phase((k - 0.5) * dt))
-        at_accel, at_speed = _ptp_bounds(seg)
-        if phase != 0:
-            out = {j: "accel max" if (phase > 0) == up else "accel min" for j, up in at_accel}
-        elif float(seg.profile.speed((k - 0.5) * dt)) < seg.profile.cruise:
-            return None  # an S-curve's jerk phases: neither bound is reached
-        else:
-            out = {j: "speed max" if up else "speed min" for j, up in at_speed}
-        return out or None
 
     def _record_initial(self) -> None:
         """The sample at t = 0 (with the clearances of the start configuration), with the
@@ -562,7 +483,7 @@ class SimulatedController(ApproximatePositioning):
             reach = self._reach(seg.limits[0], None, solver, opts.frozen)
             q0 = self._segment_start
             try:
-                k = override_factor(self._settings)  # the suggested speeds are programmed
+                k = seg.info.get("override", 1.0)  # its R_OVERRIDE/100 (SegmentRun)
                 return cause.classify(what, res, seg, q0, reach, solver.kin, seg.line, t, k)
             except (ValueError, np.linalg.LinAlgError, FloatingPointError) as exc:
                 what += f"; the cause could not be determined ({exc})"  # (numerics)
@@ -607,7 +528,8 @@ class SimulatedController(ApproximatePositioning):
                     q = pending.chain[seg.cycles].copy()
         if tcp is None:
             tcp = self._start_pose(solver, q)
-        return PlanState(q, tcp, self._dt(settings), base_transform(settings))
+        dt, base = self._dt(settings), base_transform(settings)
+        return PlanState(q, tcp, dt, base, solver.kin.tool, self._t)
 
     def _start_pose(self, solver: _Solver, q: np.ndarray) -> np.ndarray:
         """The TCP a motion from ``q`` is planned from: the last Cartesian point as
@@ -634,31 +556,8 @@ class SimulatedController(ApproximatePositioning):
         self, position: np.ndarray, options: ModalOptions | None, solver: _Solver, frozen=None
     ) -> Reach:
         """The pose search's context: active position limits, frozen joints, tool."""
-        return Reach(
-            self.model,
-            position,
-            self.pre.frozen_si(options) if frozen is None else dict(frozen),
-            solver.kin.tool,
-            self.ik_params.task_rows,
-            self.naming,
-            self.recorder.tol_position,
-            self.opts.tol_orientation,
-            self._limited,
-        )
-
-    def _solve_pose(
-        self, target, seed, frozen: dict[int, float], lims: Limits3, line: int
-    ) -> np.ndarray:
-        """PTP to a POSE: joints for ``target`` from the current configuration, within
-        the active position limits and with frozen joints held (the search of
-        :mod:`ik.reach`; the PTP needs the exact pose, so the result must converge)."""
-        reach = self._reach(lims[0], None, self._solver(self._settings), frozen)
-        sol = reach.solve(target, seed)
-        if not sol.converged:  # stalled: the restarts of the pre-check's search
-            sol = reach.search(target, seed)
-        if not sol.converged:
-            raise unreachable_failure(reach, target, seed, sol, line, self._t, "MOVE PTP")
-        return sol.q
+        frozen = self.pre.frozen_si(options) if frozen is None else frozen
+        return self.pre.reach(position, frozen, solver.kin.tool, self.recorder.tol_position)
 
 
 _NAN = float("nan")
@@ -667,26 +566,6 @@ _NAN = float("nan")
 def _advance(t: float, dt: float) -> float:
     """The next sample time, rounded to 1 ns so that time stamps do not drift."""
     return round(t + dt, 9)
-
-
-def _ptp_bounds(seg: Segment) -> tuple[list, list]:
-    """``(joints at their acceleration bound, joints at their speed bound)`` of a PTP
-    segment, each as ``(joint, moves up)``, within a relative 1e-9 (cached per segment)."""
-    cached = seg.info.get("at_bounds")
-    if cached is None:
-        path, (_, spd, acc) = seg.path, seg.limits
-        accel, speed = seg.info.get("joint_accel"), seg.info.get("joint_speed")
-        at_accel, at_speed = [], []
-        for j in range(len(path.q0)):
-            up = bool(path.q1[j] >= path.q0[j])
-            if path.q1[j] == path.q0[j] or accel is None:
-                continue
-            if accel[j] >= min(acc[j, 1], -acc[j, 0]) * (1.0 - 1e-9):
-                at_accel.append((j, up))
-            if speed[j] >= (spd[j, 1] if up else -spd[j, 0]) * (1.0 - 1e-9):
-                at_speed.append((j, up))
-        cached = seg.info["at_bounds"] = (at_accel, at_speed)
-    return cached
 
 
 def _located(exc: RunFailure, line: int, t: float) -> RunFailure:

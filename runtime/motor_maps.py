@@ -56,6 +56,21 @@ class MotorMap:
                 out[i] = 2 * math.pi * (_screw(e, phi) - _screw(e, 0.0)) / e["lead"]
         return out
 
+    def motor_from_joints(self, qs: np.ndarray) -> np.ndarray:
+        """:meth:`motor_from_joint` of many configurations at once (``(k, n)`` → ``(k, n)``,
+        the same formulas on columns; for traces and reports)."""
+        qs = np.atleast_2d(np.asarray(qs, dtype=float))
+        out = np.empty(qs.shape)
+        for i, e in enumerate(self.entries):
+            if e["type"] == "ratio":
+                out[:, i] = e["ratio"] * (qs[:, i] - sum(c * qs[:, j] for j, c in e["couple"]))
+            else:
+                phi = sum(c * qs[:, j] for j, c in e["angle"])
+                a, b = e["a"], e["b"]
+                s = np.sqrt(a * a + b * b - 2 * a * b * np.cos(phi + e["phi0"]))
+                out[:, i] = 2 * math.pi * (s - _screw(e, 0.0)) / e["lead"]
+        return out
+
     def motor_jacobian(self, q: np.ndarray) -> np.ndarray:
         """``∂θs/∂q`` (n×n): motor speeds are ``motor_jacobian(q) @ q̇``."""
         q = np.asarray(q, dtype=float)

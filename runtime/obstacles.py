@@ -23,16 +23,16 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
-from irlc.lang.irdata import OBSTACLE_KEYS, OBSTACLE_KINDS, obstacle_field_problem
+from irlc.lang.irdata import OBSTACLE_KEYS, OBSTACLE_KINDS, ObstacleDef, obstacle_field_problem
 from irlc.runtime import spatial, units
 
 KINDS = OBSTACLE_KINDS
 
 
-def _vec3(value, what: str) -> np.ndarray:
+def _vec3(value: Numbers, shown, what: str) -> np.ndarray:
     v = np.asarray(value, dtype=float)
     if v.shape != (3,) or not np.all(np.isfinite(v)):
-        raise ValueError(f"{what} must be 3 finite numbers, got {value!r}")
+        raise ValueError(f"{what} must be 3 finite numbers, got {shown!r}")
     return v
 
 
@@ -88,14 +88,38 @@ class PlaneObstacle:
 Obstacle = PointObstacle | SphereObstacle | BoxObstacle | CapsuleObstacle | PlaneObstacle
 
 
+Numbers = tuple[float, ...]
+
+
+def from_definition(o: ObstacleDef) -> Obstacle:
+    """The shape of the code's OBSTACLE record (:class:`~irlc.lang.irdata.ObstacleDef`:
+    numbers in mm and degrees, from a data list or an ``.ird`` file), checked against the
+    record's keys and the data-list rules (:func:`build`)."""
+    return build(o.name, o.kind, dict(o.fields))
+
+
 def from_program_units(name: str, spec: Mapping) -> Obstacle:
-    """Build an obstacle from a data-list table (mm, degrees; the keys of
-    docs/language.md §8 and of IRDATA's OBSTACLE record). Raises ``ValueError``
-    naming the key for unknown kinds, missing or unknown keys and bad values."""
+    """A shape from a hand-written table (``{"kind": …, key: number | numbers}``, mm and
+    degrees): its numbers read, then :func:`build`. Raises ``ValueError`` naming the key."""
     kind = spec.get("kind")
+    fields = {key: _numbers(name, key, v) for key, v in spec.items() if key != "kind"}
+    return build(name, kind, fields)
+
+
+def _numbers(name: str, key: str, value) -> Numbers:
+    items = value if isinstance(value, list | tuple | np.ndarray) else (value,)
+    if not all(isinstance(x, int | float | np.number) and not isinstance(x, bool) for x in items):
+        raise ValueError(f"obstacle {name}.{key} must be numbers, got {value!r}")
+    return tuple(float(x) for x in items)
+
+
+def build(name: str, kind, fields: Mapping[str, Numbers]) -> Obstacle:
+    """The shape of kind ``kind`` from its fields (key → numbers, mm and degrees; the keys
+    of docs/language.md §8 and of IRDATA's OBSTACLE record). Raises ``ValueError`` naming
+    the key for unknown kinds, missing or unknown keys and bad values."""
     if not isinstance(kind, str) or kind not in OBSTACLE_KEYS:
         raise ValueError(f"obstacle {name}: kind must be one of {', '.join(KINDS)}, got {kind!r}")
-    keys = set(spec) - {"kind"}
+    keys = set(fields)
     unknown = keys - {k for k, _, _ in OBSTACLE_KEYS[kind]}
     if unknown:
         raise ValueError(f"obstacle {name}: unknown key(s) {sorted(unknown)} for kind {kind}")
@@ -104,19 +128,26 @@ def from_program_units(name: str, spec: Mapping) -> Obstacle:
     if missing:
         raise ValueError(f"obstacle {name}: missing key(s) {sorted(missing)} for kind {kind}")
 
+    def shown(key: str):  # a field as written: one number, or the numbers
+        vals = fields[key]
+        return vals[0] if len(vals) == 1 else vals
+
     def checked(key: str, value: np.ndarray) -> np.ndarray:  # the data-list rule (irdata.py)
         if problem := obstacle_field_problem(key, tuple(float(x) for x in value)):
             raise ValueError(f"obstacle {name}.{key}: {problem}")
         return value
 
+    def vec3(key: str) -> np.ndarray:
+        return _vec3(fields[key], shown(key), f"obstacle {name}.{key}")
+
     def mm3(key: str) -> np.ndarray:
-        return checked(key, _vec3(spec[key], f"obstacle {name}.{key}")) * units.MM
+        return checked(key, vec3(key)) * units.MM
 
     def radius() -> float:
-        raw = spec["radius"]
-        r = float(raw) if isinstance(raw, int | float) and not isinstance(raw, bool) else -1.0
-        if not np.isfinite(r) or r <= 0.0:  # read as the data list reads it (datalist.py)
-            raise ValueError(f"obstacle {name}.radius must be > 0, got {spec['radius']!r}")
+        vals = fields["radius"]
+        r = vals[0] if len(vals) == 1 else -1.0
+        if not np.isfinite(r) or r <= 0.0:  # the data-list rule (lang/datalist.py)
+            raise ValueError(f"obstacle {name}.radius must be > 0, got {shown('radius')!r}")
         checked("radius", np.array([r]))
         return r * units.MM
 
@@ -127,12 +158,12 @@ def from_program_units(name: str, spec: Mapping) -> Obstacle:
     if kind == "capsule":
         return CapsuleObstacle(name, mm3("a"), mm3("b"), radius())
     if kind == "plane":
-        normal = checked("normal", _vec3(spec["normal"], f"obstacle {name}.normal"))
+        normal = checked("normal", vec3("normal"))
         normal = normal / float(np.max(np.abs(normal)))  # first: ‖(1e308, 1e308, 0)‖ overflows
         return PlaneObstacle(name, mm3("point"), normal / float(np.linalg.norm(normal)))
     size = mm3("size")
     rotation = np.eye(3)
-    if "rotation" in spec:
-        a, b, c = _vec3(spec["rotation"], f"obstacle {name}.rotation") * units.DEG
+    if "rotation" in fields:
+        a, b, c = vec3("rotation") * units.DEG
         rotation = spatial.zyx_to_matrix(a, b, c)
     return BoxObstacle(name, mm3("center"), size, rotation)

@@ -15,7 +15,10 @@ For each :class:`~irlc.runtime.controller.MotionCommand` it resolves
 
   - PTP: straight line in joint space, synchronised; joint ``i`` may use
     ``R_SPEED_PTP % · θ̇max_i`` and ``R_ACC_PTP % · θ̈max_i`` (of the active limits);
-    the slowest joint sets the time;
+    the slowest joint sets the time; where the transmission couples joints and the drive
+    data give motor limits (:mod:`motor_limits`), every motor is one more axis of the
+    profile (its travel ``|ΔΘs_m|`` at ``R_SPEED_PTP % · v_m``, ``R_ACC_PTP % · a_m``):
+    the plan is never shorter than the slowest motor allows;
   - LIN: position (``R_SPEED``, ``R_ACC``) and orientation (``R_SPEED_ORI`` with the
     same ramp time, ``ω̇ = R_SPEED_ORI · R_ACC / R_SPEED``) share one ``s(t)``; the segment
     time is the larger of the two times (orientation only counts when the robot's task
@@ -31,6 +34,11 @@ For each :class:`~irlc.runtime.controller.MotionCommand` it resolves
     ``R_JERK`` (LIN, CIRCLE; orientation jerk ``R_SPEED_ORI · R_JERK / R_SPEED``, the same
     time constants as the position).
 
+A PTP to a POSE gets its joints from :func:`solve_ptp_pose` (the search of
+:mod:`~irlc.runtime.ik.reach` with the active position limits, frozen joints and the tool
+of :class:`PlanState` as arguments); :meth:`PreInterpolator.joint_profile` is the joint
+motion of PTP and of RECONFIGURATION's reference.
+
 ``WITH RECONFIGURATION`` gives a reference θ⁰(s), linear per segment from the
 configuration at the start of the statement (or the previous point's) to each point's.
 """
@@ -38,7 +46,7 @@ configuration at the start of the statement (or the previous point's) to each po
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -50,6 +58,7 @@ from irlc.runtime import units
 from irlc.runtime.controller import ModalOptions, MotionCommand, Settings
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik.limits import format_joint_value, intersect_limits
+from irlc.runtime.ik.reach import LimitedModels, Reach, unreachable_failure
 from irlc.runtime.interpolator import (
     CartesianArc,
     CartesianLine,
@@ -59,6 +68,7 @@ from irlc.runtime.interpolator import (
     ReferencePath,
     Segment,
 )
+from irlc.runtime.motor_limits import motor_limits
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.profiles import (
     ProfileError,
@@ -159,9 +169,23 @@ class PlanState:
     tcp: np.ndarray  # its world TCP pose (with the current tool)
     dt: float  # IPO cycle
     base: np.ndarray  # R_BASE in the world (4×4)
+    tool: np.ndarray  # the TCP in the flange frame (4×4): tool_transform(model, settings)
+    time: float = 0.0  # s, the simulated time (of a failure while planning)
 
 
-PoseSolver = Callable[[np.ndarray, np.ndarray, dict[int, float], Limits3, int], np.ndarray]
+def solve_ptp_pose(reach: Reach, target: np.ndarray, seed: np.ndarray, line: int,
+                   time: float) -> np.ndarray:  # fmt: skip
+    """PTP to a POSE: the joints for ``target`` (world, 4×4) from ``seed``, within the
+    context ``reach`` (its active position limits, frozen joints held, tool and task: the
+    search of :mod:`ik.reach`). The PTP needs the exact pose, so the result must converge:
+    a stalled search is restarted (:meth:`Reach.search`), an unreachable pose is a
+    :class:`RunFailure` at ``line`` and ``time``."""
+    sol = reach.solve(target, seed)
+    if not sol.converged:  # stalled: the restarts of the pre-check's search
+        sol = reach.search(target, seed)
+    if not sol.converged:
+        raise unreachable_failure(reach, target, seed, sol, line, time, "MOVE PTP")
+    return sol.q
 
 
 class PreInterpolator:
@@ -170,17 +194,20 @@ class PreInterpolator:
     def __init__(
         self,
         model: RobotModel,
-        solve_pose: PoseSolver | None = None,
         task_rows: Sequence[int] = (0, 1, 2, 3, 4, 5),
+        tol_orientation: float = 0.01 * units.DEG,
     ):
         self.model = model
         self.naming = JointNaming.for_model(model)  # the controller sets the program's
+        self.task_rows = tuple(task_rows)
         # a task without orientation rows (a planar arm's x, y) does not time orientation
         self.timed_orientation = any(r >= 3 for r in task_rows)
         self.kinds = model.joint_kinds
         self.scale = units.joint_scale(self.kinds)
-        self.solve_pose = solve_pose
+        self.tol_orientation = tol_orientation  # rad: a PTP's POSE counts as reached within
         self.max_duration = math.inf  # s: the run's simulated-time budget (the controller's)
+        self.motors = motor_limits(model)  # None: the joint limits say it all
+        self.limited = LimitedModels(model)  # the pose searches' narrowed models, per run
 
     # ------------------------------------------------------------------ units
     def joints_si(self, values: Sequence[float] | JointTuple) -> np.ndarray:
@@ -279,7 +306,7 @@ class PreInterpolator:
         q0 = state.q
         frozen = self.frozen_si(options)
         for target in cmd.targets:
-            q1 = self._ptp_target(cmd, target, q0, frozen, lims, state)
+            q1 = self._ptp_target(cmd, settings, target, q0, frozen, lims, state)
             self.check_inside(q1, lims[0], cmd.line, "PTP target")
             for j, v in frozen.items():
                 if abs(q1[j] - v) > 1e-9 * (1.0 + abs(v)):
@@ -290,21 +317,20 @@ class PreInterpolator:
                         f"{format_joint_value(self.model, j, q1[j], 0)})",
                         cmd.line,
                     )
-            seg = self._ptp_segment(cmd, settings, q0, q1, lims, state.dt, len(cmd.targets))
+            seg = self.joint_profile(cmd, settings, q0, q1, lims, state.dt, len(cmd.targets))
             out.append(seg)
             q0 = q1
         return out
 
-    def _ptp_target(self, cmd, target, q0, frozen, lims, state) -> np.ndarray:
+    def _ptp_target(self, cmd, settings, target, q0, frozen, lims, state) -> np.ndarray:
         if cmd.kind == "PTPINC":
             return q0 + self.joints_si(target)
         if isinstance(target, JointTuple):
             return self.joints_si(target)
         if isinstance(target, Pose):
-            if self.solve_pose is None:
-                raise RunFailure("MOVE PTP to a POSE needs the pose solver", cmd.line)
-            world = self._world(target, state, cmd.line)
-            return self.solve_pose(world, q0, frozen, lims, cmd.line)
+            world = self.world(target, state, cmd.line)
+            reach = self.reach(lims[0], frozen, state.tool, settings.path_tol * units.MM)
+            return solve_ptp_pose(reach, world, q0, cmd.line, state.time)
         raise RunFailure(f"MOVE PTP: unsupported target {type(target).__name__}", cmd.line)
 
     def ptp_jerks(self, cmd, settings, accel: np.ndarray) -> np.ndarray:
@@ -316,7 +342,14 @@ class PreInterpolator:
         known = self.model.jerk_limits * override_factor(settings)  # × R_ACC_PTP: k³ in all
         return np.where(np.isnan(known), accel / ramp, known)
 
-    def _ptp_segment(self, cmd, settings, q0, q1, lims, dt, npts) -> Segment:
+    def joint_profile(
+        self, cmd: MotionCommand, settings: Settings, q0, q1, lims: Limits3, dt: float,
+        npts: int = 1,
+    ) -> Segment:  # fmt: skip
+        """The synchronised joint motion ``q0 → q1`` (SI) of a PTP (or of RECONFIGURATION's
+        reference): joint ``i`` may use ``R_SPEED_PTP % · θ̇max_i`` and ``R_ACC_PTP % ·
+        θ̈max_i`` of the active limits ``lims``, the slowest joint sets the time (module
+        doc); ``npts`` is the number of points of the statement (``WITH TIME`` needs one)."""
         _, spd, acc = lims
         delta = q1 - q0
         pct_v = _setting(cmd, settings, "speed_ptp") / 100.0
@@ -334,13 +367,20 @@ class PreInterpolator:
                     cmd.line,
                 )
         b = segment_bounds(np.abs(delta), vmax, amax, jmax)
+        if self.motors is not None:
+            b = self._motor_bounds(b, self.motors.ptp_rates(q0, q1), pct_v, pct_a)
         slowest = b.slowest
         duration = self._time(cmd, settings, npts)
         profile = self._profile(b, duration, dt, cmd.line)
         limiting = ""
         if slowest >= 0:
             jerk = "/jerk" if b.jerk is not None else ""
-            limiting = f"joint {self.naming.label(slowest)} speed/acceleration{jerk}"
+            n = self.model.n
+            axis = self.naming.label(slowest % n)
+            limiting = f"joint {axis} speed/acceleration{jerk}"
+            if slowest >= n:
+                limiting = f"motor of {axis} speed/acceleration"
+                slowest -= n
         seg = Segment(
             "ptp",
             cmd.line,
@@ -357,6 +397,39 @@ class PreInterpolator:
         seg.info["joint_accel"] = np.abs(delta) * (profile.accel if moving else 0.0)
         return seg
 
+    def _motor_bounds(
+        self, b: Bounds, rates: np.ndarray, pct_v: float, pct_a: float, axes: int | None = None
+    ) -> Bounds:
+        """``b`` tightened by the motors (:mod:`motor_limits`) as more axes of the same
+        ``s(t)``, ``rates`` their ``D_m = max |dθs_m/ds|``: ``v ≤ pct_v · v_m / D_m``,
+        ``a ≤ pct_a · a_m / D_m``; the jerk stays the path's. ``slowest ≥ axes`` (default
+        the joint count) names motor ``slowest − axes``."""
+        m = self.motors
+        v, a, k = common_bounds(rates, m.speed * pct_v, m.accel * pct_a)
+        if k < 0:
+            return b
+        t_motor = minimum_time(v, a)
+        axes = self.model.n if axes is None else axes
+        slowest = b.slowest if b.slowest >= 0 and b.t_min >= t_motor else axes + k
+        speed, accel = min(b.speed, v), min(b.accel, a)
+        if b.jerk is None:
+            t_min = minimum_time(speed, accel)
+        else:
+            t_min = sc.minimum_time(speed, accel, b.jerk)
+        return Bounds(speed, accel, b.jerk, slowest, t_min)
+
+    def _path_motor_rates(self, path, q, lims, settings, state: PlanState, line):
+        """``(D_m, q_end)`` of a Cartesian path (:meth:`MotorLimits.path_rates`, solved
+        with the PTP pose solver); ``(None, q)`` where a point of the path has no solution
+        (the IK's motor rows still bound every cycle; the run reports it)."""
+        reach = self.reach(lims[0], {}, state.tool, settings.path_tol * units.MM)
+        try:
+            return self.motors.path_rates(
+                path.at, q, lambda pose, seed: solve_ptp_pose(reach, pose, seed, line, state.time)
+            )
+        except RunFailure:
+            return None, q
+
     # LIN ------------------------------------------------------------------
     def _plan_lin(self, cmd, settings, state: PlanState, lims) -> list[Segment]:
         if cmd.kind == "LININC":
@@ -364,7 +437,7 @@ class PreInterpolator:
             for p in poses:
                 check_coordinates(p, "MOVE_INC LIN target", cmd.line)
         else:
-            poses = [self._world(t, state, cmd.line) for t in cmd.targets]
+            poses = [self.world(t, state, cmd.line) for t in cmd.targets]
         paths, start = [], state.tcp
         for p in poses:
             paths.append(CartesianLine(start.copy(), p))
@@ -374,7 +447,7 @@ class PreInterpolator:
     def _plan_circle(self, cmd, settings, state: PlanState, lims) -> list[Segment]:
         if len(cmd.targets) != 2:
             raise RunFailure("MOVE CIRCLE needs a via point and a target", cmd.line)
-        via, target = (self._world(t, state, cmd.line) for t in cmd.targets)
+        via, target = (self.world(t, state, cmd.line) for t in cmd.targets)
         try:
             arc = CartesianArc(state.tcp.copy(), via[:3, 3].copy(), target)
         except CircleError as exc:
@@ -397,9 +470,16 @@ class PreInterpolator:
             jerk = _setting(cmd, settings, "jerk") * units.MM
             jerks = [jerk, w * jerk / speed]
         bounds = []
+        q = state.q
         for path in paths:
             angle = path.angle if self.timed_orientation else 0.0
-            bounds.append(segment_bounds([path.length, angle], [speed, w], [acc, w_acc], jerks))
+            b = segment_bounds([path.length, angle], [speed, w], [acc, w_acc], jerks)
+            if self.motors is not None and b.slowest >= 0:
+                rates, q = self._path_motor_rates(path, q, lims, settings, state, cmd.line)
+                if rates is not None:
+                    k = override_factor(settings)
+                    b = self._motor_bounds(b, rates, k, k * k, axes=2)
+            bounds.append(b)
         times = self._split_time(cmd, settings, [b.t_min for b in bounds])
         refs = self._references(cmd, state.q, paths)
         out = []
@@ -407,9 +487,12 @@ class PreInterpolator:
             if b.slowest < 0:  # zero-length segment: nothing to interpolate
                 continue
             profile = self._profile(b, t, state.dt, cmd.line)
-            what = ("path speed/acceleration", "orientation speed")[b.slowest]
-            if jerks is not None:
+            if b.slowest >= 2:  # a motor (_motor_bounds)
+                what = f"motor of {self.naming.label(b.slowest - 2)} speed/acceleration"
+            elif jerks is not None:
                 what = ("path speed/acceleration/jerk", "orientation speed")[b.slowest]
+            else:
+                what = ("path speed/acceleration", "orientation speed")[b.slowest]
             out.append(
                 Segment(
                     kind,
@@ -449,7 +532,16 @@ class PreInterpolator:
         return out
 
     # helpers --------------------------------------------------------------
-    def _world(self, pose: Pose, state: PlanState, line: int | None = None) -> np.ndarray:
+    def reach(self, position: np.ndarray, frozen: dict[int, float], tool: np.ndarray,
+              tol_position: float) -> Reach:  # fmt: skip
+        """The pose search's context (:class:`~irlc.runtime.ik.reach.Reach`): the active
+        position limits, frozen joints, the tool, this robot's task and naming, and the
+        tolerances a pose counts as reached within (``R_PATH_TOL``, SI)."""
+        return Reach(self.model, position, dict(frozen), tool, self.task_rows, self.naming,
+                     tol_position, self.tol_orientation, self.limited)  # fmt: skip
+
+    def world(self, pose: Pose, state: PlanState, line: int | None = None) -> np.ndarray:
+        """A program POSE in the world (``R_BASE · pose``, SI), its coordinates checked."""
         if not isinstance(pose, Pose):
             raise RunFailure(f"expected a POSE target, got {type(pose).__name__}")
         check_coordinates(units.pose_value_to_si(pose), "MOVE target", line)

@@ -10,7 +10,13 @@ the manipulability of the task Jacobian. Cartesian samples also keep the desired
 judge its *actual* TCP against the commanded path (:mod:`irlc.runtime.actual_motion`).
 
 Samples go into preallocated arrays that double their capacity when full (no Python
-object per sample); :meth:`Recorder.arrays` returns copies of the filled rows.
+object per sample: ≈ 430 B per sample on koch11, 11 joints; the unfilled capacity is
+never touched, so it costs address space, not memory). :meth:`Recorder.arrays` returns
+read-only *views* of the filled rows, not copies: a long run keeps its samples once, not
+twice (1 h of koch11, 360,000 samples: ≈ 155 MB saved). A view stays valid: later
+samples go to rows after it (or into a new buffer when the capacity doubles), and
+:meth:`Recorder.rewind` only drops samples recorded after a :meth:`Recorder.mark`, which
+the views taken before it do not reach.
 
 Derivatives are **backward finite differences** on the sample grid, computed once after
 the run (vectorised),
@@ -233,30 +239,37 @@ class Recorder:
         self._last_clearance = list(clearance)
 
     # ------------------------------------------------------------------ arrays
+    def _rows(self, name: str) -> np.ndarray:
+        """A read-only view of the filled rows of one sample array (module doc)."""
+        view = getattr(self, "_" + name)[: self._k]
+        view.flags.writeable = False
+        return view
+
     def arrays(self) -> RecordedRun:
+        """The samples so far as a :class:`RecordedRun` of read-only views (module doc);
+        speeds, accelerations, the active flags and the clearances are new arrays."""
         k = self._k
-        times = self._times[:k].copy()
-        q = self._q[:k].copy()
+        times, q = self._rows("times"), self._rows("q")
         speed, accel = finite_differences(times, q)
         return RecordedRun(
             times=times,
-            lines=self._lines[:k].copy(),
+            lines=self._rows("lines"),
             q=q,
             speed=speed,
             accel=accel,
-            tcp=self._tcp[:k].copy(),
-            pos_error=self._pos_error[:k].copy(),
-            ori_error=self._ori_error[:k].copy(),
-            iterations=self._iterations[:k].copy(),
-            relaxed=self._relaxed[:k].copy(),
-            manipulability=self._manipulability[:k].copy(),
+            tcp=self._rows("tcp"),
+            pos_error=self._rows("pos_error"),
+            ori_error=self._rows("ori_error"),
+            iterations=self._rows("iterations"),
+            relaxed=self._rows("relaxed"),
+            manipulability=self._rows("manipulability"),
             active=self._active[:k] != 0,
             clearance={
                 name: self._clearance[:k, i].copy() for i, name in enumerate(self.obstacle_names)
             },
-            desired=self._desired[:k].copy(),
-            on_path=self._on_path[:k].copy(),
-            tol_position=self._tol[:k].copy(),
+            desired=self._rows("desired"),
+            on_path=self._rows("on_path"),
+            tol_position=self._rows("tol"),
         )
 
 

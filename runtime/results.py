@@ -1,5 +1,10 @@
 """Assemble a run's result: the report (``docs/interfaces.md`` keys) and the trace table.
 
+Presentation only: everything is read from the run's :class:`~irlc.runtime.samples.Samples`
+(set points and, with drives, the actual motion, each derived once by the pipeline stage
+that owns it: :mod:`irlc.runtime.run`, :mod:`irlc.runtime.drive_stage`) and the other
+parts of a :class:`RunData`; nothing is simulated or re-derived here.
+
 Everything user-facing is in program units (mm, deg, s; joints deg | mm) through
 :mod:`units`. Numbers in the report are rounded to fixed precision (``ROUND``) so that the
 same input gives the same bytes; non-finite values never appear (an infinite clearance —
@@ -22,15 +27,26 @@ from __future__ import annotations
 
 import math
 import os
-from typing import Any
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from irlc.runtime import units
+from irlc.runtime import motor_coords, units
 from irlc.runtime.cycle_time import source_lines, statement_rows
 from irlc.runtime.digital_io import io_columns, signal_timelines
-from irlc.runtime.errors import DriveSetupError, RunFailure
+from irlc.runtime.errors import RunFailure
 from irlc.runtime.naming import JointNaming
-from irlc.runtime.recorder import RecordedRun, backward_jerk, finite_differences
+from irlc.runtime.recorder import backward_jerk
+from irlc.runtime.samples import Samples
+
+if TYPE_CHECKING:
+    from irlc.lang.irdata import Code
+    from irlc.robots.model import RobotModel
+    from irlc.runtime.executor import ExecutionOptions, SimulatedController
+    from irlc.runtime.interpreter import ExecutionResult
+    from irlc.runtime.verdict import Verdict
 
 ROUND = 9  # significant digits of report numbers
 
@@ -47,127 +63,76 @@ def rnd(x: float | None, digits: int = ROUND) -> float | None:
     return v + 0.0  # no negative zero
 
 
-def assemble(
-    code, model, controller, obstacles, execution, opts, drives: str, every_step: bool,
-    base_dir=None,
-):  # fmt: skip
-    """The :class:`RunResult`. With drives the report, the trace and the verdict are those
-    of the actual motion (:mod:`irlc.runtime.actual_motion`, :mod:`irlc.runtime.verdict`);
-    the first violated criterion fails the run (exit 2) unless it failed already."""
+@dataclass(frozen=True)
+class RunData:
+    """What a run produced, for presentation: the code, the robot, the controller (its
+    statements, limit activity, blends, IPO cycle), the interpreter's result, the options,
+    the :class:`~irlc.runtime.samples.Samples` and, with drives, the verdict."""
+
+    code: Code
+    model: RobotModel
+    controller: SimulatedController
+    execution: ExecutionResult
+    options: ExecutionOptions
+    samples: Samples
+    level: str = "ideal"  # the drive level asked for
+    verdict: Verdict | None = None  # drives
+    base_dir: Path | None = None  # the program's folder (statement texts)
+
+    @cached_property
+    def names(self) -> tuple[str, ...]:
+        """The joints' program names (:mod:`naming`)."""
+        return JointNaming.for_model(self.model, self.code.joint_names).program
+
+    @property
+    def error(self) -> RunFailure | None:
+        """The run's failure: the interpreter's, else the verdict's (drives)."""
+        if self.execution.error is not None or self.verdict is None:
+            return self.execution.error
+        return self.verdict.failure
+
+    @property
+    def warnings(self) -> list[str]:
+        """The recorder's, the interpreter's, the relaxed cycles', then the drive's notes
+        and the verdict's."""
+        recorder = self.controller.recorder
+        out = list(recorder.warnings) + list(self.execution.warnings)
+        out += relaxed_warnings(recorder)
+        if self.samples.drive is not None:
+            out += list(self.samples.drive.notes) + self.verdict.warnings
+        return out
+
+
+def assemble(run: RunData):
+    """The :class:`~irlc.runtime.run.RunResult`: the report and the trace of ``run``'s
+    samples (presentation only: nothing is simulated or derived again here)."""
     from irlc.runtime.run import RunResult
 
-    rec = controller.recorder.arrays()
-    error = execution.error
-    names = JointNaming.for_model(model, code.joint_names).program
-    warnings = list(controller.recorder.warnings) + list(execution.warnings)
-    warnings += relaxed_warnings(controller.recorder)
-    drive = actual = verdict = None
-    if drives != "ideal" and len(rec.times) > 0:
-        params = drive_data(model)
-        drive = simulate(model, rec, drives, every_step, params)
-        actual = measure_actual(
-            model, rec, controller, obstacles, rec.times, _at_times(drive, rec.times)
-        )
-        from irlc.runtime.verdict import judge
-
-        verdict = judge(model, names, rec, drive, actual, opts, params)
-        warnings += list(drive.notes) + verdict.warnings
-        if error is None:
-            error = verdict.failure
-    report = build_report(
-        code,
-        model,
-        rec,
-        controller,
-        error,
-        names,
-        opts,
-        drives,
-        drive,
-        execution,
-        warnings,
-        actual,
-        verdict,
-    )
-    if error is not None and error is not execution.error:  # a drive failure
-        report["status"], report["error"] = "failed", _error_dict(error)
-    report["statements"] = statement_rows(
-        controller.statements, source_lines(code.source, base_dir), rnd
-    )
-    trace_motion = actual
-    if drive is not None and every_step:
-        trace_motion = measure_actual(model, rec, controller, obstacles, drive.t, drive.q_actual)
-    columns, table = build_trace(model, rec, names, drive, trace_motion)
+    report = build_report(run)
+    samples, execution, code = run.samples, run.execution, run.code
+    columns, table = build_trace(run.model, samples, run.names)
     signals = signal_timelines(execution.events)
     io_names, io_table = io_columns(table[:, 0], code.inputs, execution.state.outputs, signals)
     columns, table = columns + io_names, np.hstack((table, io_table))
-    if trace_motion is not None:
-        times, q_actual, tcp = trace_motion.times, trace_motion.q, trace_motion.tcp
-    else:
-        times, q_actual, tcp = rec.times, rec.q, rec.tcp
+    traced = samples.traced
+    error = run.error
     return RunResult(
         status="ok" if error is None else "failed",
         error=error,
         report=report,
-        times=times,
-        q=q_actual,
-        tcp=tcp,
+        times=traced.times,
+        q=traced.q,
+        tcp=traced.tcp,
         trace_columns=columns,
         trace=table,
-        model=model,
-        obstacles=tuple(obstacles.values()),
+        model=run.model,
+        obstacles=tuple(run.controller.obstacles.values()),
         output=list(execution.output),
-        drive=drive,
-        recorded=rec,
+        drive=samples.drive,
+        recorded=samples.recorded,
         code=code,
-        joint_names=names,
+        joint_names=run.names,
     )
-
-
-def measure_actual(model, rec, controller, obstacles, times, q):
-    """:func:`irlc.runtime.actual_motion.measure` with the controller's task rows."""
-    from irlc.runtime.actual_motion import measure
-
-    return measure(model, rec, times, q, controller.recorder.task_rows, obstacles)
-
-
-# --------------------------------------------------------------------------- drives
-
-
-def drive_data(model):
-    """The robot's validated drive data (:func:`irlc.runtime.drives.drive_params`)."""
-    try:
-        from irlc.runtime.drives import drive_params
-    except ImportError as exc:  # pragma: no cover - the drives package ships with irlc
-        raise DriveSetupError(f"the drive simulation is not available: {exc}") from None
-    try:
-        params = drive_params(model)
-    except ValueError as exc:
-        raise DriveSetupError(f"robot {model.name}: bad drive data: {exc}") from None
-    if params is None:
-        raise DriveSetupError(
-            f"robot {model.name} has no drive data ([drives] in its robot file); use --drives ideal"
-        )
-    return params
-
-
-def simulate(model, rec: RecordedRun, level: str, every_step: bool, params=None):
-    from irlc.runtime.drives import simulate_drives
-    from irlc.runtime.verdict import following_bound
-
-    params = params if params is not None else drive_data(model)
-    try:
-        return simulate_drives(
-            model,
-            rec.times,
-            rec.q,
-            level=level,
-            params=params,
-            tolerance=following_bound(model, params),
-            record="step" if every_step else "ipo",
-        )
-    except ValueError as exc:
-        raise DriveSetupError(f"drive simulation: {exc}") from None
 
 
 # --------------------------------------------------------------------------- report
@@ -189,36 +154,20 @@ def relaxed_warnings(recorder) -> list[str]:
     return out
 
 
-def build_report(
-    code,
-    model,
-    rec: RecordedRun,
-    controller,
-    error: RunFailure | None,
-    names,
-    opts,
-    drives,
-    drive,
-    execution,
-    warnings,
-    actual=None,
-    verdict=None,
-) -> dict:
-    """The report (``docs/interfaces.md``). With drives (``actual`` given) the joints, path
-    errors and clearances are the actual motion's; the ideal ones are under ``ideal``."""
+def build_report(run: RunData) -> dict:
+    """The report (``docs/interfaces.md``). With drives the joints, path errors and
+    clearances are the actual motion's (:attr:`Samples.shown`); the ideal ones are under
+    ``ideal``."""
+    model, controller, execution, opts = run.model, run.controller, run.execution, run.options
+    rec, shown, drive = run.samples.recorded, run.samples.shown, run.samples.drive
+    names, code, error, verdict = run.names, run.code, run.error, run.verdict
     kinds = model.joint_kinds
     scale = units.joint_scale(kinds)
     k = len(rec.times)
-    q = rec.q / scale if k else np.zeros((0, model.n))
-    speed, accel = rec.speed / scale, rec.accel / scale
-    pos_err, ori_err, clearance = rec.pos_error, rec.ori_error, rec.clearance
-    if actual is not None:  # actual joints at the IPO samples
-        q_act = actual.q
-        pos_err, ori_err, clearance = actual.pos_error, actual.ori_error, actual.clearance
-        q = q_act / scale
-        sp, ac = finite_differences(rec.times, q_act)
-        speed, accel = sp / scale, ac / scale
-    jerk = backward_jerk(rec.times, accel) if k else np.zeros((0, model.n))
+    q = shown.q / scale if k else np.zeros((0, model.n))
+    speed, accel = shown.speed / scale, shown.accel / scale
+    jerk = backward_jerk(rec.times, accel) if k else np.zeros((0, model.n))  # program units
+    pos_err, ori_err, clearance = shown.pos_error, shown.ori_error, shown.clearance
     activity = controller.recorder.active_time  # (joint, label) → s, built once here
     active_time = _active_time(activity, model.n)
     following = _following(drive, model)
@@ -251,7 +200,7 @@ def build_report(
         "robot": model.name,
         "units": {"length": "mm", "angle": "deg", "time": "s"},
         "ipo_s": rnd(controller.dt_used),
-        "drives": drives,
+        "drives": run.level,
         "duration_s": rnd(float(rec.times[-1]) if k else 0.0),
         "samples": k,
         "joints": joints,
@@ -268,7 +217,7 @@ def build_report(
             "min_manipulability": rnd(float(manip.min())) if manip.size else None,
         },
         "output": list(execution.output),
-        "warnings": warnings,
+        "warnings": run.warnings,
         "events": [_clean(e) for e in sorted(execution.events, key=lambda e: e["time_s"])],
         "approximations": list(getattr(controller, "blends", ())),
         "tolerances": {
@@ -279,8 +228,14 @@ def build_report(
         "robot_joint_names": list(model.joint_names),
         "program_name": code.program,
         "tool": tool_report(model, execution.state.settings.tool),
-        "statements": [],  # cycle time per statement, filled by assemble (cycle_time.py)
+        "statements": statement_rows(  # cycle time per statement (cycle_time.py)
+            controller.statements, source_lines(code.source, run.base_dir), rnd
+        ),
     }
+    if motor_coords.has_motors(model):  # per motor and statement: travel, travel time
+        moved = shown.q if k else np.zeros((0, model.n))
+        report["motors"] = _clean(motor_coords.motor_report(model, names, rec.times, moved))
+        motor_coords.add_statement_motors(report["statements"], model, rec.times, moved, rnd)
     if drive is not None:
         from irlc.runtime.drives import report_axes
 
@@ -317,18 +272,6 @@ def tool_report(model, r_tool) -> dict:
         "r_tool": pose(program),
         "active": pose(file_tool @ program),
     }
-
-
-def _at_times(drive, times: np.ndarray) -> np.ndarray:
-    """The drive's actual joints at the IPO sample times (the drive run continues a little
-    after the last sample so that settling is seen; the trace stops at the last sample)."""
-    if len(drive.t) == len(times) and np.allclose(drive.t, times):
-        return drive.q_actual
-    return _interp_rows(drive.t, drive.q_actual, times)
-
-
-def _interp_rows(t_src, rows, t_dst) -> np.ndarray:
-    return np.column_stack([np.interp(t_dst, t_src, rows[:, j]) for j in range(rows.shape[1])])
 
 
 def _labels(activity: dict, j: int) -> dict[str, float]:
@@ -409,31 +352,29 @@ def trace_header(names, kinds, drives: bool, obstacles) -> list[str]:
     return cols
 
 
-def build_trace(model, rec: RecordedRun, names, drive, actual=None):
-    """``(columns, table)`` in program units; one row per IPO sample, or per time of
-    ``actual`` (the measured actual motion of a drive run: IPO samples or drive steps)."""
+def _motor_header(model, names) -> list[str]:
+    """``NAME_motor_rad`` after the clearances, for robots with motor maps."""
+    return motor_coords.trace_columns(names) if motor_coords.has_motors(model) else []
+
+
+def build_trace(model, samples: Samples, names):
+    """``(columns, table)`` in program units: one row per time of :attr:`Samples.traced`
+    (IPO samples, or the drive steps of a drive run traced per step)."""
     kinds = model.joint_kinds
     scale = units.joint_scale(kinds)
-    cols = trace_header(names, kinds, drive is not None, rec.clearance)
-    times, lines, q, tcp = rec.times, rec.lines, rec.q, rec.tcp
-    pos_err, ori_err = rec.pos_error, rec.ori_error
-    clearance = rec.clearance
-    if actual is not None:
-        times, q, tcp = actual.times, actual.q, actual.tcp
-        lines = rec.lines[actual.sample]
-        pos_err, ori_err = actual.pos_error, actual.ori_error
-        clearance = {
-            name: actual.clearance.get(name, v[actual.sample]) for name, v in clearance.items()
-        }
-    speed, accel = finite_differences(times, q)
+    drive, motion = samples.drive, samples.traced
+    cols = trace_header(names, kinds, drive is not None, samples.recorded.clearance)
+    cols += _motor_header(model, names)
+    times, lines, q, tcp = motion.times, motion.lines, motion.q, motion.tcp
+    pos_err, ori_err, clearance = motion.pos_error, motion.ori_error, motion.clearance
     k = len(times)
     poses = np.array([units.pose_from_si(t) for t in tcp]) if k else np.zeros((0, 6))
     parts = [
         times[:, None],
         lines[:, None].astype(float),
         q / scale,
-        speed / scale,
-        accel / scale,
+        motion.speed / scale,
+        motion.accel / scale,
         poses,
         (pos_err / units.MM)[:, None],
     ]
@@ -450,5 +391,7 @@ def build_trace(model, rec: RecordedRun, names, drive, actual=None):
     parts.append((ori_err / units.DEG)[:, None])
     for name in sorted(clearance):
         parts.append((clearance[name] / units.MM)[:, None])
+    if motor_coords.has_motors(model) and k:
+        parts.append(motor_coords.motor_angles(model, q))  # of the joints in this row
     table = np.hstack(parts) if k else np.zeros((0, len(cols)))
     return cols, table

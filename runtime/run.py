@@ -1,7 +1,11 @@
 """Run a program: IRDATA code → interpreter → simulated controller → :class:`RunResult`.
 
-``run_code(code, …)`` executes compiled code; ``run_file(path, …)`` compiles an ``.irl``
-file first (or reads an ``.ird`` file with :func:`irlc.lang.irdata.read_code`).
+``run_file(path, …)`` compiles an ``.irl`` file (or reads an ``.ird`` file with
+:func:`irlc.lang.irdata.read_code`) and calls ``run_code(code, …)``, which is the pipeline,
+one call per stage: the setup (:func:`_setup`), the interpreter with the simulated
+controller (the set points: :class:`~irlc.runtime.samples.Samples`), the drives
+(:func:`~irlc.runtime.drive_stage.run_drives`: actual motion and verdict), and the
+results (:func:`~irlc.runtime.results.assemble`: report and trace, presentation only).
 
 **Start configuration**, in this order: ``seed_config`` (program units, ``--seed-config``);
 the robot's ``home``; the target of the program's first motion statement if that is a
@@ -25,9 +29,9 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from irlc.files import read_user_text
 from irlc.lang.errors import IrlcError
 from irlc.lang.irdata import Code
+from irlc.lang.textfile import read_user_text
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
 from irlc.runtime.controller import Settings, setting_error
@@ -35,7 +39,9 @@ from irlc.runtime.drive_levels import LEVELS as DRIVE_LEVELS
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.executor import ExecutionOptions, SimulatedController
 from irlc.runtime.naming import JointNaming
+from irlc.runtime.obstacles import Obstacle
 from irlc.runtime.recorder import RecordedRun
+from irlc.runtime.samples import Samples
 
 
 class RunSetupError(IrlcError):
@@ -53,7 +59,7 @@ class RunResult:
     trace_columns: list[str]
     trace: np.ndarray  # (k', len(trace_columns)), program units
     model: RobotModel
-    obstacles: tuple  # SI shapes (runtime.obstacles)
+    obstacles: tuple[Obstacle, ...]  # SI shapes (runtime.obstacles)
     output: list[str]
     drive: Any = None  # the drive simulation result, or None (ideal)
     recorded: RecordedRun | None = None
@@ -96,17 +102,14 @@ def load_model(name_or_path: str | Path, base_dir: Path | None) -> RobotModel:
         raise RunSetupError(str(exc)) from None
 
 
-def obstacle_shapes(code: Code) -> dict[str, Any]:
-    """The code's obstacles (data lists, mm) as SI shapes, by name."""
-    from irlc.runtime.obstacles import from_program_units
+def obstacle_shapes(code: Code) -> dict[str, Obstacle]:
+    """The code's obstacles (OBSTACLE records, mm) as SI shapes, by name."""
+    from irlc.runtime.obstacles import from_definition
 
     out = {}
     for o in code.obstacles:
-        spec: dict[str, Any] = {"kind": o.kind}
-        for key, vals in o.fields:
-            spec[key] = vals[0] if len(vals) == 1 else vals
         try:
-            out[o.name] = from_program_units(o.name, spec)
+            out[o.name] = from_definition(o)
         except ValueError as exc:
             raise RunSetupError(str(exc)) from None
     return out
@@ -183,7 +186,50 @@ def run_code(
     :data:`~irlc.runtime.interpreter.DEFAULT_INSTRUCTION_BUDGET`). ``max_time``: the
     simulated-time budget in s (default ``ExecutionOptions.max_time_s``, 24 h).
     ``override`` (%): the start value of ``R_OVERRIDE`` (``--override``; lang/settings.py's
-    range, 1–100)."""
+    range, 1–100).
+
+    The pipeline, one call per stage: the setup (robot, start, options), the interpreter
+    with the simulated controller (the set points, :mod:`recorder`), the drives
+    (:mod:`drive_stage`: actual motion and verdict), the results (:mod:`results`: report
+    and trace, presentation only)."""
+    from irlc.runtime.drive_stage import run_drives
+    from irlc.runtime.results import RunData, assemble
+
+    setup = _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolerance,
+                   orientation_tolerance, instruction_budget, max_time, override)  # fmt: skip
+    controller = SimulatedController(setup.model, setup.q0, obstacles=setup.obstacles,
+                                     options=setup.options, progress=progress,
+                                     naming=setup.naming)  # fmt: skip
+    execution = _interpret(code, controller, setup.settings, output, setup.budget)
+    samples, verdict = Samples.of(controller.recorder.arrays()), None
+    if drives != "ideal" and len(samples.recorded.times) > 0:
+        samples, verdict = run_drives(samples, setup.model, drives, trace_every_step,
+                                      controller.obstacles, controller.recorder.task_rows,
+                                      setup.naming.program, setup.options)  # fmt: skip
+    run = RunData(code, setup.model, controller, execution, setup.options, samples, drives,
+                  verdict, setup.base_dir)  # fmt: skip
+    return assemble(run)
+
+
+@dataclass
+class RunSetup:
+    """A run's checked inputs (SI): the robot, its obstacles and start configuration, the
+    controller's options, the interpreter's start settings and instruction budget."""
+
+    model: RobotModel
+    obstacles: dict[str, Obstacle]
+    q0: np.ndarray
+    options: ExecutionOptions
+    settings: Settings
+    naming: JointNaming  # joints in failure messages
+    budget: int
+    base_dir: Path | None
+
+
+def _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolerance,
+           orientation_tolerance, instruction_budget, max_time, override) -> RunSetup:  # fmt: skip
+    """:func:`run_code`'s arguments checked (:class:`RunSetup`); a bad one is a
+    :class:`RunSetupError`."""
     if drives not in DRIVE_LEVELS:
         raise RunSetupError(f"unknown drive level {drives!r} (known: {', '.join(DRIVE_LEVELS)})")
     if ipo is not None and setting_error("ipo", ipo):
@@ -202,7 +248,7 @@ def run_code(
         opts.ipo = float(ipo)
     if max_time is not None:
         opts.max_time_s = float(max_time)
-    naming = JointNaming.for_model(model, code.joint_names)  # joints in failure messages
+    naming = JointNaming.for_model(model, code.joint_names)
     tol_mm = opts.tol_position / units.MM
     if path_tolerance is not None:
         tol_mm = _positive("--path-tolerance", path_tolerance, "mm")
@@ -210,20 +256,12 @@ def run_code(
     if orientation_tolerance is not None:
         deg = _positive("--orientation-tolerance", orientation_tolerance, "deg")
         opts.tol_orientation = deg * units.DEG
-    controller = SimulatedController(
-        model, q0, obstacles=obstacles, options=opts, progress=progress, naming=naming
-    )
     settings = Settings(path_tol=tol_mm)  # R_PATH_TOL's start value, as given
     if opts.ipo is not None:
         settings.ipo = opts.ipo
     if override is not None:
         settings.override = float(override)  # R_OVERRIDE's start value
-    execution = _interpret(code, controller, settings, output, budget)
-    from irlc.runtime.results import assemble
-
-    return assemble(
-        code, model, controller, obstacles, execution, opts, drives, trace_every_step, base
-    )
+    return RunSetup(model, obstacles, q0, opts, settings, naming, budget, base)
 
 
 def _positive(option: str, value, unit: str) -> float:

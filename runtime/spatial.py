@@ -4,6 +4,8 @@ Conventions (fixed by the spec):
 
 * A pose is a 4×4 homogeneous transform ``T = [[R, p], [0, 1]]``, metres.
 * ZYX angles ``(a, b, c)`` mean ``R = Rz(a) · Ry(b) · Rx(c)`` (KUKA's A, B, C).
+* Z-Y-Z Euler angles ``(Φ, Θ, Ψ)`` (Szkodny's convention) mean ``R = Rz(Φ) · Ry(Θ) · Rz(Ψ)``;
+  :data:`EULER` maps a convention's name to its pair of conversions.
 * Quaternions are ``(w, x, y, z)`` with ``w ≥ 0`` after normalisation. The algebra on
   them (:func:`quat_unit`, :func:`quat_multiply`, :func:`quat_conjugate`,
   :func:`quat_rotate`, :func:`quat_from_axis_angle`) works on plain float 4-tuples: the
@@ -97,6 +99,29 @@ def xyz_to_matrix(a: float, b: float, c: float) -> Mat:
 def zyz_to_matrix(a: float, b: float, c: float) -> Mat:
     """``R = Rz(a) · Ry(b) · Rz(c)`` (Euler ZYZ)."""
     return rot_z(a) @ rot_y(b) @ rot_z(c)
+
+
+def matrix_to_zyz(r: Mat) -> tuple[float, float, float]:
+    """Inverse of :func:`zyz_to_matrix` with ``Θ ∈ [0, π]``::
+
+        Θ = atan2(√(r13² + r23²), r33),  Φ = atan2(r23, r13),  Ψ = atan2(r32, −r31)
+
+    At the singularity ``Θ = 0`` (``Θ = π``) only ``Φ + Ψ`` (``Φ − Ψ``) is defined: ``Ψ = 0``
+    and ``Φ = atan2(r21, r11)`` (``atan2(−r21, −r11)``)."""
+    sin_b = math.hypot(r[0, 2], r[1, 2])
+    b = math.atan2(sin_b, r[2, 2])
+    if sin_b > 1e-12:
+        return math.atan2(r[1, 2], r[0, 2]), b, math.atan2(r[2, 1], -r[2, 0])
+    if r[2, 2] > 0.0:
+        return math.atan2(r[1, 0], r[0, 0]), 0.0, 0.0
+    return math.atan2(-r[1, 0], -r[0, 0]), math.pi, 0.0
+
+
+# convention name → (angles → matrix, matrix → angles), radians
+EULER = {
+    "zyx": (zyx_to_matrix, matrix_to_zyx),
+    "zyz": (zyz_to_matrix, matrix_to_zyz),
+}
 
 
 def quat_to_matrix(q: Vec) -> Mat:

@@ -67,16 +67,19 @@ def joint_unit_label(kind: str, derivative: int = 0) -> str:
     return base + ("", "/s", "/s²")[derivative]
 
 
-def pose_to_si(x: float, y: float, z: float, a: float, b: float, c: float) -> np.ndarray:
-    """Program pose (mm, deg, ZYX) → 4×4 transform in metres."""
-    return spatial.transform(
-        spatial.zyx_to_matrix(a * DEG, b * DEG, c * DEG), (x * MM, y * MM, z * MM)
-    )
+def pose_to_si(
+    x: float, y: float, z: float, a: float, b: float, c: float, euler: str = "zyx"
+) -> np.ndarray:
+    """Program pose (mm, deg, ZYX — or ``euler="zyz"``: Φ, Θ, Ψ) → 4×4 transform in metres."""
+    to_matrix = spatial.EULER[euler][0]
+    return spatial.transform(to_matrix(a * DEG, b * DEG, c * DEG), (x * MM, y * MM, z * MM))
 
 
-def pose_from_si(t: np.ndarray) -> tuple[float, float, float, float, float, float]:
-    """4×4 transform in metres → program pose (mm, deg, ZYX)."""
-    a, b, c = spatial.matrix_to_zyx(t[:3, :3])
+def pose_from_si(
+    t: np.ndarray, euler: str = "zyx"
+) -> tuple[float, float, float, float, float, float]:
+    """4×4 transform in metres → program pose (mm, deg, ZYX — or ``euler="zyz"``)."""
+    a, b, c = spatial.EULER[euler][1](t[:3, :3])
     x, y, z = (float(v) / MM for v in t[:3, 3])
     return (x, y, z, a / DEG, b / DEG, c / DEG)
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import ast
 import tomllib
 from pathlib import Path
 
@@ -42,6 +43,42 @@ def test_lang_never_imports_runtime():
         if "irlc.runtime" in p.read_text(encoding="utf-8")
     ]
     assert offenders == []
+
+
+LOWER_LAYERS = ("lang", "runtime", "robots")
+
+
+def _front_door_imports(path: Path) -> list[str]:
+    """The ``irlc.…`` modules ``path`` imports that are not in a lower layer (every
+    import, also those inside functions)."""
+    out = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            names = (
+                [node.module] if node.module != "irlc" else [f"irlc.{a.name}" for a in node.names]
+            )
+        elif isinstance(node, ast.Import):
+            names = [a.name for a in node.names]
+        else:
+            continue
+        for name in names:
+            parts = name.split(".")
+            if parts[0] == "irlc" and (len(parts) < 2 or parts[1] not in LOWER_LAYERS):
+                out.append(name)
+    return out
+
+
+def test_lower_layers_never_import_the_front_door():
+    """lang/, runtime/ and robots/ sit below the front door (frontdoor/, ``irlc.*``): the
+    robot loader and the runtime read user files through :mod:`irlc.lang.textfile`, not
+    the front door's ``irlc.files``."""
+    offenders = {
+        f"{p.relative_to(ROOT)}: {name}"
+        for layer in LOWER_LAYERS
+        for p in (ROOT / layer).rglob("*.py")
+        for name in _front_door_imports(p)
+    }
+    assert sorted(offenders) == []
 
 
 def test_no_root_folder_shadows_the_installed_package():

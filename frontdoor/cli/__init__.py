@@ -19,6 +19,7 @@ import numpy as np
 from irlc.cli import lang_cmds, robot_cmds, run_cmds, study_cmds, tool_cmds  # noqa: F401
 from irlc.cli.app import cli
 from irlc.errors import EXIT_INTERNAL, EXIT_INTERRUPTED, EXIT_USAGE, UsageError
+from irlc.runtime.accel_support import EngineChoiceError
 
 __all__ = ["cli", "main"]
 
@@ -35,7 +36,7 @@ def main(argv: list[str] | None = None) -> int:
     except click.ClickException as e:  # usage errors: exit 3, not click's 2
         e.show()
         return EXIT_USAGE
-    except UsageError as e:
+    except (UsageError, EngineChoiceError) as e:
         click.echo(f"irlc: error: {e}", err=True)
         return EXIT_USAGE
     except KeyboardInterrupt:

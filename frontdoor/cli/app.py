@@ -21,4 +21,10 @@ class IrlcGroup(click.Group):
 )
 @click.version_option(package_name="irlc")
 def cli() -> None:
-    """irlc — compile and simulate IRL programs for redundant industrial robots."""
+    """irlc — compile and simulate IRL programs for redundant industrial robots.
+
+    Environment: IRLC_ENGINE=numpy|compiled|auto chooses the engine of the IK and drive
+    loops (default numpy; docs/ik.md)."""
+    from irlc.runtime.accel_support import engine
+
+    engine()  # a bad IRLC_ENGINE is an environment error (exit 3) before any work

@@ -1,7 +1,10 @@
 """Robot commands: ``irlc robots``, ``irlc robot NAME``, ``irlc fk``, ``irlc ik``.
 
 Program units on the command line and in the output (mm, deg, ZYX angles), also the
-translation of the ``fk --json`` matrix; every JSON names them in a ``units`` key. Joints
+translation of the ``fk --json`` matrix; every JSON names them in a ``units`` key.
+``--euler zyz`` adds (fk) or takes (ik) Z-Y-Z Euler angles Φ Θ Ψ (``pose_zyz``) beside
+ZYX; ``--motors`` adds the motor angles of the robot's motor maps (``motor_angles_rad``,
+rad, motor side — :mod:`irlc.runtime.motor_coords`). Joints
 follow the naming rule of :mod:`irlc.runtime.naming`: program names ``a1 … aN`` with the
 robot file's names beside them (``a4 (panda_joint4)``; in JSON ``joint_names`` and
 ``robot_joint_names``).
@@ -19,7 +22,7 @@ from irlc.errors import EXIT_RUN, UsageError
 from irlc.robots import RobotFileError, list_robots, load_robot
 from irlc.robots.loader import MissingExtraError
 from irlc.robots.model import RobotModel
-from irlc.runtime import units
+from irlc.runtime import spatial, units
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.reachability import check_vertical_plane
@@ -182,6 +185,7 @@ def robot_cmd(name: str) -> None:
     if "transmission" in model.extra:
         kinds = sorted({t["type"] for t in model.extra["transmission"]})
         console.print(f"transmission: {', '.join(kinds)}")
+        console.print(escape(_motor_limits_line(model)))
     drives = model.extra.get("drives")
     if isinstance(drives, dict):
         console.print(f"drives: {', '.join(sorted(drives)) or '(empty table)'}")
@@ -212,14 +216,39 @@ def _joint_notes(console: Console, model: RobotModel, naming: JointNaming) -> No
             console.print(escape(f"note on {naming.label(i)}: {reason}"))
 
 
+def _motor_limits_line(model: RobotModel) -> str:
+    """What bounds the motors of a coupled transmission (:mod:`motor_limits`)."""
+    from irlc.runtime.motor_limits import motor_limits
+
+    try:
+        limits = motor_limits(model)
+    except RobotFileError as e:
+        return f"motor limits: unknown ({e})"
+    if limits is None:
+        return "motor limits: none beyond the joint limits (no coupled transmission with limits)"
+    speeds = ", ".join(f"{v:.6g}" for v in limits.speed)
+    return f"motor limits [rad/s] ({limits.source}): {speeds} — the timing and the IK respect them"
+
+
 # ----------------------------------------------------------------------------- fk / ik
+
+
+MOTORS_HELP = "also print the motor angles (rad, motor side) of the robot's motor maps"
+EULER_HELP = (
+    "orientation convention of the printed (fk) or given (ik) angles beside the default "
+    "ZYX a b c: zyz = Z-Y-Z Euler angles Φ Θ Ψ, R = Rz(Φ)·Ry(Θ)·Rz(Ψ)"
+)
+EULER_CHOICE = click.Choice(sorted(spatial.EULER), case_sensitive=False)
+ZYZ_LABELS = ("Φ (zyz) [deg]", "Θ (zyz) [deg]", "Ψ (zyz) [deg]")
 
 
 @cli.command("fk", context_settings=RAW)
 @click.argument("robot")
 @click.argument("q", nargs=-1, type=click.UNPROCESSED)
 @click.option("--json", "as_json", is_flag=True, help="print JSON")
-def fk_cmd(robot: str, q: tuple[str, ...], as_json: bool) -> None:
+@click.option("--motors", is_flag=True, help=MOTORS_HELP)
+@click.option("--euler", type=EULER_CHOICE, default="zyx", show_default=True, help=EULER_HELP)
+def fk_cmd(robot: str, q: tuple[str, ...], as_json: bool, motors: bool, euler: str) -> None:
     """Forward kinematics: joint values (deg, mm) → TCP pose (mm, deg ZYX) in the world."""
     from irlc.runtime.kinematics import Kinematics
 
@@ -228,6 +257,7 @@ def fk_cmd(robot: str, q: tuple[str, ...], as_json: bool) -> None:
     t = Kinematics(model).tcp(q_si)
     pose = units.pose_from_si(t)
     joints = units.joints_from_si(q_si, model.joint_kinds)
+    extra = _extras(model, q_si, t, motors, euler.lower())
     if as_json:
         _print_json(
             {
@@ -237,13 +267,33 @@ def fk_cmd(robot: str, q: tuple[str, ...], as_json: bool) -> None:
                 "joints": _fmt(joints),
                 "pose": _fmt(pose),
                 "matrix": _matrix_mm(t),
+                **extra,
             }
         )
         return
-    _pose_table(model, joints, pose, "forward kinematics")
+    _pose_table(model, joints, pose, "forward kinematics", extra)
 
 
-def _pose_table(model: RobotModel, joints, pose, title: str) -> None:
+def _extras(model: RobotModel, q_si, t, motors: bool, euler: str) -> dict:
+    """The JSON keys of ``--euler zyz`` (``pose_zyz``: x y z mm, Φ Θ Ψ deg) and
+    ``--motors`` (``motor_angles_rad``, per joint, motor side; rad)."""
+    out: dict = {}
+    if euler != "zyx":
+        out[f"pose_{euler}"] = _fmt(units.pose_from_si(t, euler))
+    if motors:
+        from irlc.runtime.motor_coords import has_motors, motor_angles
+
+        if not has_motors(model):
+            raise UsageError(
+                f"--motors: robot {model.name} has no motor maps (no [transmission] table "
+                "in its robot file)"
+            )
+        out["units"] = {**JSON_UNITS, "motor_angle": "rad"}
+        out["motor_angles_rad"] = _fmt(motor_angles(model, q_si))
+    return out
+
+
+def _pose_table(model: RobotModel, joints, pose, title: str, extra: dict | None = None) -> None:
     table = Table(title=f"{model.name}: {title}")
     table.add_column("quantity")
     table.add_column("value")
@@ -255,6 +305,12 @@ def _pose_table(model: RobotModel, joints, pose, title: str) -> None:
         ("x [mm]", "y [mm]", "z [mm]", "a [deg]", "b [deg]", "c [deg]"), pose, strict=True
     ):
         table.add_row(escape(label), units.fixed(v, 4))
+    extra = extra or {}
+    if "pose_zyz" in extra:
+        for label, v in zip(ZYZ_LABELS, extra["pose_zyz"][3:], strict=True):
+            table.add_row(escape(label), units.fixed(v, 4))
+    for j, v in enumerate(extra.get("motor_angles_rad", [])):
+        table.add_row(escape(f"motor {naming.label(j)} [rad]"), units.fixed(v, 6))
     Console().print(table)
 
 
@@ -279,8 +335,7 @@ def _start_line(found) -> str:
         text = f"solved {start}"
     if found.branches:
         marks = ", ".join(
-            f"{b.label}{'' if b.within_limits else ' (outside the limits)'}"
-            for b in found.branches
+            f"{b.label}{'' if b.within_limits else ' (outside the limits)'}" for b in found.branches
         )
         text += f"; closed-form branches: {marks}"
         if found.branch and found.solution.converged:
@@ -305,12 +360,18 @@ def _split_seed(args: list[str]) -> tuple[list[str], list[str] | None]:
     help="closed-form branch to take (robots with a closed form, e.g. irb6: "
     "front-elbow-up; l1: noflip | flip); default: the solution found from the seed",
 )
-def ik_cmd(robot: str, args: tuple[str, ...], as_json: bool, branch: str | None) -> None:
-    """Inverse kinematics: pose x y z a b c (mm, deg ZYX) [--seed q...] → joints.
+@click.option("--motors", is_flag=True, help=MOTORS_HELP)
+@click.option("--euler", type=EULER_CHOICE, default="zyx", show_default=True, help=EULER_HELP)
+def ik_cmd(
+    robot: str, args: tuple[str, ...], as_json: bool, branch: str | None, motors: bool, euler: str
+) -> None:
+    """Inverse kinematics: pose x y z a b c (mm, deg ZYX; with --euler zyz: x y z Φ Θ Ψ)
+    [--seed q...] → joints.
 
     Tries the seed (default: home), then the closed-form solutions and other starts.
     Exit code 2 when no solution is found ("target not reachable" when none exists
     within the limits)."""
+    euler = euler.lower()
     model = _robot(robot)
     pose_args, seed_args = _split_seed(list(args))
     if len(pose_args) != 6:
@@ -326,7 +387,8 @@ def ik_cmd(robot: str, args: tuple[str, ...], as_json: bool, branch: str | None)
     for label, v in zip("xyz", pose[:3], strict=False):
         if abs(v) > MAX_POSITION_MM:
             raise UsageError(f"pose {label} = {v:g} mm is out of range (|{label}| ≤ 1e9 mm)")
-    target = units.pose_to_si(*pose)
+    target = units.pose_to_si(*pose, euler=euler)
+    pose_zyx = units.pose_from_si(target) if euler != "zyx" else pose
     try:
         found = find_pose(model, target, seed, branch=branch)
         sol = found.solution
@@ -345,12 +407,14 @@ def ik_cmd(robot: str, args: tuple[str, ...], as_json: bool, branch: str | None)
     ori_deg = _error_value(float(sol.orientation_error) / units.DEG)
     if not np.all(np.isfinite(joints)):
         raise click.ClickException("the IK solver returned non-finite joint values (a bug)")
+    extra = _extras(model, sol.q, target, motors, euler)
     if as_json:
         _print_json(
             {
                 "robot": model.name,
                 "units": JSON_UNITS,
-                "pose": _fmt(pose),
+                "pose": _fmt(pose_zyx),
+                **extra,
                 **_joints_json(model),
                 "joints": _fmt(joints),
                 "converged": bool(sol.converged),
@@ -366,7 +430,7 @@ def ik_cmd(robot: str, args: tuple[str, ...], as_json: bool, branch: str | None)
             }
         )
     else:
-        _pose_table(model, joints, pose, "inverse kinematics")
+        _pose_table(model, joints, pose_zyx, "inverse kinematics", extra)
         state = "converged" if sol.converged else "NOT converged"
         detail = "" if sol.converged else f" {message}"  # the solver's diagnosis
         click.echo(

@@ -13,8 +13,8 @@ stepper drives, joints without drive data (prescribed motion).
 
 When it is used: :func:`irlc.runtime.accel_support.decide` — ``simulate_drives(...,
 accel=True)`` always (compiling if needed, ≈ 5 s once per install; numba caches the
-machine code), ``False`` never, ``None`` (default) whenever numba is importable;
-``IRLC_NO_ACCEL=1`` / ``IRLC_ACCEL=0|1`` as for the IK accelerator.
+machine code), ``False`` never, ``None`` (default) as
+``IRLC_ENGINE=numpy|compiled|auto`` says (numpy when unset), as for the IK accelerator.
 ``python -m irlc.runtime.drives.accel`` compiles ahead of the first run.
 """
 
@@ -143,7 +143,7 @@ def warm_up() -> float:
 
 if __name__ == "__main__":  # python -m irlc.runtime.drives.accel: fill numba's cache once
     if not AVAILABLE:
-        raise SystemExit("numba is not installed (pip install 'irlc[fast]') or IRLC_NO_ACCEL=1")
+        raise SystemExit("numba is not installed (pip install 'irlc[fast]') or IRLC_ENGINE=numpy")
     warm = cache_warm()
     seconds = warm_up()
     print(f"irlc drive accelerator: {'loaded' if warm else 'compiled'} in {seconds:.2f} s")

@@ -66,7 +66,7 @@ def simulate_drives(
     ``M(q)``, ``C q̇ + G`` every that many steps (default ``None``: adaptive, when the
     configuration or speed has changed by more than :mod:`.refresh`'s bounds);
     ``accel`` runs the loop through the optional compiled kernel (:mod:`.accel`: ``True``
-    always, ``False`` never, ``None`` when numba's cache holds it; numpy is the reference).
+    always, ``False`` never, ``None`` as ``IRLC_ENGINE`` says; numpy is the reference).
     """
     times, q_cmd = _check_inputs(model, times, q_cmd, level, record)
     if not (np.isfinite(hold) and hold >= 0.0):

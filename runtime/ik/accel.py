@@ -13,13 +13,14 @@ any task rows, reported (not avoided) obstacles. Not covered (the numpy path run
 FREEZE, active OBSTACLE avoidance, ``solver="daqp"``, ``max_iter < 1``.
 
 **When it is used** (:func:`use_accel`): ``IKParams.accel`` ``True`` (always, compiling
-if needed), ``False`` (never) or ``None`` (default: whenever numba is importable — the
-choice depends on the installation only, so one installation always gives the same
-bytes; see :mod:`irlc.runtime.accel_support`). ``IRLC_NO_ACCEL=1`` disables it whatever
-the parameter says; ``IRLC_ACCEL=1`` / ``0`` overrides ``None``. Compiling takes
+if needed), ``False`` (never) or ``None`` (default: as the environment switch
+``IRLC_ENGINE=numpy|compiled|auto`` says, numpy when unset — the choice never depends on
+numba's cache, so one installation always gives the same bytes; see
+:mod:`irlc.runtime.accel_support`). ``IRLC_ENGINE=numpy`` disables it whatever the
+parameter says. Compiling takes
 ≈ 10–15 s, once: numba caches the machine code in ``__pycache__`` next to this module (or
 in the user cache dir when that is read-only), and later processes load it in ≈ 0.3 s.
-``python -m irlc.runtime.ik.accel`` compiles ahead of the first run.
+``irlc warmup`` (or ``python -m irlc.runtime.ik.accel``) compiles ahead of the first run.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ import numpy as np
 import quadprog
 from irlc.runtime import accel_support
 
-AVAILABLE = accel_support.AVAILABLE  # numba importable and not IRLC_NO_ACCEL=1
+AVAILABLE = accel_support.AVAILABLE  # numba importable and not IRLC_ENGINE=numpy
 compile_seconds: float | None = None  # first kernel call of this process (compile or load)
 
 _KERNELS = accel_support.Kernels("irlc.runtime.ik.accel_kernels", "newton_cycle")
@@ -165,8 +166,11 @@ class AcceleratedCycle:
         accel = lim[2] if opts.accel is None else opts.accel
         c = self._box_constants(position, speed, accel, dt)
         if ik.coupled is not None:
-            ik.coupled.prepare(q_start, dt, accel)
+            ik.coupled.prepare(q_start, dt, accel, q_prev)
             self.bound_d = ik.coupled.bound_d
+            if ik.coupled.varying:  # motor rows of a non-linear map: K(q_start)
+                np.copyto(self.A, ik.coupled.A)
+                self.Cr[:, 2 * ik.n :] = ik.coupled.A.T
         V, ist, fst = self.V, self.ist, self.fst
         V[k.Q_START] = q_start
         V[k.Q_PREV] = q_prev
@@ -291,7 +295,7 @@ class AcceleratedCycle:
 
 if __name__ == "__main__":  # python -m irlc.runtime.ik.accel: fill numba's cache once
     if not AVAILABLE:
-        raise SystemExit("numba is not installed (pip install 'irlc[fast]') or IRLC_NO_ACCEL=1")
+        raise SystemExit("numba is not installed (pip install 'irlc[fast]') or IRLC_ENGINE=numpy")
     warm = cache_warm()
     seconds = warm_up()
     print(f"irlc IK accelerator: {'loaded' if warm else 'compiled'} in {seconds:.2f} s")

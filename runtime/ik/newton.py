@@ -31,7 +31,6 @@ import math
 
 import numpy as np
 from irlc.robots.model import RobotModel
-from irlc.runtime.coupled_limits import coupled_limits
 from irlc.runtime.distance import critical_points
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik.compact import CompactBasis
@@ -80,7 +79,9 @@ class InverseTransformation:
         basis = CompactBasis(self.params.cond_max, self.params.singular_cond)
         self.stepper = NewtonStep(make_solver(self.params.solver), self.params.relax_weight, basis)
         self.stepper.scalar_qp = self.params.scalar_qp
-        self.coupled = CoupledRows(model) if coupled_limits(model) else None
+        self.coupled = CoupledRows.for_model(model)
+        if self.coupled is not None:
+            self.coupled.naming = naming
         self._g = np.zeros(n)
         self._H = np.zeros((n, n))
         self._J6 = np.empty((6, n))
@@ -112,6 +113,8 @@ class InverseTransformation:
     @naming.setter
     def naming(self, value: JointNaming | None) -> None:
         self.box.naming = value
+        if getattr(self, "coupled", None) is not None:
+            self.coupled.naming = value
 
     @property
     def accelerated(self) -> bool:
@@ -156,7 +159,7 @@ class InverseTransformation:
         )
         coupled = self.coupled
         if coupled is not None:
-            coupled.prepare(q_start, dt, acc)
+            coupled.prepare(q_start, dt, acc, q_prev)
         if opts.frozen:
             frozen = self._frozen(opts.frozen)
             frozen.check_task(self.model, self.rows.size, self.naming)

@@ -99,16 +99,17 @@ def test_pwm_and_steppers_run_the_numpy_loop():
 def test_use_decision(monkeypatch):
     assert accel.use_accel(False) is False
     assert accel.use_accel(True) is accel.AVAILABLE
-    monkeypatch.delenv("IRLC_ACCEL", raising=False)
-    # the default depends on the installation only (same bytes on every run), not the cache
-    assert accel.use_accel(None) is accel.AVAILABLE
-    monkeypatch.setenv("IRLC_ACCEL", "0")
+    monkeypatch.delenv("IRLC_ENGINE", raising=False)
+    # the default is numpy whatever numba's cache holds (fast first run, same bytes)
     assert accel.use_accel(None) is False
-    monkeypatch.setenv("IRLC_ACCEL", "1")
+    monkeypatch.setenv("IRLC_ENGINE", "numpy")
+    assert accel.use_accel(None) is False
+    assert accel.use_accel(True) is False
+    monkeypatch.setenv("IRLC_ENGINE", "auto")
     assert accel.use_accel(None) is accel.AVAILABLE
 
 
-def test_irlc_no_accel_runs_numpy():
+def test_irlc_engine_numpy_runs_numpy():
     code = (
         "import numpy as np\n"
         "from irlc.robots import load_robot\n"
@@ -118,7 +119,7 @@ def test_irlc_no_accel_runs_numpy():
         "r = simulate_drives(m, np.array([0.0, 0.01]), q, level='coupled', accel=True)\n"
         "print(accel.AVAILABLE, accel.compile_seconds, r.could_follow)\n"
     )
-    env = dict(os.environ, IRLC_NO_ACCEL="1")
+    env = dict(os.environ, IRLC_ENGINE="numpy")
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["False", "None", "True"]

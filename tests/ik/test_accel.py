@@ -23,7 +23,7 @@ from irlc.runtime.ik import accel as accel_mod
 from irlc.runtime.kinematics import Kinematics
 from irlc.runtime.obstacles import BoxObstacle, SphereObstacle
 
-pytestmark = pytest.mark.skipif(not accel_mod.AVAILABLE, reason="IRLC_NO_ACCEL=1")
+pytestmark = pytest.mark.skipif(not accel_mod.AVAILABLE, reason="no numba or IRLC_ENGINE=numpy")
 
 
 def _pair(model, **params):
@@ -51,7 +51,7 @@ def _compare(model, options, *, seed=0, starts=6, cycles=25, step=0.01, jump=0.0
     for _ in range(starts):
         q = _random_q(model, rng)
         if fast.coupled is not None:  # a start inside the coupled rows
-            while np.any(fast.coupled.A @ q - fast.coupled.b < 0.0):
+            while np.any(fast.coupled.A[: fast.coupled.npos] @ q - fast.coupled.b < 0.0):
                 q = _random_q(model, rng)
         q_prev = q.copy()
         target = kin.tcp(q)
@@ -152,16 +152,20 @@ def test_frozen_and_avoided_obstacles_fall_back_reported_obstacles_do_not(robots
 def test_use_accel_decision(monkeypatch):
     assert accel_mod.use_accel(False) is False
     assert accel_mod.use_accel(True) is True
-    monkeypatch.delenv("IRLC_ACCEL", raising=False)
-    # the default depends on the installation only (same bytes on every run), not the cache
-    assert accel_mod.use_accel(None) is accel_mod.AVAILABLE
-    monkeypatch.setenv("IRLC_ACCEL", "0")
+    monkeypatch.delenv("IRLC_ENGINE", raising=False)
+    # the default is numpy whatever numba's cache holds (fast first run, same bytes)
     assert accel_mod.use_accel(None) is False
-    monkeypatch.setenv("IRLC_ACCEL", "1")
+    monkeypatch.setenv("IRLC_ENGINE", "numpy")
+    assert accel_mod.use_accel(None) is False
+    assert accel_mod.use_accel(True) is False  # numpy wins over the parameter
+    monkeypatch.setenv("IRLC_ENGINE", "compiled")
+    assert accel_mod.use_accel(None) is True
+    assert accel_mod.use_accel(False) is False
+    monkeypatch.setenv("IRLC_ENGINE", "auto")
     assert accel_mod.use_accel(None) is True
 
 
-def test_irlc_no_accel_disables_it():
+def test_irlc_engine_numpy_disables_it():
     code = (
         "from irlc.robots import load_robot\n"
         "from irlc.runtime.ik import IKParams, InverseTransformation, accel\n"
@@ -170,7 +174,7 @@ def test_irlc_no_accel_disables_it():
         "ik = InverseTransformation(m, Kinematics(m), IKParams(accel=True))\n"
         "print(accel.AVAILABLE, ik.accelerated)\n"
     )
-    env = dict(os.environ, IRLC_NO_ACCEL="1")
+    env = dict(os.environ, IRLC_ENGINE="numpy")
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["False", "False"]

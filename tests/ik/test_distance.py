@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.optimize
+from irlc.lang.irdata import ObstacleDef
 from irlc.runtime import spatial
 from irlc.runtime.distance import (
     closest_segment_box,
@@ -19,6 +20,7 @@ from irlc.runtime.obstacles import (
     PlaneObstacle,
     PointObstacle,
     SphereObstacle,
+    from_definition,
     from_program_units,
 )
 
@@ -230,6 +232,25 @@ def test_obstacle_keys_are_the_data_list_keys():
     )
     # a box turned 90° about z: its local x axis points along the world y axis
     np.testing.assert_allclose(box.rotation @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-12)
+
+
+def test_obstacle_records_become_shapes_directly():
+    """The code's typed OBSTACLE record (numbers per key, mm / deg) is the shape's input:
+    the same shape as the table form, and a bad record names its key."""
+    box = ObstacleDef("b", "box", (("center", (0.0, 0.0, 0.0)), ("size", (2000.0, 1000.0, 500.0)),
+                                   ("rotation", (90.0, 0.0, 0.0))))  # fmt: skip
+    shape = from_definition(box)
+    np.testing.assert_allclose(shape.half, [1.0, 0.5, 0.25])
+    np.testing.assert_allclose(shape.rotation @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-12)
+    sphere = from_definition(ObstacleDef("s", "sphere", (("center", (1000.0, 0.0, 0.0)),
+                                                         ("radius", (250.0,)))))  # fmt: skip
+    assert sphere.radius == pytest.approx(0.25) and list(sphere.center) == [1.0, 0.0, 0.0]
+    with pytest.raises(ValueError, match=r"obstacle s\.radius must be > 0, got \(1\.0, 2\.0\)"):
+        from_definition(
+            ObstacleDef("s", "sphere", (("center", (0.0,) * 3), ("radius", (1.0, 2.0))))
+        )
+    with pytest.raises(ValueError, match=r"obstacle p\.center must be 3 finite numbers, got 5\.0"):
+        from_definition(ObstacleDef("p", "point", (("center", (5.0,)),)))
 
 
 def test_runtime_obstacle_rules_are_the_data_list_rules():

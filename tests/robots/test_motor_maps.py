@@ -71,3 +71,13 @@ def test_irb6_wrist_motors_follow_5_22():
     assert mm.motor_from_joint(tilt)[4] == pytest.approx(k4 * np.radians(30.0))
     follow = np.radians([90.0, 0.0, 0.0, 30.0, 30.0 / k5])
     assert mm.motor_from_joint(follow)[4] == pytest.approx(0.0, abs=1e-12)
+
+
+@pytest.mark.parametrize("name", ["l1", "irb6", "irb6_track", "as6"])
+def test_many_configurations_at_once_match_one_by_one(name):
+    model = load_robot(name)
+    mm = MotorMap.from_model(model)
+    lim = model.position_limits
+    qs = np.random.default_rng(1).uniform(lim[:, 0], lim[:, 1], size=(25, model.n))
+    one_by_one = np.array([mm.motor_from_joint(q) for q in qs])
+    assert np.allclose(mm.motor_from_joints(qs), one_by_one, rtol=1e-13, atol=1e-12)

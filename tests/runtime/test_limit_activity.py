@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from irlc.runtime.executor import SimulatedController
+from irlc.runtime import ptp_activity
 from irlc.runtime.ik.limits import SOURCE_NAMES
 from irlc.runtime.ik.newton import InverseTransformation
 from irlc.runtime.run import run_file
@@ -38,7 +38,7 @@ def test_report_limit_activity_matches_the_box_of_every_cycle(program, monkeypat
         for j, label in (activity or {}).items():
             expected[(j, label)] = expected.get((j, label), 0.0) + dt
 
-    step, ptp_active = InverseTransformation.step, SimulatedController._ptp_active
+    step, at_bounds = InverseTransformation.step, ptp_activity.at_bounds
 
     def observed_step(self, q_start, q_prev, target, dt, options=None):
         res = step(self, q_start, q_prev, target, dt, options)
@@ -52,13 +52,13 @@ def test_report_limit_activity_matches_the_box_of_every_cycle(program, monkeypat
         count(_box_activity(res.q - q_start, *box), dt)
         return res
 
-    def observed_ptp(self, seg, k, dt):
-        activity = ptp_active(self, seg, k, dt)
+    def observed_ptp(seg, k, dt):
+        activity = at_bounds(seg, k, dt)
         count(activity, dt)
         return activity
 
     monkeypatch.setattr(InverseTransformation, "step", observed_step)
-    monkeypatch.setattr(SimulatedController, "_ptp_active", observed_ptp)
+    monkeypatch.setattr(ptp_activity, "at_bounds", observed_ptp)
     run = run_file(PROGRAMS / program)
     assert run.status == "ok", run.error
     assert expected, "the program should touch some limit"
