@@ -46,3 +46,29 @@ def test_reused_models_give_the_same_solutions():
     reach = Reach(model, pos, {}, model.tool, (0, 1, 2, 3, 4, 5), JointNaming.for_model(model))
     assert reach.models.model is model  # a Reach without one builds its own
     assert Reach(model, pos, {}, model.tool, (0,), reach.naming, models=shared).models is shared
+
+
+def test_a_run_builds_the_narrowed_model_once_per_limits(tmp_path, monkeypatch):
+    """The pre-check solves every LIN target; the run's searches share one LimitedModels
+    (the PreInterpolator's), so one (limits, tool) pair is built once, not per target."""
+    from irlc.runtime.ik import reach
+    from irlc.runtime.run import run_file
+
+    built = []
+    original = reach._with_position_limits
+    monkeypatch.setattr(
+        reach, "_with_position_limits", lambda m, p: built.append(p.copy()) or original(m, p)
+    )
+    lins = "".join(
+        f"  MOVE LIN POSE({1500 + 100 * (k % 2)}, {200 * k}, 0, 0, 0, 0);\n" for k in range(6)
+    )
+    path = tmp_path / "lins.irl"
+    path.write_text(
+        "PROGRAM lins;\nROBOT r := planar3;\nBEGIN\n  MOVE PTP (0, 90, -90);\n"
+        f"{lins}  JOINTLIMIT (-90, -180, -180), (90, 180, 180);\n{lins}  JOINTLIMITEND;\n"
+        "ENDPROGRAM\n"
+    )
+    run = run_file(path)
+    assert run.status == "ok", run.error
+    assert len(built) == 2  # the robot's limits, then the JOINTLIMIT's
+    assert not np.array_equal(built[0], built[1])
