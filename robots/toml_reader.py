@@ -95,6 +95,12 @@ class Reader:
             raise self.fail(key, f"expected a positive number, got {v:g}")
         return v
 
+    def non_negative(self, value: Any, key: str) -> float:
+        v = self.number(value, key)
+        if v < 0.0:
+            raise self.fail(key, f"expected a non-negative number, got {v:g}")
+        return v
+
     def string(self, value: Any, key: str, choices: tuple[str, ...] | None = None) -> str:
         if not isinstance(value, str):
             raise self.fail(key, f"expected a string, got {show(value)}")

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -38,6 +39,7 @@ from irlc.runtime.blending import (
 from irlc.runtime.controller import MotionCommand, Settings, setting_error
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.interpolator import ReferencePath, Segment
+from irlc.runtime.preinterp import override_factor
 
 _MIN_BLEND = 1e-4  # m: a blend shortened below this is an exact stop
 _BISECTIONS = 5  # trials when a blend must be shortened (1/32 of the failed distance)
@@ -110,22 +112,27 @@ class ApproximatePositioning:
         transformation cannot follow within the limits and options (a RunFailure in its
         cycles) is undone and shortened: the longest distance that works is bisected
         between 0 (an exact stop) and the one that failed (``_BISECTIONS`` trials, each
-        undone), then run; a failure of the exact stop itself is the motion's own."""
-        overlap = self._overlap(pending, run, length, reserve)
+        undone but the last, which is kept when it is the one to run), then run; a failure
+        of the exact stop itself is the motion's own."""
+        overlap_for = self._overlaps(pending, run, length, reserve)
+        overlap = overlap_for(math.inf)
         failure = self._try_blend(pending, run, overlap, keep=True)
         if failure is None:
             return overlap
         pending.limit_reason = f"shortened: the longer blend failed ({failure.message})"
         good, bad = 0.0, overlap.used
-        for _ in range(_BISECTIONS):
+        for i in range(_BISECTIONS):
             cap = 0.5 * (good + bad)
-            trial = self._overlap(pending, run, length, reserve, cap)
-            if trial.cycles and self._try_blend(pending, run, trial, keep=False) is not None:
+            trial = overlap_for(cap)
+            last = i == _BISECTIONS - 1 and cap > _MIN_BLEND  # the one run below: keep it
+            if trial.cycles and self._try_blend(pending, run, trial, keep=last) is not None:
                 bad = cap
             else:
                 good = cap
+                if last and trial.cycles:
+                    return trial
         while True:
-            final = self._overlap(pending, run, length, reserve, good if good > _MIN_BLEND else 0.0)
+            final = overlap_for(good if good > _MIN_BLEND else 0.0)
             if self._try_blend(pending, run, final, keep=True) is None:
                 return final
             good = 0.5 * final.used  # not reproduced (never seen): keep halving
@@ -192,59 +199,79 @@ class ApproximatePositioning:
             return run.solver.kin.tcp(x)[:3, 3]
         return x[:3, 3]
 
-    def _overlap(self, pending: PendingSegment, run: SegmentRun, length: float, reserve: int,
-                 cap: float = math.inf) -> Overlap:  # fmt: skip
-        """The overlap of the pending segment A with the next segment B (blending.py),
-        its distance at most ``cap`` (a shortened retry)."""
+    def _overlaps(
+        self, pending: PendingSegment, run: SegmentRun, length: float, reserve: int
+    ) -> Callable[[float], Overlap]:
+        """The overlap of the pending segment A with the next segment B (blending.py) as a
+        function of a cap on its distance (``inf``, or a shortened retry's). What every
+        cap shares — A's remaining cycles and B's first ones as offsets from the corner,
+        the speed cap — is computed once, for the uncapped distance ``d``; a capped
+        distance uses the first rows of B's offsets, exactly those its own computation
+        would stop at (:meth:`_Tails.upto`)."""
         a_run, seg_a, seg_b = pending.run, pending.run.seg, run.seg
-        d = limit_distance(pending.approx, pending.length, length)
-        if d < pending.approx and not pending.limit_reason:
-            pending.limit_reason = "shortened to half of a neighbouring segment"
-        d = min(d, cap)
-        pending.limit = d
+        d_max = limit_distance(pending.approx, pending.length, length)
         m_a = seg_a.cycles - a_run.done
         m_b = max(0, seg_b.cycles - reserve)
-        if d <= 0.0 or m_a <= 0 or m_b <= 0:
-            if d <= 0.0:
-                pending.limit_reason = "a neighbouring segment has no TCP path length"
-            return NO_OVERLAP
-        corner_k = seg_a.cycles
+        tails: list[_Tails] = []
+
+        def overlap(cap: float = math.inf) -> Overlap:
+            if d_max < pending.approx and not pending.limit_reason:
+                pending.limit_reason = "shortened to half of a neighbouring segment"
+            d = min(d_max, cap)
+            pending.limit = d
+            if d <= 0.0 or m_a <= 0 or m_b <= 0:
+                if d <= 0.0:
+                    pending.limit_reason = "a neighbouring segment has no TCP path length"
+                return NO_OVERLAP
+            if not tails:
+                tails.append(self._tails(pending, run, m_a, m_b, d_max))
+            if seg_b.is_joint:
+                return self._joint_overlap(pending, run, tails[0], d)
+            a, b, _, cap_speed = tails[0].upto(d)
+            return choose_overlap(a, b, d, speed_cap=cap_speed, dt=run.dt)
+
+        return overlap
+
+    def _tails(self, pending: PendingSegment, run: SegmentRun, m_a: int, m_b: int, d: float):
+        """A's last ``m_a`` cycles and B's first ones up to ``d`` (:class:`_Tails`): TCP
+        offsets from the corner; into a PTP also the joint offsets from A's end joints
+        ``θ₁`` (superposed in joint space, TCP by FK, B followed until 2 cycles beyond ``d``
+        for the limits check); into a Cartesian segment the speed cap, the faster
+        segment's peak TCP speed."""
+        seg_a, seg_b, big_k = pending.run.seg, run.seg, pending.run.seg.cycles
         if seg_b.is_joint:
-            return self._joint_overlap(pending, run, m_a, m_b, d)
-        corner = self._a_pose(pending, corner_k)[:3, 3]
-        a = np.array([self._a_pose(pending, corner_k - i)[:3, 3] - corner for i in range(m_a + 1)])
+            q1 = self._a_joints(pending, big_k)
+            qa = np.array([self._a_joints(pending, big_k - i) - q1 for i in range(m_a + 1)])
+            tcp = run.solver.kin.tcp
+            p1 = tcp(q1)[:3, 3]
+            a = np.array([tcp(q1 + x)[:3, 3] - p1 for x in qa])
+            qb_list, b_list = [0.0 * q1], [0.0 * p1]
+            for j in range(1, m_b + 1):  # B's start, until 2 cycles beyond d (limits check)
+                qb_list.append(seg_b.setpoint(j, run.dt)[1] - q1)
+                b_list.append(tcp(q1 + qb_list[-1])[:3, 3] - p1)
+                if len(b_list) > 3 and min(np.linalg.norm(x) for x in b_list[-3:]) > d:
+                    break
+            return _Tails(a, np.array(b_list), 3, joints=(q1, qa, np.array(qb_list)))
+        corner = self._a_pose(pending, big_k)[:3, 3]
+        a = np.array([self._a_pose(pending, big_k - i)[:3, 3] - corner for i in range(m_a + 1)])
         b_list = [0.0 * corner]
         for j in range(1, m_b + 1):  # B's start, until it is farther than d
             b_list.append(self._seg_point(run, j) - corner)
             if np.linalg.norm(b_list[-1]) > d:
                 break
-        b = np.array(b_list)
         if seg_a.is_joint:  # a PTP has no programmed path speed: its TCP's in this tail
             v_a = float(np.max(np.linalg.norm(np.diff(a, axis=0), axis=1), initial=0.0))
             v_a /= run.dt
         else:
-            v_a = _peak_speed(seg_a, a_run.dt)
-        cap = max(v_a, _peak_speed(seg_b, run.dt))
-        return choose_overlap(a, b, d, speed_cap=cap, dt=run.dt)
+            v_a = _peak_speed(seg_a, pending.run.dt)
+        return _Tails(a, np.array(b_list), 1, speed_cap=max(v_a, _peak_speed(seg_b, run.dt)))
 
-    def _joint_overlap(
-        self, pending: PendingSegment, run: SegmentRun, m_a: int, m_b: int, d: float
-    ):
+    def _joint_overlap(self, pending: PendingSegment, run: SegmentRun, tails: _Tails, d: float):
         """The overlap into a PTP segment: joints superposed, TCP distances by FK, the
         joint limits of both segments checked (:meth:`_joint_blend_ok`)."""
-        seg_b, big_k = run.seg, pending.run.seg.cycles
-        q1 = self._a_joints(pending, big_k)
-        qa = np.array([self._a_joints(pending, big_k - i) - q1 for i in range(m_a + 1)])
+        a, b, (q1, qa, qb), _ = tails.upto(d)
         tcp = run.solver.kin.tcp
         p1 = tcp(q1)[:3, 3]
-        a = np.array([tcp(q1 + x)[:3, 3] - p1 for x in qa])
-        qb_list, b_list = [0.0 * q1], [0.0 * p1]
-        for j in range(1, m_b + 1):  # B's start, until 2 cycles beyond d (limits check)
-            qb_list.append(seg_b.setpoint(j, run.dt)[1] - q1)
-            b_list.append(tcp(q1 + qb_list[-1])[:3, 3] - p1)
-            if len(b_list) > 3 and min(np.linalg.norm(x) for x in b_list[-3:]) > d:
-                break
-        qb, b = np.array(qb_list), np.array(b_list)
         far: dict[int, float] = {}
 
         def check(m: int) -> bool:
@@ -360,11 +387,48 @@ class ApproximatePositioning:
         return within_joint_limits(seq, run.dt, *boxes)
 
 
+@dataclass(frozen=True)
+class _Tails:
+    """What every trial overlap of one blend shares (:meth:`ApproximatePositioning.
+    _overlaps`): ``a[i]`` A's TCP offset from the corner ``i`` cycles before its end,
+    ``b[j]`` B's after its ``j``-th cycle (m, rows), collected until B is farther than the
+    uncapped distance for ``last`` consecutive cycles (1 Cartesian, 3 into a PTP); into a
+    PTP the joints ``(θ₁, θ_A − θ₁, θ_B − θ₁)``, else the blended speed cap (m/s)."""
+
+    a: np.ndarray
+    b: np.ndarray
+    last: int
+    joints: tuple | None = None
+    speed_cap: float | None = None
+    distances: np.ndarray = field(init=False, repr=False)  # |b[j]|, once
+
+    def __post_init__(self) -> None:
+        norms = np.array([np.linalg.norm(x) for x in self.b])
+        object.__setattr__(self, "distances", norms)
+
+    def upto(self, d: float) -> tuple[np.ndarray, np.ndarray, tuple | None, float | None]:
+        """``(a, b, joints, speed_cap)`` with B's rows cut where a computation for the
+        distance ``d`` (≤ the uncapped one) stops: after the first ``j`` (``j ≥ last``)
+        whose ``last`` rows ending at ``j`` are all farther than ``d``."""
+        far = self.distances > d
+        n = len(self.b)
+        for j in range(self.last, len(self.b)):
+            if far[j - self.last + 1 : j + 1].all():
+                n = j + 1
+                break
+        joints = self.joints
+        if joints is not None:
+            joints = (joints[0], joints[1], joints[2][:n])
+        return self.a, self.b[:n], joints, self.speed_cap
+
+
 class SegmentRun:
     """One segment being executed: cycles done so far and its per-cycle options."""
 
     def __init__(self, ctl, seg: Segment, options, solver, settings):
         self.seg, self.solver = seg, solver
+        # the k = R_OVERRIDE/100 it was planned with: a failure's suggested speeds (ik.cause)
+        seg.info["override"] = override_factor(settings)
         self.dt = ctl._dt(settings)
         self.done = 0
         self.started = False

@@ -483,7 +483,8 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
             reach = self._reach(seg.limits[0], None, solver, opts.frozen)
             q0 = self._segment_start
             try:
-                return cause.classify(what, res, seg, q0, reach, solver.kin, seg.line, t)
+                k = seg.info.get("override", 1.0)  # its R_OVERRIDE/100 (SegmentRun)
+                return cause.classify(what, res, seg, q0, reach, solver.kin, seg.line, t, k)
             except (ValueError, np.linalg.LinAlgError, FloatingPointError) as exc:
                 what += f"; the cause could not be determined ({exc})"  # (numerics)
         if res.singular or (math.isfinite(res.sigma_min) and res.sigma_min < 1e-6):

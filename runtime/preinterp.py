@@ -58,7 +58,7 @@ from irlc.runtime import units
 from irlc.runtime.controller import ModalOptions, MotionCommand, Settings
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik.limits import format_joint_value, intersect_limits
-from irlc.runtime.ik.reach import Reach, unreachable_failure
+from irlc.runtime.ik.reach import LimitedModels, Reach, unreachable_failure
 from irlc.runtime.interpolator import (
     CartesianArc,
     CartesianLine,
@@ -207,6 +207,7 @@ class PreInterpolator:
         self.tol_orientation = tol_orientation  # rad: a PTP's POSE counts as reached within
         self.max_duration = math.inf  # s: the run's simulated-time budget (the controller's)
         self.motors = motor_limits(model)  # None: the joint limits say it all
+        self.limited = LimitedModels(model)  # the pose searches' narrowed models, per run
 
     # ------------------------------------------------------------------ units
     def joints_si(self, values: Sequence[float] | JointTuple) -> np.ndarray:
@@ -537,7 +538,7 @@ class PreInterpolator:
         position limits, frozen joints, the tool, this robot's task and naming, and the
         tolerances a pose counts as reached within (``R_PATH_TOL``, SI)."""
         return Reach(self.model, position, dict(frozen), tool, self.task_rows, self.naming,
-                     tol_position, self.tol_orientation)  # fmt: skip
+                     tol_position, self.tol_orientation, self.limited)  # fmt: skip
 
     def world(self, pose: Pose, state: PlanState, line: int | None = None) -> np.ndarray:
         """A program POSE in the world (``R_BASE · pose``, SI), its coordinates checked."""

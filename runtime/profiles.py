@@ -20,12 +20,14 @@ than ``T_min`` is infeasible: :func:`trapezoid` raises :class:`ProfileError`.
 ``s(t)``: axis ``i`` with distance ``L_i`` and bounds ``v_i``, ``a_i`` needs
 ``ṡ ≤ v_i/L_i`` and ``s̈ ≤ a_i/L_i``, so the common profile uses ``v = min v_i/L_i``,
 ``a = min a_i/L_i``; the axis attaining the minimum sets the time (the "slowest" axis).
+:func:`shared_bounds` is this rule for any number of derivative orders (the S-curve adds
+the jerk: :func:`irlc.runtime.scurve.common_bounds`).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -125,22 +127,45 @@ def trapezoid(speed: float, accel: float, duration: float | None = None) -> Trap
 def common_bounds(
     distances: Sequence[float], speeds: Sequence[float], accels: Sequence[float]
 ) -> tuple[float, float, int]:
-    """Normalised ``(v, a, slowest)`` for axes sharing one ``s(t)`` (see module doc).
+    """Normalised ``(v, a, slowest)`` for axes sharing one trapezoid ``s(t)`` (module doc):
+    :func:`shared_bounds` with :func:`minimum_time`."""
+    (v, a), slowest = shared_bounds(
+        distances, (speeds, accels), minimum_time, ("speed", "acceleration")
+    )
+    return v, a, slowest
 
-    ``distances`` are absolute lengths per axis; bounds are positive per axis. Axes with
-    zero distance impose nothing; if every distance is zero the result is ``(inf, inf, −1)``.
+
+def shared_bounds(
+    distances: Sequence[float],
+    bounds: Sequence[Sequence[float]],
+    time_of: Callable[..., float],
+    names: Sequence[str],
+) -> tuple[tuple[float, ...], int]:
+    """Normalised bounds of axes sharing one ``s(t)`` and the axis that sets its time.
+
+    ``bounds[o][i]`` is axis ``i``'s bound of derivative order ``o + 1`` (speed,
+    acceleration, jerk, …; positive), ``names[o]`` its name for the error message.
+    Axis ``i`` with absolute distance ``L_i`` needs ``s⁽ᵒ⁾ ≤ bound_o,i / L_i``, so the
+    common bound of each order is ``min_i bound_o,i / L_i`` (module doc). The *slowest*
+    axis is the one whose own normalised bounds give the longest ``time_of(*bounds)``
+    (:func:`minimum_time` of the trapezoid or of the S-curve); the first on a tie.
+    Axes with zero distance impose nothing; if every distance is zero the result is
+    ``((inf, …), −1)``.
     """
-    v, a, slowest, worst = math.inf, math.inf, -1, 0.0
-    for i, (d, vi, ai) in enumerate(zip(distances, speeds, accels, strict=True)):
+    low = [math.inf] * len(bounds)
+    slowest, worst = -1, 0.0
+    for i, (d, *own) in enumerate(zip(distances, *bounds, strict=True)):
         if d <= 0.0:
             continue
-        if not (vi > 0.0 and ai > 0.0):
-            raise ProfileError(f"axis {i}: speed and acceleration bounds must be positive")
-        v, a = min(v, vi / d), min(a, ai / d)
-        t = minimum_time(vi / d, ai / d)
+        if not all(b > 0.0 for b in own):
+            listed = ", ".join(names[:-1]) + f" and {names[-1]}"
+            raise ProfileError(f"axis {i}: {listed} bounds must be positive")
+        ratios = [b / d for b in own]
+        low = [min(x, r) for x, r in zip(low, ratios, strict=True)]
+        t = time_of(*ratios)
         if t > worst:
             worst, slowest = t, i
-    return v, a, slowest
+    return tuple(low), slowest
 
 
 def cycles(duration: float, dt: float) -> int:

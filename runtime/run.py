@@ -272,6 +272,36 @@ def _positive(option: str, value, unit: str) -> float:
     return float(value)
 
 
+def check_run_option(key: str, value) -> str | None:
+    """``None`` if ``value`` is admissible for :func:`run_code`'s option ``key``, else why
+    not, naming ``key`` (a study's ``[run]`` values: :mod:`irlc.study.paths`). The checks
+    are run_code's: the drive levels, the settings table's ranges for ``ipo`` and
+    ``override`` (R_IPO, R_OVERRIDE), :func:`_budget`, :func:`_positive`; ``seed_config``
+    is a list of finite numbers (deg | mm; its length is the robot's)."""
+    if key == "drives":
+        ok = isinstance(value, str) and value in DRIVE_LEVELS
+        return None if ok else f"expected one of {', '.join(DRIVE_LEVELS)}, got {value!r}"
+    if key in ("ipo", "override"):
+        return setting_error(key, value)
+    if key == "seed_config":
+        ok = isinstance(value, list) and all(
+            isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
+            for v in value
+        )
+        return None if ok else f"expected a list of finite numbers (deg | mm), got {value!r}"
+    units = {"path_tolerance": "mm", "orientation_tolerance": "deg", "max_time": "seconds"}
+    try:
+        if key == "instruction_budget":
+            _budget(value)
+        elif key in units:
+            _positive(key, value, units[key])
+        else:
+            return f"unknown run option {key!r}"
+    except RunSetupError as e:
+        return str(e).replace("--instruction-budget", key)
+    return None
+
+
 def _budget(budget: int | None) -> int:
     """The endless-loop budget: ``None`` → the default; else a positive whole number."""
     from irlc.runtime.interpreter import DEFAULT_INSTRUCTION_BUDGET

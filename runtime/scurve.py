@@ -40,7 +40,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from irlc.runtime.profiles import ProfileError
+from irlc.runtime.profiles import ProfileError, shared_bounds
 
 
 @dataclass(frozen=True)
@@ -198,17 +198,9 @@ def common_bounds(
     accels: Sequence[float],
     jerks: Sequence[float],
 ) -> tuple[float, float, float, int]:
-    """Normalised ``(v, a, j, slowest)`` for axes sharing one ``s(t)`` (module doc); axes
-    with zero distance impose nothing; none moving: ``(inf, inf, inf, −1)``."""
-    v = a = j = math.inf
-    slowest, worst = -1, 0.0
-    for i, (d, vi, ai, ji) in enumerate(zip(distances, speeds, accels, jerks, strict=True)):
-        if d <= 0.0:
-            continue
-        if not (vi > 0.0 and ai > 0.0 and ji > 0.0):
-            raise ProfileError(f"axis {i}: speed, acceleration and jerk bounds must be positive")
-        v, a, j = min(v, vi / d), min(a, ai / d), min(j, ji / d)
-        t = minimum_time(vi / d, ai / d, ji / d)
-        if t > worst:
-            worst, slowest = t, i
+    """Normalised ``(v, a, j, slowest)`` for axes sharing one S-curve ``s(t)`` (module
+    doc): :func:`irlc.runtime.profiles.shared_bounds` with :func:`minimum_time`."""
+    (v, a, j), slowest = shared_bounds(
+        distances, (speeds, accels, jerks), minimum_time, ("speed", "acceleration", "jerk")
+    )
     return v, a, j, slowest

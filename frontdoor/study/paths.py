@@ -22,7 +22,6 @@ robot loader, the data-list loader — never here.
 
 from __future__ import annotations
 
-import math
 import re
 from typing import Any
 
@@ -52,35 +51,12 @@ def target(key: str) -> tuple[str, list[str]]:
 
 def check_run_value(key: str, value: Any) -> str | None:
     """``None`` if ``value`` is admissible for the run option ``key``, else why not (the
-    run's own checks: a :class:`~irlc.runtime.run.RunSetupError` message)."""
-    from irlc.lang.settings import setting_error
-    from irlc.runtime.run import DRIVE_LEVELS, RunSetupError, _budget, _positive
+    run's own checks: :func:`irlc.runtime.run.check_run_option`)."""
+    from irlc.runtime.run import check_run_option
 
-    if key == "drives":
-        ok = isinstance(value, str) and value in DRIVE_LEVELS
-        return None if ok else f"expected one of {', '.join(DRIVE_LEVELS)}, got {value!r}"
-    if key in ("ipo", "override"):  # the settings table's ranges (R_IPO, R_OVERRIDE)
-        return setting_error(key, value)
-    if key == "seed_config":
-        ok = isinstance(value, list) and all(
-            isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
-            for v in value
-        )
-        return None if ok else f"expected a list of finite numbers (deg | mm), got {value!r}"
-    try:
-        if key == "instruction_budget":
-            _budget(value)
-        elif key == "path_tolerance":
-            _positive("path_tolerance", value, "mm")
-        elif key == "orientation_tolerance":
-            _positive("orientation_tolerance", value, "deg")
-        elif key == "max_time":
-            _positive("max_time", value, "seconds")
-        else:
-            return f"unknown run option; run.KEY is one of {', '.join(_run_keys())}"
-    except RunSetupError as e:
-        return str(e).replace("--instruction-budget", "instruction_budget")
-    return None
+    if key not in _run_keys():
+        return f"unknown run option; run.KEY is one of {', '.join(_run_keys())}"
+    return check_run_option(key, value)
 
 
 def _run_keys() -> tuple[str, ...]:

@@ -18,8 +18,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from irlc.robots.loader import RobotFileError
 from irlc.robots.model import RobotModel
+from irlc.robots.toml_reader import Reader, RobotFileError
 
 
 class DriveParamError(RobotFileError, ValueError):
@@ -149,37 +149,28 @@ class DriveParams:
         return len(self.axes)
 
 
-class _Reader:
+class DriveReader(Reader):
+    """The robot file reader (:class:`~irlc.robots.toml_reader.Reader`: the same typed
+    values and messages) for the ``[drives]`` tables: failures are
+    :class:`DriveParamError`; :meth:`values` reads one value per driven axis."""
+
     def __init__(self, model: RobotModel, count: int):
-        self.file = model.source or f"robot {model.name}"
+        super().__init__(model.source or f"robot {model.name}")
         self.count = count
-        self.assumed: dict[str, str] = {}
+        self.assumed: dict[str, str] = {}  # key → reason
 
     def fail(self, key: str, message: str) -> DriveParamError:
         return DriveParamError(self.file, key, message)
 
-    def table(self, value: Any, key: str, allowed) -> dict:
-        if not isinstance(value, dict):
-            raise self.fail(key, f"expected a table, got {type(value).__name__}")
-        unknown = sorted(set(value) - set(allowed))
-        if unknown:
-            raise self.fail(
-                f"{key}.{unknown[0]}", f"unknown key; expected one of {', '.join(sorted(allowed))}"
-            )
-        return value
-
     def values(self, raw: Any, key: str, positive: bool = True, zero_ok: bool = False):
-        """A number, a list (one per driven axis) or ``{value, assumed, reason}``."""
+        """A number, a list (one per driven axis; ``key[i]``, 1-based) or
+        ``{value, assumed, reason}``; positive (``zero_ok``: non-negative) unless
+        ``positive`` is false."""
         if isinstance(raw, dict):
             self.table(raw, key, {"value", "assumed", "reason"})
             if "value" not in raw:
                 raise self.fail(f"{key}.value", "missing")
-            assumed = raw.get("assumed", False)
-            if not isinstance(assumed, bool):
-                raise self.fail(f"{key}.assumed", "expected true or false")
-            reason = raw.get("reason", "")
-            if assumed and (not isinstance(reason, str) or not reason.strip()):
-                raise self.fail(f"{key}.reason", "assumed = true needs a reason (a string)")
+            assumed, reason = self.assumption(raw, key)
             if assumed:
                 self.assumed[key] = reason
             raw = raw["value"]
@@ -190,17 +181,10 @@ class _Reader:
                 f"expected a number or {self.count} numbers (one per driven "
                 f"axis), got {len(items)}",
             )
+        read = self.number if not positive else self.non_negative if zero_ok else self.positive
         out = np.empty(self.count)
         for i, v in enumerate(items):
-            where = f"{key}[{i + 1}]" if isinstance(raw, list) else key
-            if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
-                raise self.fail(where, f"expected a finite number, got {v!r}")
-            if positive and (v < 0.0 or (v == 0.0 and not zero_ok)):
-                raise self.fail(
-                    where,
-                    f"expected a {'non-negative' if zero_ok else 'positive'} number, got {v!r}",
-                )
-            out[i] = float(v)
+            out[i] = read(v, f"{key}[{i + 1}]" if isinstance(raw, list) else key)
         return out
 
     def group(self, t: dict, key: str, spec: dict, optional: dict, zero_ok=()) -> dict:
@@ -221,11 +205,10 @@ def drive_params(model: RobotModel) -> DriveParams | None:
     raw = model.extra.get("drives")
     if raw is None:
         return None
-    file = model.source or f"robot {model.name}"
-    if not isinstance(raw, dict):
-        raise DriveParamError(file, "drives", "expected a table")
-    axes = _axes(raw, model, file)
-    rd = _Reader(model, len(axes))
+    rd = DriveReader(model, 0)
+    rd.table(raw, "drives")
+    axes = _axes(raw, model, rd)
+    rd.count = len(axes)
     rd.table(raw, "drives", TOP_KEYS)
     kind = raw.get("type", "dc")
     if kind not in ("dc", "stepper"):
@@ -273,7 +256,7 @@ def drive_params(model: RobotModel) -> DriveParams | None:
     return DriveParams(kind, axes, chain, friction, ratio, load, slave, dict(rd.assumed), **rated)
 
 
-def _axes(raw: dict, model: RobotModel, file: str) -> tuple[int, ...]:
+def _axes(raw: dict, model: RobotModel, rd: DriveReader) -> tuple[int, ...]:
     value = raw.get("axes", "all")
     if value == "all":
         return tuple(range(model.n))
@@ -283,15 +266,13 @@ def _axes(raw: dict, model: RobotModel, file: str) -> tuple[int, ...]:
         and all(isinstance(v, int) and not isinstance(v, bool) and 1 <= v <= model.n for v in value)
     )
     if not ok or len(set(value)) != len(value):
-        raise DriveParamError(
-            file,
-            "drives.axes",
-            f'expected "all" or distinct joint numbers 1..{model.n}, got {value!r}',
+        raise rd.fail(
+            "drives.axes", f'expected "all" or distinct joint numbers 1..{model.n}, got {value!r}'
         )
     return tuple(sorted(v - 1 for v in value))
 
 
-def _dc(rd: _Reader, t: Any) -> DcDrives:
+def _dc(rd: DriveReader, t: Any) -> DcDrives:
     rd.table(t, "drives.dc", set(DC_KEYS) | set(DC_RATING_KEYS))
     i_peak = rd.values(t["i_peak"], "drives.dc.i_peak") if "i_peak" in t else None
     g = rd.group({k: v for k, v in t.items() if k != "i_peak"}, "drives.dc", DC_KEYS, OPTIONAL_DC)
@@ -302,7 +283,7 @@ def _dc(rd: _Reader, t: Any) -> DcDrives:
     return DcDrives(pwm_frequency=float(freq[0]), **g)
 
 
-def _stepper(rd: _Reader, t: Any) -> StepperDrives:
+def _stepper(rd: DriveReader, t: Any) -> StepperDrives:
     g = rd.group(t, "drives.stepper", STEPPER_KEYS, {})
     bad = np.flatnonzero(g["L12"] >= g["L"])
     if bad.size:

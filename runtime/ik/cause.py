@@ -35,8 +35,12 @@ decided in this order:
    factor names the cause (**speed_limit** or **accel_limit**); the suggested speed is
    ``SAFETY·min(c_v, c_a)`` times the segment's peak speed (``R_SPEED`` in mm/s, or
    ``R_SPEED_ORI`` in deg/s when the orientation sets the segment's time), rounded
-   down to two significant digits. A factor ``< MIN_FACTOR`` (a path through a
-   near-singularity, or a jump between branches) counts as **singular**.
+   down to two significant digits. The segment's speeds are actual ones: ``R_OVERRIDE``
+   scales the programmed speeds by ``k = R_OVERRIDE/100`` and accelerations by ``k²``
+   (:mod:`~irlc.runtime.preinterp`), so the value to program is the actual bound over
+   ``k`` (``k²`` for ``R_ACC``), and the message says at which override it holds.
+   A factor ``< MIN_FACTOR`` (a path through a near-singularity, or a jump between
+   branches) counts as **singular**.
 """
 
 from __future__ import annotations
@@ -71,9 +75,12 @@ def classify(
     kin: Kinematics,
     line: int,
     time_s: float,
+    override: float = 1.0,
 ) -> RunFailure:
     """The :class:`RunFailure` of a deviation beyond tolerance in segment ``seg`` (which
-    started at ``q_start``), with its cause."""
+    started at ``q_start``), with its cause; ``override`` is the factor
+    ``k = R_OVERRIDE/100`` the segment was planned with (its suggested speeds are
+    programmed values: the actual ones over ``k``, ``k²`` for an acceleration)."""
     constraint = res.binding or None
     free = _free(reach, frozen=True)
     if res._jac is not None:
@@ -101,7 +108,7 @@ def classify(
             what = (
                 "pass a singular configuration on the path"
                 if held.worst[0] < SINGULAR_RATIO or held.factor < MIN_FACTOR
-                else f"need {_speed_text(seg, held)} on this path"
+                else f"need {_speed_text(seg, held, override)} on this path"
             )
             return _freeze_failure(message, reach, what, line, time_s)
     if held.worst[0] < SINGULAR_RATIO or held.factor < MIN_FACTOR:
@@ -113,7 +120,7 @@ def classify(
         # the walk itself needs a joint at its limit: the cycles, which cannot jump to the
         # walk's configurations, would need it beyond; slower does not help
         return _position_failure(message, reach, res.q, pressed, constraint, line, time_s)
-    return _speed_failure(message, seg, held, constraint, line, time_s)
+    return _speed_failure(message, seg, held, constraint, line, time_s, override)
 
 
 @dataclass
@@ -343,32 +350,55 @@ def _speed_setting(seg) -> tuple[float, str, str, str]:
     return seg.path.length / units.MM, "mm/s", "R_SPEED", "speed_mm_s"
 
 
-def _suggested(seg, survey: _Survey) -> float:
+def _suggested(seg, survey: _Survey, override: float) -> float:
+    """The programmed speed to suggest: the actual bound (``SAFETY`` below the factor)
+    over the override factor ``k``."""
     size = _speed_setting(seg)[0]
-    return _round_down(seg.profile.cruise * size * min(survey.factor, 1.0) * SAFETY)
+    return _round_down(seg.profile.cruise * size * min(survey.factor, 1.0) * SAFETY / override)
 
 
-def _speed_text(seg, survey: _Survey) -> str:
+def _at_override(override: float) -> str:
+    """`` at R_OVERRIDE n %`` when the suggestion holds at an override other than 100 %."""
+    return "" if override == 1.0 else f" at R_OVERRIDE {100.0 * override:g} %"
+
+
+def _speed_text(seg, survey: _Survey, override: float) -> str:
     _, unit, name, _ = _speed_setting(seg)
-    return f"{name} ≤ {_suggested(seg, survey):g} {unit}"
+    return f"{name} ≤ {_suggested(seg, survey, override):g} {unit}{_at_override(override)}"
 
 
-def _speed_failure(message, seg, survey: _Survey, constraint, line, time_s) -> RunFailure:
+def _now(now: str, value: float, scale: float, unit: str, override: float) -> str:
+    """``(now)``: the segment's actual peak; with an override first what the suggested
+    programmed ``value`` is actually (``value·scale``, ``scale`` = ``k`` or ``k²``)."""
+    if override == 1.0:
+        return f"({now})"
+    return f"({value * scale:.4g} {unit} actual; {now})"
+
+
+def _speed_failure(
+    message, seg, survey: _Survey, constraint, line, time_s, override: float
+) -> RunFailure:
     c_v, c_a, k_a = survey.c_v, survey.c_a, survey.k_a
     cause = "speed_limit" if c_v <= c_a and k_a == 1.0 else "accel_limit"
     size, unit, name, key = _speed_setting(seg)
-    now, suggested = seg.profile.cruise * size, _suggested(seg, survey)
+    now, suggested = seg.profile.cruise * size, _suggested(seg, survey, override)
     what = "speed" if cause == "speed_limit" else "acceleration"
+    peak = f"the segment peaks at {now:.4g} {unit} now"
     text = (
         f"{message}; cause: a joint {what} bound; a lower speed resolves it: "
-        f"{name} ≤ {suggested:g} {unit} (the segment peaks at {now:.4g} {unit} now)"
+        f"{_speed_text(seg, survey, override)} {_now(peak, suggested, override, unit, override)}"
     )
     details = {f"suggested_{key}": suggested}
     if k_a < 1.0:
         acc_now = seg.profile.accel * size
-        acc_ok = _round_down(acc_now * k_a * SAFETY)
+        acc_ok = _round_down(acc_now * k_a * SAFETY / override**2)
         acc_name = "R_ACC" if name == "R_SPEED" else "the orientation acceleration"
-        text += f" and {acc_name} ≤ {acc_ok:g} {unit}² (now {acc_now:.4g} {unit}²)"
+        acc_unit = f"{unit}²"
+        acc_peak = f"now {acc_now:.4g} {acc_unit}"
+        text += (
+            f" and {acc_name} ≤ {acc_ok:g} {acc_unit}{_at_override(override)} "
+            f"{_now(acc_peak, acc_ok, override**2, acc_unit, override)}"
+        )
         if name == "R_SPEED":
             details["suggested_acc_mm_s2"] = acc_ok
     return RunFailure(text, line, time_s, constraint, cause=cause, details=details)

@@ -78,9 +78,12 @@ def solve_pose(
     max_step: float = 0.3,
     max_step_prismatic: float = 0.1,
     naming: JointNaming | None = None,
+    kin: Kinematics | None = None,
 ) -> PoseSolution:
     """Solve ``f(q) = target`` (4×4 world pose, m) starting from ``seed`` (SI); messages
-    name joints by ``naming`` (default ``a1 … aN``)."""
+    name joints by ``naming`` (default ``a1 … aN``). ``kin``: ``Kinematics(model, tool)``
+    from a caller that solves many poses with one model and tool (built here if not
+    given; ``tool`` is then ignored)."""
     naming = naming_or_default(naming, model)
     target = np.asarray(target, dtype=float)
     q = np.array(seed, dtype=float)
@@ -90,7 +93,7 @@ def solve_pose(
         return PoseSolution(
             q, False, np.inf, np.inf, 0, f"seed must be {model.n} finite joint values"
         )
-    kin = Kinematics(model, tool)
+    kin = Kinematics(model, tool) if kin is None else kin
     rows = np.array(task_rows if task_rows is not None else task_rows_for(model), dtype=int)
     pos_rows, ori_rows = np.flatnonzero(rows < 3), np.flatnonzero(rows >= 3)
     problem = seed_problem(model, q, naming)

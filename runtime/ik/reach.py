@@ -31,7 +31,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from irlc.robots.model import RobotModel
@@ -39,15 +39,46 @@ from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik import closed_form, unreachable
 from irlc.runtime.ik.pose import PoseSolution, solve_pose
+from irlc.runtime.kinematics import Kinematics
 from irlc.runtime.naming import JointNaming
 
 STEP_LENGTH = 0.05  # m: longest walk step along the path
 STEP_ANGLE = 10.0 * units.DEG  # rad
 
 
+class LimitedModels:
+    """The robot model narrowed to given position limits, with its kinematics for a tool,
+    built once per ``(limits, tool)`` and reused: the pre-check solves a pose per target,
+    the walks one per step, and building the model copy and its :class:`Kinematics`
+    costs about a third of a short search. Holds the ``MAX_KEPT`` latest (a frozen
+    joint's held value is part of its limits)."""
+
+    MAX_KEPT = 32
+
+    def __init__(self, model: RobotModel):
+        self.model = model
+        self._built: dict[bytes, tuple[RobotModel, Kinematics]] = {}
+
+    def get(self, position: np.ndarray, tool: np.ndarray) -> tuple[RobotModel, Kinematics]:
+        """``(model within position, Kinematics(that model, tool))`` (``position`` SI
+        ``(n, 2)``, ``tool`` 4×4)."""
+        position = np.ascontiguousarray(position, dtype=float)
+        key = position.tobytes() + np.ascontiguousarray(tool, dtype=float).tobytes()
+        built = self._built.get(key)
+        if built is None:
+            limited = _with_position_limits(self.model, position)
+            built = (limited, Kinematics(limited, tool))
+            if len(self._built) >= self.MAX_KEPT:
+                del self._built[next(iter(self._built))]
+            self._built[key] = built
+        return built
+
+
 @dataclass(frozen=True)
 class Reach:
-    """The search's context: model, active position limits, frozen joints, tool, task."""
+    """The search's context: model, active position limits, frozen joints, tool, task;
+    ``models`` the narrowed models built so far (:class:`LimitedModels`; a caller running
+    many statements passes one it keeps)."""
 
     model: RobotModel
     position: np.ndarray  # (n, 2) SI, the active position limits
@@ -57,6 +88,11 @@ class Reach:
     naming: JointNaming
     tol_position: float = 5e-5  # m: a pose this close counts as reached
     tol_orientation: float = 0.01 * units.DEG
+    models: LimitedModels | None = field(default=None, compare=False, repr=False)
+
+    def __post_init__(self) -> None:
+        if self.models is None or self.models.model is not self.model:
+            object.__setattr__(self, "models", LimitedModels(self.model))
 
     def solve(self, target: np.ndarray, seed: np.ndarray, *, frozen: bool = True) -> PoseSolution:
         """:func:`solve_within` in this context (``frozen=False``: the frozen joints free)."""
@@ -69,6 +105,7 @@ class Reach:
             self.tool,
             self.task_rows,
             self.naming,
+            self.models,
         )
 
     def search(self, target: np.ndarray, seed: np.ndarray, *, frozen: bool = True) -> PoseSolution:
@@ -114,15 +151,19 @@ def solve_within(
     tool: np.ndarray,
     task_rows: tuple[int, ...] | None = None,
     naming: JointNaming | None = None,
+    models: LimitedModels | None = None,
 ) -> PoseSolution:
     """:func:`solve_pose` within the position limits ``position`` (SI ``(n, 2)``), the
-    frozen joints held at their values (range ``[v, v]``)."""
+    frozen joints held at their values (range ``[v, v]``); the narrowed model from
+    ``models`` when given (built once per limits), else built for this call."""
     pos = np.array(position, dtype=float)
     for j, v in frozen.items():
         pos[j] = (v, v)
     seed = np.clip(seed, pos[:, 0], pos[:, 1])  # a frozen joint's rounding (≤ 1e-9)
-    limited = _with_position_limits(model, pos)
-    return solve_pose(limited, target, seed, tool=tool, task_rows=task_rows, naming=naming)
+    if models is None or models.model is not model:
+        models = LimitedModels(model)
+    limited, kin = models.get(pos, tool)
+    return solve_pose(limited, target, seed, tool=tool, task_rows=task_rows, naming=naming, kin=kin)
 
 
 def restarts(

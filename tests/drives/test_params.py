@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import re
 from pathlib import Path
 
 import numpy as np
@@ -49,7 +50,7 @@ def test_errors_name_file_and_key():
     bad(t, "drives.dc.R", "expected a number or 2 numbers")
     t = copy.deepcopy(base)
     t["dc"]["R"] = [1.0, -2.0]
-    bad(t, "drives.dc.R[2]", "positive")
+    bad(t, "drives.dc.R[2]", "expected a positive number, got -2$")
     t = copy.deepcopy(base)
     t["dc"]["Rr"] = 1.0
     bad(t, "drives.dc.Rr", "unknown key")
@@ -61,7 +62,7 @@ def test_errors_name_file_and_key():
     bad(t, "drives.dc.kz.reason", "needs a reason")
     t = copy.deepcopy(base)
     t["dc"]["ke"] = "fast"
-    bad(t, "drives.dc.ke", "finite number")
+    bad(t, "drives.dc.ke", "expected a number, got str 'fast'$")
     t = copy.deepcopy(base)
     t["friction"] = {"static": 0.1, "running": 0.2}
     bad(t, "drives.friction.running", "exceeds static")
@@ -82,3 +83,31 @@ def test_subset_of_axes_and_values_per_driven_axis():
     t["axes"] = [2]
     p = drive_params(planar(2, drives=t))
     assert p.axes == (1,) and p.count == 1 and p.chain.R.shape == (1,)
+
+
+def test_messages_are_the_robot_readers():
+    """[drives] is read by the robot file reader (robots/toml_reader.py): a bad value reads
+    the same as anywhere else in a robot file (file, key, expected, got type and value)."""
+    from irlc.robots.toml_reader import Reader
+
+    robot = Reader("<test model>")
+    for value, read in (("fast", robot.number), (float("inf"), robot.number), (-2, robot.positive)):
+        with pytest.raises(Exception) as same:
+            read(value, "drives.dc.ke")
+        t = dc_drives(2)
+        t["dc"]["ke"] = value
+        bad(t, "drives.dc.ke", f"^{re.escape(str(same.value))}$")
+    base = dc_drives(2)
+    t = copy.deepcopy(base)
+    t["dc"]["ke"] = float("inf")
+    bad(t, "drives.dc.ke", "expected a finite number, got inf$")
+    t = copy.deepcopy(base)
+    t["friction"] = {"static": [0.1, -0.1]}
+    bad(t, "drives.friction.static[2]", "expected a non-negative number, got -0.1$")
+    t = copy.deepcopy(base)
+    t["dc"] = 3
+    bad(t, "drives.dc", "expected a table, got int 3$")
+    t = copy.deepcopy(base)
+    t["dc"]["kz"] = {"value": 3.0, "assumed": "yes", "reason": "r"}
+    bad(t, "drives.dc.kz.assumed", "expected true or false, got str 'yes'$")
+    bad([1], "drives", r"expected a table, got list \[1\]$")

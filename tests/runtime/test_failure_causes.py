@@ -204,6 +204,35 @@ def test_speed_bound_failure_suggests_a_speed_that_works(tmp_path):
     assert again.status == "ok", again.error
 
 
+def test_suggestions_at_an_override_are_programmed_values(tmp_path):
+    """R_OVERRIDE 50 % halves the speeds and quarters the accelerations: the suggested
+    R_SPEED (R_ACC) is the actual bound over k (k²), so it is twice the one at 100 % (to
+    the two digits of the rounding), and the program runs with it at the same override."""
+    _panda()
+    full = _run(tmp_path, "fast", SPEED_BODY.format(speed=1000), "panda").report["error"]
+    half = "  R_OVERRIDE := 50;\n" + SPEED_BODY
+    err = _run(tmp_path, "fast50", half.format(speed=1000), "panda").report["error"]
+    assert err["cause"] == "speed_limit", err
+    suggested = err["suggested_speed_mm_s"]
+    assert 0.5 * suggested == pytest.approx(full["suggested_speed_mm_s"], rel=0.1)
+    assert f"R_SPEED ≤ {suggested:g} mm/s at R_OVERRIDE 50 % (" in err["message"]
+    assert f"({0.5 * suggested:.4g} mm/s actual; the segment peaks at" in err["message"]
+    again = _run(tmp_path, "slow50", half.format(speed=f"{suggested:g}"), "panda")
+    assert again.status == "ok", again.error
+    # an acceleration bound: R_SPEED and R_ACC, both programmed values at 50 %
+    body = (
+        "  R_OVERRIDE := 50;\n  R_SPEED := {speed};\n  R_ACC := {acc};\n"
+        "  MOVE PTP (0, -30, 0, -120, 0, 90, 45);\n  MOVE LIN (500, -200, 450, 0, 0, 180);\n"
+    )
+    err = _run(tmp_path, "acc50", body.format(speed=2000, acc=16000), "panda").report["error"]
+    assert err["cause"] == "accel_limit", err
+    speed, acc = err["suggested_speed_mm_s"], err["suggested_acc_mm_s2"]
+    msg = err["message"]
+    assert f"R_ACC ≤ {acc:g} mm/s² at R_OVERRIDE 50 % ({0.25 * acc:.4g} mm/s² actual;" in msg
+    again = _run(tmp_path, "acc50", body.format(speed=f"{speed:g}", acc=f"{acc:g}"), "panda")
+    assert again.status == "ok", again.error
+
+
 # ------------------------------------------------------------------ naming
 def test_message_joint_names_are_the_summarys(tmp_path):
     _panda()

@@ -6,7 +6,14 @@ import math
 
 import numpy as np
 import pytest
-from irlc.runtime.profiles import ProfileError, common_bounds, cycles, minimum_time, trapezoid
+from irlc.runtime.profiles import (
+    ProfileError,
+    common_bounds,
+    cycles,
+    minimum_time,
+    shared_bounds,
+    trapezoid,
+)
 
 
 @pytest.mark.parametrize(("v", "a"), [(0.5, 2.0), (2.0, 1.0), (1.0, 1.0), (0.1, 100.0)])
@@ -64,3 +71,16 @@ def test_cycles_round_up_but_tolerate_rounding():
     assert cycles(1.0000000000001, 0.01) == 100
     assert cycles(1.001, 0.01) == 101
     assert cycles(0.0, 0.01) == 0
+
+
+def test_shared_bounds_is_the_rule_of_both_profiles():
+    # one loop for the trapezoid (speed, acceleration) and the S-curve (… and jerk)
+    from irlc.runtime import scurve
+
+    names = ("speed", "acceleration")
+    (v, a), slowest = shared_bounds([1.0, 2.0], ([2.0, 1.0], [10.0, 10.0]), minimum_time, names)
+    assert (v, a, slowest) == (0.5, 5.0, 1)
+    with pytest.raises(ProfileError, match=r"^axis 1: speed and acceleration bounds must be"):
+        common_bounds([1.0, 1.0], [1.0, 0.0], [1.0, 1.0])
+    with pytest.raises(ProfileError, match=r"^axis 0: speed, acceleration and jerk bounds must"):
+        scurve.common_bounds([1.0], [1.0], [1.0], [0.0])

@@ -1,0 +1,41 @@
+"""run.check_run_option: the checks run_code applies to its options, as a message naming
+the option (a study's [run] values use it: frontdoor/study/paths.py)."""
+
+from __future__ import annotations
+
+import pytest
+from irlc.runtime.run import RunSetupError, check_run_option, run_code
+
+from .conftest import Ird
+
+CASES = [  # (option, a value run_code accepts, one it rejects)
+    ("ipo", 0.01, -1.0),
+    ("override", 50.0, 150.0),
+    ("drives", "ideal", "fast"),
+    ("instruction_budget", 1000, 0),
+    ("path_tolerance", 0.1, 0.0),
+    ("orientation_tolerance", 0.5, -1.0),
+    ("max_time", 10.0, float("inf")),
+]
+
+
+@pytest.mark.parametrize(("key", "good", "bad"), CASES)
+def test_the_option_checks_are_run_codes(planar3, key, good, bad):
+    code = Ird("planar3", "RRR").op(1, "END").code_object()
+    assert check_run_option(key, good) is None
+    run_code(code, robot=planar3, **{key: good})  # accepted by the run itself
+    message = check_run_option(key, bad)
+    assert isinstance(message, str) and message
+    with pytest.raises(RunSetupError):
+        run_code(code, robot=planar3, **{key: bad})
+
+
+def test_messages_name_the_option():
+    assert check_run_option("max_time", 0) == "max_time must be a positive number of seconds, got 0"
+    assert check_run_option("instruction_budget", 1.5) == (
+        "instruction_budget must be a positive integer, got 1.5"
+    )
+    assert check_run_option("drives", "fast").startswith("expected one of ideal")
+    assert check_run_option("seed_config", [0, "x"]).startswith("expected a list of finite")
+    assert check_run_option("seed_config", [0.0, 90, -90]) is None
+    assert check_run_option("colour", 1) == "unknown run option 'colour'"
