@@ -16,6 +16,7 @@ robot must be able to stand still), position bounds contain the current joints (
 
 from __future__ import annotations
 
+from irlc.lang.joint_kinds import kind_from_letter
 from irlc.lang.settings import ALL_KINDS, BY_WITH_WORD, PATH_KINDS, reconfiguration_counts
 from irlc.runtime import builtins as B
 from irlc.runtime import units
@@ -96,8 +97,7 @@ class MotionOps:
     # ------------------------------------------------------------------ limit options
 
     def _joint_unit(self, i: int, derivative: int) -> str:
-        kind = units.REVOLUTE if self.code.joint_kinds[i] == "R" else units.PRISMATIC
-        return units.joint_unit_label(kind, derivative)
+        return units.joint_unit_label(kind_from_letter(self.code.joint_kinds[i]), derivative)
 
     def _joint_labels(self) -> tuple[str, ...]:
         """Joint names for messages (the naming rule: the program's name, the robot's in
