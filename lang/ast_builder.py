@@ -14,9 +14,9 @@ import re
 from irlc.lang import ast
 from irlc.lang.diagnostics import Diagnostic, Span
 from irlc.lang.errors import IrlcError
-from irlc.lang.irdata import parse_integer
 from irlc.lang.types import INT_MAX
 from irlc.lang.typos import MISSPELLED, misspelled_keyword
+from irlc.lang.value_ranges import parse_integer
 from lark import Token, Transformer
 
 

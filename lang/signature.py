@@ -13,6 +13,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
+from irlc.lang import joint_kinds
+
 
 @runtime_checkable
 class RobotSignature(Protocol):
@@ -48,11 +50,9 @@ class SimpleRobot:
 
 
 def kind_letters(sig: RobotSignature) -> str:
-    """``"RRP..."``: one letter per joint, as in the IRDATA ``ROBOT`` record."""
-    out = []
-    for k in sig.joint_kinds:
-        letter = str(k)[:1].upper()
-        if letter not in ("R", "P"):
-            raise ValueError(f"robot {sig.name}: unknown joint kind {k!r}")
-        out.append(letter)
-    return "".join(out)
+    """``"RRP..."``: one letter per joint, as in the IRDATA ``ROBOT`` record
+    (:func:`irlc.lang.joint_kinds.kind_letters`)."""
+    try:
+        return joint_kinds.kind_letters(sig.joint_kinds)
+    except ValueError as e:
+        raise ValueError(f"robot {sig.name}: {e}") from None

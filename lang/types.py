@@ -11,10 +11,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from irlc.lang.irdata import INT_MAX as INT_MAX  # re-exported: T.…
-from irlc.lang.irdata import INT_MIN as INT_MIN
-from irlc.lang.irdata import JOINT_TUPLE_TYPES as JOINT_TUPLE_TYPES
-from irlc.lang.irdata import integer_overflow as integer_overflow
+from irlc.lang.irdata_model import JOINT_TUPLE_TYPES as JOINT_TUPLE_TYPES
+from irlc.lang.value_ranges import INT_MAX as INT_MAX  # re-exported: T.…
+from irlc.lang.value_ranges import INT_MIN as INT_MIN
+from irlc.lang.value_ranges import integer_overflow as integer_overflow
 
 
 @dataclass(frozen=True)

@@ -15,6 +15,7 @@ Each row also carries the joint's limits (:mod:`irlc.robots.limits`), ``offset``
 from __future__ import annotations
 
 import numpy as np
+from irlc.lang.joint_kinds import KINDS
 from irlc.robots.limits import read_joint_limits
 from irlc.robots.model import Joint
 from irlc.robots.toml_reader import Reader
@@ -61,7 +62,7 @@ def read_chain(rd: Reader, robot: dict, doc: dict, assumed: dict) -> tuple[list[
         names.add(name)
         if "kind" not in row:
             raise rd.fail(f"{key}.kind", "missing; expected 'revolute' or 'prismatic'")
-        kind = rd.string(row["kind"], f"{key}.kind", ("revolute", "prismatic"))
+        kind = rd.string(row["kind"], f"{key}.kind", KINDS)
         j_assumed, reason = rd.assumption(row, key)
         if j_assumed:
             assumed[key] = reason

@@ -5,7 +5,7 @@
 shape. It holds the file's units (``[robot].units``: ``angle`` deg | rad, ``length`` m |
 mm); the readers multiply by them, so everything past the reader is SI. Robot geometry
 (transform offsets, link vectors, collision shapes) must lie in the physical range of
-geometry that obstacles share (:func:`irlc.lang.irdata.geometry_problem`).
+geometry that obstacles share (:func:`irlc.lang.geometry_range.geometry_problem`).
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 from irlc.lang.errors import IrlcError
-from irlc.lang.irdata import geometry_problem
+from irlc.lang.geometry_range import geometry_problem
 from irlc.runtime.spatial import zyx_to_matrix
 
 ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
@@ -173,7 +173,7 @@ def show(value: Any) -> str:
 
 
 def robot_geometry_problem(what: str, values_m, unit: str = "m") -> str | None:
-    """:func:`~irlc.lang.irdata.geometry_problem` of robot geometry given in SI metres,
+    """:func:`~irlc.lang.geometry_range.geometry_problem` of robot geometry given in SI metres,
     the message speaking ``unit`` (the file's length unit)."""
     scale = LENGTH_UNITS[unit]
     values = np.asarray(values_m, dtype=float).ravel() / scale

@@ -38,7 +38,7 @@ def malformed(message: str) -> RunFailure:
 def checked(x: float | int, what: str = "arithmetic") -> float | int:
     """Reject integer overflow and non-finite reals."""
     if isinstance(x, int):
-        overflow = integer_overflow(x)  # the one INTEGER range: lang/irdata.py
+        overflow = integer_overflow(x)  # the one INTEGER range: lang/value_ranges.py
         if overflow is not None:
             raise RunFailure(f"{what}: {overflow}")
         return x

@@ -12,13 +12,12 @@ import math
 from collections.abc import Sequence
 
 import numpy as np
+from irlc.lang.joint_kinds import PRISMATIC as PRISMATIC  # the joint kinds' owner
+from irlc.lang.joint_kinds import REVOLUTE as REVOLUTE
 from irlc.runtime import spatial
 
 MM = 1e-3  # metres per millimetre
 DEG = math.pi / 180.0  # radians per degree
-
-REVOLUTE = "revolute"
-PRISMATIC = "prismatic"
 
 # Below this magnitude a value in program units (mm, deg, s and their rates) is
 # round-off of a zero (a 1e-16 relative error on a 1e3-scale quantity, a sum of

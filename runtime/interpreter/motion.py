@@ -10,12 +10,13 @@ controller with a snapshot of the current :class:`Settings` (system variables) a
 The WITH words and the system variables are rows of :mod:`irlc.lang.settings`; the limit
 options' rows are :data:`LIMIT_OPTIONS`. A limit option's bounds are checked here, where the
 program's units are known: lower ≤ upper, speed and acceleration bounds contain 0 (the
-robot must be able to stand still), position bounds contain the current joints (within
-:data:`LIMIT_TOLERANCE`).
+robot must be able to stand still), position bounds contain the current joints (the one
+check, tolerance and message: :mod:`irlc.runtime.limit_check`).
 """
 
 from __future__ import annotations
 
+from irlc.lang.joint_kinds import kind_from_letter
 from irlc.lang.settings import ALL_KINDS, BY_WITH_WORD, PATH_KINDS, reconfiguration_counts
 from irlc.runtime import builtins as B
 from irlc.runtime import units
@@ -23,6 +24,7 @@ from irlc.runtime import values as V
 from irlc.runtime.controller import MotionCommand, check_setting
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.interpreter.datatypes import number
+from irlc.runtime.limit_check import first_outside, limit_failure, program_tolerances
 from irlc.runtime.values import JointTuple, Pose
 
 MOVE_NUMBERS = {word: s.field for word, s in BY_WITH_WORD.items()}  # WITH word → field
@@ -31,7 +33,7 @@ LIMIT_OPTIONS = {  # option → (field of MotionCommand / ModalOptions, derivati
     "JOINTSPEEDLIMIT": ("speed_limits", 1),
     "JOINTACCELLIMIT": ("accel_limits", 2),
 }
-LIMIT_TOLERANCE = 1e-6  # deg | mm (per derivative) when checking a bound against the state
+LIMIT_TOLERANCE = 1e-6  # deg/s | mm/s (per derivative): how far a rate bound may exclude 0
 _POINT_COUNTS = {"CIRCLE": 2, "PTP": 1, "PTPINC": 1, "LININC": 1}  # LIN, LINPATH: any
 
 
@@ -96,8 +98,7 @@ class MotionOps:
     # ------------------------------------------------------------------ limit options
 
     def _joint_unit(self, i: int, derivative: int) -> str:
-        kind = units.REVOLUTE if self.code.joint_kinds[i] == "R" else units.PRISMATIC
-        return units.joint_unit_label(kind, derivative)
+        return units.joint_unit_label(kind_from_letter(self.code.joint_kinds[i]), derivative)
 
     def _joint_labels(self) -> tuple[str, ...]:
         """Joint names for messages (the naming rule: the program's name, the robot's in
@@ -132,19 +133,17 @@ class MotionOps:
         return lo, hi
 
     def _check_joints_inside(self, option: str, lo: JointTuple, hi: JointTuple) -> None:
+        """The current joints inside ``[lo, hi]`` (program units): runtime/limit_check.py."""
+        kinds = [kind_from_letter(k) for k in self.code.joint_kinds]
         q = self._ctl(self.controller.joints)
-        fmt = V.format_real
-        for i, (v, a, b) in enumerate(zip(q, lo.values, hi.values, strict=True)):
-            name, unit = self._joint_labels()[i], self._joint_unit(i, 0)
-            if v < a - LIMIT_TOLERANCE or v > b + LIMIT_TOLERANCE:
-                below = v < a
-                side, bound = ("lower", a) if below else ("upper", b)
-                raise RunFailure(
-                    f"{option} excludes the current state: joint {name} is at {fmt(v)} {unit},"
-                    f" {'below' if below else 'above'} the {side} bound {fmt(bound)} {unit}",
-                    constraint=f"joint {name} position {'min' if below else 'max'}"
-                    f" {fmt(bound)} {unit}",
-                )
+        out = first_outside(q, lo.values, hi.values, program_tolerances(kinds))
+        if out is not None:
+            name, unit = self._joint_labels()[out.joint], self._joint_unit(out.joint, 0)
+            fmt = V.format_real
+            subject = f"{option} excludes the current state"
+            raise limit_failure(
+                subject, out, name, f"{fmt(out.value)} {unit}", f"{fmt(out.bound)} {unit}"
+            )
 
     # ------------------------------------------------------------------ OPTON / OPTOFF
 

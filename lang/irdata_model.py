@@ -1,0 +1,131 @@
+"""IRDATA code in memory: the format's words (version, opcodes, system variables, motion
+kinds, modal options) and the tables of a compiled program (``docs/irdata.md``)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from irlc.lang.settings import ALL_KINDS
+from irlc.lang.settings import SYSTEM_VARIABLES as _SYSTEM_VARIABLES
+
+FORMAT_VERSION = 1
+MAGIC = f"IRDATA {FORMAT_VERSION}"
+
+JOINT_TUPLE_TYPES = (
+    "MAIN_JOINT",
+    "MAIN_JOINT_MIN",
+    "MAIN_JOINT_MAX",
+    "MAIN_JOINT_SPEED_MIN",
+    "MAIN_JOINT_SPEED_MAX",
+    "MAIN_JOINT_ACCEL_MIN",
+    "MAIN_JOINT_ACCEL_MAX",
+)
+SYSTEM_VARIABLES = tuple(_SYSTEM_VARIABLES)  # names; their rows: lang/settings.py
+MOVE_KINDS = ALL_KINDS
+MODAL_OPTIONS = ("JOINTLIMIT", "JOINTSPEEDLIMIT", "JOINTACCELLIMIT", "CYCLIC", "OBSTACLE", "FREEZE")
+
+# Operand signatures: i = integer, w = word, t = jump target, * = any number of int/word.
+OPCODES: dict[str, str] = {
+    "PUSHC": "i", "PUSHG": "i", "POPG": "i", "PUSHL": "i", "POPL": "i",
+    "REFG": "i", "REFL": "i", "PUSHSYS": "w", "POPSYS": "w", "POP": "", "DUP": "",
+    "GETF": "w", "SETF": "w", "GETI": "", "SETI": "",
+    "ADD": "", "SUB": "", "MUL": "", "DIV": "", "IDIV": "", "MOD": "", "NEG": "", "NOT": "",
+    "EQ": "", "NE": "", "LT": "", "GT": "", "LE": "", "GE": "",
+    "AND": "", "OR": "", "XOR": "", "COMPOSE": "",
+    "MAKE": "wi", "CALLB": "wi", "CALL": "ii", "RET": "", "RETV": "",
+    "JMP": "t", "JF": "t", "JT": "t", "HALT": "", "PAUSE": "", "END": "",
+    "WAIT": "", "WAITFOR": "t", "PUSHIN": "", "SIGOUT": "i", "WRITE": "i", "WRITELN": "i",
+    "OUTSET": "", "PUSHOUT": "", "PULSE": "",
+    "MOVE": "wi*", "RECONF": "", "OPTON": "w*", "OPTOFF": "w*",
+}  # fmt: skip
+
+
+@dataclass(frozen=True)
+class Target:
+    """A jump or entry target: the index of an instruction in ``Code.code``."""
+
+    index: int
+
+
+Operand = int | str | Target
+
+
+@dataclass(frozen=True)
+class Instruction:
+    op: str
+    args: tuple[Operand, ...] = ()
+    line: int = 0  # source line (0: generated)
+
+
+@dataclass(frozen=True)
+class Value:
+    """A constant in program units: ``type`` is an IRDATA type name, ``data`` its fields."""
+
+    type: str
+    data: tuple
+
+
+@dataclass(frozen=True)
+class Slot:
+    index: int
+    type: str
+    name: str
+    by_ref: bool = False
+
+
+@dataclass
+class Routine:
+    index: int
+    name: str
+    kind: str  # "MAIN" | "PROC" | "FUNC:<TYPE>"
+    entry: int  # index into Code.code
+    params: list[Slot] = field(default_factory=list)
+    locals: list[Slot] = field(default_factory=list)
+
+    @property
+    def result_type(self) -> str | None:
+        return self.kind[5:] if self.kind.startswith("FUNC:") else None
+
+
+@dataclass(frozen=True)
+class ObstacleDef:
+    """An obstacle from a data list: ``fields`` maps key → numbers (mm / deg), in order."""
+
+    name: str
+    kind: str
+    fields: tuple[tuple[str, tuple[float, ...]], ...]
+
+    def get(self, key: str) -> tuple[float, ...] | None:
+        return dict(self.fields).get(key)
+
+
+@dataclass(frozen=True)
+class RecordType:
+    index: int
+    fields: tuple[tuple[str, str], ...]  # (name, type)
+
+
+@dataclass
+class Code:
+    program: str
+    source: str
+    robot_var: str
+    robot: str
+    joint_kinds: str  # one letter per joint: R | P
+    joint_names: tuple[str, ...]
+    datalists: list[tuple[str, str]] = field(default_factory=list)
+    consts: list[Value] = field(default_factory=list)
+    obstacles: list[ObstacleDef] = field(default_factory=list)
+    inputs: dict[int, list[tuple[float, bool]]] = field(default_factory=dict)
+    types: list[RecordType] = field(default_factory=list)
+    globals: list[Slot] = field(default_factory=list)
+    routines: list[Routine] = field(default_factory=list)
+    code: list[Instruction] = field(default_factory=list)
+
+    @property
+    def joint_count(self) -> int:
+        return len(self.joint_kinds)
+
+    def obstacle(self, name: str) -> ObstacleDef | None:
+        key = name.lower()
+        return next((o for o in self.obstacles if o.name.lower() == key), None)
