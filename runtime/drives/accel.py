@@ -45,7 +45,7 @@ class AcceleratedLoop:
         k = _module()
         self.k, self.sim, self.bank = k, sim, bank
         c, frc, trans = sim.p.chain, sim.p.friction, sim.trans
-        n, m = sim.n, len(sim.axes)
+        m = len(sim.axes)
         par = np.zeros((m, k.N_PAR))
         for idx, value in (
             (k.KZ, c.kz), (k.KE, c.ke), (k.KP, c.kp), (k.KI, c.ki), (k.ULIM, c.u_ref_max),
@@ -54,17 +54,7 @@ class AcceleratedLoop:
         ):  # fmt: skip
             par[:, idx] = value
         self.par = par
-        self.lin, self.rows = np.zeros((m, n)), np.zeros(0, dtype=np.int64)
-        self.coef, self.lev = np.zeros((0, n)), np.zeros((0, k.N_LEV))
-        if trans.diagonal:
-            self.lin[np.arange(m), sim.axes] = trans.ratio
-        elif trans.matrix is not None:
-            self.lin[:] = trans.matrix
-        else:
-            self.lin[:] = trans._lin
-            self.rows = trans._rows.astype(np.int64)
-            self.coef = np.ascontiguousarray(trans._coef)
-            self.lev = np.stack([trans._sq, trans._ab2, trans._phi0, trans._gain, trans._s0], 1)
+        self.trans = trans.data  # the packed motor map (public, read-only)
         self.static_j, self.running_j = static_j, running_j
         self.ist = np.zeros(k.N_IST, dtype=np.int64)
         self.fst = np.array([sim.h, 0.0, 0.0])
@@ -102,7 +92,8 @@ class AcceleratedLoop:
             ist[k.START], ist[k.FRESH], ist[k.S0] = s, fresh, refresh.s0
             s = k.run_segment(
                 ist, fst, self.par, bank.fused, bank.limits, bank.loop.big, theta_ref,
-                self.lin, self.rows, self.coef, self.lev, self.static_j, self.running_j,
+                self.trans.linear, self.trans.rows, self.trans.angle, self.trans.lever,
+                self.static_j, self.running_j,
                 q, qd, xv, xi, xu, mm, hb, m_inv, refresh.q0, refresh.qd0,
                 rec["q"], rec["qd"], rec["tau"], rec["f"], rec_i, rec_u, sat_rec,
                 energy, copper,

@@ -28,6 +28,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from irlc.runtime.drives.transmission import (
+    LEVER_AB2,
+    LEVER_GAIN,
+    LEVER_PHI0,
+    LEVER_S0,
+    LEVER_SQ,
+)
 from numba import njit
 
 # ist
@@ -39,9 +46,10 @@ N_FST = 3
 # par (per axis)
 KZ, KE, KP, KI, ULIM, R, L, KS, U, IMAX, RUN_M, VISC_M, BAND = range(13)
 N_PAR = 13
-# lev (per screw-lever row)
-LEV_SQ, LEV_AB2, LEV_PHI0, LEV_GAIN, LEV_S0 = range(5)
-N_LEV = 5
+# lev (per screw-lever row): the columns of TransmissionData.lever
+LEV_SQ, LEV_AB2, LEV_PHI0, LEV_GAIN, LEV_S0 = (
+    LEVER_SQ, LEVER_AB2, LEVER_PHI0, LEVER_GAIN, LEVER_S0
+)  # fmt: skip
 
 
 @njit(cache=True)
@@ -226,6 +234,30 @@ def _due(s, q, qd, q0, qd0, ist, fst):
 
 
 @njit(cache=True)
+def _transmission(lin, rows, coef, lev, q, theta, kmat):
+    """``Transmission.motor_and_jacobian`` on :class:`TransmissionData`'s arrays:
+    ``θ_m = L q`` and ``K = L``, then the screw-lever rows ``θ_m = gain (s − s0)``,
+    ``K = gain·½·2ab·sin(φ + φ0)/s · C``."""
+    m, n = lin.shape
+    for a in range(m):
+        acc = 0.0
+        for j in range(n):
+            kmat[a, j] = lin[a, j]
+            acc += q[j] * lin[a, j]
+        theta[a] = acc
+    for r in range(rows.shape[0]):
+        a = rows[r]
+        v = lev[r, LEV_PHI0]
+        for j in range(n):
+            v += coef[r, j] * q[j]
+        sq = math.sqrt(lev[r, LEV_SQ] - lev[r, LEV_AB2] * math.cos(v))
+        theta[a] = lev[r, LEV_GAIN] * (sq - lev[r, LEV_S0])
+        dk = lev[r, LEV_GAIN] * 0.5 * lev[r, LEV_AB2] * math.sin(v) / sq
+        for j in range(n):
+            kmat[a, j] = dk * coef[r, j]
+
+
+@njit(cache=True)
 def run_segment(
     ist, fst, par, fused, lim5, big, theta_ref, lin, rows, coef, lev, static_j, running_j,
     q, qd, xv, xi, xu, mm, hb, m_inv, q0, qd0,
@@ -236,7 +268,6 @@ def run_segment(
     n = q.shape[0]
     m = xv.shape[0]
     h = fst[H]
-    nl = rows.shape[0]
     sticky = ist[STICKY] != 0
     sliding = ist[SLIDING] != 0
     theta = np.empty(m)
@@ -258,23 +289,7 @@ def run_segment(
     for s in range(ist[START], ist[STEPS]):
         if not (s == ist[START] and ist[FRESH] != 0) and _due(s, q, qd, q0, qd0, ist, fst):
             return s
-        # transmission: θ_m, K(q), ω_m
-        for a in range(m):
-            acc = 0.0
-            for j in range(n):
-                kmat[a, j] = lin[a, j]
-                acc += q[j] * lin[a, j]
-            theta[a] = acc
-        for r in range(nl):
-            a = rows[r]
-            v = lev[r, LEV_PHI0]
-            for j in range(n):
-                v += coef[r, j] * q[j]
-            sq = math.sqrt(lev[r, LEV_SQ] - lev[r, LEV_AB2] * math.cos(v))
-            theta[a] = lev[r, LEV_GAIN] * (sq - lev[r, LEV_S0])
-            dk = lev[r, LEV_GAIN] * 0.5 * lev[r, LEV_AB2] * math.sin(v) / sq
-            for j in range(n):
-                kmat[a, j] = dk * coef[r, j]
+        _transmission(lin, rows, coef, lev, q, theta, kmat)  # θ_m, K(q)
         any_stuck = False
         for a in range(m):
             acc = 0.0

@@ -63,13 +63,12 @@ def warm_up() -> float:
         Joint(f"J{i}", "revolute", link if i else np.eye(4), axis, limits) for i in range(3)
     )
     model = RobotModel(name="warmup", joints=joints, flange=link)
-    ik = InverseTransformation(model, Kinematics(model), IKParams(task_rows=(0, 1), accel=False))
-    ik._accel = AcceleratedCycle(ik)
     compile_seconds = -1.0  # (the cycle below must not recurse into warm_up)
+    ik = InverseTransformation(model, Kinematics(model), IKParams(task_rows=(0, 1), accel=True))
     q = np.array([0.1, 0.2, 0.3])
     target = ik.kin.tcp(q)
     target[0, 3] += 1e-3
-    ik._accel.step(q, q, target, 0.01, ik._default)
+    ik.step(q, q, target, 0.01)
     compile_seconds = time.perf_counter() - t0
     return compile_seconds
 
@@ -84,12 +83,7 @@ class AcceleratedCycle:
         kin = ik.kin
         n, m = ik.n, ik.rows.size
         nz = max(n - m, 0)
-        self.kb = np.ascontiguousarray(kin._basis)  # (n, 4, 16)
-        self.kj = np.empty((n, 5))
-        self.kj[:, 0] = kin._offsets
-        self.kj[:, 1:4] = kin._axes
-        self.kj[:, 4] = kin._revolute
-        self.ends = np.empty((2, 4, 4))
+        self.chain = kin.chain_data  # packed, read-only (re-read per cycle: R_TOOL)
         self.rows = np.ascontiguousarray(ik.rows, dtype=np.int64)
         coupled = ik.coupled
         self.A = np.zeros((0, n)) if coupled is None else np.ascontiguousarray(coupled.A)
@@ -117,7 +111,6 @@ class AcceleratedCycle:
         self.ist = np.zeros(k.N_IST, dtype=np.int64)
         self.fst = np.zeros(k.N_FST)
         self.cand = np.empty((4, 2, n))
-        self.boxc = np.empty((4, 2, n))
         self._box_key = None
         p = ik.params
         ist, fst = self.ist, self.fst
@@ -134,12 +127,10 @@ class AcceleratedCycle:
         c = self.ik.box.constants(position, speed, accel, dt)
         if self._box_key is not c:
             self._box_key = c
-            self.boxc[0] = c.signed_pos
-            self.boxc[1] = c.signed_speed
-            self.boxc[2] = c.signed_accel
-            self.boxc[3] = c.two_over_eps
-            self.ist[self.k.ACCEL_BOUNDED] = int(c.accel_bounded)
-            self.fst[self.k.DTOL] = c.dtol
+            data = c.data  # packed, read-only
+            self.boxc = data.signed
+            self.ist[self.k.ACCEL_BOUNDED] = int(data.accel_bounded)
+            self.fst[self.k.DTOL] = data.dtol
         return c
 
     def _sync_basis(self) -> None:
@@ -159,7 +150,7 @@ class AcceleratedCycle:
         from irlc.runtime.ik.newton import IKFailure
 
         k, ik = self.k, self.ik
-        lim = ik._limits
+        lim = ik.limits
         position = lim[0] if opts.position is None else opts.position
         speed = lim[1] if opts.speed is None else opts.speed
         accel = lim[2] if opts.accel is None else opts.accel
@@ -176,14 +167,13 @@ class AcceleratedCycle:
         ist[k.SELF_MOTION] = bool(opts.self_motion)
         ist[k.BOX_READY] = 0
         ist[k.PHASE] = k.P_START
-        self.ends[0] = ik.kin._base
-        self.ends[1] = ik.kin._end
+        chain = self.chain = ik.kin.chain_data
         self._sync_basis()
         bounds = np.empty((2, ik.n))
         cand = self.cand
         target = np.ascontiguousarray(target, dtype=float)
         args = (
-            self.kb, self.kj, self.ends, target, self.boxc, cand, bounds, V, self.frames,
+            chain.basis, chain.joints, chain.ends, target, self.boxc, cand, bounds, V, self.frames,
             self.tcp, self.J6, self.Jt, self.F, self.rows, self.perm, self.aug, self.N,
             self.Ht, self.gt, self.Ct, self.bt, self.Hr, self.gr, self.A, self.bound_d,
             self.active, self.mult, ist, fst,

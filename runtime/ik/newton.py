@@ -89,7 +89,7 @@ class InverseTransformation:
         self._lower, self._upper = self._bounds
         self._frozen_cache: tuple[tuple, FrozenJoints] | None = None
         self._no_frozen = FrozenJoints(n, {})
-        self._limits = (model.position_limits, model.speed_limits, model.accel_limits)
+        self.limits = (model.position_limits, model.speed_limits, model.accel_limits)
         self._default = CycleOptions()
         self._weighted = WeightedDisplacement(self.weights)
         self._conf = WeightedDisplacement(self.weights, self.params.obstacle.a_conf)
@@ -112,6 +112,10 @@ class InverseTransformation:
     @naming.setter
     def naming(self, value: JointNaming | None) -> None:
         self.box.naming = value
+
+    limits: tuple[np.ndarray, np.ndarray, np.ndarray]
+    """The robot's own (position, speed, accel) limits, ``(n, 2)`` SI each — what a
+    cycle uses where its options give none."""
 
     @property
     def accelerated(self) -> bool:
@@ -142,7 +146,7 @@ class InverseTransformation:
             _require_finite("target pose", target)
         if self._accel is not None and not opts.frozen and not self._avoids(opts):
             return self._step_accel(q_start, q_prev, target, dt, opts)
-        lim = self._limits
+        lim = self.limits
         acc = lim[2] if opts.accel is None else opts.accel
         box = self.box
         box.prepare(
