@@ -7,10 +7,16 @@ closed-form 1-D QP, QP data — and calls quadprog from Python only for the gene
 (``n − m > 1``) and the relaxed QP. Results equal the numpy path to rounding (tested in
 ``tests/ik/test_accel.py``).
 
-Covered: the default criterion, CYCLIC / WITH RECONFIGURATION, RECONFIGURATION
-(self-motion), position/speed/acceleration limits with braking, coupled joint limits,
-any task rows, reported (not avoided) obstacles. Not covered (the numpy path runs):
-FREEZE, active OBSTACLE avoidance, ``solver="daqp"``, ``max_iter < 1``.
+Covered: every cycle option — the default criterion, CYCLIC / WITH RECONFIGURATION,
+RECONFIGURATION (self-motion), position/speed/acceleration limits with braking, coupled
+joint limits, any task rows, FREEZE (the step over the free joints, the frozen ones
+stepping to their held values), reported and avoided obstacles (OBSTACLE: the criterion's
+terms — any number of critical points — are computed in Python once per cycle, at the
+first iterate, from the kernel's frames, and passed in as arrays; the full ``H`` then
+goes through the general compact QP). Not covered (the numpy path runs):
+``solver="daqp"``, ``max_iter < 1``. The kernels read only public packed data:
+:attr:`Kinematics.chain_data`, the box constants' ``data`` (:class:`BoxData`), the
+coupled rows' ``A`` / ``bound_d`` and the cycle's options.
 
 **When it is used** (:func:`use_accel`): ``IKParams.accel`` ``True`` (always, compiling
 if needed), ``False`` (never) or ``None`` (default: whenever numba is importable — the
@@ -73,6 +79,40 @@ def warm_up() -> float:
     return compile_seconds
 
 
+class _Problem:
+    """The step's problem over the free joints (all joints without FREEZE): its sizes and
+    the buffers of the split, the QPs and the active set."""
+
+    def __init__(self, cycle: AcceleratedCycle, frozen):
+        k, n, m = cycle.k, cycle.n, cycle.m
+        self.frozen = frozen  # FrozenJoints, or None
+        if frozen is None:
+            nf, self.V, self.J, self.F = n, cycle.V, cycle.Jt, cycle.F
+            self.H, self.A, self.bound = cycle.H, cycle.A, None  # (bound: the cycle's own)
+            self.free = self.fz = np.zeros(0, dtype=np.int64)
+            self.targets = np.zeros(0)
+        else:
+            nf = frozen.free.size
+            self.V, self.J, self.F = np.zeros((k.NV, nf)), np.empty((m, nf)), np.empty(m)
+            self.H = np.empty((nf, nf))
+            self.A = np.ascontiguousarray(cycle.A[:, frozen.free])
+            self.bound = np.empty(cycle.A.shape[0])
+            self.free = frozen.free.astype(np.int64)
+            self.fz = frozen.frozen.astype(np.int64)
+            self.targets = np.ascontiguousarray(frozen.targets, dtype=float)
+        nz, r = max(nf - m, 0), self.A.shape[0]
+        self.shape = (m, nf)
+        self.perm = np.zeros(nf, dtype=np.int64)
+        self.aug = np.empty((m, nf + 1))
+        self.N = np.zeros((nf, nz))
+        self.Ht, self.gt = np.empty((nz, nz)), np.empty(nz)
+        self.Ct, self.bt = np.empty((nz, 2 * nf + r)), np.empty(2 * nf + r)
+        self.Hrel, self.grel = np.empty((nf, nf)), np.empty(nf)
+        self.Crel = np.ascontiguousarray(np.hstack((np.eye(nf), -np.eye(nf), self.A.T)))
+        self.active = np.zeros(2 * nf + r, dtype=np.int64)
+        self.mult = np.zeros(2 * nf + r)
+
+
 class AcceleratedCycle:
     """Buffers of one :class:`InverseTransformation` for the compiled cycle."""
 
@@ -80,38 +120,31 @@ class AcceleratedCycle:
         k = _module()
         self.k = k
         self.ik = ik
-        kin = ik.kin
-        n, m = ik.n, ik.rows.size
-        nz = max(n - m, 0)
-        self.chain = kin.chain_data  # packed, read-only (re-read per cycle: R_TOOL)
+        self.n, self.m = n, m = ik.n, ik.rows.size
+        self.chain = ik.kin.chain_data  # packed, read-only (re-read per cycle: R_TOOL)
         self.rows = np.ascontiguousarray(ik.rows, dtype=np.int64)
         coupled = ik.coupled
         self.A = np.zeros((0, n)) if coupled is None else np.ascontiguousarray(coupled.A)
         self.bound_d = np.zeros(0)
-        r = self.A.shape[0]
         self.V = np.zeros((k.NV, n))
-        self.V[k.W] = ik.weights
+        self.weights = np.asarray(ik.weights, dtype=float)
+        self.conf_weights = ik.params.obstacle.a_conf * self.weights  # (as WeightedDisplacement)
+        self.V[k.W] = self.weights
         self.frames = np.empty((n + 1, 4, 4))
         self.tcp = np.empty((4, 4))
         self.J6 = np.empty((6, n))
         self.Jt = np.empty((m, n))
         self.F = np.empty(m)
-        self.perm = np.zeros(n, dtype=np.int64)
-        self.aug = np.empty((m, n + 1))
-        self.N = np.zeros((n, nz))
-        self.Ht = np.empty((nz, nz))
-        self.gt = np.empty(nz)
-        self.Ct = np.empty((nz, 2 * n + r))
-        self.bt = np.empty(2 * n + r)
-        self.Hr = np.empty((n, n))
-        self.gr = np.empty(n)
-        self.Cr = np.ascontiguousarray(np.hstack((np.eye(n), -np.eye(n), self.A.T)))
-        self.active = np.zeros(2 * n + r, dtype=np.int64)
-        self.mult = np.zeros(2 * n + r)
+        self.H = np.zeros((n, n))
+        self._no_terms = (np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3, n)), np.zeros((0, n, n)))
+        self.terms = self._no_terms
         self.ist = np.zeros(k.N_IST, dtype=np.int64)
         self.fst = np.zeros(k.N_FST)
         self.cand = np.empty((4, 2, n))
         self._box_key = None
+        self._full = _Problem(self, None)
+        self._problems: dict[tuple, _Problem] = {}
+        self.problem = self._full
         p = ik.params
         ist, fst = self.ist, self.fst
         ist[k.MAX_ITER] = p.max_iter
@@ -133,16 +166,62 @@ class AcceleratedCycle:
             self.fst[self.k.DTOL] = data.dtol
         return c
 
+    def _problem_for(self, frozen) -> _Problem:
+        """The reduced problem of a FREEZE set (cached per set), or the full one."""
+        if not frozen:
+            return self._full
+        key = (tuple(frozen.frozen.tolist()), tuple(frozen.targets.tolist()))
+        prob = self._problems.get(key)
+        if prob is None:
+            prob = self._problems[key] = _Problem(self, frozen)
+        return prob
+
     def _sync_basis(self) -> None:
         b = self.ik.stepper.basis
-        valid = b.columns is not None and b.shape == self.Jt.shape
+        prob = self.problem
+        valid = b.columns is not None and b.shape == prob.shape
         self.ist[self.k.BASIS_VALID] = int(valid)
         if valid:
-            self.perm[:] = b.columns
+            prob.perm[:] = b.columns
+
+    def _criteria(self, opts, active: list) -> None:
+        """The cost's form before the cycle: ``GENERAL`` (full ``H``: FREEZE, or more than
+        one criterion) and the diagonal weights ``V[W]`` / ``V[WC]`` — as
+        ``InverseTransformation._criteria`` / ``_single_diagonal`` choose them; with
+        avoided obstacles the choice waits for their terms (:meth:`_obstacle_terms`)."""
+        k, V, ist = self.k, self.V, self.ist
+        ist[k.NEED_TERMS] = int(bool(active))
+        self.terms = self._no_terms
+        V[k.W] = self.weights
+        V[k.WC] = 0.0
+        ist[k.GENERAL] = int(self.problem.frozen is not None)
+
+    def _obstacle_terms(self, opts, active: list) -> None:
+        """At the first iterate: the obstacle criterion's terms (:func:`obstacle_terms`,
+        at the kernel's frames) as arrays, and the cost's form with them."""
+        from irlc.runtime.ik.obstacle import obstacle_terms
+
+        k, V, ist, ik = self.k, self.V, self.ist, self.ik
+        terms = obstacle_terms(ik.kin, self.frames, active, ik.params.obstacle)
+        if terms:
+            self.terms = (
+                np.array([t.weight for t in terms]),
+                np.array([t.push for t in terms]),
+                np.array([t.jac for t in terms]),
+                np.array([t.jtj for t in terms]),
+            )
+        if opts.reference is not None:  # [CYCLIC, a_conf·W, terms…]: a full H
+            V[k.WC] = self.conf_weights
+            ist[k.GENERAL] = 1
+        else:  # [a_conf·W, terms…]: diagonal when no obstacle is near
+            V[k.W] = self.conf_weights
+            ist[k.GENERAL] = int(bool(terms) or self.problem.frozen is not None)
+        ist[k.NEED_TERMS] = 0
 
     # ------------------------------------------------------------------ the cycle
-    def step(self, q_start, q_prev, target, dt, opts):
-        """The numbers of ``InverseTransformation.step`` for the covered options; returns
+    def step(self, q_start, q_prev, target, dt, opts, frozen=None, active=()):
+        """The numbers of ``InverseTransformation.step``; ``frozen``: the cycle's
+        ``FrozenJoints`` (or None), ``active``: the avoided obstacles. Returns
         ``(theta, bounds, limits, outcome_active, outcome_mult)``; :meth:`snapshot` and
         :meth:`jacobian` copy the reused buffers only when the caller keeps them."""
         if compile_seconds is None:
@@ -158,6 +237,10 @@ class AcceleratedCycle:
         if ik.coupled is not None:
             ik.coupled.prepare(q_start, dt, accel)
             self.bound_d = ik.coupled.bound_d
+        prob = self.problem = self._problem_for(frozen)
+        if frozen is not None and frozen.free.size < self.m:  # (numpy's order: limits first)
+            ik.box.prepare(ik.model, q_start, q_prev, dt, position, speed, accel)
+            frozen.check_task(ik.model, self.m, ik.naming)
         V, ist, fst = self.V, self.ist, self.fst
         V[k.Q_START] = q_start
         V[k.Q_PREV] = q_prev
@@ -167,20 +250,23 @@ class AcceleratedCycle:
         ist[k.SELF_MOTION] = bool(opts.self_motion)
         ist[k.BOX_READY] = 0
         ist[k.PHASE] = k.P_START
+        self._criteria(opts, active)
         chain = self.chain = ik.kin.chain_data
         self._sync_basis()
-        bounds = np.empty((2, ik.n))
+        bounds = np.empty((2, self.n))
         cand = self.cand
         target = np.ascontiguousarray(target, dtype=float)
-        args = (
-            chain.basis, chain.joints, chain.ends, target, self.boxc, cand, bounds, V, self.frames,
-            self.tcp, self.J6, self.Jt, self.F, self.rows, self.perm, self.aug, self.N,
-            self.Ht, self.gt, self.Ct, self.bt, self.Hr, self.gr, self.A, self.bound_d,
-            self.active, self.mult, ist, fst,
-        )  # fmt: skip
+        bound_r = self.bound_d if prob.bound is None else prob.bound
         run = k.newton_cycle
         while True:
-            status = run(*args)
+            status = run(
+                chain.basis, chain.joints, chain.ends, target, self.boxc, cand, bounds, V,
+                self.frames, self.tcp, self.J6, self.Jt, self.F, self.rows, self.A,
+                self.bound_d, self.H, *self.terms, prob.free, prob.fz, prob.targets,
+                prob.V, prob.J, prob.F, prob.H, prob.A, bound_r, prob.perm, prob.aug, prob.N,
+                prob.Ht, prob.gt, prob.Ct, prob.bt, prob.Hrel, prob.grel, prob.active,
+                prob.mult, ist, fst,
+            )  # fmt: skip
             if status == k.S_DONE:
                 break
             if status == k.S_NEED_QP:
@@ -189,6 +275,8 @@ class AcceleratedCycle:
                 self._relaxed_qp()
             elif status == k.S_NEED_BASIS:
                 self._choose_basis()
+            elif status == k.S_NEED_TERMS:
+                self._obstacle_terms(opts, active)
             elif status == k.S_BOX_CHECK:
                 box = ik.box
                 box.prepare(ik.model, q_start, q_prev, dt, position, speed, accel)  # raises
@@ -196,7 +284,11 @@ class AcceleratedCycle:
                 cand[:] = box.cand
                 ist[k.BOX_READY] = 1
                 ist[k.PHASE] = k.P_START
-                args = (*args[:6], bounds, *args[7:])
+            elif status == k.S_FROZEN_FAR:
+                raise IKFailure(
+                    "frozen joints are away from their held values by more than the "
+                    "joint box allows in one cycle"
+                )
             else:  # S_BAD_STEP
                 raise IKFailure(
                     f"inverse transformation produced a non-finite step: {V[k.DTHETA].copy()}"
@@ -207,8 +299,8 @@ class AcceleratedCycle:
             V[k.THETA].copy(),
             bounds,  # fresh this cycle
             c.limits,
-            self.active[:nact].copy(),
-            self.mult[:nact].copy(),
+            prob.active[:nact].copy(),
+            prob.mult[:nact].copy(),
         )
 
     def snapshot(self, bounds, limits):
@@ -218,30 +310,33 @@ class AcceleratedCycle:
         return BoxSnapshot(bounds[0], bounds[1], self.cand.copy(), limits)
 
     def jacobian(self):
-        """A copy of the last Jacobian, or None when the cycle computed none."""
-        return self.Jt.copy() if self.ist[self.k.HAVE_J] else None
+        """A copy of the last Jacobian (its free columns under FREEZE), or None when the
+        cycle computed none."""
+        if not self.ist[self.k.HAVE_J]:
+            return None
+        frozen = self.problem.frozen
+        return self.Jt.copy() if frozen is None else self.Jt[:, frozen.free]
 
     # ------------------------------------------------------------------ Python parts
     def _hard_qp(self) -> None:
         """General compact QP: quadprog on the kernel's data; infeasible → relaxed."""
-        k, ist = self.k, self.ist
+        k, ist, prob = self.k, self.ist, self.problem
         try:
-            z, _, _, _, lagr, iact = quadprog.solve_qp(self.Ht, self.gt, self.Ct, self.bt, 0)
+            z, _, _, _, lagr, iact = quadprog.solve_qp(prob.Ht, prob.gt, prob.Ct, prob.bt, 0)
         except ValueError:
             ist[k.PHASE] = k.P_RELAX
             return
         rows = iact[iact > 0] - 1
         self._set_active(rows, lagr[rows] / self.fst[k.SCALE])
-        self.V[k.Z, : z.shape[0]] = z
+        prob.V[k.Z, : z.shape[0]] = z
         ist[k.PHASE] = k.P_APPLY_Z
 
     def _relaxed_qp(self) -> None:
-        k, ist = self.k, self.ist
+        k, ist, prob = self.k, self.ist, self.problem
         from irlc.runtime.ik.newton import IKFailure
 
-        C = self.Cr
         try:
-            z, _, _, _, lagr, iact = quadprog.solve_qp(self.Hr, self.gr, C, self.bt, 0)
+            z, _, _, _, lagr, iact = quadprog.solve_qp(prob.Hrel, prob.grel, prob.Crel, prob.bt, 0)
         except ValueError as exc:
             if self.A.shape[0] == 0:
                 raise FloatingPointError(f"relaxed QP failed ({exc})") from None
@@ -252,22 +347,35 @@ class AcceleratedCycle:
         rows = iact[iact > 0] - 1
         factor = self.fst[k.SCALE]
         self._set_active(rows, lagr[rows] * factor)
-        self.V[k.DTHETA] = z
+        prob.V[k.DTHETA] = z
         ist[k.RELAXED] = 1
         ist[k.SINGULAR] |= ist[k.LAST_SINGULAR]
+        if prob.frozen is not None and ist[k.LAST_SINGULAR]:
+            self._check_freeze(prob.frozen)
         ist[k.PHASE] = k.P_APPLY
+
+    def _check_freeze(self, frozen) -> None:
+        """``InverseTransformation._solve``: a singular free problem while the whole J
+        has full rank means FREEZE made the task impossible."""
+        from irlc.runtime.ik.freeze import FreezeError
+        from irlc.runtime.ik.newton import _full_rank
+
+        ik, m = self.ik, self.m
+        if m <= frozen.free.size and _full_rank(self.Jt, m):
+            raise FreezeError(frozen.describe_impossible(ik.model, m, ik.naming))
 
     def _set_active(self, rows, mult) -> None:
         cnt = rows.shape[0]
-        self.active[:cnt] = rows
-        self.mult[:cnt] = mult
+        prob = self.problem
+        prob.active[:cnt] = rows
+        prob.mult[:cnt] = mult
         self.ist[self.k.N_ACTIVE] = cnt
 
     def _choose_basis(self) -> None:
         """QR with column pivoting of the current J (``CompactBasis.choose``)."""
         k, ist, fst = self.k, self.ist, self.fst
         basis = self.ik.stepper.basis
-        ok = basis.choose(self.Jt)
+        ok = basis.choose(self.problem.J)
         self._sync_basis()
         if not ok:
             ist[k.LAST_SINGULAR] = 1

@@ -29,9 +29,10 @@ import numpy as np
 from numba import njit
 
 # phases (ist[PHASE]) the caller resumes with
-P_START, P_APPLY, P_APPLY_Z, P_SPLIT, P_RELAX = 0, 1, 2, 3, 4
+P_START, P_APPLY, P_APPLY_Z, P_SPLIT, P_RELAX, P_TERMS = 0, 1, 2, 3, 4, 5
 # statuses returned
 S_DONE, S_BOX_CHECK, S_NEED_BASIS, S_NEED_QP, S_NEED_RELAXED, S_BAD_STEP = 0, 1, 2, 3, 4, 5
+S_NEED_TERMS, S_FROZEN_FAR = 6, 7
 # ist indices
 (
     PHASE,
@@ -52,14 +53,18 @@ S_DONE, S_BOX_CHECK, S_NEED_BASIS, S_NEED_QP, S_NEED_RELAXED, S_BAD_STEP = 0, 1,
     BOX_READY,
     NPOS,
     HAVE_J,
+    GENERAL,
+    NEED_TERMS,
     N_IST,
-) = range(19)
-# fst indices
-TOL_P, TOL_O, COND_MAX, SINGULAR_COND, COND_LIMIT, RELAX_W, PE, OE, SCALE, DTOL, COND, N_FST = (
-    range(12)
+) = range(21)
+# fst indices (E0 … E0 + 5: the last task error, all six components)
+TOL_P, TOL_O, COND_MAX, SINGULAR_COND, COND_LIMIT, RELAX_W, PE, OE, SCALE, DTOL, COND, E0 = range(
+    12
 )
-# rows of the (NV, n) vector workspace V
-Q_START, Q_PREV, THETA, DTHETA, SIGMA, G, W, REF, DP, LOWER, UPPER, Z, NV = range(13)
+N_FST = E0 + 6
+# rows of the (NV, n) vector workspace V (WC: the extra diagonal a_conf·W of the general
+# cost; CFZ: the fixed steps θ⁰ − θ_k of the frozen joints, first n_frozen entries)
+Q_START, Q_PREV, THETA, DTHETA, SIGMA, G, W, REF, DP, LOWER, UPPER, Z, WC, CFZ, NV = range(15)
 
 _BIG = 1e30
 _TOL = 1e-9
@@ -380,6 +385,48 @@ def _hard_data(V, N, perm, m, A, bound_d, Ht, gt, Ct, bt, fst):
                 s += N[j, a] * w[j] * N[j, b]
             Ht[a, b] = s
             Ht[b, a] = s
+    _compact_rest(V, N, A, bound_d, Ht, gt, Ct, bt, fst)
+
+
+@njit(cache=True)
+def _hard_data_general(V, N, H, A, bound_d, Ht, gt, Ct, bt, fst):
+    """The compact QP for a full ``H`` (``compact.compact_box_qp`` + ``_with_rows``, as
+    ``NewtonStep.hard``): ``H̃ = Nᵀ(HN)``, ``g̃ = Nᵀ(g + HΔθ_p)``, scaled as ``solve_ct``."""
+    n, nz = N.shape
+    dp, g = V[DP], V[G]
+    hn = np.empty((n, nz))
+    v = np.empty(n)
+    for i in range(n):
+        s = g[i]
+        t = 0.0
+        for j in range(n):
+            t += H[i, j] * dp[j]
+        v[i] = s + t
+        for a in range(nz):
+            t = 0.0
+            for j in range(n):
+                t += H[i, j] * N[j, a]
+            hn[i, a] = t
+    for a in range(nz):
+        s = 0.0
+        for j in range(n):
+            s += N[j, a] * v[j]
+        gt[a] = s
+        for b in range(nz):
+            s = 0.0
+            for j in range(n):
+                s += N[j, a] * hn[j, b]
+            Ht[a, b] = s
+    _compact_rest(V, N, A, bound_d, Ht, gt, Ct, bt, fst)
+
+
+@njit(cache=True)
+def _compact_rest(V, N, A, bound_d, Ht, gt, Ct, bt, fst):
+    """Scale ``(H̃, g̃)`` to max diag H̃ = 1 (``QuadprogSolver.solve_ct``; ``fst[SCALE]``)
+    and write the box columns ``[N, −N]`` and coupled columns ``(AN)ᵀ`` with their right
+    sides ``[lower − Δθ_p; Δθ_p − upper; b − AΣ − AΔθ_p]``."""
+    n, nz = N.shape
+    dp = V[DP]
     hmax = 0.0
     for a in range(nz):
         hmax = max(hmax, Ht[a, a])
@@ -406,17 +453,17 @@ def _hard_data(V, N, perm, m, A, bound_d, Ht, gt, Ct, bt, fst):
 
 
 @njit(cache=True)
-def _relaxed_data(V, Jt, F, A, bound_d, Hr, gr, bt, fst):
-    """Relaxed QP data. Box only (``relaxed_diagonal``): ``JᵀJ + W/ρ``, ``−(JᵀF + g/ρ)``,
-    multipliers ×ρ. With coupled rows (``relaxed``): ``(W + ρJᵀJ)·s``, ``−(g + ρJᵀF)·s``,
-    ``s = 1/max diag``, multipliers ÷s. ``fst[SCALE]`` is the multiplier factor."""
+def _relaxed_data(V, Jt, F, A, bound_d, H, general, Hr, gr, bt, fst):
+    """Relaxed QP data. Diagonal cost, box only (``relaxed_diagonal``): ``JᵀJ + W/ρ``,
+    ``−(JᵀF + g/ρ)``, multipliers ×ρ. With coupled rows or a full ``H`` (``general``;
+    ``relaxed``): ``(H + ρJᵀJ)·s``, ``−(g + ρJᵀF)·s``, ``s = 1/max diag``, multipliers
+    ÷s; ``ρ = relax_weight·max diag H``. ``fst[SCALE]`` is the multiplier factor."""
     m, n = Jt.shape
     w, g = V[W], V[G]
     wmax = 0.0
     for j in range(n):
-        wmax = max(wmax, w[j])
+        wmax = max(wmax, H[j, j] if general else w[j])
     rho = fst[RELAX_W] * wmax
-    coupled = A.shape[0] > 0
     for a in range(n):
         for b in range(a, n):
             s = 0.0
@@ -428,7 +475,7 @@ def _relaxed_data(V, Jt, F, A, bound_d, Hr, gr, bt, fst):
         for i in range(m):
             s += Jt[i, a] * F[i]
         gr[a] = s
-    if not coupled:
+    if not general and A.shape[0] == 0:
         inv = 1.0 / rho
         for a in range(n):
             Hr[a, a] += w[a] * inv
@@ -438,7 +485,10 @@ def _relaxed_data(V, Jt, F, A, bound_d, Hr, gr, bt, fst):
         for a in range(n):
             for b in range(n):
                 Hr[a, b] *= rho
-            Hr[a, a] += w[a]
+                if general:
+                    Hr[a, b] += H[a, b]
+            if not general:
+                Hr[a, a] += w[a]
             gr[a] = g[a] + rho * gr[a]
         hmax = 0.0
         for a in range(n):
@@ -460,8 +510,83 @@ def _relaxed_data(V, Jt, F, A, bound_d, Hr, gr, bt, fst):
 
 
 @njit(cache=True)
-def _evaluate(kb, kj, ends, target, frames, local, tcp, e6, rows, V, ist, fst):
-    """FK, TCP, task error norms at ``θ``."""
+def _general_cost(V, H, ow, opush, ojac, ojtj):
+    """The full cost of ``InverseTransformation._cost`` (after the criterion's ``g`` in
+    ``V[G]``): ``g += a_conf·W∘Σ`` (``V[WC]``), ``H = diag(W + a_conf·W)``, and per
+    obstacle term ``t`` (:class:`obstacle.ObstacleTerm`, weight ``ω_t ≠ 0``):
+    ``g −= ω_t·J_tᵀ(αv_t − J_tΣ)``, ``H += ω_t·J_tᵀJ_t``."""
+    n = V.shape[1]
+    sigma, g = V[SIGMA], V[G]
+    for j in range(n):
+        g[j] += V[WC, j] * sigma[j]
+        for i in range(n):
+            H[j, i] = 0.0
+        H[j, j] = V[W, j] + V[WC, j]
+    for t in range(ow.shape[0]):
+        wt = ow[t]
+        if wt == 0.0:
+            continue
+        for r in range(3):
+            s = 0.0
+            for j in range(n):
+                s += ojac[t, r, j] * sigma[j]
+            res = opush[t, r] - s
+            for j in range(n):
+                g[j] -= wt * (ojac[t, r, j] * res)
+        for a in range(n):
+            for b in range(n):
+                H[a, b] += wt * ojtj[t, a, b]
+
+
+@njit(cache=True)
+def _reduce(V, Jt, F, H, A, bound_d, free, fz, ftarget, Vr, Jr, Fr, Hr, Ar, bound_r):
+    """FREEZE (``InverseTransformation._solve``): the frozen joints' fixed steps
+    ``c = θ⁰ − θ_k`` (into ``V[CFZ]``; False when one leaves its box by more than 1e-12)
+    and the problem over the free joints: ``F + J_fz c``, ``J_free``, ``g_free +
+    H_free,fz c``, ``H_free,free``, the free bounds, and the coupled rows
+    ``A_free Δθ ≥ b − AΣ − A_fz c`` (as ``b_r − A_free Σ_free``)."""
+    nf = free.shape[0]
+    nfz = fz.shape[0]
+    m = Jt.shape[0]
+    for i in range(nfz):
+        j = fz[i]
+        c = ftarget[i] - V[THETA, j]
+        V[CFZ, i] = c
+        if c < V[LOWER, j] - 1e-12 or c > V[UPPER, j] + 1e-12:
+            return False
+    for i in range(m):
+        s = 0.0
+        for k in range(nfz):
+            s += Jt[i, fz[k]] * V[CFZ, k]
+        Fr[i] = F[i] + s
+        for a in range(nf):
+            Jr[i, a] = Jt[i, free[a]]
+    for a in range(nf):
+        j = free[a]
+        s = 0.0
+        for k in range(nfz):
+            s += H[j, fz[k]] * V[CFZ, k]
+        Vr[G, a] = V[G, j] + s
+        Vr[W, a] = V[W, j]
+        Vr[SIGMA, a] = V[SIGMA, j]
+        Vr[LOWER, a] = V[LOWER, j]
+        Vr[UPPER, a] = V[UPPER, j]
+        for b in range(nf):
+            Hr[a, b] = H[j, free[b]]
+    for r in range(A.shape[0]):
+        s = 0.0
+        for k in range(nfz):
+            s += A[r, fz[k]] * (V[SIGMA, fz[k]] + V[CFZ, k])
+        bound_r[r] = bound_d[r] - s
+        for a in range(nf):
+            Ar[r, a] = A[r, free[a]]
+    return True
+
+
+@njit(cache=True)
+def _evaluate(kb, kj, ends, target, frames, local, tcp, rows, V, ist, fst):
+    """FK, TCP, task error (``fst[E0:E0 + 6]``) and its norms at ``θ``."""
+    e6 = fst[E0 : E0 + 6]
     _chain(kb, kj, ends[0], V[THETA], frames, local)
     _matmul44(frames[frames.shape[0] - 1], ends[1], tcp)
     _pose_error(tcp, target, e6)
@@ -480,18 +605,24 @@ def _evaluate(kb, kj, ends, target, frames, local, tcp, e6, rows, V, ist, fst):
 
 @njit(cache=True)
 def newton_cycle(
-    kb, kj, ends, target, boxc, cand, bounds, V, frames, tcp, J6, Jt, F, rows, perm,
-    aug, N, Ht, gt, Ct, bt, Hr, gr, A, bound_d, active, mult, ist, fst,
+    kb, kj, ends, target, boxc, cand, bounds, V, frames, tcp, J6, Jt, F, rows, A, bound_d,
+    H, ow, opush, ojac, ojtj, free, fz, ftarget,
+    Vr, Jr, Fr, Hr, Ar, bound_r, perm, aug, N, Ht, gt, Ct, bt, Hrel, grel, active, mult,
+    ist, fst,
 ):  # fmt: skip
     """Run Newton iterations of one cycle from ``ist[PHASE]`` until done or Python is
-    needed (returns the status; see the module docstring)."""
+    needed (returns the status; see the module docstring). The step is solved on the
+    reduced problem ``Vr, Jr, Fr, Hr, Ar, bound_r`` (the free joints under FREEZE; without
+    frozen joints the caller passes the full arrays themselves)."""
     n = V.shape[1]
     m = rows.shape[0]
-    nz = n - m
+    nf = Vr.shape[1]
+    nz = nf - m
+    nfz = fz.shape[0]
+    general = ist[GENERAL] != 0
     local = np.empty((4, 4))
-    e6 = np.empty(6)
     phase = ist[PHASE]
-    stage = 0  # 0 evaluate, 1 split, 2 relax, 3 apply
+    stage = 0  # 0 evaluate, 1 split, 2 relax, 3 apply, 4 build the step's data
     if phase == P_START:
         if ist[BOX_READY] == 0 and not _box(
             boxc, ist[ACCEL_BOUNDED] != 0, fst[DTOL], V[Q_START], V[Q_PREV], cand, bounds
@@ -505,28 +636,33 @@ def newton_cycle(
                 d = min(d, bounds[1, j])
                 t += d
             V[THETA, j] = t
+        if ist[WARM] != 0 and ist[SELF_MOTION] == 0:
+            for i in range(nfz):  # frozen joints: no repeated displacement
+                V[THETA, fz[i]] = V[Q_START, fz[i]] + 0.0
         ist[K] = 0
         ist[RELAXED] = 0
         ist[SINGULAR] = 0
         ist[HAVE_J] = 0
         ist[N_ACTIVE] = 0
     elif phase == P_APPLY_Z:
-        for j in range(n):
-            s = V[DP, j]
+        for j in range(nf):
+            s = Vr[DP, j]
             for a in range(nz):
-                s += N[j, a] * V[Z, a]
-            V[DTHETA, j] = s
+                s += N[j, a] * Vr[Z, a]
+            Vr[DTHETA, j] = s
         stage = 3
     elif phase == P_APPLY:
         stage = 3
     elif phase == P_SPLIT:
         stage = 1
+    elif phase == P_TERMS:
+        stage = 4
     else:
         stage = 2
     while True:
         if stage == 0:
             k = ist[K]
-            _evaluate(kb, kj, ends, target, frames, local, tcp, e6, rows, V, ist, fst)
+            _evaluate(kb, kj, ends, target, frames, local, tcp, rows, V, ist, fst)
             if k >= 1:
                 if (fst[PE] < fst[TOL_P] and fst[OE] < fst[TOL_O]) or k >= ist[MAX_ITER]:
                     return S_DONE
@@ -538,9 +674,16 @@ def newton_cycle(
                         tmax = max(tmax, abs(V[THETA, j]))
                     if dmax <= 1e-13 * (1.0 + tmax):
                         return S_DONE
+            elif ist[NEED_TERMS] != 0:  # obstacle terms at the first iterate: Python
+                ist[PHASE] = P_TERMS
+                return S_NEED_TERMS
+            stage = 4
+        elif stage == 4:
+            k = ist[K]
+            general = ist[GENERAL] != 0
             zero_f = k == 0 and ist[SELF_MOTION] != 0
             for i in range(m):
-                F[i] = 0.0 if zero_f else e6[rows[i]]
+                F[i] = 0.0 if zero_f else fst[E0 + rows[i]]
             _jacobian(frames, kj, tcp[:3, 3], J6)
             for i in range(m):
                 for j in range(n):
@@ -555,6 +698,12 @@ def newton_cycle(
                     V[G, j] = V[W, j] * sig
                 V[LOWER, j] = bounds[0, j] - sig
                 V[UPPER, j] = bounds[1, j] - sig
+            if general:
+                _general_cost(V, H, ow, opush, ojac, ojtj)
+            if nfz > 0 and not _reduce(
+                V, Jt, F, H, A, bound_d, free, fz, ftarget, Vr, Jr, Fr, Hr, Ar, bound_r
+            ):
+                return S_FROZEN_FAR
             ist[BASIS_STAGE] = 0
             fst[COND_LIMIT] = fst[COND_MAX]
             stage = 2 if ist[RELAXED] != 0 else 1
@@ -563,7 +712,7 @@ def newton_cycle(
             if ist[BASIS_VALID] == 0:
                 ist[BASIS_REASON] = 0
                 return S_NEED_BASIS
-            if not _split(Jt, F, perm, aug, N, V[DP], fst):
+            if not _split(Jr, Fr, perm, aug, N, Vr[DP], fst):
                 if ist[BASIS_STAGE] == 0:
                     ist[BASIS_REASON] = 1
                     return S_NEED_BASIS
@@ -572,19 +721,27 @@ def newton_cycle(
                 continue
             res = 2
             if nz == 0:
-                res = 1 if _checked(V, A, bound_d, active, mult, ist) else 0
-            elif nz == 1 and A.shape[0] == 0 and ist[SCALAR] != 0:
-                res = _scalar_qp(V, N, active, mult, ist)
+                res = 1 if _checked(Vr, Ar, bound_r, active, mult, ist) else 0
+            elif nz == 1 and Ar.shape[0] == 0 and ist[SCALAR] != 0 and not general:
+                res = _scalar_qp(Vr, N, active, mult, ist)
                 if res < 0:
                     res = 2
             if res == 2:
-                _hard_data(V, N, perm, m, A, bound_d, Ht, gt, Ct, bt, fst)
+                if general:
+                    _hard_data_general(Vr, N, Hr, Ar, bound_r, Ht, gt, Ct, bt, fst)
+                else:
+                    _hard_data(Vr, N, perm, m, Ar, bound_r, Ht, gt, Ct, bt, fst)
                 return S_NEED_QP
             stage = 3 if res == 1 else 2
         elif stage == 2:
-            _relaxed_data(V, Jt, F, A, bound_d, Hr, gr, bt, fst)
+            _relaxed_data(Vr, Jr, Fr, Ar, bound_r, Hr, general, Hrel, grel, bt, fst)
             return S_NEED_RELAXED
-        else:  # apply the step in V[DTHETA]
+        else:  # apply the step in Vr[DTHETA] (scattered to V[DTHETA] under FREEZE)
+            if nfz > 0:
+                for a in range(nf):
+                    V[DTHETA, free[a]] = Vr[DTHETA, a]
+                for i in range(nfz):
+                    V[DTHETA, fz[i]] = V[CFZ, i]
             s = 0.0
             for j in range(n):
                 s += V[DTHETA, j] * V[DTHETA, j]

@@ -16,9 +16,14 @@ from irlc.robots import load_robot
 from irlc.runtime import spatial
 from irlc.runtime.ik import accel as accel_mod
 from irlc.runtime.ik.compact import CompactBasis, compact_box_qp
+from irlc.runtime.ik.cyclic import CyclicReference
 from irlc.runtime.ik.limits import JointBox
-from irlc.runtime.ik.newton_step import NewtonStep
+from irlc.runtime.ik.newton_step import NewtonStep, _with_rows
+from irlc.runtime.ik.obstacle import ObstacleTerm
+from irlc.runtime.ik.params import ObstacleParams
 from irlc.runtime.ik.qp import QuadprogSolver
+from irlc.runtime.ik.state import IterationState
+from irlc.runtime.ik.weighted import WeightedDisplacement
 from irlc.runtime.kinematics import Kinematics
 
 from .ik_robots import planar_arm
@@ -311,9 +316,119 @@ def test_relaxed_data_box_only():
     Hr, gr, bt = np.empty((n, n)), np.empty(n), np.empty(2 * n)
     fst = np.zeros(K.N_FST)
     fst[K.RELAX_W] = 1e6
-    K._relaxed_data(V, J, F, np.zeros((0, n)), np.zeros(0), Hr, gr, bt, fst)
+    K._relaxed_data(V, J, F, np.zeros((0, n)), np.zeros(0), np.zeros((n, n)), False, Hr, gr,
+                    bt, fst)  # fmt: skip
     rho = 1e6 * w.max()
     assert np.allclose(Hr, J.T @ J + np.diag(w / rho), rtol=0, atol=1e-12)
     assert np.allclose(gr, -(J.T @ F + g / rho), rtol=0, atol=1e-12)
     assert fst[K.SCALE] == rho
     assert np.allclose(bt, np.concatenate((-np.ones(n), -np.ones(n))))
+
+
+# ---------------------------------------------------------------------- the general cost
+def _spd(rng, n):
+    a = rng.normal(size=(n, n))
+    return a @ a.T + n * np.eye(n)
+
+
+def test_general_cost_against_the_criteria():
+    """CYCLIC + a_conf·W + two obstacle terms (one of weight 0): g and H as the numpy
+    criteria accumulate them (InverseTransformation._cost)."""
+    rng = np.random.default_rng(9)
+    n = 7
+    w, ref = rng.uniform(0.5, 3, n), rng.normal(size=n)
+    theta, start = rng.normal(size=n), rng.normal(size=n)
+    state = IterationState(theta, start, theta - start)
+    params = ObstacleParams()
+    terms = [ObstacleTerm(rng.normal(size=(3, n)), np.array([0.0, 0.6, 0.8]), d, params)
+             for d in (0.1, 0.6)]  # fmt: skip
+    assert terms[0].weight > 0.0 and terms[1].weight == 0.0
+    criteria = [CyclicReference(w, ref), WeightedDisplacement(w, params.a_conf), *terms]
+    g_ref, H_ref = np.zeros(n), np.zeros((n, n))
+    for c in criteria:
+        c.accumulate(state, g_ref, H_ref)
+    V = np.zeros((K.NV, n))
+    V[K.W], V[K.WC], V[K.SIGMA] = w, params.a_conf * w, state.sigma
+    V[K.G] = w * (theta - ref)
+    H = np.empty((n, n))
+    K._general_cost(V, H, np.array([t.weight for t in terms]), np.array([t.push for t in terms]),
+                    np.array([t.jac for t in terms]), np.array([t.jtj for t in terms]))  # fmt: skip
+    assert np.allclose(V[K.G], g_ref, rtol=0, atol=1e-13)
+    assert np.allclose(H, H_ref, rtol=0, atol=1e-13)
+
+
+def test_hard_data_general_with_coupled_rows():
+    """Full H with coupled rows: compact_box_qp + _with_rows (NewtonStep.hard), scaled."""
+    rng = np.random.default_rng(10)
+    m, n, r = 3, 7, 2
+    for _ in range(20):
+        J, F = rng.normal(size=(m, n)), rng.normal(size=m)
+        basis = CompactBasis()
+        dp, N = basis.split(J, F)
+        H, g = _spd(rng, n), rng.normal(size=n)
+        lower, upper = -rng.uniform(0, 1, n), rng.uniform(0, 1, n)
+        A, bound_d, sigma = rng.normal(size=(r, n)), -rng.uniform(0, 1, r), rng.normal(size=n)
+        V = _workspace(n, np.ones(n), g, dp, lower, upper)
+        V[K.SIGMA] = sigma
+        nz = n - m
+        Ht, gt = np.empty((nz, nz)), np.empty(nz)
+        Ct, bt = np.empty((nz, 2 * n + r)), np.empty(2 * n + r)
+        fst = np.zeros(K.N_FST)
+        K._hard_data_general(V, N.copy(), H, A, bound_d, Ht, gt, Ct, bt, fst)
+        H_ref, g_ref, C_ref, b_ref = compact_box_qp(H, g, dp, N, lower, upper)
+        C_ref, b_ref = _with_rows(C_ref, b_ref, A, bound_d - A @ sigma, dp, N)
+        s = 1.0 / H_ref.diagonal().max()
+        assert np.allclose(Ht, H_ref * s, rtol=0, atol=1e-12)
+        assert np.allclose(gt, -g_ref * s, rtol=0, atol=1e-12)
+        assert np.allclose(Ct, C_ref, atol=1e-13) and np.allclose(bt, b_ref, atol=1e-13)
+
+
+def test_relaxed_data_general():
+    """``(H + ρJᵀJ)s``, ``−(g + ρJᵀF)s`` (NewtonStep.relaxed; solve_ct's scaling)."""
+    rng = np.random.default_rng(11)
+    m, n = 6, 9
+    J, F = rng.normal(size=(m, n)), rng.normal(size=m)
+    H, g = _spd(rng, n), rng.normal(size=n)
+    V = _workspace(n, np.ones(n), g, np.zeros(n), -np.ones(n), np.ones(n))
+    Hr, gr, bt = np.empty((n, n)), np.empty(n), np.empty(2 * n)
+    fst = np.zeros(K.N_FST)
+    fst[K.RELAX_W] = 1e6
+    K._relaxed_data(V, J, F, np.zeros((0, n)), np.zeros(0), H, True, Hr, gr, bt, fst)
+    rho = 1e6 * H.diagonal().max()
+    H_ref = H + rho * (J.T @ J)
+    s = 1.0 / H_ref.diagonal().max()
+    assert np.allclose(Hr, H_ref * s, rtol=0, atol=1e-12)
+    assert np.allclose(gr, -(g + rho * (J.T @ F)) * s, rtol=0, atol=1e-12)
+    assert math.isclose(fst[K.SCALE], 1.0 / s, rel_tol=1e-14)
+
+
+def test_reduce_freeze():
+    """FREEZE: c = θ⁰ − θ_k; F + J_fz c; J_free; g_free + H_free,fz c; H_free,free; the
+    coupled rows' right side (InverseTransformation._solve); c beyond the box: False."""
+    rng = np.random.default_rng(12)
+    m, n, r = 3, 6, 2
+    free, fz = np.array([0, 2, 3, 5]), np.array([1, 4])
+    J, F, H = rng.normal(size=(m, n)), rng.normal(size=m), _spd(rng, n)
+    A, bound_d = rng.normal(size=(r, n)), -rng.uniform(0, 1, r)
+    V = np.zeros((K.NV, n))
+    V[K.THETA], V[K.SIGMA], V[K.G] = (
+        rng.normal(size=n),
+        rng.normal(size=n) * 0.01,
+        rng.normal(size=n),
+    )
+    V[K.LOWER], V[K.UPPER] = -np.ones(n), np.ones(n)
+    targets = V[K.THETA, fz] + np.array([0.01, -0.02])
+    nf = free.size
+    Vr, Jr, Fr, Hr = np.zeros((K.NV, nf)), np.empty((m, nf)), np.empty(m), np.empty((nf, nf))
+    Ar, bound_r = np.empty((r, nf)), np.empty(r)
+    args = (J, F, H, A, bound_d, free, fz, targets, Vr, Jr, Fr, Hr, Ar, bound_r)
+    assert K._reduce(V, *args)
+    c = targets - V[K.THETA, fz]
+    assert np.allclose(V[K.CFZ, :2], c)
+    assert np.allclose(Fr, F + J[:, fz] @ c) and np.array_equal(Jr, J[:, free])
+    assert np.allclose(Vr[K.G], V[K.G, free] + H[np.ix_(free, fz)] @ c)
+    assert np.array_equal(Hr, H[np.ix_(free, free)]) and np.array_equal(Ar, A[:, free])
+    b_numpy = bound_d - A @ V[K.SIGMA] - A[:, fz] @ c  # ineq_f's right side
+    assert np.allclose(bound_r - Ar @ Vr[K.SIGMA], b_numpy, atol=1e-14)
+    V[K.UPPER, 1] = 0.005  # the held value is 0.01 away: beyond one cycle's box
+    assert not K._reduce(V, *args)
