@@ -79,38 +79,90 @@ def warm_up() -> float:
     return compile_seconds
 
 
-class _Problem:
-    """The step's problem over the free joints (all joints without FREEZE): its sizes and
-    the buffers of the split, the QPs and the active set."""
+class Workspace:
+    """The cycle's arrays in two buffers (``fw`` float, ``iw`` int) and the layout ``lay``
+    that :func:`accel_kernels.run_cycle` cuts them with; the same views as attributes here.
 
-    def __init__(self, cycle: AcceleratedCycle, frozen):
-        k, n, m = cycle.k, cycle.n, cycle.m
-        self.frozen = frozen  # FrozenJoints, or None
+    The step's (reduced) problem has its own region, sized for all ``n`` joints: under
+    FREEZE (:meth:`use`) its views cover the free joints; otherwise the layout points them
+    at the full arrays (``Vr`` is ``V``, …)."""
+
+    def __init__(self, k, n: int, m: int, r: int):
+        self.k, self.n, self.m, self.r = k, n, m, r
+        nz, nc = max(n - m, 0), 2 * n + r
+        floats = (
+            (k.F_V, k.NV * n), (k.F_FRAMES, 16 * (n + 1)), (k.F_TCP, 16), (k.F_J6, 6 * n),
+            (k.F_JT, m * n), (k.F_F, m), (k.F_H, n * n), (k.F_A, r * n), (k.F_BOUND_D, r),
+            (k.F_BOUNDS, 2 * n), (k.F_CAND, 8 * n), (k.F_TARGET, 16), (k.F_VR, k.NV * n),
+            (k.F_JR, m * n), (k.F_FR, m), (k.F_HR, n * n), (k.F_AR, r * n), (k.F_BOUND_R, r),
+            (k.F_AUG, m * (n + 1)), (k.F_N, n * nz), (k.F_HT, nz * nz), (k.F_GT, nz),
+            (k.F_CT, nz * nc), (k.F_BT, nc), (k.F_HREL, n * n), (k.F_GREL, n),
+            (k.F_MULT, nc), (k.F_FTARGET, n), (k.F_FST, k.N_FST),
+        )  # fmt: skip
+        ints = (
+            (k.I_ROWS, m), (k.I_FREE, n), (k.I_FZ, n), (k.I_PERM, n), (k.I_ACTIVE, nc),
+            (k.I_IST, k.N_IST_ALL), (k.I_CODES, n),
+        )  # fmt: skip
+        self.lay = lay = np.zeros(k.N_LAY, dtype=np.int64)
+        self._own = {}
+        self.fw = np.zeros(self._offsets(floats))
+        self.iw = np.zeros(self._offsets(ints), dtype=np.int64)
+        lay[k.Z_N], lay[k.Z_M], lay[k.Z_R] = n, m, r
+        f = self._f
+        self.V, self.frames = f(k.F_V, k.NV, n), f(k.F_FRAMES, n + 1, 4, 4)
+        self.tcp, self.J6, self.Jt = f(k.F_TCP, 4, 4), f(k.F_J6, 6, n), f(k.F_JT, m, n)
+        self.F, self.H, self.A = f(k.F_F, m), f(k.F_H, n, n), f(k.F_A, r, n)
+        self.bound_d, self.bounds = f(k.F_BOUND_D, r), f(k.F_BOUNDS, 2, n)
+        self.cand, self.target = f(k.F_CAND, 4, 2, n), f(k.F_TARGET, 4, 4)
+        self.fst = f(k.F_FST, k.N_FST)
+        self.rows, self.ist = self._i(k.I_ROWS, m), self._i(k.I_IST, k.N_IST_ALL)
+        self.codes = self._i(k.I_CODES, n)
+        self.frozen = False
+        self.use(None)
+
+    def _offsets(self, sizes) -> int:
+        total = 0
+        for slot, size in sizes:
+            self.lay[slot] = self._own[slot] = total
+            total += size
+        return total
+
+    def _f(self, slot: int, *shape: int) -> np.ndarray:
+        o = int(self.lay[slot])
+        return self.fw[o : o + int(np.prod(shape))].reshape(shape)
+
+    def _i(self, slot: int, size: int) -> np.ndarray:
+        o = int(self.lay[slot])
+        return self.iw[o : o + size]
+
+    def use(self, frozen) -> None:
+        """Point the problem's views at the free joints of ``frozen`` (``FrozenJoints``)
+        or, with None, at the full arrays."""
+        k, lay, n, m, r = self.k, self.lay, self.n, self.m, self.r
+        for slot in (k.F_VR, k.F_JR, k.F_FR, k.F_HR, k.F_AR, k.F_BOUND_R):
+            lay[slot] = self._own[slot]
         if frozen is None:
-            nf, self.V, self.J, self.F = n, cycle.V, cycle.Jt, cycle.F
-            self.H, self.A, self.bound = cycle.H, cycle.A, None  # (bound: the cycle's own)
-            self.free = self.fz = np.zeros(0, dtype=np.int64)
-            self.targets = np.zeros(0)
+            nf, nfz = n, 0
+            pairs = ((k.F_VR, k.F_V), (k.F_JR, k.F_JT), (k.F_FR, k.F_F), (k.F_HR, k.F_H),
+                     (k.F_AR, k.F_A), (k.F_BOUND_R, k.F_BOUND_D))  # fmt: skip
+            for mine, full in pairs:
+                lay[mine] = lay[full]
         else:
-            nf = frozen.free.size
-            self.V, self.J, self.F = np.zeros((k.NV, nf)), np.empty((m, nf)), np.empty(m)
-            self.H = np.empty((nf, nf))
-            self.A = np.ascontiguousarray(cycle.A[:, frozen.free])
-            self.bound = np.empty(cycle.A.shape[0])
-            self.free = frozen.free.astype(np.int64)
-            self.fz = frozen.frozen.astype(np.int64)
-            self.targets = np.ascontiguousarray(frozen.targets, dtype=float)
-        nz, r = max(nf - m, 0), self.A.shape[0]
+            nf, nfz = frozen.free.size, frozen.frozen.size
+        lay[k.Z_NF], lay[k.Z_NFZ] = nf, nfz
+        self.frozen = frozen is not None
+        nz, nc = max(nf - m, 0), 2 * nf + r
+        f = self._f
+        self.Vr, self.Jr, self.Hr = f(k.F_VR, k.NV, nf), f(k.F_JR, m, nf), f(k.F_HR, nf, nf)
+        self.Ht, self.gt = f(k.F_HT, nz, nz), f(k.F_GT, nz)
+        self.Ct, self.bt = f(k.F_CT, nz, nc), f(k.F_BT, nc)
+        self.Hrel, self.grel, self.mult = f(k.F_HREL, nf, nf), f(k.F_GREL, nf), f(k.F_MULT, nc)
+        self.perm, self.active = self._i(k.I_PERM, nf), self._i(k.I_ACTIVE, nc)
         self.shape = (m, nf)
-        self.perm = np.zeros(nf, dtype=np.int64)
-        self.aug = np.empty((m, nf + 1))
-        self.N = np.zeros((nf, nz))
-        self.Ht, self.gt = np.empty((nz, nz)), np.empty(nz)
-        self.Ct, self.bt = np.empty((nz, 2 * nf + r)), np.empty(2 * nf + r)
-        self.Hrel, self.grel = np.empty((nf, nf)), np.empty(nf)
-        self.Crel = np.ascontiguousarray(np.hstack((np.eye(nf), -np.eye(nf), self.A.T)))
-        self.active = np.zeros(2 * nf + r, dtype=np.int64)
-        self.mult = np.zeros(2 * nf + r)
+        if frozen is not None:
+            self._i(k.I_FREE, nf)[:] = frozen.free
+            self._i(k.I_FZ, nfz)[:] = frozen.frozen
+            f(k.F_FTARGET, nfz)[:] = frozen.targets
 
 
 class AcceleratedCycle:
@@ -122,29 +174,23 @@ class AcceleratedCycle:
         self.ik = ik
         self.n, self.m = n, m = ik.n, ik.rows.size
         self.chain = ik.kin.chain_data  # packed, read-only (re-read per cycle: R_TOOL)
-        self.rows = np.ascontiguousarray(ik.rows, dtype=np.int64)
         coupled = ik.coupled
-        self.A = np.zeros((0, n)) if coupled is None else np.ascontiguousarray(coupled.A)
-        self.bound_d = np.zeros(0)
-        self.V = np.zeros((k.NV, n))
+        r = 0 if coupled is None else coupled.A.shape[0]
+        ws = self.ws = Workspace(k, n, m, r)
+        ws.rows[:] = ik.rows
+        if coupled is not None:
+            ws.A[:] = coupled.A
+        self.V, self.ist, self.fst = ws.V, ws.ist, ws.fst
+        self.frames, self.tcp, self.Jt, self.cand = ws.frames, ws.tcp, ws.Jt, ws.cand
         self.weights = np.asarray(ik.weights, dtype=float)
         self.conf_weights = ik.params.obstacle.a_conf * self.weights  # (as WeightedDisplacement)
         self.V[k.W] = self.weights
-        self.frames = np.empty((n + 1, 4, 4))
-        self.tcp = np.empty((4, 4))
-        self.J6 = np.empty((6, n))
-        self.Jt = np.empty((m, n))
-        self.F = np.empty(m)
-        self.H = np.zeros((n, n))
+        self._mode = (False, False)  # (V[W] is a_conf·W, V[WC] is a_conf·W)
         self._no_terms = (np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3, n)), np.zeros((0, n, n)))
         self.terms = self._no_terms
-        self.ist = np.zeros(k.N_IST, dtype=np.int64)
-        self.fst = np.zeros(k.N_FST)
-        self.cand = np.empty((4, 2, n))
         self._box_key = None
-        self._full = _Problem(self, None)
-        self._problems: dict[tuple, _Problem] = {}
-        self.problem = self._full
+        self._frozen = None  # the FrozenJoints the workspace's problem is cut for
+        self._crel: dict[int, np.ndarray] = {}
         p = ik.params
         ist, fst = self.ist, self.fst
         ist[k.MAX_ITER] = p.max_iter
@@ -166,42 +212,57 @@ class AcceleratedCycle:
             self.fst[self.k.DTOL] = data.dtol
         return c
 
-    def _problem_for(self, frozen) -> _Problem:
-        """The reduced problem of a FREEZE set (cached per set), or the full one."""
-        if not frozen:
-            return self._full
-        key = (tuple(frozen.frozen.tolist()), tuple(frozen.targets.tolist()))
-        prob = self._problems.get(key)
-        if prob is None:
-            prob = self._problems[key] = _Problem(self, frozen)
-        return prob
+    def _use(self, frozen) -> None:
+        """Cut the workspace's problem for this cycle's FREEZE set (only when it changes)."""
+        if frozen is not self._frozen:
+            self._frozen = frozen
+            self.ws.use(frozen)
+
+    def _crel_for(self) -> np.ndarray:
+        """``[I, −I, A_freeᵀ]``: the relaxed QP's constraint columns (cached per size)."""
+        ws = self.ws
+        nf = ws.shape[1]
+        key = nf if self._frozen is None else (nf, tuple(self._frozen.free.tolist()))
+        crel = self._crel.get(key)
+        if crel is None:
+            a = ws.A if self._frozen is None else ws.A[:, self._frozen.free]
+            crel = np.ascontiguousarray(np.hstack((np.eye(nf), -np.eye(nf), a.T)))
+            self._crel[key] = crel
+        return crel
 
     def _sync_basis(self) -> None:
         b = self.ik.stepper.basis
-        prob = self.problem
-        valid = b.columns is not None and b.shape == prob.shape
+        ws = self.ws
+        valid = b.columns is not None and b.shape == ws.shape
         self.ist[self.k.BASIS_VALID] = int(valid)
         if valid:
-            prob.perm[:] = b.columns
+            ws.perm[:] = b.columns
 
     def _criteria(self, opts, active: list) -> None:
         """The cost's form before the cycle: ``GENERAL`` (full ``H``: FREEZE, or more than
         one criterion) and the diagonal weights ``V[W]`` / ``V[WC]`` — as
         ``InverseTransformation._criteria`` / ``_single_diagonal`` choose them; with
         avoided obstacles the choice waits for their terms (:meth:`_obstacle_terms`)."""
-        k, V, ist = self.k, self.V, self.ist
+        k, ist = self.k, self.ist
         ist[k.NEED_TERMS] = int(bool(active))
         self.terms = self._no_terms
-        V[k.W] = self.weights
-        V[k.WC] = 0.0
-        ist[k.GENERAL] = int(self.problem.frozen is not None)
+        self._weights(False, False)
+        ist[k.GENERAL] = int(self._frozen is not None)
+
+    def _weights(self, conf_w: bool, conf_wc: bool) -> None:
+        """``V[W]`` = a_conf·W or W, ``V[WC]`` = a_conf·W or 0 (written when they change)."""
+        if self._mode != (conf_w, conf_wc):
+            k, V = self.k, self.V
+            V[k.W] = self.conf_weights if conf_w else self.weights
+            V[k.WC] = self.conf_weights if conf_wc else 0.0
+            self._mode = (conf_w, conf_wc)
 
     def _obstacle_terms(self, opts, active: list) -> None:
         """At the first iterate: the obstacle criterion's terms (:func:`obstacle_terms`,
         at the kernel's frames) as arrays, and the cost's form with them."""
         from irlc.runtime.ik.obstacle import obstacle_terms
 
-        k, V, ist, ik = self.k, self.V, self.ist, self.ik
+        k, ist, ik = self.k, self.ist, self.ik
         terms = obstacle_terms(ik.kin, self.frames, active, ik.params.obstacle)
         if terms:
             self.terms = (
@@ -211,24 +272,23 @@ class AcceleratedCycle:
                 np.array([t.jtj for t in terms]),
             )
         if opts.reference is not None:  # [CYCLIC, a_conf·W, terms…]: a full H
-            V[k.WC] = self.conf_weights
+            self._weights(False, True)
             ist[k.GENERAL] = 1
         else:  # [a_conf·W, terms…]: diagonal when no obstacle is near
-            V[k.W] = self.conf_weights
-            ist[k.GENERAL] = int(bool(terms) or self.problem.frozen is not None)
+            self._weights(True, False)
+            ist[k.GENERAL] = int(bool(terms) or self._frozen is not None)
         ist[k.NEED_TERMS] = 0
 
     # ------------------------------------------------------------------ the cycle
     def step(self, q_start, q_prev, target, dt, opts, frozen=None, active=()):
         """The numbers of ``InverseTransformation.step``; ``frozen``: the cycle's
         ``FrozenJoints`` (or None), ``active``: the avoided obstacles. Returns
-        ``(theta, bounds, limits, outcome_active, outcome_mult)``; :meth:`snapshot` and
-        :meth:`jacobian` copy the reused buffers only when the caller keeps them."""
+        ``(theta, bounds, limits, outcome_active, outcome_mult, codes)`` (``codes``: as
+        ``limits.active_codes``); :meth:`snapshot` and :meth:`jacobian` copy the reused
+        buffers only when the caller keeps them."""
         if compile_seconds is None:
             warm_up()
-        from irlc.runtime.ik.newton import IKFailure
-
-        k, ik = self.k, self.ik
+        k, ik, ws = self.k, self.ik, self.ws
         lim = ik.limits
         position = lim[0] if opts.position is None else opts.position
         speed = lim[1] if opts.speed is None else opts.speed
@@ -236,12 +296,12 @@ class AcceleratedCycle:
         c = self._box_constants(position, speed, accel, dt)
         if ik.coupled is not None:
             ik.coupled.prepare(q_start, dt, accel)
-            self.bound_d = ik.coupled.bound_d
-        prob = self.problem = self._problem_for(frozen)
+            ws.bound_d[:] = ik.coupled.bound_d
+        self._use(frozen)
         if frozen is not None and frozen.free.size < self.m:  # (numpy's order: limits first)
             ik.box.prepare(ik.model, q_start, q_prev, dt, position, speed, accel)
             frozen.check_task(ik.model, self.m, ik.naming)
-        V, ist, fst = self.V, self.ist, self.fst
+        V, ist = self.V, self.ist
         V[k.Q_START] = q_start
         V[k.Q_PREV] = q_prev
         if opts.reference is not None:
@@ -250,58 +310,63 @@ class AcceleratedCycle:
         ist[k.SELF_MOTION] = bool(opts.self_motion)
         ist[k.BOX_READY] = 0
         ist[k.PHASE] = k.P_START
+        self._opts, self._active = opts, active
         self._criteria(opts, active)
         chain = self.chain = ik.kin.chain_data
         self._sync_basis()
-        bounds = np.empty((2, self.n))
-        cand = self.cand
-        target = np.ascontiguousarray(target, dtype=float)
-        bound_r = self.bound_d if prob.bound is None else prob.bound
-        run = k.newton_cycle
+        ws.target[:] = target
+        run, fw, iw, lay = k.run_cycle, ws.fw, ws.iw, ws.lay
         while True:
-            status = run(
-                chain.basis, chain.joints, chain.ends, target, self.boxc, cand, bounds, V,
-                self.frames, self.tcp, self.J6, self.Jt, self.F, self.rows, self.A,
-                self.bound_d, self.H, *self.terms, prob.free, prob.fz, prob.targets,
-                prob.V, prob.J, prob.F, prob.H, prob.A, bound_r, prob.perm, prob.aug, prob.N,
-                prob.Ht, prob.gt, prob.Ct, prob.bt, prob.Hrel, prob.grel, prob.active,
-                prob.mult, ist, fst,
-            )  # fmt: skip
+            status = run(chain.basis, chain.joints, chain.ends, self.boxc, *self.terms, fw, iw,
+                         lay)  # fmt: skip
             if status == k.S_DONE:
                 break
-            if status == k.S_NEED_QP:
-                self._hard_qp()
-            elif status == k.S_NEED_RELAXED:
-                self._relaxed_qp()
-            elif status == k.S_NEED_BASIS:
-                self._choose_basis()
-            elif status == k.S_NEED_TERMS:
-                self._obstacle_terms(opts, active)
-            elif status == k.S_BOX_CHECK:
-                box = ik.box
-                box.prepare(ik.model, q_start, q_prev, dt, position, speed, accel)  # raises
-                bounds = box.bounds.copy()
-                cand[:] = box.cand
-                ist[k.BOX_READY] = 1
-                ist[k.PHASE] = k.P_START
-            elif status == k.S_FROZEN_FAR:
-                raise IKFailure(
-                    "frozen joints are away from their held values by more than the "
-                    "joint box allows in one cycle"
-                )
-            else:  # S_BAD_STEP
-                raise IKFailure(
-                    f"inverse transformation produced a non-finite step: {V[k.DTHETA].copy()}"
-                )
+            self._resume(status, q_start, q_prev, dt, position, speed, accel)
         nact = int(ist[k.N_ACTIVE])
+        bounds = ws.bounds.copy()
         self.bounds = bounds  # the last cycle's box on Δθ (with ``cand``: for observers)
+        codes = ws.codes.astype(np.int8) if ist[k.ANY_CODE] else None
         return (
             V[k.THETA].copy(),
-            bounds,  # fresh this cycle
+            bounds,
             c.limits,
-            prob.active[:nact].copy(),
-            prob.mult[:nact].copy(),
+            ws.active[:nact].copy(),
+            ws.mult[:nact].copy(),
+            codes,
         )
+
+    def _resume(self, status, q_start, q_prev, dt, position, speed, accel) -> None:
+        """What the kernel asked Python for (a quadprog call, a basis, obstacle terms, the
+        box's error path) or the failure it found."""
+        k, ik, ist = self.k, self.ik, self.ist
+        if status == k.S_NEED_QP:
+            self._hard_qp()
+        elif status == k.S_NEED_RELAXED:
+            self._relaxed_qp()
+        elif status == k.S_NEED_BASIS:
+            self._choose_basis()
+        elif status == k.S_NEED_TERMS:
+            self._obstacle_terms(self._opts, self._active)
+        elif status == k.S_BOX_CHECK:
+            box = ik.box
+            box.prepare(ik.model, q_start, q_prev, dt, position, speed, accel)  # raises
+            self.ws.bounds[:] = box.bounds
+            self.cand[:] = box.cand
+            ist[k.BOX_READY] = 1
+            ist[k.PHASE] = k.P_START
+        elif status == k.S_FROZEN_FAR:
+            from irlc.runtime.ik.newton import IKFailure
+
+            raise IKFailure(
+                "frozen joints are away from their held values by more than the "
+                "joint box allows in one cycle"
+            )
+        else:  # S_BAD_STEP
+            from irlc.runtime.ik.newton import IKFailure
+
+            raise IKFailure(
+                f"inverse transformation produced a non-finite step: {self.V[k.DTHETA].copy()}"
+            )
 
     def snapshot(self, bounds, limits):
         """The cycle's box for reports (copies the reused candidate buffer)."""
@@ -314,32 +379,32 @@ class AcceleratedCycle:
         cycle computed none."""
         if not self.ist[self.k.HAVE_J]:
             return None
-        frozen = self.problem.frozen
+        frozen = self._frozen
         return self.Jt.copy() if frozen is None else self.Jt[:, frozen.free]
 
     # ------------------------------------------------------------------ Python parts
     def _hard_qp(self) -> None:
         """General compact QP: quadprog on the kernel's data; infeasible → relaxed."""
-        k, ist, prob = self.k, self.ist, self.problem
+        k, ist, ws = self.k, self.ist, self.ws
         try:
-            z, _, _, _, lagr, iact = quadprog.solve_qp(prob.Ht, prob.gt, prob.Ct, prob.bt, 0)
+            z, _, _, _, lagr, iact = quadprog.solve_qp(ws.Ht, ws.gt, ws.Ct, ws.bt, 0)
         except ValueError:
             ist[k.PHASE] = k.P_RELAX
             return
         rows = iact[iact > 0] - 1
         self._set_active(rows, lagr[rows] / self.fst[k.SCALE])
-        prob.V[k.Z, : z.shape[0]] = z
+        ws.Vr[k.Z, : z.shape[0]] = z
         ist[k.PHASE] = k.P_APPLY_Z
 
     def _relaxed_qp(self) -> None:
-        k, ist, prob = self.k, self.ist, self.problem
-        from irlc.runtime.ik.newton import IKFailure
-
+        k, ist, ws = self.k, self.ist, self.ws
         try:
-            z, _, _, _, lagr, iact = quadprog.solve_qp(prob.Hrel, prob.grel, prob.Crel, prob.bt, 0)
+            z, _, _, _, lagr, iact = quadprog.solve_qp(ws.Hrel, ws.grel, self._crel_for(), ws.bt, 0)
         except ValueError as exc:
-            if self.A.shape[0] == 0:
+            if self.ws.r == 0:
                 raise FloatingPointError(f"relaxed QP failed ({exc})") from None
+            from irlc.runtime.ik.newton import IKFailure
+
             raise IKFailure(
                 "the joint box and the coupled joint limits leave no admissible step "
                 "(the coupled combination moves too fast to stop before its bound)"
@@ -347,11 +412,11 @@ class AcceleratedCycle:
         rows = iact[iact > 0] - 1
         factor = self.fst[k.SCALE]
         self._set_active(rows, lagr[rows] * factor)
-        prob.V[k.DTHETA] = z
+        ws.Vr[k.DTHETA] = z
         ist[k.RELAXED] = 1
         ist[k.SINGULAR] |= ist[k.LAST_SINGULAR]
-        if prob.frozen is not None and ist[k.LAST_SINGULAR]:
-            self._check_freeze(prob.frozen)
+        if self._frozen is not None and ist[k.LAST_SINGULAR]:
+            self._check_freeze(self._frozen)
         ist[k.PHASE] = k.P_APPLY
 
     def _check_freeze(self, frozen) -> None:
@@ -366,16 +431,16 @@ class AcceleratedCycle:
 
     def _set_active(self, rows, mult) -> None:
         cnt = rows.shape[0]
-        prob = self.problem
-        prob.active[:cnt] = rows
-        prob.mult[:cnt] = mult
+        ws = self.ws
+        ws.active[:cnt] = rows
+        ws.mult[:cnt] = mult
         self.ist[self.k.N_ACTIVE] = cnt
 
     def _choose_basis(self) -> None:
         """QR with column pivoting of the current J (``CompactBasis.choose``)."""
         k, ist, fst = self.k, self.ist, self.fst
         basis = self.ik.stepper.basis
-        ok = basis.choose(self.problem.J)
+        ok = basis.choose(self.ws.Jr)
         self._sync_basis()
         if not ok:
             ist[k.LAST_SINGULAR] = 1

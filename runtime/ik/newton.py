@@ -281,7 +281,7 @@ class InverseTransformation:
         """:meth:`step` through the compiled kernel (same numbers, see :mod:`accel`)."""
         acc = self._accel
         frozen = self.frozen_joints(opts.frozen) if opts.frozen else None
-        theta, bounds, limits, active, mult = acc.step(
+        theta, bounds, limits, active, mult, codes = acc.step(
             q_start, q_prev, target, dt, opts, frozen, self.avoided(opts)
         )
         k, ist, fst = acc.k, acc.ist, acc.fst
@@ -289,7 +289,6 @@ class InverseTransformation:
         p = self.params
         converged = pe < p.tol_position and oe < p.tol_orientation
         clearances = self._clearances(acc.frames, opts) if opts.obstacles else {}
-        codes = active_codes(theta - q_start, bounds[0], bounds[1], acc.cand)
         # as in the numpy path: keep the box and J only when a report can need them
         box = acc.snapshot(bounds, limits) if codes is not None or active.size else None
         J = acc.jacobian() if opts.jacobian or not converged else None
