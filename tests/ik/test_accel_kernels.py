@@ -432,3 +432,25 @@ def test_reduce_freeze():
     assert np.allclose(bound_r - Ar @ Vr[K.SIGMA], b_numpy, atol=1e-14)
     V[K.UPPER, 1] = 0.005  # the held value is 0.01 away: beyond one cycle's box
     assert not K._reduce(V, *args)
+
+
+def test_active_codes_against_limits():
+    """Which bound each joint's displacement touches (``limits.active_codes``): random
+    boxes with joints placed exactly at, near and inside their bounds."""
+    from irlc.runtime.ik.limits import active_codes
+
+    rng = np.random.default_rng(13)
+    n = 9
+    for _ in range(200):
+        cand = rng.uniform(0.0, 1.0, size=(4, 2, n))
+        bounds = np.stack((-cand[:, 0].min(axis=0), cand[:, 1].min(axis=0)))
+        pick = rng.integers(0, 4, n)
+        delta = np.where(pick == 0, bounds[0], np.where(pick == 1, bounds[1], 0.0))
+        delta += np.where(pick == 2, 1e-11, 0.0)  # within the tolerance of zero …
+        q_start = rng.normal(size=n)
+        codes = np.zeros(n, dtype=np.int64)
+        found = K._active_codes(q_start + delta, q_start, bounds, cand, codes)
+        ref = active_codes((q_start + delta) - q_start, bounds[0], bounds[1], cand)
+        assert found == (ref is not None)
+        if ref is not None:
+            assert np.array_equal(codes, ref)
