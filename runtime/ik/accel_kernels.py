@@ -453,6 +453,46 @@ def _compact_rest(V, N, A, bound_d, Ht, gt, Ct, bt, fst):
 
 
 @njit(cache=True)
+def _unconstrained_qp(H, a, C, b, z):
+    """The compact QP's answer when no constraint binds: ``z = H⁻¹a`` (quadprog's
+    ``½zᵀHz − aᵀz``) if it satisfies every column, ``Cᵀz ≥ b``, with a margin
+    ``1e-12·(1 + |b_i|)`` — the Goldfarb–Idnani method starts from this point and stops
+    at once when nothing is violated, so quadprog returns the same ``z`` and no active
+    constraint. False (quadprog decides) when some slack is within the margin or ``H``
+    is not positive definite (Cholesky fails)."""
+    nz = H.shape[0]
+    L = np.empty((nz, nz))
+    for i in range(nz):  # Cholesky H = LLᵀ
+        for j in range(i + 1):
+            s = H[i, j]
+            for k in range(j):
+                s -= L[i, k] * L[j, k]
+            if i == j:
+                if not s > 0.0:
+                    return False
+                L[i, i] = math.sqrt(s)
+            else:
+                L[i, j] = s / L[j, j]
+    for i in range(nz):  # L y = a
+        s = a[i]
+        for k in range(i):
+            s -= L[i, k] * z[k]
+        z[i] = s / L[i, i]
+    for i in range(nz - 1, -1, -1):  # Lᵀ z = y
+        s = z[i]
+        for k in range(i + 1, nz):
+            s -= L[k, i] * z[k]
+        z[i] = s / L[i, i]
+    for c in range(C.shape[1]):
+        s = -b[c]
+        for i in range(nz):
+            s += C[i, c] * z[i]
+        if not s > 1e-12 * (1.0 + abs(b[c])):
+            return False
+    return True
+
+
+@njit(cache=True)
 def _relaxed_data(V, Jt, F, A, bound_d, H, general, Hr, gr, bt, fst):
     """Relaxed QP data. Diagonal cost, box only (``relaxed_diagonal``): ``JᵀJ + W/ρ``,
     ``−(JᵀF + g/ρ)``, multipliers ×ρ. With coupled rows or a full ``H`` (``general``;
@@ -731,7 +771,15 @@ def newton_cycle(
                     _hard_data_general(Vr, N, Hr, Ar, bound_r, Ht, gt, Ct, bt, fst)
                 else:
                     _hard_data(Vr, N, perm, m, Ar, bound_r, Ht, gt, Ct, bt, fst)
-                return S_NEED_QP
+                if not _unconstrained_qp(Ht, gt, Ct, bt, Vr[Z]):
+                    return S_NEED_QP
+                ist[N_ACTIVE] = 0
+                for j in range(nf):
+                    s = Vr[DP, j]
+                    for a in range(nz):
+                        s += N[j, a] * Vr[Z, a]
+                    Vr[DTHETA, j] = s
+                res = 1
             stage = 3 if res == 1 else 2
         elif stage == 2:
             _relaxed_data(Vr, Jr, Fr, Ar, bound_r, Hr, general, Hrel, grel, bt, fst)

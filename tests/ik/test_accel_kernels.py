@@ -454,3 +454,30 @@ def test_active_codes_against_limits():
         assert found == (ref is not None)
         if ref is not None:
             assert np.array_equal(codes, ref)
+
+
+def test_unconstrained_qp_against_quadprog():
+    """The compact QP when nothing binds: quadprog's z and an empty active set; a binding
+    or barely satisfied constraint, or an indefinite H, defers to quadprog (False)."""
+    import quadprog
+
+    rng = np.random.default_rng(14)
+    hits = 0
+    for _ in range(300):
+        nz, nc = 5, 22
+        H = _spd(rng, nz)
+        a, C = rng.normal(size=nz), rng.normal(size=(nz, nc))
+        b = -rng.uniform(0.0, 3.0, nc)
+        z = np.empty(nz)
+        ok = K._unconstrained_qp(H, a, C, b, z)
+        ref, _, _, _, _, iact = quadprog.solve_qp(H, a, C, b, 0)
+        if ok:
+            hits += 1
+            assert np.allclose(z, ref, rtol=0, atol=1e-12) and not np.any(iact > 0)
+        else:
+            assert np.any(C.T @ ref - b <= 1e-12 * (1 + np.abs(b)))  # something binds
+    assert 50 < hits < 300
+    H = np.diag([1.0, -1.0])
+    assert not K._unconstrained_qp(H, np.ones(2), np.eye(2), -np.ones(2), np.empty(2))
+    C, b = np.eye(2), np.array([0.5, -1.0])  # z = (0.5, ·): exactly on the first bound
+    assert not K._unconstrained_qp(np.eye(2), np.array([0.5, 0.0]), C, b, np.empty(2))
