@@ -2,10 +2,12 @@
 
 The numpy path of :mod:`newton` is the reference and the default without numba. With
 numba, :class:`AcceleratedCycle` runs the same cycle through the fused kernel
-:func:`accel_kernels.newton_cycle` — FK, task error, Jacobian, joint box, compact split,
-closed-form 1-D QP, QP data — and calls quadprog from Python only for the general QP
-(``n − m > 1``) and the relaxed QP. Results equal the numpy path to rounding (tested in
-``tests/ik/test_accel.py``).
+:func:`accel_kernels.newton_cycle` (entered through ``run_cycle`` with one
+:class:`Workspace`) — FK, task error, Jacobian, joint box, compact split, closed-form
+1-D QP, the compact QP's unconstrained minimiser when nothing binds, QP data — and
+calls quadprog from Python only when a compact-QP constraint binds and for the relaxed
+QP. Results equal the numpy path to rounding (tested in ``tests/ik/test_accel.py``;
+each kernel alone in ``tests/ik/test_accel_kernels.py``).
 
 Covered: every cycle option — the default criterion, CYCLIC / WITH RECONFIGURATION,
 RECONFIGURATION (self-motion), position/speed/acceleration limits with braking, coupled
