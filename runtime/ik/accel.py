@@ -41,7 +41,7 @@ from irlc.runtime import accel_support
 AVAILABLE = accel_support.AVAILABLE  # numba importable and not IRLC_NO_ACCEL=1
 compile_seconds: float | None = None  # first kernel call of this process (compile or load)
 
-_KERNELS = accel_support.Kernels("irlc.runtime.ik.accel_kernels", "newton_cycle")
+_KERNELS = accel_support.Kernels("irlc.runtime.ik.accel_kernels", "run_cycle")
 _module = _KERNELS.load
 cache_warm = _KERNELS.cache_warm
 
