@@ -2,12 +2,12 @@
 
 The numpy path of :mod:`newton` is the reference and the default without numba. With
 numba, :class:`AcceleratedCycle` runs the same cycle through the fused kernel
-:func:`accel_kernels.newton_cycle` (entered through ``run_cycle`` with one
-:class:`Workspace`) — FK, task error, Jacobian, joint box, compact split, closed-form
-1-D QP, the compact QP's unconstrained minimiser when nothing binds, QP data — and
-calls quadprog from Python only when a compact-QP constraint binds and for the relaxed
-QP. Results equal the numpy path to rounding (tested in ``tests/ik/test_accel.py``;
-each kernel alone in ``tests/ik/test_accel_kernels.py``).
+:func:`accel_kernels.newton_cycle` (on one :class:`Workspace`) — FK, task error,
+Jacobian, joint box, compact split, closed-form 1-D QP, the compact QP's unconstrained
+minimiser when nothing binds, QP data — and calls quadprog from Python only when a
+compact-QP constraint binds and for the relaxed QP. Results equal the numpy path to
+rounding (tested in ``tests/ik/test_accel.py``; each kernel alone in
+``tests/ik/test_accel_kernels.py``).
 
 Covered: every cycle option — the default criterion, CYCLIC / WITH RECONFIGURATION,
 RECONFIGURATION (self-motion), position/speed/acceleration limits with braking, coupled
@@ -41,7 +41,7 @@ from irlc.runtime import accel_support
 AVAILABLE = accel_support.AVAILABLE  # numba importable and not IRLC_NO_ACCEL=1
 compile_seconds: float | None = None  # first kernel call of this process (compile or load)
 
-_KERNELS = accel_support.Kernels("irlc.runtime.ik.accel_kernels", "run_cycle")
+_KERNELS = accel_support.Kernels("irlc.runtime.ik.accel_kernels", "newton_cycle")
 _module = _KERNELS.load
 cache_warm = _KERNELS.cache_warm
 
@@ -83,7 +83,7 @@ def warm_up() -> float:
 
 class Workspace:
     """The cycle's arrays in two buffers (``fw`` float, ``iw`` int) and the layout ``lay``
-    that :func:`accel_kernels.run_cycle` cuts them with; the same views as attributes here.
+    that :func:`accel_kernels.newton_cycle` cuts them with; the same views as attributes here.
 
     The step's (reduced) problem has its own region, sized for all ``n`` joints: under
     FREEZE (:meth:`use`) its views cover the free joints; otherwise the layout points them
@@ -317,7 +317,7 @@ class AcceleratedCycle:
         chain = self.chain = ik.kin.chain_data
         self._sync_basis()
         ws.target[:] = target
-        run, fw, iw, lay = k.run_cycle, ws.fw, ws.iw, ws.lay
+        run, fw, iw, lay = k.newton_cycle, ws.fw, ws.iw, ws.lay
         while True:
             status = run(chain.basis, chain.joints, chain.ends, self.boxc, *self.terms, fw, iw,
                          lay)  # fmt: skip

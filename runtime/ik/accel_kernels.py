@@ -643,22 +643,97 @@ def _evaluate(kb, kj, ends, target, frames, local, tcp, rows, V, ist, fst):
     fst[OE] = math.sqrt(oe)
 
 
+# ---------------------------------------------------------------------- one-buffer entry
+# Slots of the layout ``lay`` (int64): offsets of each array in the float workspace ``fw``
+# or the int workspace ``iw``, then the sizes. One Python→numba call unboxes every array
+# argument (≈ 0.15–0.3 µs each), so the cycle passes two buffers and a layout instead of
+# forty arrays; :func:`newton_cycle` cuts the same views the driver (``accel.Workspace``)
+# uses.
+(
+    F_V, F_FRAMES, F_TCP, F_J6, F_JT, F_F, F_H, F_A, F_BOUND_D, F_BOUNDS, F_CAND, F_TARGET,
+    F_VR, F_JR, F_FR, F_HR, F_AR, F_BOUND_R, F_AUG, F_N, F_HT, F_GT, F_CT, F_BT, F_HREL,
+    F_GREL, F_MULT, F_FTARGET, F_FST,
+    I_ROWS, I_FREE, I_FZ, I_PERM, I_ACTIVE, I_IST, I_CODES,
+    Z_N, Z_M, Z_NF, Z_R, Z_NFZ,
+    N_LAY,
+) = range(42)  # fmt: skip
+ANY_CODE = N_IST  # ist[ANY_CODE]: some joint's displacement is at a box bound (codes set)
+N_IST_ALL = N_IST + 1
+
+
 @njit(cache=True)
-def newton_cycle(
-    kb, kj, ends, target, boxc, cand, bounds, V, frames, tcp, J6, Jt, F, rows, A, bound_d,
-    H, ow, opush, ojac, ojtj, free, fz, ftarget,
-    Vr, Jr, Fr, Hr, Ar, bound_r, perm, aug, N, Ht, gt, Ct, bt, Hrel, grel, active, mult,
-    ist, fst,
-):  # fmt: skip
+def _v1(buf, off, a):
+    return buf[off : off + a]
+
+
+@njit(cache=True)
+def _v2(buf, off, a, b):
+    return buf[off : off + a * b].reshape((a, b))
+
+
+@njit(cache=True)
+def _v3(buf, off, a, b, c):
+    return buf[off : off + a * b * c].reshape((a, b, c))
+
+
+@njit(cache=True)
+def _active_codes(theta, q_start, bounds, cand, codes):
+    """``limits.active_codes``: per joint 0 inside, else ``1 + 2·source + side`` (the
+    candidate that sets the bound; a joint at both bounds counts as max); True when any
+    joint is at a bound."""
+    n = theta.shape[0]
+    found = False
+    for j in range(n):
+        d = theta[j] - q_start[j]
+        tol = 1e-10 + 1e-9 * abs(d)
+        code = 0
+        for side in range(2):
+            at = d <= bounds[0, j] + tol if side == 0 else d >= bounds[1, j] - tol
+            if at:
+                src, best = 0, cand[0, side, j]
+                for s in range(1, 4):
+                    if cand[s, side, j] < best:
+                        src, best = s, cand[s, side, j]
+                code = 1 + 2 * src + side
+        codes[j] = code
+        found = found or code != 0
+    return found
+
+
+@njit(cache=True)
+def newton_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
     """Run Newton iterations of one cycle from ``ist[PHASE]`` until done or Python is
-    needed (returns the status; see the module docstring). The step is solved on the
-    reduced problem ``Vr, Jr, Fr, Hr, Ar, bound_r`` (the free joints under FREEZE; without
-    frozen joints the caller passes the full arrays themselves)."""
-    n = V.shape[1]
-    m = rows.shape[0]
-    nf = Vr.shape[1]
-    nz = nf - m
-    nfz = fz.shape[0]
+    needed (returns the status; see the module docstring). The arrays are views of the
+    workspaces ``fw`` (float) and ``iw`` (int) cut by the layout ``lay`` (the driver's
+    ``accel.Workspace`` cuts the same). The step is solved on the reduced problem
+    ``Vr, Jr, Fr, Hr, Ar, bound_r`` (the free joints under FREEZE; without frozen joints
+    the layout points them at the full arrays). When the cycle is done, also the active
+    codes (``iw`` at ``I_CODES``, ``ist[ANY_CODE]``)."""
+    n, m, nf, r, nfz = lay[Z_N], lay[Z_M], lay[Z_NF], lay[Z_R], lay[Z_NFZ]
+    nz = max(nf - m, 0)
+    nc = 2 * nf + r
+    V = _v2(fw, lay[F_V], NV, n)
+    bounds = _v2(fw, lay[F_BOUNDS], 2, n)
+    cand = _v3(fw, lay[F_CAND], 4, 2, n)
+    ist = _v1(iw, lay[I_IST], N_IST_ALL)
+    target = _v2(fw, lay[F_TARGET], 4, 4)
+    frames, tcp = _v3(fw, lay[F_FRAMES], n + 1, 4, 4), _v2(fw, lay[F_TCP], 4, 4)
+    J6, Jt, F = _v2(fw, lay[F_J6], 6, n), _v2(fw, lay[F_JT], m, n), _v1(fw, lay[F_F], m)
+    rows = _v1(iw, lay[I_ROWS], m)
+    A, bound_d = _v2(fw, lay[F_A], r, n), _v1(fw, lay[F_BOUND_D], r)
+    H = _v2(fw, lay[F_H], n, n)
+    free, fz = _v1(iw, lay[I_FREE], nf), _v1(iw, lay[I_FZ], nfz)
+    ftarget = _v1(fw, lay[F_FTARGET], nfz)
+    Vr, Jr, Fr = _v2(fw, lay[F_VR], NV, nf), _v2(fw, lay[F_JR], m, nf), _v1(fw, lay[F_FR], m)
+    Hr, Ar = _v2(fw, lay[F_HR], nf, nf), _v2(fw, lay[F_AR], r, nf)
+    bound_r = _v1(fw, lay[F_BOUND_R], r)
+    perm, aug = _v1(iw, lay[I_PERM], nf), _v2(fw, lay[F_AUG], m, nf + 1)
+    N, Ht, gt = _v2(fw, lay[F_N], nf, nz), _v2(fw, lay[F_HT], nz, nz), _v1(fw, lay[F_GT], nz)
+    Ct, bt = _v2(fw, lay[F_CT], nz, nc), _v1(fw, lay[F_BT], nc)
+    Hrel, grel = _v2(fw, lay[F_HREL], nf, nf), _v1(fw, lay[F_GREL], nf)
+    active, mult = _v1(iw, lay[I_ACTIVE], nc), _v1(fw, lay[F_MULT], nc)
+    fst = _v1(fw, lay[F_FST], N_FST)
+    codes = _v1(iw, lay[I_CODES], n)
     general = ist[GENERAL] != 0
     local = np.empty((4, 4))
     phase = ist[PHASE]
@@ -705,6 +780,7 @@ def newton_cycle(
             _evaluate(kb, kj, ends, target, frames, local, tcp, rows, V, ist, fst)
             if k >= 1:
                 if (fst[PE] < fst[TOL_P] and fst[OE] < fst[TOL_O]) or k >= ist[MAX_ITER]:
+                    ist[ANY_CODE] = _active_codes(V[THETA], V[Q_START], bounds, cand, codes)
                     return S_DONE
                 if ist[RELAXED] != 0:
                     dmax = 0.0
@@ -713,6 +789,7 @@ def newton_cycle(
                         dmax = max(dmax, abs(V[DTHETA, j]))
                         tmax = max(tmax, abs(V[THETA, j]))
                     if dmax <= 1e-13 * (1.0 + tmax):
+                        ist[ANY_CODE] = _active_codes(V[THETA], V[Q_START], bounds, cand, codes)
                         return S_DONE
             elif ist[NEED_TERMS] != 0:  # obstacle terms at the first iterate: Python
                 ist[PHASE] = P_TERMS
@@ -799,91 +876,3 @@ def newton_cycle(
                 V[THETA, j] += V[DTHETA, j]
             ist[K] += 1
             stage = 0
-
-
-# ---------------------------------------------------------------------- one-buffer entry
-# Slots of the layout ``lay`` (int64): offsets of each array in the float workspace ``fw``
-# or the int workspace ``iw``, then the sizes. One Python→numba call unboxes every array
-# argument (≈ 0.15–0.3 µs each), so the cycle passes two buffers and a layout instead of
-# forty arrays; :func:`run_cycle` cuts the same views the driver (``accel.Workspace``) uses.
-(
-    F_V, F_FRAMES, F_TCP, F_J6, F_JT, F_F, F_H, F_A, F_BOUND_D, F_BOUNDS, F_CAND, F_TARGET,
-    F_VR, F_JR, F_FR, F_HR, F_AR, F_BOUND_R, F_AUG, F_N, F_HT, F_GT, F_CT, F_BT, F_HREL,
-    F_GREL, F_MULT, F_FTARGET, F_FST,
-    I_ROWS, I_FREE, I_FZ, I_PERM, I_ACTIVE, I_IST, I_CODES,
-    Z_N, Z_M, Z_NF, Z_R, Z_NFZ,
-    N_LAY,
-) = range(42)  # fmt: skip
-ANY_CODE = N_IST  # ist[ANY_CODE]: some joint's displacement is at a box bound (codes set)
-N_IST_ALL = N_IST + 1
-
-
-@njit(cache=True)
-def _v1(buf, off, a):
-    return buf[off : off + a]
-
-
-@njit(cache=True)
-def _v2(buf, off, a, b):
-    return buf[off : off + a * b].reshape((a, b))
-
-
-@njit(cache=True)
-def _v3(buf, off, a, b, c):
-    return buf[off : off + a * b * c].reshape((a, b, c))
-
-
-@njit(cache=True)
-def _active_codes(theta, q_start, bounds, cand, codes):
-    """``limits.active_codes``: per joint 0 inside, else ``1 + 2·source + side`` (the
-    candidate that sets the bound; a joint at both bounds counts as max); True when any
-    joint is at a bound."""
-    n = theta.shape[0]
-    found = False
-    for j in range(n):
-        d = theta[j] - q_start[j]
-        tol = 1e-10 + 1e-9 * abs(d)
-        code = 0
-        for side in range(2):
-            at = d <= bounds[0, j] + tol if side == 0 else d >= bounds[1, j] - tol
-            if at:
-                src, best = 0, cand[0, side, j]
-                for s in range(1, 4):
-                    if cand[s, side, j] < best:
-                        src, best = s, cand[s, side, j]
-                code = 1 + 2 * src + side
-        codes[j] = code
-        found = found or code != 0
-    return found
-
-
-@njit(cache=True)
-def run_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
-    """:func:`newton_cycle` on views of the workspaces ``fw`` (float) and ``iw`` (int)
-    cut by the layout ``lay``; when the cycle is done, also the active codes."""
-    n, m, nf, r, nfz = lay[Z_N], lay[Z_M], lay[Z_NF], lay[Z_R], lay[Z_NFZ]
-    nz = max(nf - m, 0)
-    nc = 2 * nf + r
-    V = _v2(fw, lay[F_V], NV, n)
-    bounds = _v2(fw, lay[F_BOUNDS], 2, n)
-    cand = _v3(fw, lay[F_CAND], 4, 2, n)
-    ist = _v1(iw, lay[I_IST], N_IST_ALL)
-    status = newton_cycle(
-        kb, kj, ends, _v2(fw, lay[F_TARGET], 4, 4), boxc, cand, bounds, V,
-        _v3(fw, lay[F_FRAMES], n + 1, 4, 4), _v2(fw, lay[F_TCP], 4, 4),
-        _v2(fw, lay[F_J6], 6, n), _v2(fw, lay[F_JT], m, n), _v1(fw, lay[F_F], m),
-        _v1(iw, lay[I_ROWS], m), _v2(fw, lay[F_A], r, n), _v1(fw, lay[F_BOUND_D], r),
-        _v2(fw, lay[F_H], n, n), ow, opush, ojac, ojtj,
-        _v1(iw, lay[I_FREE], nf), _v1(iw, lay[I_FZ], nfz), _v1(fw, lay[F_FTARGET], nfz),
-        _v2(fw, lay[F_VR], NV, nf), _v2(fw, lay[F_JR], m, nf), _v1(fw, lay[F_FR], m),
-        _v2(fw, lay[F_HR], nf, nf), _v2(fw, lay[F_AR], r, nf), _v1(fw, lay[F_BOUND_R], r),
-        _v1(iw, lay[I_PERM], nf), _v2(fw, lay[F_AUG], m, nf + 1), _v2(fw, lay[F_N], nf, nz),
-        _v2(fw, lay[F_HT], nz, nz), _v1(fw, lay[F_GT], nz), _v2(fw, lay[F_CT], nz, nc),
-        _v1(fw, lay[F_BT], nc), _v2(fw, lay[F_HREL], nf, nf), _v1(fw, lay[F_GREL], nf),
-        _v1(iw, lay[I_ACTIVE], nc), _v1(fw, lay[F_MULT], nc), ist,
-        _v1(fw, lay[F_FST], N_FST),
-    )  # fmt: skip
-    if status == S_DONE:
-        codes = _v1(iw, lay[I_CODES], n)
-        ist[ANY_CODE] = _active_codes(V[THETA], V[Q_START], bounds, cand, codes)
-    return status
