@@ -336,3 +336,36 @@ def test_irlc_no_accel_disables_it():
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["False", "False"]
+
+
+def test_every_option_runs_compiled(robots, monkeypatch):
+    """FREEZE, avoided obstacles, CYCLIC, RECONFIGURATION and coupled limits never take
+    the numpy cycle on an accelerated solver (before issue 14, FREEZE and OBSTACLE did)."""
+    from irlc.runtime.ik.newton import InverseTransformation as IT
+
+    def numpy_cycle(*args, **kwargs):
+        raise AssertionError("the numpy cycle ran on an accelerated solver")
+
+    monkeypatch.setattr(IT, "_solve", numpy_cycle)
+    monkeypatch.setattr(IT, "_solve_diagonal", numpy_cycle)
+    model = robots["koch11"]
+    home = np.array(model.home_q(), dtype=float)
+    obstacles = _obstacles_near(model)
+    ik = _pair(model)[0]
+    target = Kinematics(model).tcp(home)
+    for opts in (
+        CycleOptions(frozen=_frozen(model, (1, 2))),
+        CycleOptions(obstacles=obstacles, active_obstacles=frozenset({"ball", "box"})),
+        CycleOptions(
+            obstacles=obstacles,
+            active_obstacles=frozenset({"box"}),
+            reference=home,
+            frozen=_frozen(model, (4,)),
+        ),
+        CycleOptions(reference=home + 0.01, self_motion=True),
+    ):
+        assert ik.step(home, home, target, 0.01, opts).converged
+    irb6 = robots["irb6"]
+    q = np.array(irb6.home_q(), dtype=float)
+    ik = _pair(irb6)[0]
+    ik.step(q, q, Kinematics(irb6).tcp(q), 0.01, CycleOptions())
