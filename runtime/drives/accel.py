@@ -56,9 +56,35 @@ class AcceleratedLoop:
         self.par = par
         self.trans = trans.data  # the packed motor map (public, read-only)
         self.static_j, self.running_j = static_j, running_j
+        self._kin = None  # link frames for the compiled M(q), C q̇ + G (coupled)
         self.ist = np.zeros(k.N_IST, dtype=np.int64)
         self.fst = np.array([sim.h, 0.0, 0.0])
         self.ist[k.STICKY], self.ist[k.SLIDING] = int(sticky), int(sliding)
+
+    def _refresh(self, q, qd, mm, hb, m_inv) -> None:
+        """``M(q)``, ``C q̇ + G`` and ``M⁻¹`` (``Mechanics.terms``): the coupled terms by
+        the compiled :func:`accel_kernels.mass_and_bias` on the packed
+        :class:`~irlc.runtime.dynamics.DynamicsData` and the link frames."""
+        mech = self.sim.mech
+        if mech.coupled and mech.dyn is not None:
+            if self._kin is None:
+                from irlc.runtime.kinematics import Kinematics
+
+                self._kin = Kinematics(mech.dyn.model)
+            d = mech.dyn.data
+            self.k.mass_and_bias(self._kin.chain(q), d.axes, d.revolute, d.rotor, d.mass,
+                                 d.com, d.inertia, d.gravity, qd, mm, hb)  # fmt: skip
+            if mech.rotor_extra is not None:
+                mm += mech.rotor_extra(q)
+            m_inv[:] = np.linalg.inv(mm)
+            return
+        m_new, hb[:] = mech.terms(q, qd)
+        if m_new.ndim == 1:  # decoupled, plain ratios: D diagonal
+            mm[:] = np.diag(m_new)
+            m_inv[:] = np.diag(1.0 / m_new)
+        else:
+            mm[:] = m_new
+            m_inv[:] = np.linalg.inv(m_new)
 
     @staticmethod
     def covers(sim) -> bool:
@@ -100,13 +126,7 @@ class AcceleratedLoop:
             )  # fmt: skip
             if s >= steps:
                 break
-            m_new, hb[:] = sim.mech.terms(q, qd)
-            if m_new.ndim == 1:  # decoupled, plain ratios: D diagonal
-                mm[:] = np.diag(m_new)
-                m_inv[:] = np.diag(1.0 / m_new)
-            else:
-                mm[:] = m_new
-                m_inv[:] = np.linalg.inv(m_new)
+            self._refresh(q, qd, mm, hb, m_inv)
             refresh.mark(s, q, qd)
             fresh = 1
         bank.loop.x[:, 0], bank.loop.x[:, 1] = xi, xu

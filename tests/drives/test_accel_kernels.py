@@ -81,3 +81,31 @@ def test_transmission_on_packed_data(robot):
     fd = np.column_stack([(trans.to_motor(q + h * e) - trans.to_motor(q - h * e)) / (2 * h)
                           for e in np.eye(model.n)])  # fmt: skip
     assert np.allclose(kmat, fd, rtol=1e-6, atol=1e-6)
+
+
+@pytest.mark.parametrize("robot", ["irb6_track", "koch11", "as6", "mobile8"])
+def test_mass_and_bias_on_packed_data(robot):
+    """M(q) and C q̇ + G from DynamicsData and the link frames equal
+    Dynamics.mass_and_bias (prismatic joints included: irb6_track's track, mobile8's
+    platform); M is symmetric and its diagonal holds the rotors."""
+    from irlc.runtime.dynamics import Dynamics
+    from irlc.runtime.kinematics import Kinematics
+
+    model = load_toml(ROBOTS / f"{robot}.toml")
+    rotor = np.linspace(0.1, 0.5, model.n)
+    dyn, kin = Dynamics(model, rotor_inertia=rotor), Kinematics(model)
+    d = dyn.data
+    assert not any(a.flags.writeable for a in (d.axes, d.mass, d.inertia, d.gravity))
+    rng = np.random.default_rng(13)
+    M, h = np.empty((model.n, model.n)), np.empty(model.n)
+    for _ in range(30):
+        q, qd = rng.uniform(-1.0, 1.0, model.n), rng.normal(size=model.n)
+        _kernels().mass_and_bias(kin.chain(q), d.axes, d.revolute, d.rotor, d.mass, d.com,
+                                 d.inertia, d.gravity, qd, M, h)  # fmt: skip
+        ref_m, ref_h = dyn.mass_and_bias(q, qd)
+        assert np.allclose(M, ref_m, rtol=0, atol=1e-13 * np.abs(ref_m).max())
+        assert np.allclose(h, ref_h, rtol=0, atol=1e-13 * max(1.0, np.abs(ref_h).max()))
+    assert np.array_equal(M, M.T)
+    _kernels().mass_and_bias(kin.chain(q), d.axes, d.revolute, np.zeros(model.n), d.mass, d.com,
+                             d.inertia, d.gravity, qd, M, h)  # fmt: skip
+    assert np.allclose(np.diag(ref_m) - np.diag(M), rotor, rtol=0, atol=1e-13 * np.abs(M).max())
