@@ -12,13 +12,23 @@ same arithmetic as its numpy reference (named in its docstring), written as loop
 * ``_split``: ``CompactBasis._solve`` — ``−J_m⁻¹[J_free F]`` by LU with partial pivoting,
   the pivot spread as the degradation test;
 * ``_scalar_qp`` / ``_checked`` / ``_hard_data``: ``NewtonStep.hard_diagonal``;
-  ``_relaxed_data``: ``NewtonStep.relaxed_diagonal`` / ``relaxed`` (the QP data only —
-  quadprog is called from Python).
+  ``_hard_data_general``: ``compact_box_qp`` + ``_with_rows`` (``NewtonStep.hard``);
+  ``_relaxed_data``: ``NewtonStep.relaxed_diagonal`` / ``relaxed`` (the QP data only);
+  ``_unconstrained_qp``: the compact QP's answer when no constraint binds (else quadprog
+  is called from Python);
+* ``_general_cost``: ``InverseTransformation._cost`` (CYCLIC, ``a_conf·W``, obstacle
+  terms); ``_reduce``: the FREEZE reduction of ``InverseTransformation._solve``;
+* ``_active_codes``: ``limits.active_codes``.
 
 :func:`newton_cycle` is a resumable state machine: it runs Newton iterations until the
 cycle is done or it needs Python (a quadprog call, a new basis by QR pivoting, the
-error path of the joint box); the caller does that and resumes it with a phase code.
-State lives in the integer / float arrays ``ist`` / ``fst`` (indices below).
+obstacle terms, the error path of the joint box); the caller does that and resumes it
+with a phase code. State lives in the integer / float arrays ``ist`` / ``fst`` (indices
+below); every array is a view of one workspace (``accel.Workspace``, layout below).
+
+The kernels stay in one file on purpose: numba's on-disk cache of a function is keyed
+by its own source file only, so a kernel calling a kernel of another module would keep
+stale machine code after that module changed.
 """
 
 from __future__ import annotations
