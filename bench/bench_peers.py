@@ -142,7 +142,7 @@ def breakdown(model, cases) -> None:
     opts = CycleOptions(accel=np.tile([-np.inf, np.inf], (model.n, 1)))
     ik = InverseTransformation(model, kin, IKParams(max_iter=1, accel=False))  # numpy pieces
     pink = bench_pink(cases)
-    pos, spd = ik._limits[0], ik._limits[1]
+    pos, spd = ik.limits[0], ik.limits[1]
     jac, tcp, w, g = np.empty((6, model.n)), np.empty((4, 4)), model.weights, np.zeros(model.n)
     names = [
         "whole step (1 iteration)",

@@ -42,9 +42,35 @@ against RNEA/CRBA in the tests.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from irlc.lang.errors import IrlcError
 from irlc.robots.model import RobotModel
+
+
+@dataclass(frozen=True)
+class DynamicsData:
+    """The inertial data of one :class:`Dynamics` as packed, read-only arrays (what
+    compiled kernels take; :attr:`Dynamics.data`): per joint ``axes`` ``(n, 3)`` (link
+    frame), ``revolute`` ``(n,)`` 1.0 / 0.0, ``rotor`` ``(n,)`` (``J_r``); per link
+    ``mass`` ``(n,)``, ``com`` ``(n, 3)`` (link frame), ``inertia`` ``(n, 3, 3)`` (about
+    the centre, link frame); ``gravity`` ``(3,)`` (world, m/s²). The link frames are
+    :attr:`irlc.runtime.kinematics.Kinematics.chain_data`'s."""
+
+    axes: np.ndarray
+    revolute: np.ndarray
+    rotor: np.ndarray
+    mass: np.ndarray
+    com: np.ndarray
+    inertia: np.ndarray
+    gravity: np.ndarray
+
+
+def _read_only(a) -> np.ndarray:
+    out = np.array(a, dtype=float, order="C")
+    out.flags.writeable = False
+    return out
 
 
 class MissingInertialData(IrlcError, ValueError):
@@ -126,6 +152,16 @@ class Dynamics:
         self._low = self._lower.astype(float)
         self._strict_f = self._strict.astype(float)
         self._upper_f = self._low.T.copy()
+
+    @property
+    def data(self) -> DynamicsData:
+        """The packed inertial data (:class:`DynamicsData`), built once."""
+        cached = getattr(self, "_data", None)
+        if cached is None:
+            arrays = (self._axes, self.revolute, self.rotor, self.mass, self.com)
+            arrays += (self.inertia, self.gravity)
+            cached = self._data = DynamicsData(*(_read_only(a) for a in arrays))
+        return cached
 
     # ------------------------------------------------------------------ kinematics
     def frames(self, q: np.ndarray) -> np.ndarray:

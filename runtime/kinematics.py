@@ -19,8 +19,38 @@ loop (one in-place 4×4 product per joint). See ``bench/bench_kinematics.py``.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from irlc.robots.model import RobotModel
+
+# columns of ChainData.joints
+J_OFFSET, J_AXIS, J_REVOLUTE = 0, slice(1, 4), 4
+
+
+@dataclass(frozen=True)
+class ChainData:
+    """The chain of one :class:`Kinematics` as packed, read-only arrays (what compiled
+    kernels take; :attr:`Kinematics.chain_data`)::
+
+        v_i = q_i + offset_i,   L_i = A0_i + cos v_i·A1_i + sin v_i·A2_i + v_i·A3_i,
+        T_0 = base,   T_i = T_{i−1}·L_i,   TCP = T_n·end
+
+    ``basis`` ``(n, 4, 16)``: the rows ``A0 … A3`` of each joint, flattened 4×4;
+    ``joints`` ``(n, 5)``: ``(offset, kx, ky, kz, revolute)`` — the joint axis ``k`` in
+    its link frame and 1.0 for revolute, 0.0 for prismatic joints; ``ends`` ``(2, 4, 4)``:
+    ``[base; end]``, ``end = flange·tool`` (a new object when the tool changes)."""
+
+    basis: np.ndarray
+    joints: np.ndarray
+    ends: np.ndarray
+
+
+def _read_only(a: np.ndarray) -> np.ndarray:
+    out = np.array(a, dtype=float, order="C")
+    out.flags.writeable = False
+    return out
+
 
 _NEXT = np.array([1, 2, 0])
 _PREV = np.array([2, 0, 1])
@@ -94,6 +124,26 @@ class Kinematics:
     def tool(self, value: np.ndarray) -> None:
         self._tool = np.array(value, dtype=float)
         self._end = self.model.flange @ self._tool
+        self._chain_data: ChainData | None = None
+
+    @property
+    def end(self) -> np.ndarray:
+        """``flange·tool``: the TCP in the last link's frame."""
+        return self._end
+
+    @property
+    def chain_data(self) -> ChainData:
+        """The packed chain (:class:`ChainData`); rebuilt only when the tool changes."""
+        data = self._chain_data
+        if data is None:
+            joints = np.empty((self.n, 5))
+            joints[:, J_OFFSET] = self._offsets
+            joints[:, J_AXIS] = self._axes
+            joints[:, J_REVOLUTE] = self._revolute
+            ends = np.stack((self._base, self._end))
+            data = ChainData(_read_only(self._basis), _read_only(joints), _read_only(ends))
+            self._chain_data = data
+        return data
 
     # ------------------------------------------------------------------ frames
 

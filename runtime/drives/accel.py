@@ -45,7 +45,7 @@ class AcceleratedLoop:
         k = _module()
         self.k, self.sim, self.bank = k, sim, bank
         c, frc, trans = sim.p.chain, sim.p.friction, sim.trans
-        n, m = sim.n, len(sim.axes)
+        m = len(sim.axes)
         par = np.zeros((m, k.N_PAR))
         for idx, value in (
             (k.KZ, c.kz), (k.KE, c.ke), (k.KP, c.kp), (k.KI, c.ki), (k.ULIM, c.u_ref_max),
@@ -54,21 +54,37 @@ class AcceleratedLoop:
         ):  # fmt: skip
             par[:, idx] = value
         self.par = par
-        self.lin, self.rows = np.zeros((m, n)), np.zeros(0, dtype=np.int64)
-        self.coef, self.lev = np.zeros((0, n)), np.zeros((0, k.N_LEV))
-        if trans.diagonal:
-            self.lin[np.arange(m), sim.axes] = trans.ratio
-        elif trans.matrix is not None:
-            self.lin[:] = trans.matrix
-        else:
-            self.lin[:] = trans._lin
-            self.rows = trans._rows.astype(np.int64)
-            self.coef = np.ascontiguousarray(trans._coef)
-            self.lev = np.stack([trans._sq, trans._ab2, trans._phi0, trans._gain, trans._s0], 1)
+        self.trans = trans.data  # the packed motor map (public, read-only)
         self.static_j, self.running_j = static_j, running_j
+        self._kin = None  # link frames for the compiled M(q), C q̇ + G (coupled)
         self.ist = np.zeros(k.N_IST, dtype=np.int64)
         self.fst = np.array([sim.h, 0.0, 0.0])
         self.ist[k.STICKY], self.ist[k.SLIDING] = int(sticky), int(sliding)
+
+    def _refresh(self, q, qd, mm, hb, m_inv) -> None:
+        """``M(q)``, ``C q̇ + G`` and ``M⁻¹`` (``Mechanics.terms``): the coupled terms by
+        the compiled :func:`accel_kernels.mass_and_bias` on the packed
+        :class:`~irlc.runtime.dynamics.DynamicsData` and the link frames."""
+        mech = self.sim.mech
+        if mech.coupled and mech.dyn is not None:
+            if self._kin is None:
+                from irlc.runtime.kinematics import Kinematics
+
+                self._kin = Kinematics(mech.dyn.model)
+            d = mech.dyn.data
+            self.k.mass_and_bias(self._kin.chain(q), d.axes, d.revolute, d.rotor, d.mass,
+                                 d.com, d.inertia, d.gravity, qd, mm, hb)  # fmt: skip
+            if mech.rotor_extra is not None:
+                mm += mech.rotor_extra(q)
+            m_inv[:] = np.linalg.inv(mm)
+            return
+        m_new, hb[:] = mech.terms(q, qd)
+        if m_new.ndim == 1:  # decoupled, plain ratios: D diagonal
+            mm[:] = np.diag(m_new)
+            m_inv[:] = np.diag(1.0 / m_new)
+        else:
+            mm[:] = m_new
+            m_inv[:] = np.linalg.inv(m_new)
 
     @staticmethod
     def covers(sim) -> bool:
@@ -102,20 +118,15 @@ class AcceleratedLoop:
             ist[k.START], ist[k.FRESH], ist[k.S0] = s, fresh, refresh.s0
             s = k.run_segment(
                 ist, fst, self.par, bank.fused, bank.limits, bank.loop.big, theta_ref,
-                self.lin, self.rows, self.coef, self.lev, self.static_j, self.running_j,
+                self.trans.linear, self.trans.rows, self.trans.angle, self.trans.lever,
+                self.static_j, self.running_j,
                 q, qd, xv, xi, xu, mm, hb, m_inv, refresh.q0, refresh.qd0,
                 rec["q"], rec["qd"], rec["tau"], rec["f"], rec_i, rec_u, sat_rec,
                 energy, copper,
             )  # fmt: skip
             if s >= steps:
                 break
-            m_new, hb[:] = sim.mech.terms(q, qd)
-            if m_new.ndim == 1:  # decoupled, plain ratios: D diagonal
-                mm[:] = np.diag(m_new)
-                m_inv[:] = np.diag(1.0 / m_new)
-            else:
-                mm[:] = m_new
-                m_inv[:] = np.linalg.inv(m_new)
+            self._refresh(q, qd, mm, hb, m_inv)
             refresh.mark(s, q, qd)
             fresh = 1
         bank.loop.x[:, 0], bank.loop.x[:, 1] = xi, xu

@@ -28,6 +28,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from irlc.runtime.drives.transmission import (
+    LEVER_AB2,
+    LEVER_GAIN,
+    LEVER_PHI0,
+    LEVER_S0,
+    LEVER_SQ,
+)
 from numba import njit
 
 # ist
@@ -39,9 +46,10 @@ N_FST = 3
 # par (per axis)
 KZ, KE, KP, KI, ULIM, R, L, KS, U, IMAX, RUN_M, VISC_M, BAND = range(13)
 N_PAR = 13
-# lev (per screw-lever row)
-LEV_SQ, LEV_AB2, LEV_PHI0, LEV_GAIN, LEV_S0 = range(5)
-N_LEV = 5
+# lev (per screw-lever row): the columns of TransmissionData.lever
+LEV_SQ, LEV_AB2, LEV_PHI0, LEV_GAIN, LEV_S0 = (
+    LEVER_SQ, LEVER_AB2, LEVER_PHI0, LEVER_GAIN, LEVER_S0
+)  # fmt: skip
 
 
 @njit(cache=True)
@@ -226,6 +234,166 @@ def _due(s, q, qd, q0, qd0, ist, fst):
 
 
 @njit(cache=True)
+def _transmission(lin, rows, coef, lev, q, theta, kmat):
+    """``Transmission.motor_and_jacobian`` on :class:`TransmissionData`'s arrays:
+    ``θ_m = L q`` and ``K = L``, then the screw-lever rows ``θ_m = gain (s − s0)``,
+    ``K = gain·½·2ab·sin(φ + φ0)/s · C``."""
+    m, n = lin.shape
+    for a in range(m):
+        acc = 0.0
+        for j in range(n):
+            kmat[a, j] = lin[a, j]
+            acc += q[j] * lin[a, j]
+        theta[a] = acc
+    for r in range(rows.shape[0]):
+        a = rows[r]
+        v = lev[r, LEV_PHI0]
+        for j in range(n):
+            v += coef[r, j] * q[j]
+        sq = math.sqrt(lev[r, LEV_SQ] - lev[r, LEV_AB2] * math.cos(v))
+        theta[a] = lev[r, LEV_GAIN] * (sq - lev[r, LEV_S0])
+        dk = lev[r, LEV_GAIN] * 0.5 * lev[r, LEV_AB2] * math.sin(v) / sq
+        for j in range(n):
+            kmat[a, j] = dk * coef[r, j]
+
+
+@njit(cache=True)
+def _cross_into(a, b, out):
+    out[0] = a[1] * b[2] - a[2] * b[1]
+    out[1] = a[2] * b[0] - a[0] * b[2]
+    out[2] = a[0] * b[1] - a[1] * b[0]
+
+
+@njit(cache=True)
+def mass_and_bias(frames, axes, revolute, rotor, mass, com, inertia, gravity, qd, M, h):
+    """``Dynamics.mass_and_bias`` on :class:`~irlc.runtime.dynamics.DynamicsData` and the
+    link frames (``Kinematics.chain``): ``M = Σ m_i J_viᵀJ_vi + J_ωiᵀ I_i J_ωi + diag(J_r)``
+    (``J_vi`` columns ``z_j × (c_i − P_j)`` revolute / ``z_j`` prismatic, ``J_ωi`` columns
+    ``z_j``, ``j ≤ i``) and ``h = C q̇ + G`` by the RNEA of :mod:`irlc.runtime.dynamics`
+    with ``q̈ = 0`` and ``a_0 = −g``."""
+    n = qd.shape[0]
+    p = np.empty((n, 3))
+    z = np.empty((n, 3))
+    c = np.empty((n, 3))
+    ii = np.empty((n, 3, 3))
+    for i in range(n):
+        f = frames[i + 1]
+        for r in range(3):
+            p[i, r] = f[r, 3]
+            z[i, r] = f[r, 0] * axes[i, 0] + f[r, 1] * axes[i, 1] + f[r, 2] * axes[i, 2]
+            c[i, r] = f[r, 3] + f[r, 0] * com[i, 0] + f[r, 1] * com[i, 1] + f[r, 2] * com[i, 2]
+        for a in range(3):
+            for b in range(3):
+                s = 0.0
+                for k in range(3):
+                    t = 0.0
+                    for m in range(3):
+                        t += inertia[i, k, m] * f[b, m]
+                    s += f[a, k] * t
+                ii[i, a, b] = s
+    # mass matrix, Jacobian form: column j of link i's J_v and J_ω
+    jv = np.zeros((n, 3, n))
+    jw = np.zeros((n, 3, n))
+    d = np.empty(3)
+    col = np.empty(3)
+    for i in range(n):
+        for j in range(i + 1):
+            if revolute[j] != 0.0:
+                for r in range(3):
+                    d[r] = c[i, r] - p[j, r]
+                _cross_into(z[j], d, col)
+                for r in range(3):
+                    jv[i, r, j] = col[r]
+                    jw[i, r, j] = z[j, r]
+            else:
+                for r in range(3):
+                    jv[i, r, j] = z[j, r]
+    iw = np.empty(3)
+    for a in range(n):
+        for b in range(a, n):
+            s = 0.0
+            for i in range(max(a, b), n):
+                lin = 0.0
+                for r in range(3):
+                    lin += jv[i, r, a] * jv[i, r, b]
+                ang = 0.0
+                for r in range(3):
+                    t = 0.0
+                    for k in range(3):
+                        t += ii[i, r, k] * jw[i, k, b]
+                    ang += jw[i, r, a] * t
+                s += mass[i] * lin + ang
+            M[a, b] = s
+            M[b, a] = s
+        M[a, a] += rotor[a]
+    # bias: RNEA with q̈ = 0, a_0 = −g
+    w = np.zeros(3)
+    alpha = np.zeros(3)
+    acc = np.empty(3)
+    for r in range(3):
+        acc[r] = -gravity[r]
+    prev = frames[0, :3, 3].copy()
+    ac = np.empty((n, 3))
+    ws = np.empty((n, 3))
+    als = np.empty((n, 3))
+    t1 = np.empty(3)
+    t2 = np.empty(3)
+    for i in range(n):
+        for r in range(3):
+            d[r] = p[i, r] - prev[r]
+        _cross_into(alpha, d, t1)
+        _cross_into(w, d, col)
+        _cross_into(w, col, t2)
+        for r in range(3):
+            acc[r] += t1[r] + t2[r]
+        for r in range(3):
+            col[r] = z[i, r] * qd[i]
+        _cross_into(w, col, t1)
+        if revolute[i] != 0.0:
+            for r in range(3):
+                alpha[r] += t1[r]
+                w[r] += col[r]
+        else:
+            for r in range(3):
+                acc[r] += 2.0 * t1[r]
+        for r in range(3):
+            d[r] = c[i, r] - p[i, r]
+        _cross_into(alpha, d, t1)
+        _cross_into(w, d, col)
+        _cross_into(w, col, t2)
+        for r in range(3):
+            ac[i, r] = acc[r] + t1[r] + t2[r]
+            ws[i, r] = w[r]
+            als[i, r] = alpha[r]
+            prev[r] = p[i, r]
+    force = np.zeros(3)
+    mom = np.zeros(3)
+    fi = np.empty(3)
+    for i in range(n - 1, -1, -1):
+        if i < n - 1:  # r_{i+1} × f_{i+1}
+            for r in range(3):
+                d[r] = p[i + 1, r] - p[i, r]
+            _cross_into(d, force, t1)
+            for r in range(3):
+                mom[r] += t1[r]
+        for r in range(3):
+            fi[r] = mass[i] * ac[i, r]
+            d[r] = c[i, r] - p[i, r]
+        _cross_into(d, fi, t1)
+        for r in range(3):
+            iw[r] = ii[i, r, 0] * ws[i, 0] + ii[i, r, 1] * ws[i, 1] + ii[i, r, 2] * ws[i, 2]
+        _cross_into(ws[i], iw, t2)
+        for r in range(3):
+            ia = ii[i, r, 0] * als[i, 0] + ii[i, r, 1] * als[i, 1] + ii[i, r, 2] * als[i, 2]
+            mom[r] += t1[r] + ia + t2[r]
+            force[r] += fi[r]
+        if revolute[i] != 0.0:
+            h[i] = z[i, 0] * mom[0] + z[i, 1] * mom[1] + z[i, 2] * mom[2]
+        else:
+            h[i] = z[i, 0] * force[0] + z[i, 1] * force[1] + z[i, 2] * force[2]
+
+
+@njit(cache=True)
 def run_segment(
     ist, fst, par, fused, lim5, big, theta_ref, lin, rows, coef, lev, static_j, running_j,
     q, qd, xv, xi, xu, mm, hb, m_inv, q0, qd0,
@@ -236,7 +404,6 @@ def run_segment(
     n = q.shape[0]
     m = xv.shape[0]
     h = fst[H]
-    nl = rows.shape[0]
     sticky = ist[STICKY] != 0
     sliding = ist[SLIDING] != 0
     theta = np.empty(m)
@@ -258,23 +425,7 @@ def run_segment(
     for s in range(ist[START], ist[STEPS]):
         if not (s == ist[START] and ist[FRESH] != 0) and _due(s, q, qd, q0, qd0, ist, fst):
             return s
-        # transmission: θ_m, K(q), ω_m
-        for a in range(m):
-            acc = 0.0
-            for j in range(n):
-                kmat[a, j] = lin[a, j]
-                acc += q[j] * lin[a, j]
-            theta[a] = acc
-        for r in range(nl):
-            a = rows[r]
-            v = lev[r, LEV_PHI0]
-            for j in range(n):
-                v += coef[r, j] * q[j]
-            sq = math.sqrt(lev[r, LEV_SQ] - lev[r, LEV_AB2] * math.cos(v))
-            theta[a] = lev[r, LEV_GAIN] * (sq - lev[r, LEV_S0])
-            dk = lev[r, LEV_GAIN] * 0.5 * lev[r, LEV_AB2] * math.sin(v) / sq
-            for j in range(n):
-                kmat[a, j] = dk * coef[r, j]
+        _transmission(lin, rows, coef, lev, q, theta, kmat)  # θ_m, K(q)
         any_stuck = False
         for a in range(m):
             acc = 0.0

@@ -19,9 +19,40 @@ Without a ``[transmission]`` table the ratios come from ``[drives] ratio``.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime.drives.params import DriveParams
+
+# columns of TransmissionData.lever
+LEVER_SQ, LEVER_AB2, LEVER_PHI0, LEVER_GAIN, LEVER_S0 = range(5)
+
+
+@dataclass(frozen=True)
+class TransmissionData:
+    """The motor map of the driven axes as packed, read-only arrays (what compiled
+    kernels take; :meth:`Transmission.data`)::
+
+        θ_m = L q,   then for each screw-lever row r (driven axis ``rows[r]``):
+        φ_r = C_r q,  s_r = √(sq_r − ab2_r·cos(φ_r + φ0_r)),  θ_m[rows[r]] = gain_r (s_r − s0_r)
+
+    ``linear`` ``L`` (driven × n: plain ratios on the diagonal, linear couplings, or the
+    ratio rows of a lever transmission), ``rows`` (levers,), ``angle`` ``C``
+    (levers × n) and ``lever`` (levers × 5: columns ``LEVER_SQ … LEVER_S0``: ``a² + b²``,
+    ``2ab``, ``φ0``, ``2π/lead``, ``s(0)``). No levers: ``rows``, ``angle`` and ``lever``
+    have zero rows, and ``L`` is the constant ``K``."""
+
+    linear: np.ndarray
+    rows: np.ndarray
+    angle: np.ndarray
+    lever: np.ndarray
+
+
+def _frozen(a: np.ndarray, dtype=float) -> np.ndarray:
+    out = np.array(a, dtype=dtype, order="C")
+    out.flags.writeable = False
+    return out
 
 
 class Transmission:
@@ -103,6 +134,28 @@ class Transmission:
         k = self._lin.copy()
         k[self._rows] = (self._gain * 0.5 * self._ab2 * np.sin(v) / s)[:, None] * self._coef
         return k
+
+    @property
+    def data(self) -> TransmissionData:
+        """The packed motor map (:class:`TransmissionData`), built once."""
+        cached = getattr(self, "_data", None)
+        if cached is not None:
+            return cached
+        m = len(self.axes)
+        lin, rows = np.zeros((m, self.n)), np.zeros(0, dtype=np.int64)
+        angle, lever = np.zeros((0, self.n)), np.zeros((0, 5))
+        if self.diagonal:
+            lin[np.arange(m), self.axes] = self.ratio
+        elif self.matrix is not None:
+            lin[:] = self.matrix
+        else:
+            lin[:] = self._lin
+            rows, angle = self._rows, self._coef
+            lever = np.stack([self._sq, self._ab2, self._phi0, self._gain, self._s0], 1)
+        self._data = TransmissionData(
+            _frozen(lin), _frozen(rows, np.int64), _frozen(angle), _frozen(lever)
+        )
+        return self._data
 
     @property
     def diagonal(self) -> bool:

@@ -2,15 +2,23 @@
 
 The numpy path of :mod:`newton` is the reference and the default without numba. With
 numba, :class:`AcceleratedCycle` runs the same cycle through the fused kernel
-:func:`accel_kernels.newton_cycle` — FK, task error, Jacobian, joint box, compact split,
-closed-form 1-D QP, QP data — and calls quadprog from Python only for the general QP
-(``n − m > 1``) and the relaxed QP. Results equal the numpy path to rounding (tested in
-``tests/ik/test_accel.py``).
+:func:`accel_kernels.newton_cycle` (on one :class:`Workspace`) — FK, task error,
+Jacobian, joint box, compact split, closed-form 1-D QP, the compact QP's unconstrained
+minimiser when nothing binds, QP data — and calls quadprog from Python only when a
+compact-QP constraint binds and for the relaxed QP. Results equal the numpy path to
+rounding (tested in ``tests/ik/test_accel.py``; each kernel alone in
+``tests/ik/test_accel_kernels.py``).
 
-Covered: the default criterion, CYCLIC / WITH RECONFIGURATION, RECONFIGURATION
-(self-motion), position/speed/acceleration limits with braking, coupled joint limits,
-any task rows, reported (not avoided) obstacles. Not covered (the numpy path runs):
-FREEZE, active OBSTACLE avoidance, ``solver="daqp"``, ``max_iter < 1``.
+Covered: every cycle option — the default criterion, CYCLIC / WITH RECONFIGURATION,
+RECONFIGURATION (self-motion), position/speed/acceleration limits with braking, coupled
+joint limits, any task rows, FREEZE (the step over the free joints, the frozen ones
+stepping to their held values), reported and avoided obstacles (OBSTACLE: the criterion's
+terms — any number of critical points — are computed in Python once per cycle, at the
+first iterate, from the kernel's frames, and passed in as arrays; the full ``H`` then
+goes through the general compact QP). Not covered (the numpy path runs):
+``solver="daqp"``, ``max_iter < 1``. The kernels read only public packed data:
+:attr:`Kinematics.chain_data`, the box constants' ``data`` (:class:`BoxData`), the
+coupled rows' ``A`` / ``bound_d`` and the cycle's options.
 
 **When it is used** (:func:`use_accel`): ``IKParams.accel`` ``True`` (always, compiling
 if needed), ``False`` (never) or ``None`` (default: as the environment switch
@@ -64,15 +72,100 @@ def warm_up() -> float:
         Joint(f"J{i}", "revolute", link if i else np.eye(4), axis, limits) for i in range(3)
     )
     model = RobotModel(name="warmup", joints=joints, flange=link)
-    ik = InverseTransformation(model, Kinematics(model), IKParams(task_rows=(0, 1), accel=False))
-    ik._accel = AcceleratedCycle(ik)
     compile_seconds = -1.0  # (the cycle below must not recurse into warm_up)
+    ik = InverseTransformation(model, Kinematics(model), IKParams(task_rows=(0, 1), accel=True))
     q = np.array([0.1, 0.2, 0.3])
     target = ik.kin.tcp(q)
     target[0, 3] += 1e-3
-    ik._accel.step(q, q, target, 0.01, ik._default)
+    ik.step(q, q, target, 0.01)
     compile_seconds = time.perf_counter() - t0
     return compile_seconds
+
+
+class Workspace:
+    """The cycle's arrays in two buffers (``fw`` float, ``iw`` int) and the layout ``lay``
+    that :func:`accel_kernels.newton_cycle` cuts them with; the same views as attributes here.
+
+    The step's (reduced) problem has its own region, sized for all ``n`` joints: under
+    FREEZE (:meth:`use`) its views cover the free joints; otherwise the layout points them
+    at the full arrays (``Vr`` is ``V``, …)."""
+
+    def __init__(self, k, n: int, m: int, r: int):
+        self.k, self.n, self.m, self.r = k, n, m, r
+        nz, nc = max(n - m, 0), 2 * n + r
+        floats = (
+            (k.F_V, k.NV * n), (k.F_FRAMES, 16 * (n + 1)), (k.F_TCP, 16), (k.F_J6, 6 * n),
+            (k.F_JT, m * n), (k.F_F, m), (k.F_H, n * n), (k.F_A, r * n), (k.F_BOUND_D, r),
+            (k.F_BOUNDS, 2 * n), (k.F_CAND, 8 * n), (k.F_TARGET, 16), (k.F_VR, k.NV * n),
+            (k.F_JR, m * n), (k.F_FR, m), (k.F_HR, n * n), (k.F_AR, r * n), (k.F_BOUND_R, r),
+            (k.F_AUG, m * (n + 1)), (k.F_N, n * nz), (k.F_HT, nz * nz), (k.F_GT, nz),
+            (k.F_CT, nz * nc), (k.F_BT, nc), (k.F_HREL, n * n), (k.F_GREL, n),
+            (k.F_MULT, nc), (k.F_FTARGET, n), (k.F_FST, k.N_FST),
+        )  # fmt: skip
+        ints = (
+            (k.I_ROWS, m), (k.I_FREE, n), (k.I_FZ, n), (k.I_PERM, n), (k.I_ACTIVE, nc),
+            (k.I_IST, k.N_IST_ALL), (k.I_CODES, n),
+        )  # fmt: skip
+        self.lay = lay = np.zeros(k.N_LAY, dtype=np.int64)
+        self._own = {}
+        self.fw = np.zeros(self._offsets(floats))
+        self.iw = np.zeros(self._offsets(ints), dtype=np.int64)
+        lay[k.Z_N], lay[k.Z_M], lay[k.Z_R] = n, m, r
+        f = self._f
+        self.V, self.frames = f(k.F_V, k.NV, n), f(k.F_FRAMES, n + 1, 4, 4)
+        self.tcp, self.J6, self.Jt = f(k.F_TCP, 4, 4), f(k.F_J6, 6, n), f(k.F_JT, m, n)
+        self.F, self.H, self.A = f(k.F_F, m), f(k.F_H, n, n), f(k.F_A, r, n)
+        self.bound_d, self.bounds = f(k.F_BOUND_D, r), f(k.F_BOUNDS, 2, n)
+        self.cand, self.target = f(k.F_CAND, 4, 2, n), f(k.F_TARGET, 4, 4)
+        self.fst = f(k.F_FST, k.N_FST)
+        self.rows, self.ist = self._i(k.I_ROWS, m), self._i(k.I_IST, k.N_IST_ALL)
+        self.codes = self._i(k.I_CODES, n)
+        self.frozen = False
+        self.use(None)
+
+    def _offsets(self, sizes) -> int:
+        total = 0
+        for slot, size in sizes:
+            self.lay[slot] = self._own[slot] = total
+            total += size
+        return total
+
+    def _f(self, slot: int, *shape: int) -> np.ndarray:
+        o = int(self.lay[slot])
+        return self.fw[o : o + int(np.prod(shape))].reshape(shape)
+
+    def _i(self, slot: int, size: int) -> np.ndarray:
+        o = int(self.lay[slot])
+        return self.iw[o : o + size]
+
+    def use(self, frozen) -> None:
+        """Point the problem's views at the free joints of ``frozen`` (``FrozenJoints``)
+        or, with None, at the full arrays."""
+        k, lay, n, m, r = self.k, self.lay, self.n, self.m, self.r
+        for slot in (k.F_VR, k.F_JR, k.F_FR, k.F_HR, k.F_AR, k.F_BOUND_R):
+            lay[slot] = self._own[slot]
+        if frozen is None:
+            nf, nfz = n, 0
+            pairs = ((k.F_VR, k.F_V), (k.F_JR, k.F_JT), (k.F_FR, k.F_F), (k.F_HR, k.F_H),
+                     (k.F_AR, k.F_A), (k.F_BOUND_R, k.F_BOUND_D))  # fmt: skip
+            for mine, full in pairs:
+                lay[mine] = lay[full]
+        else:
+            nf, nfz = frozen.free.size, frozen.frozen.size
+        lay[k.Z_NF], lay[k.Z_NFZ] = nf, nfz
+        self.frozen = frozen is not None
+        nz, nc = max(nf - m, 0), 2 * nf + r
+        f = self._f
+        self.Vr, self.Jr, self.Hr = f(k.F_VR, k.NV, nf), f(k.F_JR, m, nf), f(k.F_HR, nf, nf)
+        self.Ht, self.gt = f(k.F_HT, nz, nz), f(k.F_GT, nz)
+        self.Ct, self.bt = f(k.F_CT, nz, nc), f(k.F_BT, nc)
+        self.Hrel, self.grel, self.mult = f(k.F_HREL, nf, nf), f(k.F_GREL, nf), f(k.F_MULT, nc)
+        self.perm, self.active = self._i(k.I_PERM, nf), self._i(k.I_ACTIVE, nc)
+        self.shape = (m, nf)
+        if frozen is not None:
+            self._i(k.I_FREE, nf)[:] = frozen.free
+            self._i(k.I_FZ, nfz)[:] = frozen.frozen
+            f(k.F_FTARGET, nfz)[:] = frozen.targets
 
 
 class AcceleratedCycle:
@@ -82,44 +175,25 @@ class AcceleratedCycle:
         k = _module()
         self.k = k
         self.ik = ik
-        kin = ik.kin
-        n, m = ik.n, ik.rows.size
-        nz = max(n - m, 0)
-        self.kb = np.ascontiguousarray(kin._basis)  # (n, 4, 16)
-        self.kj = np.empty((n, 5))
-        self.kj[:, 0] = kin._offsets
-        self.kj[:, 1:4] = kin._axes
-        self.kj[:, 4] = kin._revolute
-        self.ends = np.empty((2, 4, 4))
-        self.rows = np.ascontiguousarray(ik.rows, dtype=np.int64)
+        self.n, self.m = n, m = ik.n, ik.rows.size
+        self.chain = ik.kin.chain_data  # packed, read-only (re-read per cycle: R_TOOL)
         coupled = ik.coupled
-        self.A = np.zeros((0, n)) if coupled is None else np.ascontiguousarray(coupled.A)
-        self.bound_d = np.zeros(0)
-        r = self.A.shape[0]
-        self.V = np.zeros((k.NV, n))
-        self.V[k.W] = ik.weights
-        self.frames = np.empty((n + 1, 4, 4))
-        self.tcp = np.empty((4, 4))
-        self.J6 = np.empty((6, n))
-        self.Jt = np.empty((m, n))
-        self.F = np.empty(m)
-        self.perm = np.zeros(n, dtype=np.int64)
-        self.aug = np.empty((m, n + 1))
-        self.N = np.zeros((n, nz))
-        self.Ht = np.empty((nz, nz))
-        self.gt = np.empty(nz)
-        self.Ct = np.empty((nz, 2 * n + r))
-        self.bt = np.empty(2 * n + r)
-        self.Hr = np.empty((n, n))
-        self.gr = np.empty(n)
-        self.Cr = np.ascontiguousarray(np.hstack((np.eye(n), -np.eye(n), self.A.T)))
-        self.active = np.zeros(2 * n + r, dtype=np.int64)
-        self.mult = np.zeros(2 * n + r)
-        self.ist = np.zeros(k.N_IST, dtype=np.int64)
-        self.fst = np.zeros(k.N_FST)
-        self.cand = np.empty((4, 2, n))
-        self.boxc = np.empty((4, 2, n))
+        r = 0 if coupled is None else coupled.A.shape[0]
+        ws = self.ws = Workspace(k, n, m, r)
+        ws.rows[:] = ik.rows
+        if coupled is not None:
+            ws.A[:] = coupled.A
+        self.V, self.ist, self.fst = ws.V, ws.ist, ws.fst
+        self.frames, self.tcp, self.Jt, self.cand = ws.frames, ws.tcp, ws.Jt, ws.cand
+        self.weights = np.asarray(ik.weights, dtype=float)
+        self.conf_weights = ik.params.obstacle.a_conf * self.weights  # (as WeightedDisplacement)
+        self.V[k.W] = self.weights
+        self._mode = (False, False)  # (V[W] is a_conf·W, V[WC] is a_conf·W)
+        self._no_terms = (np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3, n)), np.zeros((0, n, n)))
+        self.terms = self._no_terms
         self._box_key = None
+        self._frozen = None  # the FrozenJoints the workspace's problem is cut for
+        self._crel: dict[int, np.ndarray] = {}
         p = ik.params
         ist, fst = self.ist, self.fst
         ist[k.MAX_ITER] = p.max_iter
@@ -135,43 +209,105 @@ class AcceleratedCycle:
         c = self.ik.box.constants(position, speed, accel, dt)
         if self._box_key is not c:
             self._box_key = c
-            self.boxc[0] = c.signed_pos
-            self.boxc[1] = c.signed_speed
-            self.boxc[2] = c.signed_accel
-            self.boxc[3] = c.two_over_eps
-            self.ist[self.k.ACCEL_BOUNDED] = int(c.accel_bounded)
-            self.fst[self.k.DTOL] = c.dtol
+            data = c.data  # packed, read-only
+            self.boxc = data.signed
+            self.ist[self.k.ACCEL_BOUNDED] = int(data.accel_bounded)
+            self.fst[self.k.DTOL] = data.dtol
         return c
+
+    def _use(self, frozen) -> None:
+        """Cut the workspace's problem for this cycle's FREEZE set (only when it changes)."""
+        if frozen is not self._frozen:
+            self._frozen = frozen
+            self.ws.use(frozen)
+
+    def _crel_for(self) -> np.ndarray:
+        """``[I, −I, A_freeᵀ]``: the relaxed QP's constraint columns (cached per size)."""
+        ws = self.ws
+        nf = ws.shape[1]
+        key = nf if self._frozen is None else (nf, tuple(self._frozen.free.tolist()))
+        crel = self._crel.get(key)
+        if crel is None:
+            a = ws.A if self._frozen is None else ws.A[:, self._frozen.free]
+            crel = np.ascontiguousarray(np.hstack((np.eye(nf), -np.eye(nf), a.T)))
+            self._crel[key] = crel
+        return crel
 
     def _sync_basis(self) -> None:
         b = self.ik.stepper.basis
-        valid = b.columns is not None and b.shape == self.Jt.shape
+        ws = self.ws
+        valid = b.columns is not None and b.shape == ws.shape
         self.ist[self.k.BASIS_VALID] = int(valid)
         if valid:
-            self.perm[:] = b.columns
+            ws.perm[:] = b.columns
+
+    def _criteria(self, opts, active: list) -> None:
+        """The cost's form before the cycle: ``GENERAL`` (full ``H``: FREEZE, or more than
+        one criterion) and the diagonal weights ``V[W]`` / ``V[WC]`` — as
+        ``InverseTransformation._criteria`` / ``_single_diagonal`` choose them; with
+        avoided obstacles the choice waits for their terms (:meth:`_obstacle_terms`)."""
+        k, ist = self.k, self.ist
+        ist[k.NEED_TERMS] = int(bool(active))
+        self.terms = self._no_terms
+        self._weights(False, False)
+        ist[k.GENERAL] = int(self._frozen is not None)
+
+    def _weights(self, conf_w: bool, conf_wc: bool) -> None:
+        """``V[W]`` = a_conf·W or W, ``V[WC]`` = a_conf·W or 0 (written when they change)."""
+        if self._mode != (conf_w, conf_wc):
+            k, V = self.k, self.V
+            V[k.W] = self.conf_weights if conf_w else self.weights
+            V[k.WC] = self.conf_weights if conf_wc else 0.0
+            self._mode = (conf_w, conf_wc)
+
+    def _obstacle_terms(self, opts, active: list) -> None:
+        """At the first iterate: the obstacle criterion's terms (:func:`obstacle_terms`,
+        at the kernel's frames) as arrays, and the cost's form with them."""
+        from irlc.runtime.ik.obstacle import obstacle_terms
+
+        k, ist, ik = self.k, self.ist, self.ik
+        terms = obstacle_terms(ik.kin, self.frames, active, ik.params.obstacle)
+        if terms:
+            self.terms = (
+                np.array([t.weight for t in terms]),
+                np.array([t.push for t in terms]),
+                np.array([t.jac for t in terms]),
+                np.array([t.jtj for t in terms]),
+            )
+        if opts.reference is not None:  # [CYCLIC, a_conf·W, terms…]: a full H
+            self._weights(False, True)
+            ist[k.GENERAL] = 1
+        else:  # [a_conf·W, terms…]: diagonal when no obstacle is near
+            self._weights(True, False)
+            ist[k.GENERAL] = int(bool(terms) or self._frozen is not None)
+        ist[k.NEED_TERMS] = 0
 
     # ------------------------------------------------------------------ the cycle
-    def step(self, q_start, q_prev, target, dt, opts):
-        """The numbers of ``InverseTransformation.step`` for the covered options; returns
-        ``(theta, bounds, limits, outcome_active, outcome_mult)``; :meth:`snapshot` and
-        :meth:`jacobian` copy the reused buffers only when the caller keeps them."""
+    def step(self, q_start, q_prev, target, dt, opts, frozen=None, active=()):
+        """The numbers of ``InverseTransformation.step``; ``frozen``: the cycle's
+        ``FrozenJoints`` (or None), ``active``: the avoided obstacles. Returns
+        ``(theta, bounds, limits, outcome_active, outcome_mult, codes)`` (``codes``: as
+        ``limits.active_codes``); :meth:`snapshot` and :meth:`jacobian` copy the reused
+        buffers only when the caller keeps them."""
         if compile_seconds is None:
             warm_up()
-        from irlc.runtime.ik.newton import IKFailure
-
-        k, ik = self.k, self.ik
-        lim = ik._limits
+        k, ik, ws = self.k, self.ik, self.ws
+        lim = ik.limits
         position = lim[0] if opts.position is None else opts.position
         speed = lim[1] if opts.speed is None else opts.speed
         accel = lim[2] if opts.accel is None else opts.accel
         c = self._box_constants(position, speed, accel, dt)
         if ik.coupled is not None:
             ik.coupled.prepare(q_start, dt, accel, q_prev)
-            self.bound_d = ik.coupled.bound_d
+            ws.bound_d[:] = ik.coupled.bound_d
             if ik.coupled.varying:  # motor rows of a non-linear map: K(q_start)
-                np.copyto(self.A, ik.coupled.A)
-                self.Cr[:, 2 * ik.n :] = ik.coupled.A.T
-        V, ist, fst = self.V, self.ist, self.fst
+                ws.A[:] = ik.coupled.A
+                self._crel.clear()  # the relaxed QP's constraint columns carry A
+        self._use(frozen)
+        if frozen is not None and frozen.free.size < self.m:  # (numpy's order: limits first)
+            ik.box.prepare(ik.model, q_start, q_prev, dt, position, speed, accel)
+            frozen.check_task(ik.model, self.m, ik.naming)
+        V, ist = self.V, self.ist
         V[k.Q_START] = q_start
         V[k.Q_PREV] = q_prev
         if opts.reference is not None:
@@ -180,50 +316,63 @@ class AcceleratedCycle:
         ist[k.SELF_MOTION] = bool(opts.self_motion)
         ist[k.BOX_READY] = 0
         ist[k.PHASE] = k.P_START
-        self.ends[0] = ik.kin._base
-        self.ends[1] = ik.kin._end
+        self._opts, self._active = opts, active
+        self._criteria(opts, active)
+        chain = self.chain = ik.kin.chain_data
         self._sync_basis()
-        bounds = np.empty((2, ik.n))
-        cand = self.cand
-        target = np.ascontiguousarray(target, dtype=float)
-        args = (
-            self.kb, self.kj, self.ends, target, self.boxc, cand, bounds, V, self.frames,
-            self.tcp, self.J6, self.Jt, self.F, self.rows, self.perm, self.aug, self.N,
-            self.Ht, self.gt, self.Ct, self.bt, self.Hr, self.gr, self.A, self.bound_d,
-            self.active, self.mult, ist, fst,
-        )  # fmt: skip
-        run = k.newton_cycle
+        ws.target[:] = target
+        run, fw, iw, lay = k.newton_cycle, ws.fw, ws.iw, ws.lay
         while True:
-            status = run(*args)
+            status = run(chain.basis, chain.joints, chain.ends, self.boxc, *self.terms, fw, iw,
+                         lay)  # fmt: skip
             if status == k.S_DONE:
                 break
-            if status == k.S_NEED_QP:
-                self._hard_qp()
-            elif status == k.S_NEED_RELAXED:
-                self._relaxed_qp()
-            elif status == k.S_NEED_BASIS:
-                self._choose_basis()
-            elif status == k.S_BOX_CHECK:
-                box = ik.box
-                box.prepare(ik.model, q_start, q_prev, dt, position, speed, accel)  # raises
-                bounds = box.bounds.copy()
-                cand[:] = box.cand
-                ist[k.BOX_READY] = 1
-                ist[k.PHASE] = k.P_START
-                args = (*args[:6], bounds, *args[7:])
-            else:  # S_BAD_STEP
-                raise IKFailure(
-                    f"inverse transformation produced a non-finite step: {V[k.DTHETA].copy()}"
-                )
+            self._resume(status, q_start, q_prev, dt, position, speed, accel)
         nact = int(ist[k.N_ACTIVE])
+        bounds = ws.bounds.copy()
         self.bounds = bounds  # the last cycle's box on Δθ (with ``cand``: for observers)
+        codes = ws.codes.astype(np.int8) if ist[k.ANY_CODE] else None
         return (
             V[k.THETA].copy(),
-            bounds,  # fresh this cycle
+            bounds,
             c.limits,
-            self.active[:nact].copy(),
-            self.mult[:nact].copy(),
+            ws.active[:nact].copy(),
+            ws.mult[:nact].copy(),
+            codes,
         )
+
+    def _resume(self, status, q_start, q_prev, dt, position, speed, accel) -> None:
+        """What the kernel asked Python for (a quadprog call, a basis, obstacle terms, the
+        box's error path) or the failure it found."""
+        k, ik, ist = self.k, self.ik, self.ist
+        if status == k.S_NEED_QP:
+            self._hard_qp()
+        elif status == k.S_NEED_RELAXED:
+            self._relaxed_qp()
+        elif status == k.S_NEED_BASIS:
+            self._choose_basis()
+        elif status == k.S_NEED_TERMS:
+            self._obstacle_terms(self._opts, self._active)
+        elif status == k.S_BOX_CHECK:
+            box = ik.box
+            box.prepare(ik.model, q_start, q_prev, dt, position, speed, accel)  # raises
+            self.ws.bounds[:] = box.bounds
+            self.cand[:] = box.cand
+            ist[k.BOX_READY] = 1
+            ist[k.PHASE] = k.P_START
+        elif status == k.S_FROZEN_FAR:
+            from irlc.runtime.ik.newton import IKFailure
+
+            raise IKFailure(
+                "frozen joints are away from their held values by more than the "
+                "joint box allows in one cycle"
+            )
+        else:  # S_BAD_STEP
+            from irlc.runtime.ik.newton import IKFailure
+
+            raise IKFailure(
+                f"inverse transformation produced a non-finite step: {self.V[k.DTHETA].copy()}"
+            )
 
     def snapshot(self, bounds, limits):
         """The cycle's box for reports (copies the reused candidate buffer)."""
@@ -232,33 +381,36 @@ class AcceleratedCycle:
         return BoxSnapshot(bounds[0], bounds[1], self.cand.copy(), limits)
 
     def jacobian(self):
-        """A copy of the last Jacobian, or None when the cycle computed none."""
-        return self.Jt.copy() if self.ist[self.k.HAVE_J] else None
+        """A copy of the last Jacobian (its free columns under FREEZE), or None when the
+        cycle computed none."""
+        if not self.ist[self.k.HAVE_J]:
+            return None
+        frozen = self._frozen
+        return self.Jt.copy() if frozen is None else self.Jt[:, frozen.free]
 
     # ------------------------------------------------------------------ Python parts
     def _hard_qp(self) -> None:
         """General compact QP: quadprog on the kernel's data; infeasible → relaxed."""
-        k, ist = self.k, self.ist
+        k, ist, ws = self.k, self.ist, self.ws
         try:
-            z, _, _, _, lagr, iact = quadprog.solve_qp(self.Ht, self.gt, self.Ct, self.bt, 0)
+            z, _, _, _, lagr, iact = quadprog.solve_qp(ws.Ht, ws.gt, ws.Ct, ws.bt, 0)
         except ValueError:
             ist[k.PHASE] = k.P_RELAX
             return
         rows = iact[iact > 0] - 1
         self._set_active(rows, lagr[rows] / self.fst[k.SCALE])
-        self.V[k.Z, : z.shape[0]] = z
+        ws.Vr[k.Z, : z.shape[0]] = z
         ist[k.PHASE] = k.P_APPLY_Z
 
     def _relaxed_qp(self) -> None:
-        k, ist = self.k, self.ist
-        from irlc.runtime.ik.newton import IKFailure
-
-        C = self.Cr
+        k, ist, ws = self.k, self.ist, self.ws
         try:
-            z, _, _, _, lagr, iact = quadprog.solve_qp(self.Hr, self.gr, C, self.bt, 0)
+            z, _, _, _, lagr, iact = quadprog.solve_qp(ws.Hrel, ws.grel, self._crel_for(), ws.bt, 0)
         except ValueError as exc:
-            if self.A.shape[0] == 0:
+            if self.ws.r == 0:
                 raise FloatingPointError(f"relaxed QP failed ({exc})") from None
+            from irlc.runtime.ik.newton import IKFailure
+
             raise IKFailure(
                 "the joint box and the coupled joint limits leave no admissible step "
                 "(the coupled combination moves too fast to stop before its bound)"
@@ -266,22 +418,35 @@ class AcceleratedCycle:
         rows = iact[iact > 0] - 1
         factor = self.fst[k.SCALE]
         self._set_active(rows, lagr[rows] * factor)
-        self.V[k.DTHETA] = z
+        ws.Vr[k.DTHETA] = z
         ist[k.RELAXED] = 1
         ist[k.SINGULAR] |= ist[k.LAST_SINGULAR]
+        if self._frozen is not None and ist[k.LAST_SINGULAR]:
+            self._check_freeze(self._frozen)
         ist[k.PHASE] = k.P_APPLY
+
+    def _check_freeze(self, frozen) -> None:
+        """``InverseTransformation._solve``: a singular free problem while the whole J
+        has full rank means FREEZE made the task impossible."""
+        from irlc.runtime.ik.freeze import FreezeError
+        from irlc.runtime.ik.newton import _full_rank
+
+        ik, m = self.ik, self.m
+        if m <= frozen.free.size and _full_rank(self.Jt, m):
+            raise FreezeError(frozen.describe_impossible(ik.model, m, ik.naming))
 
     def _set_active(self, rows, mult) -> None:
         cnt = rows.shape[0]
-        self.active[:cnt] = rows
-        self.mult[:cnt] = mult
+        ws = self.ws
+        ws.active[:cnt] = rows
+        ws.mult[:cnt] = mult
         self.ist[self.k.N_ACTIVE] = cnt
 
     def _choose_basis(self) -> None:
         """QR with column pivoting of the current J (``CompactBasis.choose``)."""
         k, ist, fst = self.k, self.ist, self.fst
         basis = self.ik.stepper.basis
-        ok = basis.choose(self.Jt)
+        ok = basis.choose(self.ws.Jr)
         self._sync_basis()
         if not ok:
             ist[k.LAST_SINGULAR] = 1

@@ -126,6 +126,26 @@ def intersect_limits(
     return out[0], out[1], out[2]
 
 
+@dataclass(frozen=True)
+class BoxData:
+    """The per-limits constants of the box as packed, read-only data (what compiled
+    kernels take; :attr:`_BoxConstants.data`). ``signed`` ``(4, 2, n)``, rows 0 / 1 the
+    lower side negated / the upper side:
+
+    * ``[0]`` ``[−θmin; θmax]``, ``[1]`` ``[−Δt·θ̇min; Δt·θ̇max]``,
+      ``[2]`` ``[−Δt²·θ̈min; Δt²·θ̈max]`` (limits clipped to ±1e30);
+    * ``[3]`` ``2/ε`` of the braking bound, ``ε = [Δt²·θ̈max; −Δt²·θ̈min]``.
+
+    With ``s = signed``, ``θ_s`` and ``d = θ_s − θ_prev`` the candidates on the cycle
+    displacement are ``s[0] ∓ θ_s``, ``s[1]``, ``s[2] ± d`` and the braking bound
+    ``2R/(1 + √(1 + R·s[3]))`` (``R = max(s[0] ∓ θ_s, 0)``); ``accel_bounded`` False: the
+    last two never bind. ``dtol``: the displacement slack of the speed check."""
+
+    signed: np.ndarray
+    accel_bounded: bool
+    dtol: float
+
+
 class _BoxConstants:
     """Everything of the box that depends only on the limits and Δt (cached).
 
@@ -153,6 +173,10 @@ class _BoxConstants:
         self.accel_bounded = bool(np.any(np.abs(acc) < _BIG))
         # displacement slack of the speed check (same as _check_state's, in δ units)
         self.dtol = _TOL + 1e-9 * float(np.max(np.abs(spd))) * dt
+        signed = np.stack((self.signed_pos, self.signed_speed, self.signed_accel,
+                           self.two_over_eps))  # fmt: skip
+        signed.flags.writeable = False
+        self.data = BoxData(signed, self.accel_bounded, self.dtol)
 
 
 _SIGN = np.array([[-1.0], [1.0]])

@@ -90,7 +90,7 @@ class InverseTransformation:
         self._lower, self._upper = self._bounds
         self._frozen_cache: tuple[tuple, FrozenJoints] | None = None
         self._no_frozen = FrozenJoints(n, {})
-        self._limits = (model.position_limits, model.speed_limits, model.accel_limits)
+        self.limits = (model.position_limits, model.speed_limits, model.accel_limits)
         self._default = CycleOptions()
         self._weighted = WeightedDisplacement(self.weights)
         self._conf = WeightedDisplacement(self.weights, self.params.obstacle.a_conf)
@@ -115,6 +115,10 @@ class InverseTransformation:
         self.box.naming = value
         if getattr(self, "coupled", None) is not None:
             self.coupled.naming = value
+
+    limits: tuple[np.ndarray, np.ndarray, np.ndarray]
+    """The robot's own (position, speed, accel) limits, ``(n, 2)`` SI each — what a
+    cycle uses where its options give none."""
 
     @property
     def accelerated(self) -> bool:
@@ -143,9 +147,9 @@ class InverseTransformation:
         if not (_finite(q_start) and math.isfinite(sum(tl[0]) + sum(tl[1]) + sum(tl[2]))):
             _require_finite("start configuration", q_start)
             _require_finite("target pose", target)
-        if self._accel is not None and not opts.frozen and not self._avoids(opts):
+        if self._accel is not None:
             return self._step_accel(q_start, q_prev, target, dt, opts)
-        lim = self._limits
+        lim = self.limits
         acc = lim[2] if opts.accel is None else opts.accel
         box = self.box
         box.prepare(
@@ -161,7 +165,7 @@ class InverseTransformation:
         if coupled is not None:
             coupled.prepare(q_start, dt, acc, q_prev)
         if opts.frozen:
-            frozen = self._frozen(opts.frozen)
+            frozen = self.frozen_joints(opts.frozen)
             frozen.check_task(self.model, self.rows.size, self.naming)
         else:
             frozen = self._no_frozen
@@ -271,21 +275,23 @@ class InverseTransformation:
 
     # ------------------------------------------------------------------ pieces
     @staticmethod
-    def _avoids(opts: CycleOptions) -> bool:
-        """True when some obstacle is avoided (not just reported) this cycle."""
+    def avoided(opts: CycleOptions) -> list:
+        """The obstacles avoided (not just reported) this cycle."""
         names = opts.active_obstacles
-        return bool(names) and any(o.name in names for o in opts.obstacles)
+        return [o for o in opts.obstacles if o.name in names] if names else []
 
     def _step_accel(self, q_start, q_prev, target, dt, opts: CycleOptions) -> CycleResult:
         """:meth:`step` through the compiled kernel (same numbers, see :mod:`accel`)."""
         acc = self._accel
-        theta, bounds, limits, active, mult = acc.step(q_start, q_prev, target, dt, opts)
+        frozen = self.frozen_joints(opts.frozen) if opts.frozen else None
+        theta, bounds, limits, active, mult, codes = acc.step(
+            q_start, q_prev, target, dt, opts, frozen, self.avoided(opts)
+        )
         k, ist, fst = acc.k, acc.ist, acc.fst
         pe, oe = float(fst[k.PE]), float(fst[k.OE])
         p = self.params
         converged = pe < p.tol_position and oe < p.tol_orientation
         clearances = self._clearances(acc.frames, opts) if opts.obstacles else {}
-        codes = active_codes(theta - q_start, bounds[0], bounds[1], acc.cand)
         # as in the numpy path: keep the box and J only when a report can need them
         box = acc.snapshot(bounds, limits) if codes is not None or active.size else None
         J = acc.jacobian() if opts.jacobian or not converged else None
@@ -301,7 +307,7 @@ class InverseTransformation:
             active_codes=codes,
             box=box,
             model=self.model,
-            free=self._no_frozen.free,
+            free=(frozen or self._no_frozen).free,
             qp_active=active,
             qp_multipliers=mult,
             jacobian=J,
@@ -315,7 +321,8 @@ class InverseTransformation:
         pos, ori = e[self.pos_rows], e[self.ori_rows]
         return math.sqrt(sum(x * x for x in pos)), math.sqrt(sum(x * x for x in ori))
 
-    def _frozen(self, frozen: dict[int, float]) -> FrozenJoints:
+    def frozen_joints(self, frozen: dict[int, float]) -> FrozenJoints:
+        """The :class:`FrozenJoints` of a FREEZE map (cached while it stays the same)."""
         key = tuple(sorted(frozen.items()))
         if self._frozen_cache is None or self._frozen_cache[0] != key:
             self._frozen_cache = (key, FrozenJoints(self.n, frozen))
@@ -323,10 +330,7 @@ class InverseTransformation:
 
     def _criteria(self, opts: CycleOptions, frames: np.ndarray) -> list:
         out: list = []
-        if opts.active_obstacles:
-            active = [o for o in opts.obstacles if o.name in opts.active_obstacles]
-        else:
-            active = []
+        active = self.avoided(opts)
         if opts.reference is not None:
             cyclic = self._cyclic  # reused: only the reference changes per cycle
             cyclic.reference = np.asarray(opts.reference, dtype=float)

@@ -1,0 +1,111 @@
+"""Each compiled drive kernel (runtime/drives/accel_kernels.py) against its numpy
+reference, on known cases and randomized inputs: the first-order armature with the
+current clamp (``motor.first_order``) and the transmission on its public packed data
+(``Transmission.data`` against ``Transmission.motor_and_jacobian``)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from irlc.robots.loader import load_toml
+from irlc.runtime.drives import accel, motor
+from irlc.runtime.drives.params import drive_params
+from irlc.runtime.drives.transmission import Transmission
+
+ROBOTS = Path(__file__).resolve().parents[2] / "robots"
+pytestmark = pytest.mark.skipif(not accel.AVAILABLE, reason="numba not installed / disabled")
+
+
+def _kernels():
+    return accel._module()
+
+
+def _first_order(i0, u, omega, R, L, ks, tau, i_max):
+    res = np.empty(4)
+    _kernels()._first_order(i0, u, omega, R, L, ks, tau, i_max, res)
+    return res
+
+
+def test_first_order_known_case():
+    """At rest, no back-EMF: i(τ) = (u/R)(1 − e^{−τR/L}), ∫i = (u/R)(τ − (L/R)(1 − e^{−τR/L}))."""
+    R, L, u, tau = 2.0, 0.01, 10.0, 0.003
+    res = _first_order(0.0, u, 0.0, R, L, 0.1, tau, 100.0)
+    decay = math.exp(-tau * R / L)
+    assert math.isclose(res[0], u / R * (1 - decay), rel_tol=1e-14)
+    assert math.isclose(res[1], u / R * (tau - L / R * (1 - decay)), rel_tol=1e-14)
+    assert math.isclose(res[3], u * res[1], rel_tol=1e-14)
+
+
+def test_first_order_random_with_and_without_the_clamp():
+    rng = np.random.default_rng(11)
+    clamped = 0
+    for _ in range(400):
+        i0, u, omega = rng.normal() * 5, rng.normal() * 50, rng.normal() * 100
+        R, L, ks = rng.uniform(0.5, 5), rng.uniform(1e-3, 2e-2), rng.uniform(0.02, 0.5)
+        tau, i_max = rng.uniform(1e-4, 5e-3), rng.uniform(2, 20)
+        i0 = float(np.clip(i0, -i_max, i_max))
+        res = _first_order(i0, u, omega, R, L, ks, tau, i_max)
+        ref = motor.first_order(np.array([i0]), np.array([u]), np.array([omega]), R, L, ks,
+                                tau, i_max)  # fmt: skip
+        clamped += bool(ref[4][0])
+        for k in range(4):
+            assert math.isclose(res[k], float(ref[k][0]), rel_tol=1e-12, abs_tol=1e-14), k
+    assert clamped > 20  # the clamp branch was exercised
+
+
+@pytest.mark.parametrize("robot", ["irb6_track", "koch11", "l1"])
+def test_transmission_on_packed_data(robot):
+    """θ_m and K(q) from TransmissionData (plain ratios, linear couplings, screw levers)
+    equal Transmission.motor_and_jacobian; K matches a finite difference of θ_m."""
+    model = load_toml(ROBOTS / f"{robot}.toml")
+    params = drive_params(model)
+    if params is None:
+        pytest.skip(f"{robot} has no drive data")
+    trans = Transmission(model, params)
+    data = trans.data
+    assert not any(a.flags.writeable for a in (data.linear, data.rows, data.angle, data.lever))
+    rng = np.random.default_rng(12)
+    m = data.linear.shape[0]
+    theta, kmat = np.empty(m), np.empty((m, model.n))
+    lo, hi = np.clip(model.position_limits, -2.0, 2.0).T
+    for _ in range(50):
+        q = lo + (hi - lo) * rng.uniform(0.2, 0.8, model.n)
+        _kernels()._transmission(data.linear, data.rows, data.angle, data.lever, q, theta, kmat)
+        ref_theta, ref_k = trans.motor_and_jacobian(q)
+        assert np.allclose(theta, ref_theta, rtol=1e-13, atol=1e-12)
+        assert np.allclose(kmat, ref_k, rtol=1e-13, atol=1e-12)
+    h = 1e-6
+    fd = np.column_stack([(trans.to_motor(q + h * e) - trans.to_motor(q - h * e)) / (2 * h)
+                          for e in np.eye(model.n)])  # fmt: skip
+    assert np.allclose(kmat, fd, rtol=1e-6, atol=1e-6)
+
+
+@pytest.mark.parametrize("robot", ["irb6_track", "koch11", "as6", "mobile8"])
+def test_mass_and_bias_on_packed_data(robot):
+    """M(q) and C q̇ + G from DynamicsData and the link frames equal
+    Dynamics.mass_and_bias (prismatic joints included: irb6_track's track, mobile8's
+    platform); M is symmetric and its diagonal holds the rotors."""
+    from irlc.runtime.dynamics import Dynamics
+    from irlc.runtime.kinematics import Kinematics
+
+    model = load_toml(ROBOTS / f"{robot}.toml")
+    rotor = np.linspace(0.1, 0.5, model.n)
+    dyn, kin = Dynamics(model, rotor_inertia=rotor), Kinematics(model)
+    d = dyn.data
+    assert not any(a.flags.writeable for a in (d.axes, d.mass, d.inertia, d.gravity))
+    rng = np.random.default_rng(13)
+    M, h = np.empty((model.n, model.n)), np.empty(model.n)
+    for _ in range(30):
+        q, qd = rng.uniform(-1.0, 1.0, model.n), rng.normal(size=model.n)
+        _kernels().mass_and_bias(kin.chain(q), d.axes, d.revolute, d.rotor, d.mass, d.com,
+                                 d.inertia, d.gravity, qd, M, h)  # fmt: skip
+        ref_m, ref_h = dyn.mass_and_bias(q, qd)
+        assert np.allclose(M, ref_m, rtol=0, atol=1e-13 * np.abs(ref_m).max())
+        assert np.allclose(h, ref_h, rtol=0, atol=1e-13 * max(1.0, np.abs(ref_h).max()))
+    assert np.array_equal(M, M.T)
+    _kernels().mass_and_bias(kin.chain(q), d.axes, d.revolute, np.zeros(model.n), d.mass, d.com,
+                             d.inertia, d.gravity, qd, M, h)  # fmt: skip
+    assert np.allclose(np.diag(ref_m) - np.diag(M), rotor, rtol=0, atol=1e-13 * np.abs(M).max())
