@@ -51,6 +51,7 @@ DT = 0.01
 SAMPLES = 2000
 REPEATS = 3
 CHUNK = 50  # cases per runner before switching to the next one
+GOAL = 6.0  # issue 14: the compiled step ≥ 6× faster than pink and mink (the earlier goal was 2×)
 
 
 def _cases(model, kin, count: int, seed: int = 1):
@@ -280,8 +281,8 @@ def main() -> int:
         for peer in ("pink", "mink"):
             if peer in meds:
                 ratio = meds[peer][0] / meds[name][0]
-                goal = "meets" if ratio >= 2.0 else "misses"
-                print(f"{peer} / {name}: {ratio:.2f} ({goal} the 2× goal)")
+                goal = "meets" if ratio >= GOAL else "misses"
+                print(f"{peer} / {name}: {ratio:.2f} ({goal} the {GOAL:g}× goal)")
     return 0
 
 
