@@ -18,18 +18,20 @@ Any other value raises :class:`EngineChoiceError` (the command line exits 3 with
 message). ``accel=True`` / ``False`` on a caller overrides the switch, except that an
 explicit ``numpy`` wins.
 
-**Why numpy is the default.** The kernels must be compiled once per installation
-(measured: ≈ 13–16 s of CPU for the IK kernels, ≈ 5 s for the drive kernels; 50–100 s of
-wall time on a loaded 2-core machine); numba caches the machine code (``__pycache__``
-next to the kernel module, or ``NUMBA_CACHE_DIR``) and later processes load it in
-≈ 0.3 s. A default that compiles makes the first run slow; a default that switches to the
-kernels once the cache is warm makes the output bytes depend on the cache's state (the
-two paths agree to round-off, not bit for bit). With ``numpy`` as the default every run
-is fast from the first one and gives the same bytes whatever the cache holds; with
-``compiled`` the bytes are those of the kernels on every run, compiled or loaded (the
-cached machine code is the compiled one), and a run that has to compile says so once on
-stderr (:meth:`Kernels.load`). ``irlc warmup`` (or ``python -m irlc.runtime.ik.accel`` and
-``python -m irlc.runtime.drives.accel``) compiles ahead of the first run.
+**Why numpy is the default.** The kernels must be compiled once per installation (``irlc
+warmup`` with an empty cache, 2026-11-25: ≈ 24 s of CPU, ≈ 17 s for the IK kernels and ≈ 7
+s for the drive kernels, so ≈ 25 s of wall time on a quiet machine and 35 s at load 2.7 on
+2 shared cores; earlier, at heavier load, 50–100 s); numba caches the machine code
+(``__pycache__`` next to the kernel module, or ``NUMBA_CACHE_DIR``) and later processes
+load it in ≈ 0.3 s. A default that compiles makes the first run slow; a default that
+switches to the kernels once the cache is warm makes the output bytes depend on the
+cache's state (the two paths agree to round-off, not bit for bit). With ``numpy`` as the
+default every run is fast from the first one and gives the same bytes whatever the cache
+holds; with ``compiled`` the bytes are those of the kernels on every run, compiled or
+loaded (the cached machine code is the compiled one), and a run that has to compile says
+so once on stderr (:meth:`Kernels.load`). ``irlc warmup`` (or ``python -m
+irlc.runtime.ik.accel`` and ``python -m irlc.runtime.drives.accel``) compiles ahead of the
+first run.
 """
 
 from __future__ import annotations
@@ -47,6 +49,10 @@ DEFAULT_ENGINE = "numpy"
 KERNEL_NAMES = {  # the kernel modules, as the compile message names them
     "irlc.runtime.ik.accel_kernels": "IK kernels",
     "irlc.runtime.drives.accel_kernels": "drive kernels",
+}
+COMPILE_ESTIMATE = {  # wall time of the first compile, quiet machine … load ≈ 3 on 2 cores
+    "IK kernels": "15–25 s",  # (measured 24.4 s wall at load 2.7, ≈ 17 s CPU)
+    "drive kernels": "5–10 s",  # (measured 9.0 s wall at load 2.7, ≈ 7 s CPU)
 }
 NUMBA_INSTALLED = importlib.util.find_spec("numba") is not None  # (not imported)
 
@@ -143,7 +149,8 @@ def compile_message(what: str) -> str:
     """The line a process prints before it compiles ``what`` (see the module doc); the
     hint at ``irlc warmup`` is left out while that command runs (:data:`WARMING_UP`)."""
     hint = "" if WARMING_UP else "; `irlc warmup` does it ahead of time"
-    return f"irlc: compiling the {what} (numba, once per installation, ≈ 5–15 s{hint}) …"
+    took = COMPILE_ESTIMATE.get(what, "5–25 s")
+    return f"irlc: compiling the {what} (numba, once per installation, ≈ {took}{hint}) …"
 
 
 WARMING_UP = False  # set by `irlc warmup` (the message's hint would point at itself)
