@@ -68,6 +68,7 @@ from irlc.runtime.interpolator import (
     ReferencePath,
     Segment,
 )
+from irlc.runtime.limit_check import first_outside, limit_failure
 from irlc.runtime.motor_limits import motor_limits
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.profiles import (
@@ -248,22 +249,21 @@ class PreInterpolator:
             raise RunFailure(f"the active joint limits are contradictory: {exc}", line) from None
 
     def check_inside(self, q: np.ndarray, position: np.ndarray, line: int, what: str) -> None:
-        """RunFailure if ``q`` is outside the position limits (naming joint, value, bound)."""
-        tol = 1e-9
-        for j in range(self.model.n):
-            lo, hi = position[j]
-            side, bound = ("min", lo) if q[j] < lo - tol else ("max", hi)
-            if lo - tol <= q[j] <= hi + tol:
-                continue
-            name = self.naming.label(j)
-            val = format_joint_value(self.model, j, q[j], 0)
-            lim = format_joint_value(self.model, j, bound, 0)
-            raise RunFailure(
-                f"{what}: joint {name} = {val} is outside the active position limit ({side} {lim})",
-                line,
-                constraint=f"{name} position {side} {lim}",
-                cause="limits" if what.startswith("the limits") else "position_limit",
-            )
+        """RunFailure if ``q`` is outside the position limits (naming joint, value, bound):
+        the one check and message of :mod:`~irlc.runtime.limit_check` (SI, its tolerance)."""
+        out = first_outside(q, position[:, 0], position[:, 1])
+        if out is None:
+            return
+        j = out.joint
+        raise limit_failure(
+            what,
+            out,
+            self.naming.label(j),
+            format_joint_value(self.model, j, out.value, 0),
+            format_joint_value(self.model, j, out.bound, 0),
+            line,
+            cause="limits" if what.startswith("the limits") else "position_limit",
+        )
 
     # ------------------------------------------------------------------ planning
     def plan(
