@@ -3,12 +3,12 @@
 obstacle terms) and the FREEZE reduction (``_reduce``) it applies between the kernels of
 :mod:`accel_chain`, :mod:`accel_box` and :mod:`accel_qp`.
 
-numba keys the on-disk cache of :func:`newton_cycle` by this file's time stamp and size
-only, while its machine code includes the kernels it calls from the other modules (and the
-constants of :mod:`accel_layout`). :data:`SOURCES_DIGEST` is the digest of those modules'
-sources (:func:`sources_digest`); a test compares them, so a change there must be
-recorded here, which changes this file and with it the cache key: the cycle is never run
-from stale machine code.
+numba keys the on-disk cache of :func:`newton_cycle` by this file's source only, while
+its machine code includes the kernels it calls from the other modules (and the constants
+of :mod:`accel_layout`). :data:`SOURCES_DIGEST` is the digest of those modules' sources
+(:func:`sources_digest`); a test compares them, so a change there must be recorded here,
+which changes this file and with it the cache key: the cycle is never run from stale
+machine code.
 """
 
 from __future__ import annotations

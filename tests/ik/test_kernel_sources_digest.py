@@ -28,7 +28,6 @@ def test_the_digest_sees_a_change_in_a_callee(tmp_path, monkeypatch):
     (tmp_path / "accel_cycle.py").write_text("")
     monkeypatch.setattr(accel_cycle, "__file__", str(tmp_path / "accel_cycle.py"))
     before = accel_cycle.sources_digest()
-    assert before == accel_cycle.SOURCES_DIGEST
     with open(tmp_path / "accel_qp.py", "a") as f:
         f.write("\n")
     assert accel_cycle.sources_digest() != before
