@@ -92,8 +92,8 @@ AVAILABLE = kernels_allowed()
 
 def kernel_cached(kernel) -> bool:
     """True when numba's on-disk cache holds ``kernel`` (a ``@njit(cache=True)`` dispatcher)
-    for its current source (numba's index is keyed by the source file's time stamp and
-    size)."""
+    for its current source (numba's index is keyed by the kernel's own source file: see
+    ``SOURCES_DIGEST`` in :mod:`irlc.runtime.ik.accel_cycle` for the modules it calls)."""
     if not NUMBA_INSTALLED:
         return False
     try:

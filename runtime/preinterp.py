@@ -11,7 +11,8 @@ For each :class:`~irlc.runtime.controller.MotionCommand` it resolves
   with each other) ∩ the robot's own limits, which always apply. A position bound that
   excludes the current configuration is a :class:`~irlc.runtime.errors.RunFailure`
   naming joint, value and bound (never a clamp);
-* **profile** (:mod:`profiles`), a trapezoid stretched to a whole number of IPO cycles:
+* **profile** (:mod:`profiles`; its bounds, motors and ``WITH TIME``: :mod:`segment_timing`),
+  a trapezoid stretched to a whole number of IPO cycles:
 
   - PTP: straight line in joint space, synchronised; joint ``i`` may use
     ``R_SPEED_PTP % · θ̇max_i`` and ``R_ACC_PTP % · θ̈max_i`` (of the active limits);
@@ -53,7 +54,6 @@ import numpy as np
 from irlc.lang.irdata import geometry_problem
 from irlc.lang.settings import BY_FIELD, reconfiguration_counts, setting_message
 from irlc.robots.model import RobotModel
-from irlc.runtime import scurve as sc
 from irlc.runtime import units
 from irlc.runtime.controller import ModalOptions, MotionCommand, Settings
 from irlc.runtime.errors import RunFailure
@@ -68,42 +68,24 @@ from irlc.runtime.interpolator import (
     ReferencePath,
     Segment,
 )
+from irlc.runtime.limit_check import first_outside, limit_failure
 from irlc.runtime.motor_limits import motor_limits
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.profiles import (
-    ProfileError,
     Trapezoid,
-    common_bounds,
     cycles,
-    minimum_time,
-    trapezoid,
+)
+from irlc.runtime.segment_timing import (
+    motor_bounds,
+    override_factor,
+    segment_bounds,
+    segment_profile,
+    split_time,
+    with_time,
 )
 from irlc.runtime.values import JointTuple, Pose
 
 Limits3 = tuple[np.ndarray, np.ndarray, np.ndarray]
-Profile = Trapezoid | sc.SCurve
-
-
-@dataclass(frozen=True)
-class Bounds:
-    """Normalised bounds of one segment's ``s(t)`` (``jerk`` ``None``: the trapezoid), the
-    axis that sets its time and that minimum time (s)."""
-
-    speed: float
-    accel: float
-    jerk: float | None
-    slowest: int
-    t_min: float
-
-
-def segment_bounds(distances, speeds, accels, jerks=None) -> Bounds:
-    """Common bounds of the axes sharing one ``s(t)`` (:func:`profiles.common_bounds`, or
-    :func:`scurve.common_bounds` when ``jerks`` are given)."""
-    if jerks is None:
-        v, a, slowest = common_bounds(distances, speeds, accels)
-        return Bounds(v, a, None, slowest, minimum_time(v, a) if slowest >= 0 else 0.0)
-    v, a, j, slowest = sc.common_bounds(distances, speeds, accels, jerks)
-    return Bounds(v, a, j, slowest, sc.minimum_time(v, a, j) if slowest >= 0 else 0.0)
 
 
 def scurve_on(cmd: MotionCommand, settings: Settings) -> bool:
@@ -141,14 +123,6 @@ def _setting(cmd: MotionCommand, settings: Settings, name: str) -> float:
 # How R_OVERRIDE scales a setting: value · k^power (a time scaling, see the module doc;
 # a jerk limit, where a profile has one, scales with k³).
 _OVERRIDE_POWER = {"speed": 1, "speed_ori": 1, "speed_ptp": 1, "acc": 2, "acc_ptp": 2, "jerk": 3}
-
-
-def override_factor(settings: Settings) -> float:
-    """``k = R_OVERRIDE / 100`` (checked against its row of lang/settings.py)."""
-    message = setting_message("override", settings.override, "R_OVERRIDE")
-    if message is not None:
-        raise RunFailure(message)
-    return float(settings.override) / 100.0
 
 
 def tool_transform(model: RobotModel, settings: Settings) -> np.ndarray:
@@ -248,22 +222,21 @@ class PreInterpolator:
             raise RunFailure(f"the active joint limits are contradictory: {exc}", line) from None
 
     def check_inside(self, q: np.ndarray, position: np.ndarray, line: int, what: str) -> None:
-        """RunFailure if ``q`` is outside the position limits (naming joint, value, bound)."""
-        tol = 1e-9
-        for j in range(self.model.n):
-            lo, hi = position[j]
-            side, bound = ("min", lo) if q[j] < lo - tol else ("max", hi)
-            if lo - tol <= q[j] <= hi + tol:
-                continue
-            name = self.naming.label(j)
-            val = format_joint_value(self.model, j, q[j], 0)
-            lim = format_joint_value(self.model, j, bound, 0)
-            raise RunFailure(
-                f"{what}: joint {name} = {val} is outside the active position limit ({side} {lim})",
-                line,
-                constraint=f"{name} position {side} {lim}",
-                cause="limits" if what.startswith("the limits") else "position_limit",
-            )
+        """RunFailure if ``q`` is outside the position limits (naming joint, value, bound):
+        the one check and message of :mod:`~irlc.runtime.limit_check` (SI, its tolerance)."""
+        out = first_outside(q, position[:, 0], position[:, 1])
+        if out is None:
+            return
+        j = out.joint
+        raise limit_failure(
+            what,
+            out,
+            self.naming.label(j),
+            format_joint_value(self.model, j, out.value, 0),
+            format_joint_value(self.model, j, out.bound, 0),
+            line,
+            cause="limits" if what.startswith("the limits") else "position_limit",
+        )
 
     # ------------------------------------------------------------------ planning
     def plan(
@@ -368,10 +341,12 @@ class PreInterpolator:
                 )
         b = segment_bounds(np.abs(delta), vmax, amax, jmax)
         if self.motors is not None:
-            b = self._motor_bounds(b, self.motors.ptp_rates(q0, q1), pct_v, pct_a)
+            b = motor_bounds(
+                b, self.motors, self.motors.ptp_rates(q0, q1), pct_v, pct_a, self.model.n
+            )
         slowest = b.slowest
-        duration = self._time(cmd, settings, npts)
-        profile = self._profile(b, duration, dt, cmd.line)
+        duration = with_time(cmd, settings, npts)
+        profile = segment_profile(b, duration, dt, cmd.line, self.max_duration)
         limiting = ""
         if slowest >= 0:
             jerk = "/jerk" if b.jerk is not None else ""
@@ -396,27 +371,6 @@ class PreInterpolator:
         seg.info["joint_speed"] = np.abs(delta) * (profile.cruise if moving else 0.0)
         seg.info["joint_accel"] = np.abs(delta) * (profile.accel if moving else 0.0)
         return seg
-
-    def _motor_bounds(
-        self, b: Bounds, rates: np.ndarray, pct_v: float, pct_a: float, axes: int | None = None
-    ) -> Bounds:
-        """``b`` tightened by the motors (:mod:`motor_limits`) as more axes of the same
-        ``s(t)``, ``rates`` their ``D_m = max |dθs_m/ds|``: ``v ≤ pct_v · v_m / D_m``,
-        ``a ≤ pct_a · a_m / D_m``; the jerk stays the path's. ``slowest ≥ axes`` (default
-        the joint count) names motor ``slowest − axes``."""
-        m = self.motors
-        v, a, k = common_bounds(rates, m.speed * pct_v, m.accel * pct_a)
-        if k < 0:
-            return b
-        t_motor = minimum_time(v, a)
-        axes = self.model.n if axes is None else axes
-        slowest = b.slowest if b.slowest >= 0 and b.t_min >= t_motor else axes + k
-        speed, accel = min(b.speed, v), min(b.accel, a)
-        if b.jerk is None:
-            t_min = minimum_time(speed, accel)
-        else:
-            t_min = sc.minimum_time(speed, accel, b.jerk)
-        return Bounds(speed, accel, b.jerk, slowest, t_min)
 
     def _path_motor_rates(self, path, q, lims, settings, state: PlanState, line):
         """``(D_m, q_end)`` of a Cartesian path (:meth:`MotorLimits.path_rates`, solved
@@ -478,15 +432,15 @@ class PreInterpolator:
                 rates, q = self._path_motor_rates(path, q, lims, settings, state, cmd.line)
                 if rates is not None:
                     k = override_factor(settings)
-                    b = self._motor_bounds(b, rates, k, k * k, axes=2)
+                    b = motor_bounds(b, self.motors, rates, k, k * k, axes=2)
             bounds.append(b)
-        times = self._split_time(cmd, settings, [b.t_min for b in bounds])
+        times = split_time(cmd, settings, [b.t_min for b in bounds])
         refs = self._references(cmd, state.q, paths)
         out = []
         for path, b, t, ref in zip(paths, bounds, times, refs, strict=True):
             if b.slowest < 0:  # zero-length segment: nothing to interpolate
                 continue
-            profile = self._profile(b, t, state.dt, cmd.line)
+            profile = segment_profile(b, t, state.dt, cmd.line, self.max_duration)
             if b.slowest >= 2:  # a motor (_motor_bounds)
                 what = f"motor of {self.naming.label(b.slowest - 2)} speed/acceleration"
             elif jerks is not None:
@@ -548,64 +502,3 @@ class PreInterpolator:
         world = state.base @ units.pose_value_to_si(pose)
         check_coordinates(world, "MOVE target in the world (with R_BASE)", line)
         return world
-
-    def _time(self, cmd, settings, npts: int) -> float | None:
-        """``WITH TIME`` stretched by the override (``t / k``), or ``None``."""
-        if cmd.time is None:
-            return None
-        if npts > 1:
-            raise RunFailure("WITH TIME on a multi-target PTP is not supported", cmd.line)
-        return float(cmd.time) / override_factor(settings)
-
-    def _split_time(self, cmd, settings, tmins: list[float]) -> list[float | None]:
-        if cmd.time is None:
-            return [None] * len(tmins)
-        k = override_factor(settings)
-        total = float(cmd.time) / k
-        tsum = sum(tmins)
-        if total < tsum * (1.0 - 1e-12):
-            at = "" if k == 1.0 else f" at R_OVERRIDE {settings.override:g} %"
-            raise RunFailure(
-                f"WITH TIME := {float(cmd.time):g} s{at} is shorter than the {tsum * k:.6g} s "
-                "the speed and acceleration limits allow",
-                cmd.line,
-            )
-        if tsum == 0.0:
-            return [None] * len(tmins)
-        return [total * t / tsum for t in tmins]
-
-    def _profile(self, b: Bounds, duration, dt, line) -> Profile:
-        """The trapezoid or the S-curve (stretched to ``duration`` if given), rounded up to
-        whole cycles.
-
-        A motion longer than the run's simulated-time budget (``max_duration``; a speed or
-        acceleration so small that the motion never arrives has ``T_min = ∞``; the
-        trapezoid's ``T_min`` bounds the S-curve's from below) fails here, before a cycle
-        is simulated."""
-        v, a, j = b.speed, b.accel, b.jerk
-        if duration is not None and not duration <= self.max_duration:
-            raise RunFailure(
-                f"WITH TIME := {duration:g} s is longer than the run's simulated-time budget "
-                f"of {self.max_duration:g} s (raise it with --max-time)",
-                line,
-            )
-        if v == np.inf:  # nothing moves
-            n = cycles(duration or 0.0, dt)
-            return Trapezoid(n * dt, 0.0, 0.0) if n else Trapezoid(0.0, np.inf, np.inf)
-        t_min = minimum_time(v, a)
-        if not t_min <= self.max_duration:
-            raise RunFailure(
-                f"the motion would take {t_min:.6g} s at the active speed and acceleration, "
-                f"longer than the run's simulated-time budget of {self.max_duration:g} s "
-                "(a speed or acceleration too small for the distance?)",
-                line,
-            )
-        try:
-            if j is not None:
-                base = sc.scurve(v, a, j, duration)
-                return sc.scurve(v, a, j, cycles(base.duration, dt) * dt)
-            base = trapezoid(v, a, duration)
-            return trapezoid(v, a, cycles(base.duration, dt) * dt)
-        except ProfileError as exc:
-            prefix = "WITH TIME: " if duration is not None else ""
-            raise RunFailure(f"{prefix}{exc}", line) from None

@@ -44,13 +44,13 @@ import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.limit_check import TOLERANCE  # slack for "outside the limits" (rounding)
 from irlc.runtime.naming import JointNaming, naming_or_default
 
 POSITION, SPEED, ACCEL, BRAKING = 0, 1, 2, 3
 SOURCE_NAMES = ("position", "speed", "accel", "braking")
 _DERIVATIVE = (0, 1, 2, 0)  # unit of the bound reported for each source
 _BIG = 1e30  # stands for "no bound" in the QP
-_TOL = 1e-9  # absolute slack for "outside the limits" (rounding of earlier cycles)
 
 
 def format_joint_value(model: RobotModel, joint: int, value_si: float, derivative: int) -> str:
@@ -172,7 +172,7 @@ class _BoxConstants:
         # (braking = the position bound), so they are not computed per cycle
         self.accel_bounded = bool(np.any(np.abs(acc) < _BIG))
         # displacement slack of the speed check (same as _check_state's, in δ units)
-        self.dtol = _TOL + 1e-9 * float(np.max(np.abs(spd))) * dt
+        self.dtol = TOLERANCE + 1e-9 * float(np.max(np.abs(spd))) * dt
         signed = np.stack((self.signed_pos, self.signed_speed, self.signed_accel,
                            self.two_over_eps))  # fmt: skip
         signed.flags.writeable = False
@@ -283,7 +283,7 @@ class JointBox:
         np.multiply(_SIGN, d, out=sd)
         # (builtins on lists: cheaper than numpy reductions for a handful of numbers)
         if (
-            min(cand[POSITION].ravel().tolist()) < -_TOL
+            min(cand[POSITION].ravel().tolist()) < -TOLERANCE
             or max((sd - cand[SPEED]).ravel().tolist()) > c.dtol
         ):
             self._check_state(model, q_start, d, dt, c.limits[0], c.limits[1])
@@ -344,14 +344,14 @@ class JointBox:
     # --- helpers -----------------------------------------------------------------
     def _check_state(self, model, q_start, d, dt, position, speed) -> None:
         v = d / dt
-        vtol = _TOL / dt + 1e-9 * np.max(np.abs(speed), axis=1)
-        bad_q = (q_start < position[:, 0] - _TOL) | (q_start > position[:, 1] + _TOL)
+        vtol = TOLERANCE / dt + 1e-9 * np.max(np.abs(speed), axis=1)
+        bad_q = (q_start < position[:, 0] - TOLERANCE) | (q_start > position[:, 1] + TOLERANCE)
         bad_v = (v < speed[:, 0] - vtol) | (v > speed[:, 1] + vtol)
         if not (bad_q.any() or bad_v.any()):
             return
         checks = (
-            ("position", "min", q_start, position[:, 0], q_start < position[:, 0] - _TOL),
-            ("position", "max", q_start, position[:, 1], q_start > position[:, 1] + _TOL),
+            ("position", "min", q_start, position[:, 0], q_start < position[:, 0] - TOLERANCE),
+            ("position", "max", q_start, position[:, 1], q_start > position[:, 1] + TOLERANCE),
             ("speed", "min", v, speed[:, 0], v < speed[:, 0] - vtol),
             ("speed", "max", v, speed[:, 1], v > speed[:, 1] + vtol),
         )
@@ -365,7 +365,7 @@ class JointBox:
         gap = self.lower_d - self.upper_d
         bad = np.flatnonzero(gap > 0.0)
         for j in bad:
-            if gap[j] <= _TOL:  # rounding: collapse to the midpoint
+            if gap[j] <= TOLERANCE:  # rounding: collapse to the midpoint
                 mid = 0.5 * (self.lower_d[j] + self.upper_d[j])
                 self.lower_d[j] = self.upper_d[j] = mid
                 continue

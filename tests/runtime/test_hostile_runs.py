@@ -79,12 +79,16 @@ BUDGET = "the run's simulated-time budget of 86400 s"
             "the path speed, acceleration or orientation speed is too small to move",
         ),
         ("MOVE PTP (10, 10, 10) WITH SPEED_PTP := 1e-300;", 4, BUDGET),
-        ("RECONFIGURATION (1e300, 0, 0);", 4, "RECONFIGURATION target: joint a1 (J1) = 1e+300 deg"),
+        (
+            "RECONFIGURATION (1e300, 0, 0);",
+            4,
+            "RECONFIGURATION target: joint a1 (J1) is at 1e+300 deg",
+        ),
         # exited 0: a reconfiguration target outside the limits
         (
             "RECONFIGURATION (0, 200, -200);",
             4,
-            "RECONFIGURATION target: joint a2 (J2) = 200 deg is",
+            "RECONFIGURATION target: joint a2 (J2) is at 200 deg, above the upper bound",
         ),
     ],
 )
