@@ -18,6 +18,7 @@ from pathlib import Path
 
 import click
 from irlc.cli.app import cli
+from irlc.cli.lang_cmds import allow_any_path_option
 from irlc.errors import EXIT_COMPILE, EXIT_OK, EXIT_RUN, UsageError
 
 DRIVE_CHOICES = ("ideal", "decoupled", "coupled", "pwm")
@@ -144,6 +145,7 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
     multiple=True,
     help="Start configuration (deg | mm): one string of numbers, or repeated.",
 )
+@allow_any_path_option
 def run_cmd(
     program: Path,
     robot,
@@ -165,6 +167,7 @@ def run_cmd(
     as_json,
     quiet,
     seed_config,
+    allow_any_path,
 ) -> int:
     """Compile (.irl) or load (.ird) PROGRAM and simulate it; print a summary."""
     from rich.console import Console
@@ -190,6 +193,7 @@ def run_cmd(
             orientation_tolerance=orientation_tolerance,
             instruction_budget=instruction_budget,
             max_time=max_time,
+            allow_any_path=allow_any_path,
         ),
         seed,
         trace_every_step,

@@ -133,9 +133,10 @@ def _compile(plan: Plan, changes: dict[str, list]):
         result = compile_source(
             plan.program_text,
             str(folder / Path(plan.program).name),
-            resolve_robot=resolver(plan.program_dir),
+            resolve_robot=resolver(plan.program_dir, allow_any_path=plan.allow_any_path),
             datalist_path=(str(plan.program_dir), *plan.datalist_path),
             robot_override=plan.robot,
+            allow_any_path=plan.allow_any_path,
         )
     finally:
         shutil.rmtree(folder, ignore_errors=True)

@@ -1,0 +1,53 @@
+"""Which files a program may make irlc read: ``ROBOT r := 'file'`` and ``IMPORT DATALIST``.
+
+A program is input — possibly someone else's — and the files it names are read with the
+user's rights, so a program may name files only inside its *allowed roots*:
+
+* robot files: the program's folder and the robot library (``irlc.robots``);
+* data lists: the program's folder, each ``--datalist-path`` folder and the library's
+  ``datalists`` folder.
+
+The rule is applied to the *resolved* file: the named path is joined to the program's
+folder (an absolute path is kept as written), then resolved — ``..`` removed and every
+symbolic link followed — and the result must lie inside one of the roots, each resolved
+the same way. So ``'../x.toml'``, ``'/etc/x.toml'`` and a link in the program's folder that
+points elsewhere are refused unless they land inside a root; ``'cell/arm.toml'`` and an
+absolute path into the program's folder are allowed.
+
+``--allow-any-path`` (every command that compiles or runs a program), ``allow_any_path=True``
+(the Python API) lifts the rule. Files the *user* names — ``--robot FILE``,
+``load_robot(path)``, ``:robot FILE`` in the REPL — are the user's choice and never checked.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from pathlib import Path
+
+ALLOW_HINT = "pass --allow-any-path (allow_any_path=True in Python) to read it anyway"
+
+
+def _real(path: Path) -> Path | None:
+    """``path`` resolved (``..`` removed, links followed); None when it cannot be."""
+    try:
+        return Path(path).resolve()
+    except (OSError, RuntimeError):  # RuntimeError: a symlink loop (Python < 3.13)
+        return None
+
+
+def inside_roots(path: Path, roots: Iterable[Path]) -> bool:
+    """True when the resolved ``path`` lies inside (or is) one of the resolved ``roots``."""
+    real = _real(path)
+    if real is None:
+        return False
+    for root in roots:
+        base = _real(root)
+        if base is not None and real.is_relative_to(base):
+            return True
+    return False
+
+
+def refusal(roots: Iterable[Path]) -> str:
+    """The message for a file outside ``roots`` (it names the roots, never the file's text)."""
+    shown = ", ".join(str(r) if str(r) else "." for r in roots)
+    return f"outside the folders a program may read from ({shown})"
