@@ -24,6 +24,7 @@ from importlib import resources
 from pathlib import Path
 
 from irlc.lang.diagnostics import Diagnostic, Span
+from irlc.lang.file_access import describe
 from irlc.lang.irdata import (
     JOINT_TUPLE_TYPES,
     OBSTACLE_KEYS,
@@ -169,8 +170,7 @@ def _is_number(v) -> bool:
 
 
 def _show(v) -> str:
-    text = repr(v)
-    return text if len(text) <= 60 else text[:57] + "..."
+    return describe(v)
 
 
 def load(

@@ -51,3 +51,29 @@ def refusal(roots: Iterable[Path]) -> str:
     """The message for a file outside ``roots`` (it names the roots, never the file's text)."""
     shown = ", ".join(str(r) if str(r) else "." for r in roots)
     return f"outside the folders a program may read from ({shown})"
+
+
+def describe(value: object, limit: int = 60) -> str:
+    """A value read from a user's file, for an error message, without echoing its text.
+
+    Numbers and booleans are shown (``-1``, ``1e+308``, ``true``), and so is a short list
+    of them (``[1, 2]``); a string is only described (``a string of 4 characters``), a list
+    by its length, a table by its keys — an error names the key and the line, never the
+    text of a file the program may not own."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int | float):
+        text = repr(value)
+        return text if len(text) <= limit else f"an integer of {len(str(abs(value)))} digits"
+    if isinstance(value, str):
+        return f"a string of {len(value)} character{'s' if len(value) != 1 else ''}"
+    if isinstance(value, list | tuple):
+        if all(isinstance(v, int | float) for v in value):
+            text = "[" + ", ".join(describe(v, limit) for v in value) + "]"
+            if len(text) <= limit:
+                return text
+        return f"a list of {len(value)} value{'s' if len(value) != 1 else ''}"
+    if isinstance(value, dict):
+        keys = ", ".join(str(k) for k in list(value)[:6]) + (", ..." if len(value) > 6 else "")
+        return f"a table (keys: {keys})" if value else "an empty table"
+    return f"a {type(value).__name__}"

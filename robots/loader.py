@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 from irlc.files import read_user_text
 from irlc.lang.errors import IrlcError
+from irlc.lang.file_access import describe
 from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
 
 ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
@@ -146,7 +147,7 @@ class Reader:
         if not isinstance(value, str):
             raise self.fail(key, f"expected a string, got {_show(value)}")
         if choices is not None and value not in choices:
-            raise self.fail(key, f"expected one of {', '.join(choices)}, got {value!r}")
+            raise self.fail(key, f"expected one of {', '.join(choices)}, got {_show(value)}")
         return value
 
     def boolean(self, value: Any, key: str) -> bool:
@@ -208,9 +209,7 @@ def _join(key: str, sub: str) -> str:
 
 
 def _show(value: Any) -> str:
-    text = repr(value)
-    kind = type(value).__name__
-    return f"{kind} {text[:60]}{'...' if len(text) > 60 else ''}"
+    return describe(value)  # never the text of the file (irlc.lang.file_access)
 
 
 def _rx(a: float) -> np.ndarray:
@@ -379,7 +378,7 @@ def _read_chain(rd: Reader, robot: dict, doc: dict, assumed: dict) -> tuple[list
         rd.table(row, key, JOINT_KEYS)
         name = rd.string(row.get("name", f"J{i + 1}"), f"{key}.name")
         if name in names:
-            raise rd.fail(f"{key}.name", f"duplicate joint name {name!r}")
+            raise rd.fail(f"{key}.name", "duplicate joint name (an earlier joint has it)")
         names.add(name)
         if "kind" not in row:
             raise rd.fail(f"{key}.kind", "missing; expected 'revolute' or 'prismatic'")
@@ -444,7 +443,7 @@ def _axes_row(rd: Reader, row: dict, key: str):
     raw = row["axis"]
     if isinstance(raw, str):
         if raw not in AXIS_NAMES:
-            raise rd.fail(f"{key}.axis", f"expected one of x, y, z, -x, -y, -z, got {raw!r}")
+            raise rd.fail(f"{key}.axis", f"expected one of x, y, z, -x, -y, -z, got {_show(raw)}")
         axis = np.array(AXIS_NAMES[raw])
     else:
         axis = rd.vector(raw, f"{key}.axis", 3)

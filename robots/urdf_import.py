@@ -27,6 +27,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+from irlc.lang.file_access import describe
 from irlc.robots.loader import MissingExtraError, RobotFileError, geometry_problem
 from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
 
@@ -306,7 +307,7 @@ def _length(file: str, key: str, value) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise RobotFileError(file, key, f"expected a number, got {value!r}") from None
+        raise RobotFileError(file, key, f"expected a number, got {describe(value)}") from None
     if problem := geometry_problem("length", np.array([v])):
         raise RobotFileError(file, key, problem)
     return v
