@@ -35,6 +35,11 @@ def _real(path: Path) -> Path | None:
         return None
 
 
+def shown(path: Path) -> str:
+    """``path`` as a message shows it: resolved where it can be (where ``..`` and links lead)."""
+    return str(_real(path) or path)
+
+
 def inside_roots(path: Path, roots: Iterable[Path]) -> bool:
     """True when the resolved ``path`` lies inside (or is) one of the resolved ``roots``."""
     real = _real(path)

@@ -20,7 +20,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-from irlc.lang.file_access import ALLOW_HINT, inside_roots, refusal
+from irlc.lang.file_access import ALLOW_HINT, inside_roots, refusal, shown
 from irlc.robots.loader import RobotFileError, load_toml
 from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
 
@@ -106,7 +106,7 @@ def _program_robot_file(text: str, base_dir: Path) -> Path:
     candidate = base_dir / text  # an absolute ``text`` stays as written
     roots = program_roots(base_dir)
     if not inside_roots(candidate, roots):
-        raise RobotFileError(text, "", f"{refusal(roots)}; {ALLOW_HINT}")
+        raise RobotFileError(shown(candidate), "", f"{refusal(roots)}; {ALLOW_HINT}")
     if not is_file(candidate):
         raise RobotFileError(text, "", "file not found (looked in the program's folder)")
     return candidate
