@@ -51,8 +51,16 @@ def write_report(report: dict, path: str | Path) -> Path:
     return atomic_write_text(path, report_json(report))
 
 
-def trace_csv(columns: list[str], table: np.ndarray) -> str:
+PARTIAL_COLUMN = "partial"  # the last column of a failed run's trace, 1 on every row
+
+
+def trace_csv(columns: list[str], table: np.ndarray, partial: bool = False) -> str:
+    """The trace as CSV; ``partial`` (the run failed, the trace ends at the failure) adds
+    the column :data:`PARTIAL_COLUMN`, 1 on every row, so the file itself says so."""
     table = np.asarray(table, dtype=float)
+    if partial:
+        columns = [*columns, PARTIAL_COLUMN]
+        table = np.hstack([table.reshape(len(table), -1), np.ones((len(table), 1))])
     if table.ndim != 2 or table.shape[1] != len(columns):
         raise ValueError(f"trace has {table.shape} values for {len(columns)} columns")
     bad = ~np.isfinite(table)
@@ -71,8 +79,10 @@ def trace_csv(columns: list[str], table: np.ndarray) -> str:
     return out.getvalue()
 
 
-def write_trace(columns: list[str], table: np.ndarray, path: str | Path) -> Path:
-    return atomic_write_text(path, trace_csv(columns, table))
+def write_trace(
+    columns: list[str], table: np.ndarray, path: str | Path, partial: bool = False
+) -> Path:
+    return atomic_write_text(path, trace_csv(columns, table, partial))
 
 
 def _check_finite(obj: Any, where: str) -> None:

@@ -289,7 +289,7 @@ def _write_outputs(run, report_path, trace_path) -> None:
         if report_path is not None:
             write_report(run.report, report_path)
         if trace_path is not None:
-            write_trace(run.trace_columns, run.trace, trace_path)
+            write_trace(run.trace_columns, run.trace, trace_path, run.error is not None)
     except OSError as exc:
         raise UsageError(f"cannot write {exc.filename}: {exc.strerror}") from None
 

@@ -155,4 +155,5 @@ def _write_outputs(plan: Plan, index: int, result) -> None:
     if plan.reports:
         write_report(result.report, stem.with_suffix(".report.json"))
     if plan.traces:
-        write_trace(result.trace_columns, result.trace, stem.with_suffix(".trace.csv"))
+        path = stem.with_suffix(".trace.csv")
+        write_trace(result.trace_columns, result.trace, path, result.error is not None)
