@@ -65,6 +65,8 @@ def describe(value: object, limit: int = 60) -> str:
     of them (``[1, 2]``); a string is only described (``a string of 4 characters``), a list
     by its length, a table by its keys — an error names the key and the line, never the
     text of a file the program may not own."""
+    if value is None:
+        return "no value"
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, int | float):

@@ -28,7 +28,12 @@ from pathlib import Path
 
 import numpy as np
 from irlc.lang.file_access import describe
-from irlc.robots.loader import MissingExtraError, RobotFileError, geometry_problem
+from irlc.robots.loader import (
+    MissingExtraError,
+    RobotFileError,
+    geometry_problem,
+    inertial_problem,
+)
 from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
 
 MOVABLE = {"revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"}
@@ -331,6 +336,8 @@ def _merged_inertial(parts: list, index: int, file: str) -> Inertial | None:
         key = f"link '{link.name}'.inertial"
         _check_finite(file, key, np.array([inertial.mass, *t.ravel(), *inertia.ravel()]))
         _check_point(file, f"{key}.origin", t[:3, 3])
+        if problem := inertial_problem(float(inertial.mass), inertia):
+            raise RobotFileError(file, key, problem)
         items.append((float(inertial.mass), t[:3, 3], r @ inertia @ r.T))
     if not items:
         return None
