@@ -87,3 +87,17 @@ def fuzz_settings(ci_examples: int) -> Callable[[Callable[..., Any]], Callable[.
         return test
 
     return apply
+
+
+def warm_up_kernels() -> None:
+    """Compile (or load from numba's cache) the optional compiled kernels before the cases
+    run: their one-time compile (≈ 15–30 s) is not a hang of the first case that moves."""
+    from irlc.runtime.accel_support import AVAILABLE, decide
+
+    if not (AVAILABLE and decide(None)):
+        return
+    from irlc.runtime.drives import accel as drive_accel
+    from irlc.runtime.ik import accel as ik_accel
+
+    ik_accel.warm_up()
+    drive_accel.warm_up()

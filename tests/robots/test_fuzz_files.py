@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 from irlc.lang import SimpleRobot, compile_source
 from irlc.robots import ROBOTS_DIR, RobotFileError, load_robot
 
-from ..fuzz_budget import fuzz_settings
+from ..fuzz_budget import fuzz_settings, warm_up_kernels
 from .test_loader_errors import GOOD
 
 HOSTILE_NUMBERS = ["1e308", "-1e308", "1e-320", "0", "-1", "nan", "inf", "1e300", "0.0", "2"]
@@ -116,9 +116,14 @@ PROGRAM = (
 )
 
 
+@pytest.fixture(scope="module")
+def warm() -> None:
+    warm_up_kernels()  # the kernels' one-time compile is no case's hang
+
+
 @fuzz_settings(25)
 @given(st.sampled_from(FIELDS), st.sampled_from(["1e308", "1e-320", "1e300", "0.0", "1e6"]))
-def test_fuzz_robot_numbers_through_a_run(tmp_path_factory, field, value) -> None:
+def test_fuzz_robot_numbers_through_a_run(tmp_path_factory, warm, field, value) -> None:
     from irlc.cli import main
 
     folder = tmp_path_factory.mktemp("run")
