@@ -42,7 +42,7 @@ def compile_program(
 
     path = Path(path)
     options = {
-        "resolve_robot": resolver(path.parent, allow_any_path=allow_any_path),
+        "resolve_robot": resolver(path.parent, allow_any_path=allow_any_path, user_robot=robot),
         "datalist_path": tuple(str(d) for d in datalist_path),
         "robot_override": robot,
         "allow_any_path": allow_any_path,

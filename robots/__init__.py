@@ -144,15 +144,20 @@ def resolve_robot(
 
 
 def resolver(
-    base_dir: str | Path | None = None, *, allow_any_path: bool = False
+    base_dir: str | Path | None = None,
+    *,
+    allow_any_path: bool = False,
+    user_robot: str | None = None,
 ) -> Callable[[str], RobotModel]:
     """``name → RobotModel`` for the robot a *program* names: :func:`resolve_robot` relative
     to ``base_dir`` (the program's folder; None: the working folder), restricted to
-    :func:`program_roots` unless ``allow_any_path``. The compiler's robot resolver (its
-    errors are LookupErrors)."""
+    :func:`program_roots` unless ``allow_any_path``; ``user_robot`` (``--robot``, the
+    user's choice) is never restricted. The compiler's robot resolver (its errors are
+    LookupErrors)."""
 
     def resolve(name: str) -> RobotModel:
-        return resolve_robot(name, base_dir, restricted=not allow_any_path)
+        users = user_robot is not None and name.lower() == user_robot.lower()
+        return resolve_robot(name, base_dir, restricted=not (allow_any_path or users))
 
     return resolve
 

@@ -133,7 +133,9 @@ def _compile(plan: Plan, changes: dict[str, list]):
         result = compile_source(
             plan.program_text,
             str(folder / Path(plan.program).name),
-            resolve_robot=resolver(plan.program_dir, allow_any_path=plan.allow_any_path),
+            resolve_robot=resolver(
+                plan.program_dir, allow_any_path=plan.allow_any_path, user_robot=plan.robot
+            ),
             datalist_path=(str(plan.program_dir), *plan.datalist_path),
             robot_override=plan.robot,
             allow_any_path=plan.allow_any_path,

@@ -143,6 +143,15 @@ def test_the_user_may_name_any_robot_file_on_the_command_line(tmp_path, capsys) 
     assert code == 0, text
 
 
+def test_the_api_takes_the_users_robot_file_from_anywhere(tmp_path) -> None:
+    from irlc import compile_program
+
+    prog, outside = _layout(tmp_path)
+    path = _program(prog, "planar3")
+    code = compile_program(path, robot=str(outside / "arm.toml"))
+    assert code.joint_kinds == "RRR"
+
+
 def test_api_and_repl_take_allow_any_path(tmp_path) -> None:
     from irlc import compile_program
     from irlc.lang import CompileError
