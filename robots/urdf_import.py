@@ -49,21 +49,34 @@ def _yourdfpy(file: str):
 
 
 def load_urdf(path: str | Path, tip: str | None = None, name: str | None = None) -> RobotModel:
-    """Load a serial chain from a URDF file (see the module docstring)."""
+    """Load a serial chain from a URDF file (see the module docstring).
+
+    Non-finite numbers are reported by the checks of :func:`_convert`, so numpy's warnings
+    about them (from the parser's transforms) are silenced; a parse error names its type
+    and, for XML, its position — not the parser's message, which quotes the file."""
     file = str(path)
     yourdfpy = _yourdfpy(file)
-    try:
-        urdf = yourdfpy.URDF.load(
-            file,
-            build_scene_graph=False,
-            build_collision_scene_graph=False,
-            load_meshes=False,
-            load_collision_meshes=False,
-        )
-    except Exception as e:
-        raise RobotFileError(file, "", f"cannot parse the URDF: {type(e).__name__}: {e}") from None
-    robot = urdf.robot
-    return _convert(robot, file, tip, name or robot.name or Path(file).stem)
+    with np.errstate(all="ignore"):
+        try:
+            urdf = yourdfpy.URDF.load(
+                file,
+                build_scene_graph=False,
+                build_collision_scene_graph=False,
+                load_meshes=False,
+                load_collision_meshes=False,
+            )
+        except Exception as e:
+            raise RobotFileError(file, "", f"cannot parse the URDF ({_parse_error(e)})") from None
+        robot = urdf.robot
+        return _convert(robot, file, tip, name or robot.name or Path(file).stem)
+
+
+def _parse_error(e: Exception) -> str:
+    """``XMLSyntaxError at line 3, column 12`` (lxml's position), else the error's type."""
+    position = getattr(e, "position", None)
+    if isinstance(position, tuple) and len(position) == 2:
+        return f"{type(e).__name__} at line {position[0]}, column {position[1]}"
+    return type(e).__name__
 
 
 def _convert(robot, file: str, tip: str | None, name: str) -> RobotModel:

@@ -217,3 +217,22 @@ def test_fuzz_regression_inertia_and_com_out_of_range(tmp_path) -> None:
         path.write_text("\n".join(lines), encoding="utf-8")
         with pytest.raises(RobotFileError, match="outside the physical range"):
             load_robot(str(path))
+
+
+def test_fuzz_regression_urdf_without_warnings_or_quoted_values(tmp_path) -> None:
+    """The URDF fuzz's numpy warnings (a NaN origin in the parser's transforms) stay
+    inside; a parse error does not quote the file ("could not convert string to float:
+    'SECRET'")."""
+    import warnings
+
+    pytest.importorskip("yourdfpy")
+    nan_origin = URDF.replace('rpy="0 0 0"', 'rpy="nan 0 0"')
+    bad_mass = URDF.replace('<mass value="1"/>', '<mass value="SECRET"/>')
+    for text, words in ((nan_origin, "expected finite numbers"), (bad_mass, "(ValueError)")):
+        path = tmp_path / "f.urdf"
+        path.write_text(text, encoding="utf-8")
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            with pytest.raises(RobotFileError) as info:
+                load_robot(str(path))
+        assert words in str(info.value) and "SECRET" not in str(info.value)
