@@ -54,8 +54,8 @@ def inside_roots(path: Path, roots: Iterable[Path]) -> bool:
 
 def refusal(roots: Iterable[Path]) -> str:
     """The message for a file outside ``roots`` (it names the roots, never the file's text)."""
-    shown = ", ".join(str(r) if str(r) else "." for r in roots)
-    return f"outside the folders a program may read from ({shown})"
+    folders = ", ".join(shown(Path(r)) for r in roots)
+    return f"outside the folders a program may read from ({folders})"
 
 
 def describe(value: object, limit: int = 60) -> str:
