@@ -31,7 +31,7 @@ def _real(path: Path) -> Path | None:
     """``path`` resolved (``..`` removed, links followed); None when it cannot be."""
     try:
         return Path(path).resolve()
-    except (OSError, RuntimeError):  # RuntimeError: a symlink loop (Python < 3.13)
+    except (OSError, RuntimeError, ValueError):  # a symlink loop (Python < 3.13); a NUL byte
         return None
 
 
