@@ -171,3 +171,14 @@ def test_api_and_repl_take_allow_any_path(tmp_path) -> None:
     assert refused.failure == 1 and any("outside the folders" in t for t in refused.lines)
     allowed = Session("planar3", cwd=prog, allow_any_path=True).enter("IMPORT DATALIST cell;")
     assert allowed.failure == 0, allowed.lines
+
+
+def test_golden_tests_take_allow_any_path(tmp_path, capsys) -> None:
+    prog, _ = _layout(tmp_path)
+    _program(prog, "'../outside/arm.toml'")
+    assert main(["test", str(prog), "--update"]) == 0  # the refusal is what it records
+    assert "compile_error" in (prog / "p.expected.json").read_text()
+    assert main(["test", str(prog), "--update", "--allow-any-path"]) == 0
+    assert "compile_error" not in (prog / "p.expected.json").read_text()
+    assert main(["test", str(prog)]) == 1  # without the option the run differs again
+    capsys.readouterr()
