@@ -13,8 +13,12 @@ import os
 from pathlib import Path
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from irlc.cli import main
 from irlc.robots import ROBOTS_DIR
+
+from ..fuzz_budget import fuzz_settings
 
 SECRET = "TOP-SECRET-VALUE-42"
 
@@ -182,3 +186,46 @@ def test_golden_tests_take_allow_any_path(tmp_path, capsys) -> None:
     assert "compile_error" not in (prog / "p.expected.json").read_text()
     assert main(["test", str(prog)]) == 1  # without the option the run differs again
     capsys.readouterr()
+
+
+@pytest.fixture(scope="module")
+def tree(tmp_path_factory) -> Path:
+    """``prog/`` with a robot below it and links in and out; ``outside/`` beside it."""
+    base = tmp_path_factory.mktemp("paths")
+    prog, outside = _layout(base)
+    (prog / "cell").mkdir()
+    (prog / "cell" / "arm.toml").write_text((ROBOTS_DIR / "planar3.toml").read_text())
+    for name, target in [
+        ("link_out.toml", outside / "arm.toml"),
+        ("link_in.toml", prog / "cell" / "arm.toml"),
+        ("loop.toml", prog / "loop.toml"),
+        ("dirlink", outside),
+    ]:
+        os.symlink(target, prog / name)
+    return prog
+
+
+SEGMENTS = ["..", ".", "", "cell", "outside", "prog", "dirlink", "arm.toml", "link_out.toml",
+            "link_in.toml", "loop.toml", "planar3.toml", "robots", "x\x00"]  # fmt: skip
+
+
+@fuzz_settings(200)
+@given(st.lists(st.sampled_from(SEGMENTS), min_size=1, max_size=6), st.booleans())
+def test_fuzz_program_paths_never_leave_the_allowed_folders(tree, segments, absolute) -> None:
+    """Any path a program names: a refusal, a missing file, or a file that — resolved —
+    lies in the program's folder or the library; never an exception."""
+    from irlc.lang import compile_source
+    from irlc.robots import resolver
+
+    text = "/".join(segments)
+    text = str(tree / text) if absolute else text
+    if not text.lower().endswith((".toml", ".urdf")) and "/" not in text:
+        text += "/x.toml"  # a path, not a library name
+    source = f"PROGRAM p;\nROBOT r := '{text}';\nBEGIN\nENDPROGRAM\n"
+    result = compile_source(source, str(tree / "p.irl"), resolve_robot=resolver(tree))
+    if result.ok:
+        real = (tree / text).resolve()
+        assert real.is_relative_to(tree.resolve()) or real.is_relative_to(ROBOTS_DIR.resolve())
+    else:
+        (error,) = result.errors
+        assert (error.span.line, error.span.column) == (2, 12), error
