@@ -28,20 +28,24 @@ def compile_program(
     robot: str | None = None,
     datalist_path: Sequence[str | Path] = (),
     source: str | None = None,
+    allow_any_path: bool = False,
 ) -> Code:
     """Compile an IRL program to IRDATA code.
 
     ``robot`` overrides the program's ``ROBOT`` clause (like ``--robot``); ``source``
-    compiles that text under the name ``path`` instead of reading the file. Raises
+    compiles that text under the name ``path`` instead of reading the file;
+    ``allow_any_path`` lets the program's robot file and data lists lie outside its folder,
+    the ``datalist_path`` folders and the robot library (like ``--allow-any-path``). Raises
     :class:`~irlc.lang.diagnostics.CompileError` carrying the diagnostics on errors.
     """
     from irlc.lang.compiler import compile_file, compile_source
 
     path = Path(path)
     options = {
-        "resolve_robot": resolver(path.parent),
+        "resolve_robot": resolver(path.parent, allow_any_path=allow_any_path, user_robot=robot),
         "datalist_path": tuple(str(d) for d in datalist_path),
         "robot_override": robot,
+        "allow_any_path": allow_any_path,
     }
     if source is None:
         result = compile_file(path, **options)
@@ -58,7 +62,8 @@ def run_program(program: str | Path | Code, **options):
     Options are those of :func:`irlc.runtime.run.run_code` / ``run_file`` (``robot``,
     ``ipo``, ``drives``, ``path_tolerance`` (mm), ``orientation_tolerance`` (deg),
     ``seed_config``, ``datalist_path``, ``instruction_budget`` — the endless-loop guard…,
-    ``override`` (%, the start value of ``R_OVERRIDE``)).
+    ``override`` (%, the start value of ``R_OVERRIDE``), ``allow_any_path`` (like
+    ``--allow-any-path``)).
     Returns a ``RunResult``
     whose ``status`` is ``"ok"`` or ``"failed"`` (with ``error``); raises
     :class:`~irlc.lang.diagnostics.CompileError` if the program does not compile.

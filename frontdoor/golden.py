@@ -215,6 +215,7 @@ RUN_OPTIONS = (  # docs/golden.md
     "datalist_path",
     "instruction_budget",
     "override",
+    "allow_any_path",
 )
 
 
@@ -258,8 +259,11 @@ def _json_type(value: Any) -> str:
     return names.get(type(value), "a number")
 
 
-def run_case(program: Path, update: bool = False, runner: Runner | None = None) -> CaseResult:
-    """Run one program and check (or, with ``update``, rewrite) its expectations."""
+def run_case(
+    program: Path, update: bool = False, runner: Runner | None = None, allow_any_path: bool = False
+) -> CaseResult:
+    """Run one program and check (or, with ``update``, rewrite) its expectations;
+    ``allow_any_path`` (``irlc test --allow-any-path``) is that run option for every case."""
     runner = runner or default_runner
     json_path, txt_path = expected_paths(program)
     try:
@@ -268,7 +272,10 @@ def run_case(program: Path, update: bool = False, runner: Runner | None = None) 
         return CaseResult(program, "error", message=str(e))
     user = {k: expected[k] for k in USER_KEYS if expected and k in expected}
     try:
-        report = runner(program, dict(user.get("options", {})))
+        options = dict(user.get("options", {}))
+        if allow_any_path:
+            options["allow_any_path"] = True
+        report = runner(program, options)
     except Exception as e:
         return CaseResult(program, "error", message=f"{type(e).__name__}: {e}")
     actual = reduce_report(report)
@@ -301,12 +308,18 @@ def run_case(program: Path, update: bool = False, runner: Runner | None = None) 
     return CaseResult(program, status, mismatches, diff)
 
 
-def run_golden(directory: Path, update: bool = False, runner: Runner | None = None, jobs: int = 1):
+def run_golden(
+    directory: Path,
+    update: bool = False,
+    runner: Runner | None = None,
+    jobs: int = 1,
+    allow_any_path: bool = False,
+):
     """All cases of ``directory`` (``*.irl``, sorted by name); ``jobs`` > 1 runs them on
     that many local processes (the default runner only; same results, same order)."""
     programs = find_programs(directory)
     if jobs <= 1 or runner is not None or len(programs) < 2:
-        return [run_case(p, update, runner) for p in programs]
+        return [run_case(p, update, runner, allow_any_path) for p in programs]
     from functools import partial
 
     from irlc.study.runner import ordered_map
@@ -314,7 +327,8 @@ def run_golden(directory: Path, update: bool = False, runner: Runner | None = No
     def crashed(program: Path) -> CaseResult:
         return CaseResult(program, "error", message="the worker process died running it")
 
-    return ordered_map(partial(run_case, update=update), programs, jobs, crashed)
+    one = partial(run_case, update=update, allow_any_path=allow_any_path)
+    return ordered_map(one, programs, jobs, crashed)
 
 
 # --------------------------------------------------------------------------- running

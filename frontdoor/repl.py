@@ -167,13 +167,20 @@ class Entry:
 class Session:
     """One robot, one controller, one machine state; see the module docstring."""
 
-    def __init__(self, robot: str | None = None, datalist_path=(), cwd: Path | None = None):
+    def __init__(
+        self,
+        robot: str | None = None,
+        datalist_path=(),
+        cwd: Path | None = None,
+        allow_any_path: bool = False,
+    ):
         from irlc.robots import load_robot
 
         self.robot_name = robot or DEFAULT_ROBOT
         self.model = load_robot(self.robot_name)
         self.cwd = Path(cwd or Path.cwd())
         self.datalist_path = tuple(str(p) for p in datalist_path)
+        self.allow_any_path = allow_any_path  # data lists outside cwd / --datalist-path
         self.imports: list[str] = []
         self.decls: list[str] = []
         self.names: set[str] = set()
@@ -231,6 +238,7 @@ class Session:
             resolve_robot=resolve,
             datalist_path=(str(self.cwd), *self.datalist_path),
             repl=True,
+            allow_any_path=self.allow_any_path,
         )
         diags = list(result.diagnostics)
         errors = [d for d in diags if d.is_error]
@@ -471,9 +479,9 @@ class Session:
         if arg:
             old = self.robot_name
             try:
-                self.__init__(arg, self.datalist_path, self.cwd)
+                self.__init__(arg, self.datalist_path, self.cwd, self.allow_any_path)
             except Exception as e:
-                self.__init__(old, self.datalist_path, self.cwd)
+                self.__init__(old, self.datalist_path, self.cwd, self.allow_any_path)
                 return Entry([f"error: {e}"], 3)
             return Entry([f"robot {self.model.name}: a new session (declarations cleared)"])
         m = self.model
@@ -837,12 +845,14 @@ def run_terminal(session: Session, echo: Callable[[str], None]) -> int:  # pragm
             echo(line)
 
 
-def main(robot: str | None = None, datalist_path=(), plain: bool = False) -> int:
+def main(
+    robot: str | None = None, datalist_path=(), plain: bool = False, allow_any_path: bool = False
+) -> int:
     from irlc.errors import UsageError
     from irlc.robots import RobotFileError
 
     try:
-        session = Session(robot, datalist_path)
+        session = Session(robot, datalist_path, allow_any_path=allow_any_path)
     except RobotFileError as e:
         raise UsageError(str(e)) from None
 

@@ -52,20 +52,26 @@ def write_report(report: dict, path: str | Path) -> Path:
     return atomic_write_text(path, report_json(report))
 
 
+PARTIAL_COLUMN = "partial"  # the last column of a failed run's trace, 1 on every row
 TRACE_CHUNK_ROWS = 4096  # rows formatted at a time: the writer's memory is O(chunk)
 
 
-def trace_csv(columns: list[str], table: np.ndarray) -> str:
+def trace_csv(columns: list[str], table: np.ndarray, partial: bool = False) -> str:
     """The whole trace as CSV text (:func:`trace_chunks` joined)."""
-    return "".join(trace_chunks(columns, table))
+    return "".join(trace_chunks(columns, table, partial))
 
 
-def trace_chunks(columns: list[str], table: np.ndarray) -> Iterator[str]:
+def trace_chunks(columns: list[str], table: np.ndarray, partial: bool = False) -> Iterator[str]:
     """The trace's CSV text in pieces of :data:`TRACE_CHUNK_ROWS` rows (header first).
     The whole table is checked finite before the first piece (nothing is written for a
     bad table); each piece holds only its own rows' text, so writing a long trace needs
-    memory for one piece, not for the file."""
+    memory for one piece, not for the file. ``partial`` (the run failed, the trace ends at
+    the failure) adds the column :data:`PARTIAL_COLUMN`, 1 on every row, so the file
+    itself says so."""
     table = np.asarray(table, dtype=float)
+    if partial:
+        columns = [*columns, PARTIAL_COLUMN]
+        table = np.hstack([table.reshape(len(table), -1), np.ones((len(table), 1))])
     if table.ndim != 2 or table.shape[1] != len(columns):
         raise ValueError(f"trace has {table.shape} values for {len(columns)} columns")
     for start in range(0, len(table), TRACE_CHUNK_ROWS):
@@ -85,10 +91,12 @@ def trace_chunks(columns: list[str], table: np.ndarray) -> Iterator[str]:
         yield "".join([row_format % tuple(row) for row in rows])
 
 
-def write_trace(columns: list[str], table: np.ndarray, path: str | Path) -> Path:
+def write_trace(
+    columns: list[str], table: np.ndarray, path: str | Path, partial: bool = False
+) -> Path:
     """Write the trace atomically, streamed piece by piece (:func:`trace_chunks`)."""
     return atomic_write_chunks(
-        path, (piece.encode("utf-8") for piece in trace_chunks(columns, table))
+        path, (piece.encode("utf-8") for piece in trace_chunks(columns, table, partial))
     )
 
 

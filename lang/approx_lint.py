@@ -24,6 +24,19 @@ from collections.abc import Iterator
 from dataclasses import dataclass, fields
 
 from irlc.lang import ast
+from irlc.lang.settings import BY_FIELD, SYSTEM_VARIABLES
+
+# The system variables by their role in lang/settings.py (not by spelling): the modal
+# approximation distance; those whose assignment stops the advance run (the frames and the
+# IPO cycle); those read from the controller (the actual pose and joints).
+_APPROX_VARIABLE = BY_FIELD["approx"].system_variable
+_STOPPING_FIELDS = ("tool", "base", "ipo")
+_STOPPING_VARIABLES = tuple(
+    v.name for v in SYSTEM_VARIABLES.values() if v.field in _STOPPING_FIELDS
+)
+_ACTUAL_VARIABLES = tuple(
+    v.name for v in SYSTEM_VARIABLES.values() if not v.writable and v.field is None
+)
 
 
 @dataclass
@@ -43,7 +56,7 @@ def approx_warnings(body: list[ast.Stmt]) -> list[tuple[ast.Node, str, str]]:
             if why:
                 out.append(_warning(s, pending.move, why))
                 pending = None
-        if isinstance(s, ast.Assign) and _is_name(s.target, "R_APPROX"):
+        if isinstance(s, ast.Assign) and _is_name(s.target, _APPROX_VARIABLE):
             modal = _nonzero(s.value)
         if isinstance(s, ast.Move):
             pending = _approximated(s, modal)
@@ -81,7 +94,7 @@ def _stops(s: ast.Stmt) -> str | None:
         return "RECONFIGURATION"
     if isinstance(s, ast.Assign) and isinstance(s.target, ast.Name):
         name = s.target.name.upper()
-        if name in ("R_TOOL", "R_BASE", "R_IPO"):
+        if name in _STOPPING_VARIABLES:
             return f"changing {name}"
     if isinstance(s, ast.ModalOn | ast.ModalOff):
         return f"switching {s.option} {'on' if isinstance(s, ast.ModalOn) else 'off'}"
@@ -89,7 +102,7 @@ def _stops(s: ast.Stmt) -> str | None:
         for node in _walk(e):
             if isinstance(node, ast.Input):
                 return "reading an input (IN[…])"
-            if isinstance(node, ast.Name) and node.name.upper() in ("R_ACT_POSE", "R_ACT_JOINT"):
+            if isinstance(node, ast.Name) and node.name.upper() in _ACTUAL_VARIABLES:
                 return f"reading {node.name.upper()}"
     return None
 

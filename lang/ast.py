@@ -373,3 +373,13 @@ def statements_in_order(body: list[Stmt]) -> Iterator[Stmt]:
                 yield from statements_in_order(s.else_body)
         elif isinstance(s, While | Repeat | For):
             yield from statements_in_order(s.body)
+
+
+def literal_text(e: Expr) -> str | None:
+    """A number literal as the program wrote it (``-5``, ``1E300``), with a sign written
+    before it; ``None`` for any other expression."""
+    sign = ""
+    while isinstance(e, Unary) and e.op in ("-", "+"):
+        sign += e.op
+        e = e.operand
+    return sign + e.text if isinstance(e, Num) else None

@@ -18,6 +18,7 @@ from irlc.lang import datalist as dlmod
 from irlc.lang.checker import Checker
 from irlc.lang.codegen import generate
 from irlc.lang.diagnostics import Diagnostic, Span
+from irlc.lang.file_access import ALLOW_HINT, inside_roots, refusal
 from irlc.lang.irdata import Code
 from irlc.lang.nesting import nesting_error
 from irlc.lang.parser import parse
@@ -52,14 +53,20 @@ def compile_source(
     datalist_path: Iterable[str] = (),
     robot_override: str | None = None,
     repl: bool = False,
+    allow_any_path: bool = False,
 ) -> CompileResult:
     """Compile IRL ``text`` (``filename`` is used in diagnostics and the SOURCE record).
 
     Data lists are searched in ``filename``'s folder, then in ``datalist_path``, then in
-    the robot library. ``robot_override`` is the command line's ``--robot``.
+    the robot library, and must lie inside one of those folders once resolved unless
+    ``allow_any_path`` (``irlc.lang.file_access``; the robot file's rule is the resolver's).
+    ``robot_override`` is the command line's ``--robot``.
     """
     with _cycle_collector_paused():
-        return _compile(text, filename, resolve_robot, tuple(datalist_path), robot_override, repl)
+        return _compile(
+            text, filename, resolve_robot, tuple(datalist_path), robot_override, repl,
+            allow_any_path,
+        )  # fmt: skip
 
 
 @contextmanager
@@ -90,6 +97,7 @@ def _compile(
     datalist_path: tuple[str, ...],
     robot_override: str | None,
     repl: bool,
+    allow_any_path: bool,
 ) -> CompileResult:
     result = CompileResult(None, [], text, filename)
     program, diags = parse(text, filename)
@@ -102,7 +110,7 @@ def _compile(
     robot, robot_text, robot_var = _robot(program, filename, resolve_robot, robot_override, result)
     if robot is None:  # every joint check depends on the robot: report only its diagnostic
         return result
-    datalists = _datalists(program, filename, datalist_path, robot, result)
+    datalists = _datalists(program, filename, datalist_path, robot, result, allow_any_path)
     checker = Checker(program, filename, robot, datalists, repl=repl)
     checked = checker.check()
     result.diagnostics += checker.diags
@@ -216,6 +224,7 @@ def _datalists(
     search: tuple[str, ...],
     robot: RobotSignature | None,
     result: CompileResult,
+    allow_any_path: bool = False,
 ) -> list[dlmod.Datalist]:
     out = []
     program_dir = Path(filename).parent
@@ -244,6 +253,11 @@ def _datalists(
                     "searched: " + ", ".join(searched) + " (add folders with --datalist-path DIR)",
                 )
             )
+            continue
+        roots = dlmod.folders(program_dir, search)
+        if not allow_any_path and not inside_roots(path, roots):
+            msg = f"data list '{clause.name}.toml' is {refusal(roots)}"
+            result.diagnostics.append(Diagnostic("error", msg, filename, clause.span, ALLOW_HINT))
             continue
         dl, diags = dlmod.load(clause.name, path, program_dir, robot.joint_count if robot else None)
         result.diagnostics += diags

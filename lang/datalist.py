@@ -24,6 +24,7 @@ from importlib import resources
 from pathlib import Path
 
 from irlc.lang.diagnostics import Diagnostic, Span
+from irlc.lang.file_access import describe
 from irlc.lang.irdata import (
     JOINT_TUPLE_TYPES,
     OBSTACLE_KEYS,
@@ -68,17 +69,24 @@ def find(
     name: str, program_dir: Path, search_path: tuple[str, ...]
 ) -> tuple[Path | None, list[str]]:
     """Locate ``name.toml``; return the path (or None) and the folders searched."""
-    folders = [program_dir, *(Path(p) for p in search_path)]
-    lib = library_folder()
-    if lib is not None:
-        folders.append(lib)
     searched = []
-    for folder in folders:
+    for folder in folders(program_dir, search_path):
         candidate = folder / f"{name}.toml"
         searched.append(str(folder) if str(folder) else ".")
         if _is_file(candidate):
             return candidate, searched
     return None, searched
+
+
+def folders(program_dir: Path, search_path: tuple[str, ...]) -> list[Path]:
+    """Where data lists are searched, in order — also the only folders a data list may lie
+    in once resolved (``irlc.lang.file_access``): the program's folder, each search-path
+    folder, the library's ``datalists`` folder."""
+    out = [program_dir, *(Path(p) for p in search_path)]
+    lib = library_folder()
+    if lib is not None:
+        out.append(lib)
+    return out
 
 
 def _is_file(path: Path) -> bool:
@@ -162,8 +170,7 @@ def _is_number(v) -> bool:
 
 
 def _show(v) -> str:
-    text = repr(v)
-    return text if len(text) <= 60 else text[:57] + "..."
+    return describe(v)
 
 
 def load(

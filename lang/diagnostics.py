@@ -54,9 +54,13 @@ class Diagnostic:
 
 
 def render(diag: Diagnostic, source: str | None = None) -> str:
-    """Plain-text rendering: header, source line, caret (under the span), hint, notes."""
+    """Plain-text rendering: header, source line, caret (under the span), hint, notes.
+
+    Without ``source`` the line is read from ``diag.file`` only for a program (``.irl``):
+    a robot file's or data list's error names file, line and key, never its text
+    (``irlc.lang.file_access``)."""
     out = [diag.header()]
-    if source is None and diag.span is not None:
+    if source is None and diag.span is not None and diag.file.lower().endswith(".irl"):
         try:
             source = Path(diag.file).read_text(encoding="utf-8", errors="replace")
         except OSError:

@@ -202,11 +202,16 @@ def shown_value(value: object) -> str:
     return shown if float(shown) == value else f"{value:g}"
 
 
-def setting_message(field_name: str, value: object, what: str) -> str | None:
+def setting_message(
+    field_name: str, value: object, what: str, written: str | None = None
+) -> str | None:
     """``None`` if admissible, else ``"<what> := <value>: the value must be …"`` (the one
-    wording of compile-time and run-time range errors)."""
+    wording of compile-time and run-time range errors); ``written``: the value as the
+    program wrote it (a literal, ``-5``), shown instead of :func:`shown_value`."""
     error = setting_error(field_name, value)
-    return None if error is None else f"{what} := {shown_value(value)}: {error}"
+    if error is None:
+        return None
+    return f"{what} := {written if written is not None else shown_value(value)}: {error}"
 
 
 def _shown_default(value: float | str) -> str:

@@ -5,6 +5,9 @@
 
 * a *path* (ends in ``.toml`` / ``.urdf``, or contains a path separator) is looked up
   relative to ``base_dir`` (the program's folder) first, then as given;
+* for a path a *program* names (``resolver``, ``restricted=True``) only the first: the file
+  must then lie inside the program's folder or the robot library once resolved
+  (``irlc.lang.file_access``), unless ``allow_any_path``;
 * anything else is a *library name*, case-insensitive: ``KOCH11`` → ``robots/koch11.toml``.
 
 Loaded models are cached by resolved file path and modification time, so one run
@@ -17,6 +20,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
+from irlc.lang.file_access import ALLOW_HINT, inside_roots, refusal, shown
 from irlc.robots.loader import RobotFileError, load_toml
 from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
 
@@ -65,14 +69,19 @@ def is_robot_path(name_or_path: str | Path) -> bool:
     return text.lower().endswith(ROBOT_SUFFIXES) or "/" in text or "\\" in text
 
 
-def robot_file(name_or_path: str | Path, base_dir: str | Path | None = None) -> Path:
+def robot_file(
+    name_or_path: str | Path, base_dir: str | Path | None = None, *, restricted: bool = False
+) -> Path:
     """The description file ``name_or_path`` resolves to (see the module doc).
 
-    Raises :class:`UnknownRobotError` for an unknown library name and
-    :class:`RobotFileError` for a missing file."""
+    ``restricted``: the path is a program's (``ROBOT r := 'file'``): relative to ``base_dir``
+    only, and refused outside :func:`program_roots`. Raises :class:`UnknownRobotError` for an
+    unknown library name and :class:`RobotFileError` for a missing or refused file."""
     text = str(name_or_path)
     if is_robot_path(text):
         given = Path(text)
+        if restricted:
+            return _program_robot_file(text, Path(base_dir) if base_dir is not None else Path())
         if base_dir is not None and not given.is_absolute():
             candidate = Path(base_dir) / given
             if is_file(candidate):
@@ -86,6 +95,23 @@ def robot_file(name_or_path: str | Path, base_dir: str | Path | None = None) -> 
     return path
 
 
+def program_roots(base_dir: Path) -> tuple[Path, ...]:
+    """The folders a program's robot file may lie in: its own folder, the robot library."""
+    return (base_dir, ROBOTS_DIR)
+
+
+def _program_robot_file(text: str, base_dir: Path) -> Path:
+    """A robot file a program names: ``base_dir / text``, inside :func:`program_roots`
+    (checked before existence, so a refusal says nothing about files outside)."""
+    candidate = base_dir / text  # an absolute ``text`` stays as written
+    roots = program_roots(base_dir)
+    if not inside_roots(candidate, roots):
+        raise RobotFileError(shown(candidate), "", f"{refusal(roots)}; {ALLOW_HINT}")
+    if not is_file(candidate):
+        raise RobotFileError(text, "", "file not found (looked in the program's folder)")
+    return candidate
+
+
 def is_file(path: Path) -> bool:
     """``path.is_file()``, but ``False`` for a name the system refuses (too long: ENAMETOOLONG,
     or any other OSError): such a name never names a file the program can use."""
@@ -95,12 +121,14 @@ def is_file(path: Path) -> bool:
         return False
 
 
-def resolve_robot(name_or_path: str | Path, base_dir: str | Path | None = None) -> RobotModel:
+def resolve_robot(
+    name_or_path: str | Path, base_dir: str | Path | None = None, *, restricted: bool = False
+) -> RobotModel:
     """Load a robot by library name or description file (cached; see the module doc).
 
     Raises :class:`RobotFileError` (or its :class:`UnknownRobotError`) for an unknown name,
-    a missing file or a malformed one."""
-    path = robot_file(name_or_path, base_dir)
+    a missing, refused (``restricted``, see :func:`robot_file`) or malformed file."""
+    path = robot_file(name_or_path, base_dir, restricted=restricted)
     try:
         stat = path.stat()
     except OSError as e:
@@ -115,12 +143,21 @@ def resolve_robot(name_or_path: str | Path, base_dir: str | Path | None = None) 
     return model
 
 
-def resolver(base_dir: str | Path | None = None) -> Callable[[str], RobotModel]:
-    """``name → RobotModel`` by :func:`resolve_robot` relative to ``base_dir``: the robot
-    resolver the compiler takes (its errors are LookupErrors)."""
+def resolver(
+    base_dir: str | Path | None = None,
+    *,
+    allow_any_path: bool = False,
+    user_robot: str | None = None,
+) -> Callable[[str], RobotModel]:
+    """``name → RobotModel`` for the robot a *program* names: :func:`resolve_robot` relative
+    to ``base_dir`` (the program's folder; None: the working folder), restricted to
+    :func:`program_roots` unless ``allow_any_path``; ``user_robot`` (``--robot``, the
+    user's choice) is never restricted. The compiler's robot resolver (its errors are
+    LookupErrors)."""
 
     def resolve(name: str) -> RobotModel:
-        return resolve_robot(name, base_dir)
+        users = user_robot is not None and name.lower() == user_robot.lower()
+        return resolve_robot(name, base_dir, restricted=not (allow_any_path or users))
 
     return resolve
 

@@ -18,7 +18,7 @@ import numpy as np
 from irlc.lang.joint_kinds import KINDS
 from irlc.robots.limits import read_joint_limits
 from irlc.robots.model import Joint
-from irlc.robots.toml_reader import Reader
+from irlc.robots.toml_reader import Reader, show
 from irlc.runtime.spatial import rot_x, rot_z, transform
 
 AXIS_NAMES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
@@ -58,7 +58,7 @@ def read_chain(rd: Reader, robot: dict, doc: dict, assumed: dict) -> tuple[list[
         rd.table(row, key, JOINT_KEYS)
         name = rd.string(row.get("name", f"J{i + 1}"), f"{key}.name")
         if name in names:
-            raise rd.fail(f"{key}.name", f"duplicate joint name {name!r}")
+            raise rd.fail(f"{key}.name", "duplicate joint name (an earlier joint has it)")
         names.add(name)
         if "kind" not in row:
             raise rd.fail(f"{key}.kind", "missing; expected 'revolute' or 'prismatic'")
@@ -128,7 +128,7 @@ def axes_row(rd: Reader, row: dict, key: str):
     raw = row["axis"]
     if isinstance(raw, str):
         if raw not in AXIS_NAMES:
-            raise rd.fail(f"{key}.axis", f"expected one of x, y, z, -x, -y, -z, got {raw!r}")
+            raise rd.fail(f"{key}.axis", f"expected one of x, y, z, -x, -y, -z, got {show(raw)}")
         axis = np.array(AXIS_NAMES[raw])
     else:
         axis = rd.vector(raw, f"{key}.axis", 3)

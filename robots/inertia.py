@@ -49,6 +49,23 @@ def link_index(rd: Reader, value: Any, key: str, n: int) -> int:
     return value
 
 
+MASS_RANGE_KG = (1e-9, 1e9)  # a link's mass: a microgram grain to a million tonnes
+INERTIA_MAX_KG_M2 = 1e15  # |entry| of an inertia: that mass spread over ±1 km (geometry)
+
+
+def inertial_problem(mass: float | None, inertia=None) -> str | None:
+    """Why a link's mass (kg) or inertia entries (kg·m²) are outside the physical range,
+    else ``None`` (``None`` arguments are not checked). Beyond it the combined inertia of
+    a link (m·d², ρ·V) overflows to inf and NaN."""
+    low, high = MASS_RANGE_KG
+    if mass is not None and not low <= mass <= high:
+        return f"a mass of {mass:g} kg is outside the physical range ({low:g} to {high:g} kg)"
+    top = INERTIA_MAX_KG_M2
+    if inertia is not None and not np.all(np.abs(np.asarray(inertia, dtype=float)) <= top):
+        return f"an inertia entry is outside the physical range (within ±{top:g} kg·m²)"
+    return None
+
+
 def read_inertials(rd: Reader, value: Any, n: int, geometry, assumed: dict) -> list[Inertial]:
     """``[[inertials]]``: ``link``, ``mass`` (kg), ``com`` (length unit) and ``inertia``
     ``[ixx, iyy, izz, ixy, ixz, iyz]`` (kg·m², about the com) — or
@@ -67,6 +84,8 @@ def read_inertials(rd: Reader, value: Any, n: int, geometry, assumed: dict) -> l
             raise rd.fail(f"{key}.link", f"link {link} already has an inertial entry")
         seen.add(link)
         mass = rd.positive(row.get("mass"), f"{key}.mass")
+        if problem := inertial_problem(mass):
+            raise rd.fail(f"{key}.mass", problem)
         raw = row.get("inertia")
         if raw == "from_geometry":
             shapes = [g for g in geometry if g.link == link]
@@ -77,6 +96,7 @@ def read_inertials(rd: Reader, value: Any, n: int, geometry, assumed: dict) -> l
                 raise rd.fail(f"{key}.com", "not used with inertia = 'from_geometry'")
         else:
             com = rd.vector(row.get("com"), f"{key}.com", 3) * rd.length
+            rd.in_range(f"{key}.com", "point", com)
             inertia = _inertia_matrix(rd, raw, f"{key}.inertia")
         out.append(Inertial(link, mass, com, inertia, assumed=flag))
     return out
@@ -84,6 +104,8 @@ def read_inertials(rd: Reader, value: Any, n: int, geometry, assumed: dict) -> l
 
 def _inertia_matrix(rd: Reader, raw: Any, key: str) -> np.ndarray:
     ixx, iyy, izz, ixy, ixz, iyz = rd.vector(raw, key, 6)
+    if problem := inertial_problem(None, [ixx, iyy, izz, ixy, ixz, iyz]):
+        raise rd.fail(key, problem)
     m = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
     ev = np.linalg.eigvalsh(m)
     if ev[0] < -1e-12 or ev[0] + ev[1] < ev[2] - 1e-9 * max(1.0, ev[2]):

@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 from irlc.lang.errors import IrlcError
+from irlc.lang.file_access import describe
 from irlc.lang.geometry_range import geometry_problem
 from irlc.runtime.spatial import zyx_to_matrix
 
@@ -105,7 +106,7 @@ class Reader:
         if not isinstance(value, str):
             raise self.fail(key, f"expected a string, got {show(value)}")
         if choices is not None and value not in choices:
-            raise self.fail(key, f"expected one of {', '.join(choices)}, got {value!r}")
+            raise self.fail(key, f"expected one of {', '.join(choices)}, got {show(value)}")
         return value
 
     def boolean(self, value: Any, key: str) -> bool:
@@ -167,9 +168,7 @@ def join_key(key: str, sub: str) -> str:
 
 
 def show(value: Any) -> str:
-    text = repr(value)
-    kind = type(value).__name__
-    return f"{kind} {text[:60]}{'...' if len(text) > 60 else ''}"
+    return describe(value)  # never the text of the file (irlc.lang.file_access)
 
 
 def robot_geometry_problem(what: str, values_m, unit: str = "m") -> str | None:

@@ -27,6 +27,8 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+from irlc.lang.file_access import describe
+from irlc.robots.inertia import inertial_problem
 from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
 from irlc.robots.toml_reader import MissingExtraError, RobotFileError, robot_geometry_problem
 
@@ -43,21 +45,34 @@ def _yourdfpy(file: str):
 
 
 def load_urdf(path: str | Path, tip: str | None = None, name: str | None = None) -> RobotModel:
-    """Load a serial chain from a URDF file (see the module docstring)."""
+    """Load a serial chain from a URDF file (see the module docstring).
+
+    Non-finite numbers are reported by the checks of :func:`_convert`, so numpy's warnings
+    about them (from the parser's transforms) are silenced; a parse error names its type
+    and, for XML, its position — not the parser's message, which quotes the file."""
     file = str(path)
     yourdfpy = _yourdfpy(file)
-    try:
-        urdf = yourdfpy.URDF.load(
-            file,
-            build_scene_graph=False,
-            build_collision_scene_graph=False,
-            load_meshes=False,
-            load_collision_meshes=False,
-        )
-    except Exception as e:
-        raise RobotFileError(file, "", f"cannot parse the URDF: {type(e).__name__}: {e}") from None
-    robot = urdf.robot
-    return _convert(robot, file, tip, name or robot.name or Path(file).stem)
+    with np.errstate(all="ignore"):
+        try:
+            urdf = yourdfpy.URDF.load(
+                file,
+                build_scene_graph=False,
+                build_collision_scene_graph=False,
+                load_meshes=False,
+                load_collision_meshes=False,
+            )
+        except Exception as e:
+            raise RobotFileError(file, "", f"cannot parse the URDF ({_parse_error(e)})") from None
+        robot = urdf.robot
+        return _convert(robot, file, tip, name or robot.name or Path(file).stem)
+
+
+def _parse_error(e: Exception) -> str:
+    """``XMLSyntaxError at line 3, column 12`` (lxml's position), else the error's type."""
+    position = getattr(e, "position", None)
+    if isinstance(position, tuple) and len(position) == 2:
+        return f"{type(e).__name__} at line {position[0]}, column {position[1]}"
+    return type(e).__name__
 
 
 def _convert(robot, file: str, tip: str | None, name: str) -> RobotModel:
@@ -306,7 +321,7 @@ def _length(file: str, key: str, value) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise RobotFileError(file, key, f"expected a number, got {value!r}") from None
+        raise RobotFileError(file, key, f"expected a number, got {describe(value)}") from None
     if problem := robot_geometry_problem("length", np.array([v])):
         raise RobotFileError(file, key, problem)
     return v
@@ -330,6 +345,8 @@ def _merged_inertial(parts: list, index: int, file: str) -> Inertial | None:
         key = f"link '{link.name}'.inertial"
         _check_finite(file, key, np.array([inertial.mass, *t.ravel(), *inertia.ravel()]))
         _check_point(file, f"{key}.origin", t[:3, 3])
+        if problem := inertial_problem(float(inertial.mass), inertia):
+            raise RobotFileError(file, key, problem)
         items.append((float(inertial.mass), t[:3, 3], r @ inertia @ r.T))
     if not items:
         return None

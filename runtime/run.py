@@ -79,10 +79,21 @@ class RunResult:
 # --------------------------------------------------------------------------- setup
 
 
-def resolve_model(code: Code, robot: str | Path | RobotModel | None, base_dir: Path | None):
-    """The robot to run on: ``robot`` (override) or the code's robot, by
-    :func:`irlc.robots.resolve_robot` (a library name or a path relative to the program)."""
-    model = robot if isinstance(robot, RobotModel) else load_model(robot or code.robot, base_dir)
+def resolve_model(
+    code: Code,
+    robot: str | Path | RobotModel | None,
+    base_dir: Path | None,
+    allow_any_path: bool = False,
+):
+    """The robot to run on: ``robot`` (override, the user's) or the code's robot, by
+    :func:`irlc.robots.resolve_robot` (a library name or a path relative to the program;
+    the code's own path inside the program's allowed roots unless ``allow_any_path``)."""
+    if isinstance(robot, RobotModel):
+        model = robot
+    elif robot:
+        model = load_model(robot, base_dir)
+    else:
+        model = load_model(code.robot, base_dir, restricted=not allow_any_path)
     kinds = "".join("P" if k == units.PRISMATIC else "R" for k in model.joint_kinds)
     if code.joint_kinds and kinds != code.joint_kinds:
         raise RunSetupError(
@@ -92,12 +103,14 @@ def resolve_model(code: Code, robot: str | Path | RobotModel | None, base_dir: P
     return model
 
 
-def load_model(name_or_path: str | Path, base_dir: Path | None) -> RobotModel:
+def load_model(
+    name_or_path: str | Path, base_dir: Path | None, restricted: bool = False
+) -> RobotModel:
     """:func:`irlc.robots.resolve_robot`; its errors become :class:`RunSetupError` (exit 3)."""
     from irlc.robots import RobotFileError, resolve_robot
 
     try:
-        return resolve_robot(name_or_path, base_dir)
+        return resolve_robot(name_or_path, base_dir, restricted=restricted)
     except RobotFileError as exc:
         raise RunSetupError(str(exc)) from None
 
@@ -177,6 +190,7 @@ def run_code(
     instruction_budget: int | None = None,
     max_time: float | None = None,
     override: float | None = None,
+    allow_any_path: bool = False,
 ) -> RunResult:
     """Execute compiled ``code`` (see the module doc). ``path_tolerance`` (mm, the start
     value of ``R_PATH_TOL``) and ``orientation_tolerance`` (deg) override ``options``'
@@ -186,7 +200,8 @@ def run_code(
     :data:`~irlc.runtime.interpreter.DEFAULT_INSTRUCTION_BUDGET`). ``max_time``: the
     simulated-time budget in s (default ``ExecutionOptions.max_time_s``, 24 h).
     ``override`` (%): the start value of ``R_OVERRIDE`` (``--override``; lang/settings.py's
-    range, 1–100).
+    range, 1–100). ``allow_any_path``: the code's robot file may lie outside the program's
+    folder and the robot library (``irlc.lang.file_access``).
 
     The pipeline, one call per stage: the setup (robot, start, options), the interpreter
     with the simulated controller (the set points, :mod:`recorder`), the drives
@@ -196,7 +211,8 @@ def run_code(
     from irlc.runtime.results import RunData, assemble
 
     setup = _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolerance,
-                   orientation_tolerance, instruction_budget, max_time, override)  # fmt: skip
+                   orientation_tolerance, instruction_budget, max_time, override,
+                   allow_any_path)  # fmt: skip
     controller = SimulatedController(setup.model, setup.q0, obstacles=setup.obstacles,
                                      options=setup.options, progress=progress,
                                      naming=setup.naming)  # fmt: skip
@@ -227,7 +243,8 @@ class RunSetup:
 
 
 def _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolerance,
-           orientation_tolerance, instruction_budget, max_time, override) -> RunSetup:  # fmt: skip
+           orientation_tolerance, instruction_budget, max_time, override,
+           allow_any_path=False) -> RunSetup:  # fmt: skip
     """:func:`run_code`'s arguments checked (:class:`RunSetup`); a bad one is a
     :class:`RunSetupError`."""
     if drives not in DRIVE_LEVELS:
@@ -238,7 +255,7 @@ def _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolera
         raise RunSetupError(f"--override {override!r}: {setting_error('override', override)}")
     budget = _budget(instruction_budget)
     base = Path(base_dir) if base_dir is not None else None
-    model = resolve_model(code, robot, base)
+    model = resolve_model(code, robot, base, allow_any_path)
     obstacles = obstacle_shapes(code)
     q0 = start_configuration(code, model, seed_config)
     if max_time is not None:
@@ -331,6 +348,7 @@ def run_file(
     *,
     robot: str | Path | RobotModel | None = None,
     datalist_path: Sequence[str | Path] = (),
+    allow_any_path: bool = False,
     **kwargs,
 ) -> RunResult:
     """Compile (``.irl``) or read (``.ird``) ``path`` and run it. Raises
@@ -355,24 +373,27 @@ def run_file(
 
         result = compile_file(
             path,
-            resolve_robot=_robot_resolver(path.parent, robot),
+            resolve_robot=_robot_resolver(path.parent, robot, allow_any_path),
             datalist_path=tuple(str(d) for d in datalist_path),
             robot_override=override,
+            allow_any_path=allow_any_path,
         )
         diagnostics = list(result.diagnostics)
         if result.code is None or any(d.is_error for d in diagnostics):
             raise CompileError(diagnostics)
         code = result.code
-    run = run_code(code, robot=robot, base_dir=path.parent, **kwargs)
+    run = run_code(code, robot=robot, base_dir=path.parent, allow_any_path=allow_any_path, **kwargs)
     run.diagnostics = [d for d in diagnostics if not d.is_error]
     return run
 
 
-def _robot_resolver(base_dir: Path, override: RobotModel | None = None):
+def _robot_resolver(
+    base_dir: Path, override: RobotModel | None = None, allow_any_path: bool = False
+):
     """``name → RobotModel`` for the compiler: the override model, or
-    :func:`irlc.robots.resolve_robot` relative to the program's folder."""
+    :func:`irlc.robots.resolver` relative to the program's folder."""
     from irlc.robots import resolver
 
     if isinstance(override, RobotModel):
         return lambda name: override
-    return resolver(base_dir)
+    return resolver(base_dir, allow_any_path=allow_any_path)

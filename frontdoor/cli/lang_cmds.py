@@ -20,7 +20,9 @@ def library_resolver(name_or_path: str):
     return resolve_robot(name_or_path)
 
 
-def _compile(program: Path, robot: str | None, datalist_path: tuple[Path, ...]):
+def _compile(
+    program: Path, robot: str | None, datalist_path: tuple[Path, ...], allow_any_path: bool
+):
     from irlc.lang import compile_file
     from irlc.robots import RobotFileError, resolve_robot, resolver
 
@@ -29,7 +31,7 @@ def _compile(program: Path, robot: str | None, datalist_path: tuple[Path, ...]):
     for d in datalist_path:
         if not d.is_dir():
             raise UsageError(f"--datalist-path {d}: no such folder")
-    resolve = resolver(program.parent)
+    resolve = resolver(program.parent, allow_any_path=allow_any_path)
     if robot is not None:
         try:
             model = resolve_robot(robot, program.parent)
@@ -42,6 +44,7 @@ def _compile(program: Path, robot: str | None, datalist_path: tuple[Path, ...]):
         resolve_robot=resolve,
         datalist_path=tuple(str(d) for d in datalist_path),
         robot_override=robot,
+        allow_any_path=allow_any_path,
     )
 
 
@@ -66,15 +69,25 @@ _datalist_option = click.option(
     type=click.Path(path_type=Path),
     help="Folder searched for IMPORT DATALIST files (repeatable).",
 )
+allow_any_path_option = click.option(
+    "--allow-any-path",
+    "allow_any_path",
+    is_flag=True,
+    help="Let the program's ROBOT file and data lists lie anywhere (default: only in its "
+    "folder, the --datalist-path folders and the robot library).",
+)
 
 
 @cli.command("check")
 @click.argument("program", type=click.Path(path_type=Path))
 @_robot_option
 @_datalist_option
-def check_cmd(program: Path, robot: str | None, datalist_path: tuple[Path, ...]) -> int:
+@allow_any_path_option
+def check_cmd(
+    program: Path, robot: str | None, datalist_path: tuple[Path, ...], allow_any_path: bool
+) -> int:
     """Compile PROGRAM.irl without writing code; print diagnostics."""
-    result = _compile(program, robot, datalist_path)
+    result = _compile(program, robot, datalist_path, allow_any_path)
     print_diagnostics(result)
     if not result.ok:
         click.echo(f"{program}: {_summary(result)}", err=True)
@@ -94,14 +107,19 @@ def check_cmd(program: Path, robot: str | None, datalist_path: tuple[Path, ...])
 )
 @_robot_option
 @_datalist_option
+@allow_any_path_option
 def compile_cmd(
-    program: Path, output: Path | None, robot: str | None, datalist_path: tuple[Path, ...]
+    program: Path,
+    output: Path | None,
+    robot: str | None,
+    datalist_path: tuple[Path, ...],
+    allow_any_path: bool,
 ) -> int:
     """Compile PROGRAM.irl to IRDATA code (PROGRAM.ird)."""
     from irlc.files import atomic_write_text
     from irlc.lang import write_code
 
-    result = _compile(program, robot, datalist_path)
+    result = _compile(program, robot, datalist_path, allow_any_path)
     print_diagnostics(result)
     if not result.ok:
         click.echo(f"{program}: {_summary(result)}", err=True)

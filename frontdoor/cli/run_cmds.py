@@ -18,6 +18,7 @@ from pathlib import Path
 
 import click
 from irlc.cli.app import cli
+from irlc.cli.lang_cmds import allow_any_path_option
 from irlc.errors import EXIT_COMPILE, EXIT_OK, EXIT_RUN, UsageError
 from irlc.runtime.drive_levels import LEVELS as DRIVE_LEVELS
 
@@ -143,6 +144,7 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
     multiple=True,
     help="Start configuration (deg | mm): one string of numbers, or repeated.",
 )
+@allow_any_path_option
 def run_cmd(
     program: Path,
     robot,
@@ -164,6 +166,7 @@ def run_cmd(
     as_json,
     quiet,
     seed_config,
+    allow_any_path,
 ) -> int:
     """Compile (.irl) or load (.ird) PROGRAM and simulate it; print a summary."""
     from rich.console import Console
@@ -189,6 +192,7 @@ def run_cmd(
             orientation_tolerance=orientation_tolerance,
             instruction_budget=instruction_budget,
             max_time=max_time,
+            allow_any_path=allow_any_path,
         ),
         seed,
         trace_every_step,
@@ -284,7 +288,7 @@ def _write_outputs(run, report_path, trace_path) -> None:
         if report_path is not None:
             write_report(run.report, report_path)
         if trace_path is not None:
-            write_trace(run.trace_columns, run.trace, trace_path)
+            write_trace(run.trace_columns, run.trace, trace_path, run.error is not None)
     except OSError as exc:
         raise UsageError(f"cannot write {exc.filename}: {exc.strerror}") from None
 

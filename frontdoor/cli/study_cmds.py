@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 from irlc.cli.app import cli
+from irlc.cli.lang_cmds import allow_any_path_option
 from irlc.errors import EXIT_COMPILE, EXIT_INTERRUPTED, EXIT_OK, UsageError
 from irlc.study.summary import DEFAULT_SORT
 
@@ -24,7 +25,8 @@ from irlc.study.summary import DEFAULT_SORT
 @click.option("--plot", "plot", type=click.Path(path_type=Path), default=None,
               help="Draw the --sort metric against the varied keys into FILE.png.")  # fmt: skip
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar, no summary.")
-def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet) -> int:
+@allow_any_path_option
+def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet, allow_any_path) -> int:
     """Run STUDY_FILE's program once per variant; results in DIR/results.csv.
 
     Exit status: 0 the study ran (a failing variant is a row with its error), 1 the
@@ -54,6 +56,7 @@ def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet) -> i
             study_file, out=out, workers=workers, cluster=cluster, resume=resume,
             progress=bar.advance, started=bar.start,
             check=lambda columns, keys: check_metric(sort, columns, keys),
+            allow_any_path=allow_any_path,
         )  # fmt: skip
     except CompileError as exc:
         from irlc.lang.diagnostics import render

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import click
 from irlc.cli.app import cli
+from irlc.cli.lang_cmds import allow_any_path_option
 from irlc.errors import EXIT_OK, UsageError
 
 EXIT_TEST_FAILED = 1  # some golden test failed (like pytest); 3 for usage errors
@@ -19,7 +20,8 @@ EXIT_TEST_FAILED = 1  # some golden test failed (like pytest); 3 for usage error
     "-j", "--jobs", type=click.IntRange(min=1), default=1, show_default=True,
     help="Programs run at once on local processes (results in the same order).",
 )  # fmt: skip
-def test_cmd(directory: Path, update: bool, jobs: int) -> int:
+@allow_any_path_option
+def test_cmd(directory: Path, update: bool, jobs: int, allow_any_path: bool) -> int:
     """Run every NAME.irl in DIRECTORY against NAME.expected.json (+ .expected.txt).
 
     Exit status: 0 all passed (or updated), 1 some failed or have no expectation,
@@ -32,7 +34,7 @@ def test_cmd(directory: Path, update: bool, jobs: int) -> int:
         raise UsageError(f"{directory}: no such directory")
     if not find_programs(directory):
         raise UsageError(f"{directory}: no *.irl programs")
-    results = run_golden(directory, update=update, jobs=jobs)
+    results = run_golden(directory, update=update, jobs=jobs, allow_any_path=allow_any_path)
     render_results(results, Console(highlight=False))
     return EXIT_OK if all(r.ok for r in results) else EXIT_TEST_FAILED
 
@@ -44,11 +46,16 @@ def test_cmd(directory: Path, update: bool, jobs: int) -> int:
     help="Folder searched for IMPORT DATALIST files (repeatable).",
 )  # fmt: skip
 @click.option("--plain", is_flag=True, help="Plain line input even on a terminal.")
-def repl_cmd(robot: str | None, datalist_path: tuple[Path, ...], plain: bool) -> int:
+@allow_any_path_option
+def repl_cmd(
+    robot: str | None, datalist_path: tuple[Path, ...], plain: bool, allow_any_path: bool
+) -> int:
     """Interactive session: declarations and statements run as they are entered."""
     from irlc.repl import main as repl_main
 
-    return repl_main(robot=robot, datalist_path=datalist_path, plain=plain)
+    return repl_main(
+        robot=robot, datalist_path=datalist_path, plain=plain, allow_any_path=allow_any_path
+    )
 
 
 @cli.command("warmup")

@@ -47,6 +47,7 @@ def run_study(
     progress: Callable[[int, int], None] | None = None,
     started: Callable[[int, int], None] | None = None,
     check: Callable[[list[str], list[str]], None] | None = None,
+    allow_any_path: bool = False,
 ) -> StudyOutcome:
     """Run (or complete, ``resume``) the study in ``path``; see the module doc.
 
@@ -54,7 +55,8 @@ def run_study(
     ``workers``: local processes (default all cores); ``cluster``: a Dask scheduler
     address (or ``Client``) instead. ``started(todo, total)`` is called once the checks
     passed, ``progress(done, todo)`` after every variant; ``check(columns, keys)`` before
-    anything is written (the caller's own checks, e.g. of a metric name)."""
+    anything is written (the caller's own checks, e.g. of a metric name);
+    ``allow_any_path``: ``--allow-any-path`` (``irlc.lang.file_access``)."""
     from irlc.study.expand import variants
     from irlc.study.metrics import columns
     from irlc.study.plan import build_plan
@@ -64,7 +66,7 @@ def run_study(
 
     study = read_study(path)
     folder = Path(out) if out is not None else study.file.with_suffix(".results")
-    plan = build_plan(study, folder / "variants")
+    plan = build_plan(study, folder / "variants", allow_any_path)
     cols = columns(plan)
     if check is not None:
         check(cols, study.keys)

@@ -47,14 +47,18 @@ class Plan:
     variants_dir: str | None = None  # where per-variant reports / traces go
     reports: bool = False
     traces: bool = False
+    allow_any_path: bool = False  # the program's robot file and data lists may lie anywhere
 
     @property
     def program_dir(self) -> Path:
         return Path(self.program).parent
 
 
-def build_plan(study: Study, variants_dir: Path | None = None) -> Plan:
-    """Compile the program, load the documents the keys change, check every value."""
+def build_plan(
+    study: Study, variants_dir: Path | None = None, allow_any_path: bool = False
+) -> Plan:
+    """Compile the program, load the documents the keys change, check every value;
+    ``allow_any_path``: ``--allow-any-path`` (``irlc.lang.file_access``)."""
     from irlc.runtime import units
     from irlc.runtime.run import RunSetupError, load_model
 
@@ -63,7 +67,7 @@ def build_plan(study: Study, variants_dir: Path | None = None) -> Plan:
             load_model(study.robot, study.file.parent)
         except RunSetupError as e:
             raise study.error("robot", str(e)) from None
-    code = _code(study)
+    code = _code(study, allow_any_path)
     program_dir = study.program.parent
     model = load_model(study.robot or code.robot, program_dir)
     kinds = [axis.key.partition(".")[0] for axis in study.axes]
@@ -98,6 +102,7 @@ def build_plan(study: Study, variants_dir: Path | None = None) -> Plan:
         ),
         obstacles=tuple(o.name for o in code.obstacles),
         drives=drives,
+        allow_any_path=allow_any_path,
         variants_dir=str(variants_dir) if variants_dir is not None else None,
         reports=study.reports,
         traces=study.traces,
@@ -131,13 +136,18 @@ def _check_drive_data(study: Study, model) -> None:
         raise study.error(key, problem, section)
 
 
-def _code(study: Study) -> Code:
+def _code(study: Study, allow_any_path: bool = False) -> Code:
     """The program compiled (``.irl``) or read (``.ird``: IRDATA code, whose data lists are
     compiled in, so no ``datalist.…`` key can change them)."""
     from irlc.api import compile_program
 
     if study.program.suffix.lower() != ".ird":
-        return compile_program(study.program, robot=study.robot, datalist_path=study.datalist_path)
+        return compile_program(
+            study.program,
+            robot=study.robot,
+            datalist_path=study.datalist_path,
+            allow_any_path=allow_any_path,
+        )
     from irlc.files import read_user_text
     from irlc.lang.irdata import read_code
 

@@ -133,9 +133,12 @@ def _compile(plan: Plan, changes: dict[str, list]):
         result = compile_source(
             plan.program_text,
             str(folder / Path(plan.program).name),
-            resolve_robot=resolver(plan.program_dir),
+            resolve_robot=resolver(
+                plan.program_dir, allow_any_path=plan.allow_any_path, user_robot=plan.robot
+            ),
             datalist_path=(str(plan.program_dir), *plan.datalist_path),
             robot_override=plan.robot,
+            allow_any_path=plan.allow_any_path,
         )
     finally:
         shutil.rmtree(folder, ignore_errors=True)
@@ -154,4 +157,5 @@ def _write_outputs(plan: Plan, index: int, result) -> None:
     if plan.reports:
         write_report(result.report, stem.with_suffix(".report.json"))
     if plan.traces:
-        write_trace(result.trace_columns, result.trace, stem.with_suffix(".trace.csv"))
+        path = stem.with_suffix(".trace.csv")
+        write_trace(result.trace_columns, result.trace, path, result.error is not None)

@@ -110,7 +110,8 @@ class MotionChecker:
         k: float | int | str | None = number(value.const)
         if value.const is not None and value.const.type in ("STRING", "CHAR"):
             k = value.const.data[0]  # a string setting (R_PROFILE)
-        message = setting_message(field_name, k, what) if k is not None else None
+        written = ast.literal_text(value)  # the value as written: -5, not -5.0
+        message = setting_message(field_name, k, what, written) if k is not None else None
         if message is not None:
             self.report.error(value.span, message)
 

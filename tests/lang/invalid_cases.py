@@ -402,12 +402,14 @@ CASES: list[tuple[str, str, int, int, str]] = [
         body("  MOVE LIN p WITH SPEED := -3;", "VAR POSE: p;\n"),
         5,
         28,
-        "WITH SPEED := -3.0: the value must be in (0, 100000] mm/s",
+        "WITH SPEED := -3: the value must be in (0, 100000] mm/s",
     ),
-    # constant settings: the run-time range table (lang/settings.py), at compile time
-    ("r_speed_negative", body("  R_SPEED := -5;"), 4, 14, "R_SPEED := -5.0: the value must be"),
-    ("r_ipo_zero", body("  R_IPO := 0;"), 4, 12, "R_IPO := 0.0: the value must be in [1e-05, 1] s"),
-    ("r_path_tol_zero", body("  R_PATH_TOL := 0;"), 4, 17, "R_PATH_TOL := 0.0: the value must be"),
+    # constant settings: the run-time range table (lang/settings.py), at compile time; a
+    # literal is shown as written (-5, not -5.0), a folded value as computed
+    ("r_speed_negative", body("  R_SPEED := -5;"), 4, 14, "R_SPEED := -5: the value must be"),
+    ("r_speed_exponent", body("  R_SPEED := 1E300;"), 4, 14, "R_SPEED := 1E300: the value"),
+    ("r_ipo_zero", body("  R_IPO := 0;"), 4, 12, "R_IPO := 0: the value must be in [1e-05, 1] s"),
+    ("r_path_tol_zero", body("  R_PATH_TOL := 0;"), 4, 17, "R_PATH_TOL := 0: the value must be"),
     (
         "r_speed_ptp_const_above_100",
         body("  HALT;\n  R_SPEED_PTP := pct;", "CONST pct = 150;\n"),
@@ -427,7 +429,7 @@ CASES: list[tuple[str, str, int, int, str]] = [
         body("  MOVE LIN p WITH TIME := 1e6;", "VAR POSE: p;\n"),
         5,
         27,
-        "WITH TIME := 1000000.0: the value must be in (0, 86400] s",
+        "WITH TIME := 1e6: the value must be in (0, 86400] s",
     ),
     (
         "reconf_count",

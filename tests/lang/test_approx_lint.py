@@ -80,4 +80,4 @@ def test_other_languages_approximation_words_get_the_hint(statement, column):
 def test_approx_range_is_checked_at_compile_time():
     result = compile_text(HEAD + P + "  MOVE LIN p WITH APPROX := -1;\nENDPROGRAM\n")
     (error,) = result.errors
-    assert error.message == "WITH APPROX := -1.0: the value must be in [0, 100000] mm"
+    assert error.message == "WITH APPROX := -1: the value must be in [0, 100000] mm"

@@ -11,7 +11,7 @@ from irlc.lang.compiler import compile_source
 from irlc.robots import RobotFileError, resolver
 from irlc.runtime.run import RunSetupError, run_code
 
-from ..fuzz_budget import fuzz_settings
+from ..fuzz_budget import fuzz_settings, warm_up_kernels
 
 SOURCE = """PROGRAM f;
 ROBOT r := planar3;
@@ -30,6 +30,7 @@ BEGIN
   MOVE PTP R_ACT_JOINT;
 ENDPROGRAM
 """
+warm_up_kernels()  # at import: the kernels' one-time compile is no case's hang
 IRD = write_code(compile_source(SOURCE, "f.irl", resolve_robot=resolver()).code)
 CONSTS = [k for k, line in enumerate(IRD.split("\n")) if " CONST " in line]
 HOSTILE = st.sampled_from(

@@ -105,7 +105,7 @@ def test_out_of_range(tmp_path, capsys):
     path.write_text(PROGRAM.replace("{SET}", "R_OVERRIDE := 150;"), encoding="utf-8")
     assert main([str(path), "-q"]) == 1
     err = " ".join(capsys.readouterr().err.split())  # the console wraps long lines
-    assert "R_OVERRIDE := 150.0: the value must be in [1, 100] %" in err
+    assert "R_OVERRIDE := 150: the value must be in [1, 100] %" in err
     path.write_text(PROGRAM.replace("{SET}", ""), encoding="utf-8")
     assert main([str(path), "-q", "--override", "0"]) == 3
     assert "--override 0.0: the value must be in [1, 100] %" in " ".join(

@@ -140,7 +140,7 @@ def test_profile_setting_is_checked_and_reads_back_in_upper_case(tmp_path):
     assert run.output == ["SCURVE 10000.0", "TRAPEZOID"]
     with pytest.raises(CompileError) as info:
         _run(tmp_path, "  R_JERK := 0;", "SCURVE")
-    assert "R_JERK := 0.0: the value must be in (0, 10000000] mm/s³" in str(info.value)
+    assert "R_JERK := 0: the value must be in (0, 10000000] mm/s³" in str(info.value)
     with pytest.raises(CompileError) as info:
         _run(tmp_path, "", "SMOOTH")
     assert "R_PROFILE := 'SMOOTH': the value must be one of 'TRAPEZOID', 'SCURVE'" in str(

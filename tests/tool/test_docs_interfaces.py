@@ -131,5 +131,6 @@ def test_trace_columns_are_the_documented_ones_in_order(run_files):
     for i, (ks, pending) in enumerate(rows):
         optional = any(w in k for k in ks for w in ("OBSTACLE", "NUM", "SIGNAL"))
         optional = optional or bool(set(ks) & _optional(report))
+        optional = optional or ks == ["partial"]  # failed runs only (test_partial_trace.py)
         if not pending and not optional:
             assert i in row_of, f"documented trace columns {ks} are not written"

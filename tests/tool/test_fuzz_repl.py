@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ..fuzz_budget import fuzz_settings
+from ..fuzz_budget import fuzz_settings, warm_up_kernels
 
 LINES = [
     "VAR REAL: x;", "x := 1;", "x := x * 1e300;", "x := x / 0;", "WAIT 1e308 SEC;",
@@ -28,6 +28,8 @@ LINES = [
 def session_class():
     pytest.importorskip("irlc.runtime.executor")
     from irlc.repl import Session
+
+    warm_up_kernels()  # the kernels' one-time compile is no case's hang
 
     return Session
 

@@ -1,0 +1,86 @@
+"""Which files a program may make irlc read: ``ROBOT r := 'file'`` and ``IMPORT DATALIST``.
+
+A program is input — possibly someone else's — and the files it names are read with the
+user's rights, so a program may name files only inside its *allowed roots*:
+
+* robot files: the program's folder and the robot library (``irlc.robots``);
+* data lists: the program's folder, each ``--datalist-path`` folder and the library's
+  ``datalists`` folder.
+
+The rule is applied to the *resolved* file: the named path is joined to the program's
+folder (an absolute path is kept as written), then resolved — ``..`` removed and every
+symbolic link followed — and the result must lie inside one of the roots, each resolved
+the same way. So ``'../x.toml'``, ``'/etc/x.toml'`` and a link in the program's folder that
+points elsewhere are refused unless they land inside a root; ``'cell/arm.toml'`` and an
+absolute path into the program's folder are allowed.
+
+``--allow-any-path`` (every command that compiles or runs a program), ``allow_any_path=True``
+(the Python API) lifts the rule. Files the *user* names — ``--robot FILE``,
+``load_robot(path)``, ``:robot FILE`` in the REPL — are the user's choice and never checked.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from pathlib import Path
+
+ALLOW_HINT = "pass --allow-any-path (allow_any_path=True in Python) to read it anyway"
+
+
+def _real(path: Path) -> Path | None:
+    """``path`` resolved (``..`` removed, links followed); None when it cannot be."""
+    try:
+        return Path(path).resolve()
+    except (OSError, RuntimeError, ValueError):  # a symlink loop (Python < 3.13); a NUL byte
+        return None
+
+
+def shown(path: Path) -> str:
+    """``path`` as a message shows it: resolved where it can be (where ``..`` and links lead)."""
+    return str(_real(path) or path)
+
+
+def inside_roots(path: Path, roots: Iterable[Path]) -> bool:
+    """True when the resolved ``path`` lies inside (or is) one of the resolved ``roots``."""
+    real = _real(path)
+    if real is None:
+        return False
+    for root in roots:
+        base = _real(root)
+        if base is not None and real.is_relative_to(base):
+            return True
+    return False
+
+
+def refusal(roots: Iterable[Path]) -> str:
+    """The message for a file outside ``roots`` (it names the roots, never the file's text)."""
+    folders = ", ".join(shown(Path(r)) for r in roots)
+    return f"outside the folders a program may read from ({folders})"
+
+
+def describe(value: object, limit: int = 60) -> str:
+    """A value read from a user's file, for an error message, without echoing its text.
+
+    Numbers and booleans are shown (``-1``, ``1e+308``, ``true``), and so is a short list
+    of them (``[1, 2]``); a string is only described (``a string of 4 characters``), a list
+    by its length, a table by its keys — an error names the key and the line, never the
+    text of a file the program may not own."""
+    if value is None:
+        return "no value"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int | float):
+        text = repr(value)
+        return text if len(text) <= limit else f"an integer of {len(str(abs(value)))} digits"
+    if isinstance(value, str):
+        return f"a string of {len(value)} character{'s' if len(value) != 1 else ''}"
+    if isinstance(value, list | tuple):
+        if all(isinstance(v, int | float) for v in value):
+            text = "[" + ", ".join(describe(v, limit) for v in value) + "]"
+            if len(text) <= limit:
+                return text
+        return f"a list of {len(value)} value{'s' if len(value) != 1 else ''}"
+    if isinstance(value, dict):
+        keys = ", ".join(str(k) for k in list(value)[:6]) + (", ..." if len(value) > 6 else "")
+        return f"a table (keys: {keys})" if value else "an empty table"
+    return f"a {type(value).__name__}"
