@@ -21,6 +21,7 @@ absolute path into the program's folder are allowed.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -58,13 +59,18 @@ def refusal(roots: Iterable[Path]) -> str:
     return f"outside the folders a program may read from ({folders})"
 
 
+_WORD = re.compile(r"[a-z][a-z0-9_]{0,15}")  # a vocabulary word: shown (describe)
+
+
 def describe(value: object, limit: int = 60) -> str:
     """A value read from a user's file, for an error message, without echoing its text.
 
     Numbers and booleans are shown (``-1``, ``1e+308``, ``true``), and so is a short list
-    of them (``[1, 2]``); a string is only described (``a string of 4 characters``), a list
-    by its length, a table by its keys — an error names the key and the line, never the
-    text of a file the program may not own."""
+    of them (``[1, 2]``) and a short lower-case word (``'cone'``: a misspelt kind or unit,
+    the vocabulary of these files, which the user needs to see); any other string is only
+    described (``a string of 19 characters``), a list by its length, a table by its keys —
+    an error names the key and the line, never the text of a file the program may not
+    own."""
     if value is None:
         return "no value"
     if isinstance(value, bool):
@@ -73,6 +79,8 @@ def describe(value: object, limit: int = 60) -> str:
         text = repr(value)
         return text if len(text) <= limit else f"an integer of {len(str(abs(value)))} digits"
     if isinstance(value, str):
+        if _WORD.fullmatch(value):
+            return repr(value)
         return f"a string of {len(value)} character{'s' if len(value) != 1 else ''}"
     if isinstance(value, list | tuple):
         if all(isinstance(v, int | float) for v in value):
