@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 from irlc.lang.errors import IrlcError
 from irlc.lang.irdata import Code
+from irlc.lang.joint_kinds import kind_letters
 from irlc.lang.textfile import read_user_text
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
@@ -94,7 +95,7 @@ def resolve_model(
         model = load_model(robot, base_dir)
     else:
         model = load_model(code.robot, base_dir, restricted=not allow_any_path)
-    kinds = "".join("P" if k == units.PRISMATIC else "R" for k in model.joint_kinds)
+    kinds = kind_letters(model.joint_kinds)
     if code.joint_kinds and kinds != code.joint_kinds:
         raise RunSetupError(
             f"the code was compiled for {code.joint_count} joints ({code.joint_kinds}) but robot "

@@ -19,6 +19,7 @@ import click
 import numpy as np
 from irlc.cli.app import cli
 from irlc.errors import EXIT_RUN, UsageError
+from irlc.lang.joint_kinds import kind_letters
 from irlc.robots import RobotFileError, list_robots, load_robot
 from irlc.robots.loader import MissingExtraError
 from irlc.robots.model import RobotModel
@@ -106,7 +107,7 @@ def _robot_row(name: str) -> tuple[str, str, str, str]:
         return name, "?", "?", f"needs the optional extra: pip install 'irlc[{e.extra}]'"
     except RobotFileError as e:
         return name, "?", "?", f"cannot load: {e}"
-    kinds = "".join("R" if k == "revolute" else "P" for k in model.joint_kinds)
+    kinds = kind_letters(model.joint_kinds)
     return name, str(model.n), kinds, model.description
 
 

@@ -21,6 +21,7 @@ from typing import Any
 
 from irlc.lang.errors import IrlcError
 from irlc.lang.irdata import Code
+from irlc.lang.joint_kinds import kind_letters
 from irlc.study import paths
 from irlc.study.expand import axis_values
 from irlc.study.spec import Study, StudyError
@@ -237,7 +238,6 @@ def robot_model(plan: Plan, changes: list[tuple[list[str], Any]]):
     for a ``drives`` change, its drive data read by the drives' reader)."""
     from irlc.robots import RobotFileError
     from irlc.robots.loader import build_model
-    from irlc.runtime import units
 
     doc = copy.deepcopy(plan.robot_doc)
     for parts, value in changes:
@@ -249,7 +249,7 @@ def robot_model(plan: Plan, changes: list[tuple[list[str], Any]]):
         raise VariantSetupError(
             e.message if e.key == "" else f"key '{e.key}': {e.message}"
         ) from None
-    kinds = "".join("P" if k == units.PRISMATIC else "R" for k in model.joint_kinds)
+    kinds = kind_letters(model.joint_kinds)
     if plan.code.joint_kinds and kinds != plan.code.joint_kinds:
         raise VariantSetupError(f"the robot's joints become {kinds}, the program's are "
                                 f"{plan.code.joint_kinds}")  # fmt: skip
