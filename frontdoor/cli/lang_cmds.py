@@ -56,6 +56,15 @@ def print_diagnostics(result) -> None:
         click.echo(render(d, src), err=True)
 
 
+def _reported(program: Path, result) -> bool:
+    """Print ``result``'s diagnostics; on failure also the count line on stderr. Whether
+    the program compiled."""
+    print_diagnostics(result)
+    if not result.ok:
+        click.echo(f"{program}: {_summary(result)}", err=True)
+    return result.ok
+
+
 def _summary(result) -> str:
     n_err, n_warn = len(result.errors), len(result.warnings)
     return f"{n_err} error{'s' if n_err != 1 else ''}, {n_warn} warning{'s' if n_warn != 1 else ''}"
@@ -88,9 +97,7 @@ def check_cmd(
 ) -> int:
     """Compile PROGRAM.irl without writing code; print diagnostics."""
     result = _compile(program, robot, datalist_path, allow_any_path)
-    print_diagnostics(result)
-    if not result.ok:
-        click.echo(f"{program}: {_summary(result)}", err=True)
+    if not _reported(program, result):
         return EXIT_COMPILE
     click.echo(f"{program}: ok ({_summary(result)})")
     return EXIT_OK
@@ -120,9 +127,7 @@ def compile_cmd(
     from irlc.lang import write_code
 
     result = _compile(program, robot, datalist_path, allow_any_path)
-    print_diagnostics(result)
-    if not result.ok:
-        click.echo(f"{program}: {_summary(result)}", err=True)
+    if not _reported(program, result):
         return EXIT_COMPILE
     out = output if output is not None else program.with_suffix(".ird")
     if not out.parent.is_dir() and str(out.parent):
