@@ -220,6 +220,16 @@ def _reduce(V, Jt, F, H, A, bound_d, free, fz, ftarget, Vr, Jr, Fr, Hr, Ar, boun
 
 
 @njit(cache=True)
+def _apply_z(Vr, N, nf, nz):
+    """The step from the QP's solution: ``Δθ = Δθ_p + N z`` (particular plus null space)."""
+    for j in range(nf):
+        s = Vr[DP, j]
+        for a in range(nz):
+            s += N[j, a] * Vr[Z, a]
+        Vr[DTHETA, j] = s
+
+
+@njit(cache=True)
 def _v1(buf, off, a):
     return buf[off : off + a]
 
@@ -294,11 +304,7 @@ def newton_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
         ist[HAVE_J] = 0
         ist[N_ACTIVE] = 0
     elif phase == P_APPLY_Z:
-        for j in range(nf):
-            s = Vr[DP, j]
-            for a in range(nz):
-                s += N[j, a] * Vr[Z, a]
-            Vr[DTHETA, j] = s
+        _apply_z(Vr, N, nf, nz)
         stage = 3
     elif phase == P_APPLY:
         stage = 3
@@ -385,11 +391,7 @@ def newton_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
                 if not _unconstrained_qp(Ht, gt, Ct, bt, Vr[Z]):
                     return S_NEED_QP
                 ist[N_ACTIVE] = 0
-                for j in range(nf):
-                    s = Vr[DP, j]
-                    for a in range(nz):
-                        s += N[j, a] * Vr[Z, a]
-                    Vr[DTHETA, j] = s
+                _apply_z(Vr, N, nf, nz)
                 res = 1
             stage = 3 if res == 1 else 2
         elif stage == 2:
