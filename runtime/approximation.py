@@ -220,7 +220,7 @@ class ApproximatePositioning:
             d = min(d_max, cap)
             pending.limit = d
             if d <= 0.0 or m_a <= 0 or m_b <= 0:
-                if d <= 0.0:
+                if d_max <= 0.0:  # a shortened retry's cap of 0 keeps its own reason
                     pending.limit_reason = "a neighbouring segment has no TCP path length"
                 return NO_OVERLAP
             if not tails:

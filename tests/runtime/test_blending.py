@@ -290,6 +290,33 @@ ENDPROGRAM
     assert run.report["max_path_error_mm"] < 0.05
 
 
+def test_a_blend_bisected_to_an_exact_stop_keeps_its_reason(tmp_path, monkeypatch):
+    """When every shortened blend fails too, the bisection ends in an exact stop; the note
+    says why (the longer blend failed), not that a segment has no TCP path length."""
+    from irlc.runtime.approximation import ApproximatePositioning
+    from irlc.runtime.errors import RunFailure
+
+    real = ApproximatePositioning._try_blend
+
+    def every_blend_fails(self, pending, run, overlap, *, keep):
+        if overlap.cycles:
+            return RunFailure("joint 2 position max 150 deg", 8, 0.0)
+        return real(self, pending, run, overlap, keep=keep)
+
+    monkeypatch.setattr(ApproximatePositioning, "_try_blend", every_blend_fails)
+    text = """PROGRAM st;
+ROBOT r := planar3;
+BEGIN
+  MOVE PTP (0, 90, -90);
+  MOVE LIN POSE(1000, 1200, 0, 0, 0, 0) WITH APPROX := 100;
+  MOVE LIN POSE(1200, 1200, 0, 0, 0, 0);
+ENDPROGRAM
+"""
+    (entry,) = _run(tmp_path, text).report["approximations"]
+    assert not entry["blended"] and entry["used_mm"] == 0.0
+    assert entry["note"] == "shortened: the longer blend failed (joint 2 position max 150 deg)"
+
+
 @pytest.mark.parametrize("program", ["square_limits", "square_cyclic"])
 def test_koch11_square_blended_keeps_the_limits(tmp_path, program):
     text = (PROGRAMS / f"{program}.irl").read_text(encoding="utf-8")

@@ -173,7 +173,9 @@ def test_cli_exit_codes_and_outputs(ird_files, capsys, monkeypatch):
     import irlc.runtime.run as run_mod
 
     real = run_mod.resolve_model
-    monkeypatch.setattr(run_mod, "resolve_model", lambda code, r, b, *rest: real(code, robot, b, *rest))
+    monkeypatch.setattr(
+        run_mod, "resolve_model", lambda code, r, b, *rest: real(code, robot, b, *rest)
+    )
     code, out, err = _cli(
         ["run", ok, "--json", "--report", folder / "r.json", "--trace", folder / "t.csv"], capsys
     )
@@ -222,7 +224,9 @@ def test_compare_reads_a_previous_report(ird_files, capsys, monkeypatch):
     import irlc.runtime.run as run_mod
 
     real = run_mod.resolve_model
-    monkeypatch.setattr(run_mod, "resolve_model", lambda code, r, b, *rest: real(code, robot, b, *rest))
+    monkeypatch.setattr(
+        run_mod, "resolve_model", lambda code, r, b, *rest: real(code, robot, b, *rest)
+    )
     assert _cli(["run", ok, "-q", "--report", folder / "a.json"], capsys)[0] == 0
     code, out, _ = _cli(["run", ok, "--compare", folder / "a.json"], capsys)
     assert code == 0 and "compared with" in out
