@@ -2,12 +2,29 @@
 
 ``compile_file(path, resolve_robot=...)`` returns a :class:`CompileResult` with ``code``
 (``None`` on errors) and ``diagnostics``; ``write_code(result.code)`` gives the text.
+
+The names below are loaded on first use (PEP 562), so importing a small module of this
+package (``irlc.lang.joint_kinds``, ``irlc.lang.value_ranges``) does not load the parser.
 """
 
-from irlc.lang.compiler import CompileResult, compile_file, compile_source
-from irlc.lang.diagnostics import CompileError, Diagnostic, Span, render
-from irlc.lang.irdata import Code, read_code, write_code
-from irlc.lang.signature import RobotSignature, SimpleRobot
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from irlc.lang.compiler import CompileResult, compile_file, compile_source
+    from irlc.lang.diagnostics import CompileError, Diagnostic, Span, render
+    from irlc.lang.irdata import Code, read_code, write_code
+    from irlc.lang.signature import RobotSignature, SimpleRobot
+
+_HOMES = {
+    "irlc.lang.compiler": ("CompileResult", "compile_file", "compile_source"),
+    "irlc.lang.diagnostics": ("CompileError", "Diagnostic", "Span", "render"),
+    "irlc.lang.irdata": ("Code", "read_code", "write_code"),
+    "irlc.lang.signature": ("RobotSignature", "SimpleRobot"),
+}
+_HOME_OF = {name: module for module, names in _HOMES.items() for name in names}
 
 __all__ = [
     "Code",
@@ -23,3 +40,15 @@ __all__ = [
     "render",
     "write_code",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _HOME_OF:
+        raise AttributeError(f"module 'irlc.lang' has no attribute {name!r}")
+    value = getattr(importlib.import_module(_HOME_OF[name]), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *_HOME_OF])
