@@ -49,10 +49,12 @@ DEFAULT_ENGINE = "numpy"
 KERNEL_NAMES = {  # the kernel modules, as the compile message names them
     "irlc.runtime.ik.accel_kernels": "IK kernels",
     "irlc.runtime.drives.accel_kernels": "drive kernels",
+    "irlc.runtime.drives.accel_pwm_kernels": "PWM drive kernels",
 }
 COMPILE_ESTIMATE = {  # wall time of the first compile, quiet machine … load ≈ 3 on 2 cores
     "IK kernels": "15–25 s",  # (measured 24.4 s wall at load 2.7, ≈ 17 s CPU)
     "drive kernels": "5–10 s",  # (measured 9.0 s wall at load 2.7, ≈ 7 s CPU)
+    "PWM drive kernels": "3–6 s",  # (measured 4.0 s wall at load 5.5, ≈ 2.6 s CPU)
 }
 NUMBA_INSTALLED = importlib.util.find_spec("numba") is not None  # (not imported)
 
