@@ -8,9 +8,9 @@ the whole plan, ``--repeat`` rounds) so that a change in the machine's load hits
 alike; the table gives the median and the best round, and the load average before and
 after. ``--plan core`` times only the 1 ms coupled/decoupled and the pwm runs. Every case
 runs the numpy loop (``accel=False``, the reference); with numba installed the cases the
-compiled loop covers (``runtime/drives/accel.py``) run a second time with ``accel=True``
-(the kernel is compiled or loaded from numba's cache before timing; ``--no-accel`` skips
-them). Usage::
+compiled loops cover (``runtime/drives/accel.py``; pwm: ``accel_pwm.py``) run a second
+time with ``accel=True`` (the kernels are compiled or loaded from numba's cache before
+timing; ``--no-accel`` skips them). Usage::
 
     python bench/bench_drives.py [--repeat 3] [--plan full|core] [--pwm-koch11] [--no-accel]
 
@@ -29,7 +29,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from irlc.runtime.drives import accel, simulate_drives
+from irlc.runtime.drives import accel, accel_pwm, simulate_drives
 from irlc.runtime.run import run_file
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -92,8 +92,8 @@ def main() -> None:
     if use_fast:
         import numba
 
-        warm = accel.cache_warm()
-        seconds = accel.warm_up()
+        warm = accel.cache_warm() and accel_pwm.cache_warm()
+        seconds = accel.warm_up() + accel_pwm.warm_up()
         state = "loaded from cache" if warm else "compiled"
         print(f"numba {numba.__version__}: drive kernel {state} in {seconds:.2f} s")
     load0 = os.getloadavg()
@@ -104,7 +104,7 @@ def main() -> None:
         for level, step, every in FULL if args.plan == "full" else CORE:
             if level != "pwm" or case == "irb6_track line" or args.pwm_koch11:
                 plan.append((case, level, step, every, False))
-                if use_fast and level != "pwm":
+                if use_fast:
                     plan.append((case, level, step, every, True))
     times_of = {item: [] for item in plan}
     runs = {}

@@ -21,7 +21,8 @@ explicit ``numpy`` wins.
 **Why numpy is the default.** The kernels must be compiled once per installation (``irlc
 warmup`` with an empty cache, 2026-11-25: ≈ 24 s of CPU, ≈ 17 s for the IK kernels and ≈ 7
 s for the drive kernels, so ≈ 25 s of wall time on a quiet machine and 35 s at load 2.7 on
-2 shared cores; earlier, at heavier load, 50–100 s); numba caches the machine code
+2 shared cores; earlier, at heavier load, 50–100 s; since 2026-11-26 ≈ 3 s more for the
+PWM drive kernels: 27 s of CPU, 61 s wall at load 5.5–7); numba caches the machine code
 (``__pycache__`` next to the kernel module, or ``NUMBA_CACHE_DIR``) and later processes
 load it in ≈ 0.3 s. A default that compiles makes the first run slow; a default that
 switches to the kernels once the cache is warm makes the output bytes depend on the
@@ -30,8 +31,8 @@ default every run is fast from the first one and gives the same bytes whatever t
 holds; with ``compiled`` the bytes are those of the kernels on every run, compiled or
 loaded (the cached machine code is the compiled one), and a run that has to compile says
 so once on stderr (:meth:`Kernels.load`). ``irlc warmup`` (or ``python -m
-irlc.runtime.ik.accel`` and ``python -m irlc.runtime.drives.accel``) compiles ahead of the
-first run.
+irlc.runtime.ik.accel``, ``python -m irlc.runtime.drives.accel`` and ``python -m
+irlc.runtime.drives.accel_pwm``) compiles ahead of the first run.
 """
 
 from __future__ import annotations
@@ -49,10 +50,12 @@ DEFAULT_ENGINE = "numpy"
 KERNEL_NAMES = {  # the kernel modules, as the compile message names them
     "irlc.runtime.ik.accel_kernels": "IK kernels",
     "irlc.runtime.drives.accel_kernels": "drive kernels",
+    "irlc.runtime.drives.accel_pwm_kernels": "PWM drive kernels",
 }
 COMPILE_ESTIMATE = {  # wall time of the first compile, quiet machine … load ≈ 3 on 2 cores
     "IK kernels": "15–25 s",  # (measured 24.4 s wall at load 2.7, ≈ 17 s CPU)
     "drive kernels": "5–10 s",  # (measured 9.0 s wall at load 2.7, ≈ 7 s CPU)
+    "PWM drive kernels": "3–6 s",  # (measured 4.0 s wall at load 5.5, ≈ 2.6 s CPU)
 }
 NUMBA_INSTALLED = importlib.util.find_spec("numba") is not None  # (not imported)
 

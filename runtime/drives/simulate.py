@@ -290,12 +290,11 @@ class _Simulation:
         moving_map = not diagonal and trans.matrix is None  # K(q) changes with q
         mech = self.mech
         refresh = Refresh(self.refresh, h, n)
-        if accel is not False and self._accelerated(accel):
-            from irlc.runtime.drives.accel import AcceleratedLoop
-
+        compiled = None if accel is False else self._compiled_loop(accel)
+        if compiled is not None:
             rec["q"], rec["qd"] = np.zeros((k, n)), np.zeros((k, n))
             rec_i, rec_u = np.zeros((k, m_ax)), np.zeros((k, m_ax))
-            loop = AcceleratedLoop(self, bank, static_j, running_j, sticky, sliding)
+            loop = compiled(self, bank, static_j, running_j, sticky, sliding)
             loop.run(q, qd, theta_ref, refresh, rec, rec_i, rec_u, sat_rec, energy, copper)
             return self._result(tol, rec, rec_i, rec_u, sat_rec, energy, copper, bank, q)
         fused = self.is_dc and not self.pwm  # DcBank.fused_step applies
@@ -379,11 +378,16 @@ class _Simulation:
         rec_i, rec_u = rec_i.copy(), rec_u.copy()
         return self._result(tol, rec, rec_i, rec_u, sat_rec, energy, copper, bank, q)
 
-    def _accelerated(self, requested: bool | None) -> bool:
-        """Run the compiled loop? (not imported at module level: ``python -m …accel``)"""
-        from irlc.runtime.drives import accel
+    def _compiled_loop(self, requested: bool | None):
+        """The compiled loop class to run (:class:`.accel.AcceleratedLoop` averaged,
+        :class:`.accel_pwm.PwmLoop` pwm) or ``None``: the numpy loop. (Not imported at
+        module level: ``python -m …accel``.)"""
+        from irlc.runtime.drives import accel, accel_pwm
 
-        return accel.AcceleratedLoop.covers(self) and accel.use_accel(requested)
+        for loop in (accel.AcceleratedLoop, accel_pwm.PwmLoop):
+            if loop.covers(self):
+                return loop if accel.use_accel(requested) else None
+        return None
 
     def _bank(self, q0):
         """The drives of the driven axes, at rest at ``q0`` holding the arm against gravity."""

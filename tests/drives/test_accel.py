@@ -82,13 +82,9 @@ def test_dry_friction_robot_decoupled():
 
 
 @needs_numba
-def test_pwm_and_steppers_run_the_numpy_loop():
-    """Outside the kernel's scope ``accel=True`` is the numpy loop: identical results."""
-    irb6 = load_toml(ROBOTS / "irb6_track.toml")
-    times, q = move(irb6, IRB6_MOVE / 4, 0.05)
-    ref, fast = both(irb6, times, q, level="pwm")
-    for name in FIELDS:
-        assert np.array_equal(getattr(ref, name), getattr(fast, name))
+def test_steppers_run_the_numpy_loop():
+    """Outside the kernels' scope ``accel=True`` is the numpy loop: identical results
+    (pwm has its own compiled loop: tests/drives/test_accel_pwm.py)."""
     l1 = load_toml(ROBOTS / "l1.toml")
     times, q = move(l1, np.full(l1.n, 0.05), 0.3)
     ref, fast = both(l1, times, q, level="coupled")
