@@ -13,9 +13,10 @@ Covered: every cycle option — the default criterion, CYCLIC / WITH RECONFIGURA
 RECONFIGURATION (self-motion), position/speed/acceleration limits with braking, coupled
 joint limits, any task rows, FREEZE (the step over the free joints, the frozen ones
 stepping to their held values), reported and avoided obstacles (OBSTACLE: the criterion's
-terms — any number of critical points — are computed in Python once per cycle, at the
-first iterate, from the kernel's frames, and passed in as arrays; the full ``H`` then
-goes through the general compact QP). Not covered (the numpy path runs):
+terms — any number of critical points — are computed once per cycle, at the first
+iterate, from the kernel's frames by the compiled queries of :mod:`accel_distance`, and
+passed in as arrays; the full ``H`` then goes through the general compact QP; the
+reported clearances at the result come from the same queries). Not covered (the numpy path runs):
 ``solver="daqp"``, ``max_iter < 1``. The kernels read only public packed data:
 :attr:`Kinematics.chain_data`, the box constants' ``data`` (:class:`BoxData`), the
 coupled rows' ``A`` / ``bound_d`` and the cycle's options.
@@ -38,13 +39,21 @@ import time
 import numpy as np
 import quadprog
 from irlc.runtime import accel_support
+from irlc.runtime.distance import robot_segments
 
 AVAILABLE = accel_support.AVAILABLE  # numba importable and not IRLC_ENGINE=numpy
 compile_seconds: float | None = None  # first kernel call of this process (compile or load)
 
 _KERNELS = accel_support.Kernels("irlc.runtime.ik.accel_kernels", "newton_cycle")
 _module = _KERNELS.load
-cache_warm = _KERNELS.cache_warm
+_OBSTACLE_KERNELS = accel_support.Kernels(
+    "irlc.runtime.ik.accel_distance", "critical_points", "IK obstacle kernels"
+)
+
+
+def cache_warm() -> bool:
+    """True when numba's cache holds the cycle and the obstacle queries."""
+    return _KERNELS.cache_warm() and _OBSTACLE_KERNELS.cache_warm()
 
 
 def use_accel(requested: bool | None) -> bool:
@@ -78,6 +87,12 @@ def warm_up() -> float:
     target = ik.kin.tcp(q)
     target[0, 3] += 1e-3
     ik.step(q, q, target, 0.01)
+    from irlc.runtime.ik.params import CycleOptions
+    from irlc.runtime.obstacles import PointObstacle
+
+    near = PointObstacle("near", target[:3, 3] + (0.0, 0.0, 0.3))  # the obstacle kernels
+    avoid = CycleOptions(obstacles=(near,), active_obstacles=frozenset(["near"]))
+    ik.step(q, q, target, 0.01, avoid)
     compile_seconds = time.perf_counter() - t0
     return compile_seconds
 
@@ -191,6 +206,8 @@ class AcceleratedCycle:
         self._mode = (False, False)  # (V[W] is a_conf·W, V[WC] is a_conf·W)
         self._no_terms = (np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3, n)), np.zeros((0, n, n)))
         self.terms = self._no_terms
+        self._packed: dict[tuple, tuple] = {}  # ids of obstacles → (obstacles, rows)
+        self._term_bufs: dict[int, tuple] = {}  # obstacle count → criterion buffers
         self._box_key = None
         self._frozen = None  # the FrozenJoints the workspace's problem is cut for
         self._crel: dict[int, np.ndarray] = {}
@@ -261,26 +278,53 @@ class AcceleratedCycle:
             self._mode = (conf_w, conf_wc)
 
     def _obstacle_terms(self, opts, active: list) -> None:
-        """At the first iterate: the obstacle criterion's terms (:func:`obstacle_terms`,
-        at the kernel's frames) as arrays, and the cost's form with them."""
-        from irlc.runtime.ik.obstacle import obstacle_terms
-
+        """At the first iterate: the obstacle criterion's terms (the compiled
+        :func:`accel_distance.obstacle_terms` at the kernel's frames, as
+        :func:`obstacle.obstacle_terms` gives them) as arrays, and the cost's form."""
         k, ist, ik = self.k, self.ist, self.ik
-        terms = obstacle_terms(ik.kin, self.frames, active, ik.params.obstacle)
-        if terms:
-            self.terms = (
-                np.array([t.weight for t in terms]),
-                np.array([t.push for t in terms]),
-                np.array([t.jac for t in terms]),
-                np.array([t.jtj for t in terms]),
-            )
+        d = _OBSTACLE_KERNELS.load()
+        bufs = self._term_bufs.get(len(active))
+        if bufs is None:
+            m, n = len(active), self.n
+            bufs = (d.pack_params(ik.params.obstacle), np.empty((m, d.N_CP)), np.empty(m),
+                    np.empty((m, 3)), np.empty((m, 3, n)), np.empty((m, n, n)))  # fmt: skip
+            self._term_bufs[m] = bufs
+        params, cps, ow, opush, ojac, ojtj = bufs
+        seg = robot_segments(ik.kin)
+        cnt = d.obstacle_terms(self.frames, self.tcp, self.chain.joints, seg.links, seg.a_local,
+                               seg.b_local, seg.radius, seg.fallback, self._rows(active),
+                               params, cps, ow, opush, ojac, ojtj)  # fmt: skip
+        self.terms = (ow[:cnt], opush[:cnt], ojac[:cnt], ojtj[:cnt]) if cnt else self._no_terms
         if opts.reference is not None:  # [CYCLIC, a_conf·W, terms…]: a full H
             self._weights(False, True)
             ist[k.GENERAL] = 1
         else:  # [a_conf·W, terms…]: diagonal when no obstacle is near
             self._weights(True, False)
-            ist[k.GENERAL] = int(bool(terms) or self._frozen is not None)
+            ist[k.GENERAL] = int(cnt > 0 or self._frozen is not None)
         ist[k.NEED_TERMS] = 0
+
+    def _rows(self, obstacles) -> np.ndarray:
+        """The packed rows of ``obstacles`` (:func:`accel_distance.pack_obstacles`), kept
+        while the same shapes come back (cycle after cycle)."""
+        key = tuple(map(id, obstacles))
+        hit = self._packed.get(key)
+        if hit is None:  # (the shapes are kept with their rows: their ids stay theirs)
+            rows = _OBSTACLE_KERNELS.load().pack_obstacles(obstacles)
+            hit = self._packed[key] = (tuple(obstacles), rows)
+        return hit[1]
+
+    def clearances(self, obstacles) -> dict[str, tuple[float, int]]:
+        """``{name: (distance, link)}`` of the reported ``obstacles`` at the cycle's result
+        (the kernel's last frames; ``InverseTransformation._clearances``)."""
+        d = _OBSTACLE_KERNELS.load()
+        seg = robot_segments(self.ik.kin)
+        out = np.empty((len(obstacles), d.N_CP))
+        d.critical_points(self.frames, self.tcp, seg.links, seg.a_local, seg.b_local,
+                          seg.radius, seg.fallback, self._rows(obstacles), out)  # fmt: skip
+        return {
+            o.name: (float(row[d.D_DIST]), int(row[d.D_LINK]))
+            for o, row in zip(obstacles, out.tolist(), strict=True)
+        }
 
     # ------------------------------------------------------------------ the cycle
     def step(self, q_start, q_prev, target, dt, opts, frozen=None, active=()):
