@@ -53,6 +53,7 @@ KERNEL_NAMES = {  # the kernel modules, as the compile message names them
 COMPILE_ESTIMATE = {  # wall time of the first compile, quiet machine … load ≈ 3 on 2 cores
     "IK kernels": "15–25 s",  # (measured 24.4 s wall at load 2.7, ≈ 17 s CPU)
     "drive kernels": "5–10 s",  # (measured 9.0 s wall at load 2.7, ≈ 7 s CPU)
+    "IK obstacle kernels": "5–15 s",  # (measured ≈ 8 s CPU; compiled on first use)
 }
 NUMBA_INSTALLED = importlib.util.find_spec("numba") is not None  # (not imported)
 

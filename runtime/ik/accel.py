@@ -61,13 +61,38 @@ def use_accel(requested: bool | None) -> bool:
     return accel_support.decide(requested)
 
 
-def warm_up() -> float:
-    """Compile (or load from the cache) every kernel by running one tiny cycle; returns
-    the seconds it took. Called on the first accelerated cycle of a process."""
-    global compile_seconds
-    if compile_seconds is not None:
-        return compile_seconds
-    t0 = time.perf_counter()
+def warm_up(obstacles: bool = True) -> float:
+    """Compile (or load from the cache) every kernel by running tiny cycles; returns the
+    seconds it took (all calls of this process). Called on the first accelerated cycle of
+    a process with ``obstacles=False``: the obstacle queries (:mod:`accel_distance`, ≈ 8
+    s of CPU to compile) then wait for the first cycle that has obstacles; ``irlc warmup``
+    compiles them too."""
+    global compile_seconds, _obstacles_warm
+    if compile_seconds is None:
+        t0 = time.perf_counter()
+        compile_seconds = -1.0  # (the cycles below must not recurse into warm_up)
+        ik, q, target = _tiny_cycle()
+        ik.step(q, q, target, 0.01)
+        compile_seconds = time.perf_counter() - t0
+    if obstacles and not _obstacles_warm:
+        t0 = time.perf_counter()
+        from irlc.runtime.ik.params import CycleOptions
+        from irlc.runtime.obstacles import PointObstacle
+
+        ik, q, target = _tiny_cycle()
+        near = PointObstacle("near", target[:3, 3] + (0.0, 0.0, 0.3))
+        avoid = CycleOptions(obstacles=(near,), active_obstacles=frozenset({"near"}))
+        ik.step(q, q, target, 0.01, avoid)
+        _obstacles_warm = True
+        compile_seconds += time.perf_counter() - t0
+    return compile_seconds
+
+
+_obstacles_warm = False
+
+
+def _tiny_cycle():
+    """A 3-joint planar arm's solver on the accelerator, a configuration and a target."""
     from irlc.robots.model import Joint, Limits, RobotModel
     from irlc.runtime.ik.newton import InverseTransformation
     from irlc.runtime.ik.params import IKParams
@@ -81,20 +106,11 @@ def warm_up() -> float:
         Joint(f"J{i}", "revolute", link if i else np.eye(4), axis, limits) for i in range(3)
     )
     model = RobotModel(name="warmup", joints=joints, flange=link)
-    compile_seconds = -1.0  # (the cycle below must not recurse into warm_up)
     ik = InverseTransformation(model, Kinematics(model), IKParams(task_rows=(0, 1), accel=True))
     q = np.array([0.1, 0.2, 0.3])
     target = ik.kin.tcp(q)
     target[0, 3] += 1e-3
-    ik.step(q, q, target, 0.01)
-    from irlc.runtime.ik.params import CycleOptions
-    from irlc.runtime.obstacles import PointObstacle
-
-    near = PointObstacle("near", target[:3, 3] + (0.0, 0.0, 0.3))  # the obstacle kernels
-    avoid = CycleOptions(obstacles=(near,), active_obstacles=frozenset(["near"]))
-    ik.step(q, q, target, 0.01, avoid)
-    compile_seconds = time.perf_counter() - t0
-    return compile_seconds
+    return ik, q, target
 
 
 class Workspace:
@@ -334,7 +350,7 @@ class AcceleratedCycle:
         ``limits.active_codes``); :meth:`snapshot` and :meth:`jacobian` copy the reused
         buffers only when the caller keeps them."""
         if compile_seconds is None:
-            warm_up()
+            warm_up(obstacles=False)
         k, ik, ws = self.k, self.ik, self.ws
         lim = ik.limits
         position = lim[0] if opts.position is None else opts.position
