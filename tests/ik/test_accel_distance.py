@@ -157,3 +157,41 @@ def test_the_kernels_use_the_reference_tolerances():
     from irlc.runtime import distance
 
     assert ad._TIE == distance.TIE and ad._EPS == distance._EPS
+
+
+def test_the_compiled_cycle_makes_no_numpy_distance_query(monkeypatch):
+    """With obstacles avoided and reported, the compiled cycle gets its terms and its
+    clearances from the kernels (issue 14: the numpy queries were most of its time),
+    with the numbers of the numpy cycle."""
+    from irlc.runtime import distance
+    from irlc.runtime.ik import obstacle
+    from irlc.runtime.ik.newton import InverseTransformation
+    from irlc.runtime.ik.params import CycleOptions, IKParams
+
+    model = load_robot("koch11")
+    kin = Kinematics(model)
+    q = np.array(model.home_q(), dtype=float)
+    target = kin.tcp(q)
+    target[2, 3] -= 2e-3
+    tcp = target[:3, 3]
+    shapes = (BoxObstacle("box", tcp + np.array([0.0, 0.35, 0.0]), np.array([0.2, 0.2, 0.2])),
+              SphereObstacle("ball", tcp + np.array([0.0, -0.4, 0.1]), 0.05))  # fmt: skip
+    opts = CycleOptions(obstacles=shapes, active_obstacles=frozenset({"box", "ball"}))
+    ref = InverseTransformation(model, kin, IKParams.for_robot(model, accel=False))
+    want = ref.step(q, q, target, 0.01, opts)
+    fast = InverseTransformation(model, Kinematics(model), IKParams.for_robot(model, accel=True))
+
+    def forbidden(*args, **kwargs):
+        raise AssertionError("a numpy distance query on the compiled path")
+
+    from irlc.runtime.ik import newton
+
+    for module in (distance, obstacle, newton):  # (each imported the name)
+        monkeypatch.setattr(module, "critical_points", forbidden)
+    got = fast.step(q, q, target, 0.01, opts)
+    np.testing.assert_allclose(got.q, want.q, rtol=0, atol=1e-10)
+    assert got.clearances.keys() == want.clearances.keys()
+    for name, (dist, link) in want.clearances.items():
+        assert got.clearances[name][0] == pytest.approx(dist, abs=1e-12)
+        assert got.clearances[name][1] == link
+    assert min(d for d, _ in want.clearances.values()) < 0.5  # the criterion was active
