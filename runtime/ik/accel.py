@@ -307,9 +307,10 @@ class AcceleratedCycle:
             self._term_bufs[m] = bufs
         params, cps, ow, opush, ojac, ojtj = bufs
         seg = robot_segments(ik.kin)
+        rows = self._packed_rows(active)[1]
         cnt = d.obstacle_terms(self.frames, self.tcp, self.chain.joints, seg.links, seg.a_local,
-                               seg.b_local, seg.radius, seg.fallback, self._rows(active),
-                               params, cps, ow, opush, ojac, ojtj)  # fmt: skip
+                               seg.b_local, seg.radius, seg.fallback, rows, params, cps, ow,
+                               opush, ojac, ojtj)  # fmt: skip
         self.terms = (ow[:cnt], opush[:cnt], ojac[:cnt], ojtj[:cnt]) if cnt else self._no_terms
         if opts.reference is not None:  # [CYCLIC, a_conf·W, terms…]: a full H
             self._weights(False, True)
@@ -319,28 +320,30 @@ class AcceleratedCycle:
             ist[k.GENERAL] = int(cnt > 0 or self._frozen is not None)
         ist[k.NEED_TERMS] = 0
 
-    def _rows(self, obstacles) -> np.ndarray:
-        """The packed rows of ``obstacles`` (:func:`accel_distance.pack_obstacles`), kept
-        while the same shapes come back (cycle after cycle)."""
+    def _packed_rows(self, obstacles) -> tuple:
+        """``(obstacles, rows, names, out)``: the packed rows of ``obstacles``
+        (:func:`accel_distance.pack_obstacles`), their names and an output buffer of
+        their critical points, kept while the same shapes come back (cycle after cycle)."""
         key = tuple(map(id, obstacles))
         hit = self._packed.get(key)
         if hit is None:  # (the shapes are kept with their rows: their ids stay theirs)
-            rows = _OBSTACLE_KERNELS.load().pack_obstacles(obstacles)
-            hit = self._packed[key] = (tuple(obstacles), rows)
-        return hit[1]
+            d = _OBSTACLE_KERNELS.load()
+            hit = (tuple(obstacles), d.pack_obstacles(obstacles),
+                   [o.name for o in obstacles], np.empty((len(obstacles), d.N_CP)))  # fmt: skip
+            self._packed[key] = hit
+        return hit
 
     def clearances(self, obstacles) -> dict[str, tuple[float, int]]:
         """``{name: (distance, link)}`` of the reported ``obstacles`` at the cycle's result
         (the kernel's last frames; ``InverseTransformation._clearances``)."""
         d = _OBSTACLE_KERNELS.load()
         seg = robot_segments(self.ik.kin)
-        out = np.empty((len(obstacles), d.N_CP))
+        _, rows, names, out = self._packed_rows(obstacles)
         d.critical_points(self.frames, self.tcp, seg.links, seg.a_local, seg.b_local,
-                          seg.radius, seg.fallback, self._rows(obstacles), out)  # fmt: skip
-        return {
-            o.name: (float(row[d.D_DIST]), int(row[d.D_LINK]))
-            for o, row in zip(obstacles, out.tolist(), strict=True)
-        }
+                          seg.radius, seg.fallback, rows, out)  # fmt: skip
+        dist, link = d.D_DIST, d.D_LINK
+        rows_out = out.tolist()
+        return {name: (rows_out[i][dist], int(rows_out[i][link])) for i, name in enumerate(names)}
 
     # ------------------------------------------------------------------ the cycle
     def step(self, q_start, q_prev, target, dt, opts, frozen=None, active=()):
