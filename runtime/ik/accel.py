@@ -223,7 +223,7 @@ class AcceleratedCycle:
         self._no_terms = (np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3, n)), np.zeros((0, n, n)))
         self.terms = self._no_terms
         self._packed: dict[tuple, tuple] = {}  # ids of obstacles → (obstacles, rows)
-        self._term_bufs: dict[int, tuple] = {}  # obstacle count → criterion buffers
+        self._term_bufs: dict[int, tuple] = {}  # obstacle count → criterion buffers, views
         self._box_key = None
         self._frozen = None  # the FrozenJoints the workspace's problem is cut for
         self._crel: dict[int, np.ndarray] = {}
@@ -300,18 +300,18 @@ class AcceleratedCycle:
         k, ist, ik = self.k, self.ist, self.ik
         d = _OBSTACLE_KERNELS.load()
         bufs = self._term_bufs.get(len(active))
-        if bufs is None:
+        if bufs is None:  # (params, cps, ow, opush, ojac, ojtj), then the first-cnt views
             m, n = len(active), self.n
-            bufs = (d.pack_params(ik.params.obstacle), np.empty((m, d.N_CP)), np.empty(m),
-                    np.empty((m, 3)), np.empty((m, 3, n)), np.empty((m, n, n)))  # fmt: skip
-            self._term_bufs[m] = bufs
-        params, cps, ow, opush, ojac, ojtj = bufs
+            arrays = (d.pack_params(ik.params.obstacle), np.empty((m, d.N_CP)), np.empty(m),
+                      np.empty((m, 3)), np.empty((m, 3, n)), np.empty((m, n, n)))  # fmt: skip
+            views = [self._no_terms] + [tuple(a[:c] for a in arrays[2:]) for c in range(1, m + 1)]
+            bufs = self._term_bufs[m] = (arrays, views)
+        arrays, views = bufs
         seg = robot_segments(ik.kin)
         rows = self._packed_rows(active)[1]
         cnt = d.obstacle_terms(self.frames, self.tcp, self.chain.joints, seg.links, seg.a_local,
-                               seg.b_local, seg.radius, seg.fallback, rows, params, cps, ow,
-                               opush, ojac, ojtj)  # fmt: skip
-        self.terms = (ow[:cnt], opush[:cnt], ojac[:cnt], ojtj[:cnt]) if cnt else self._no_terms
+                               seg.b_local, seg.radius, seg.fallback, rows, *arrays)  # fmt: skip
+        self.terms = views[cnt]
         if opts.reference is not None:  # [CYCLIC, a_conf·W, terms…]: a full H
             self._weights(False, True)
             ist[k.GENERAL] = 1
