@@ -56,6 +56,7 @@ COMPILE_ESTIMATE = {  # wall time of the first compile, quiet machine … load �
     "IK kernels": "15–25 s",  # (measured 24.4 s wall at load 2.7, ≈ 17 s CPU)
     "drive kernels": "5–10 s",  # (measured 9.0 s wall at load 2.7, ≈ 7 s CPU)
     "PWM drive kernels": "3–6 s",  # (measured 4.0 s wall at load 5.5, ≈ 2.6 s CPU)
+    "IK obstacle kernels": "5–15 s",  # (measured ≈ 8 s CPU; compiled on first use)
 }
 NUMBA_INSTALLED = importlib.util.find_spec("numba") is not None  # (not imported)
 

@@ -26,6 +26,13 @@ shapes). ``direction`` is the unit vector along which the robot point should mov
 get away from the obstacle (obstacle → robot); for a penetrating box core it is the
 normal of the face nearest to the deepest point, for a plane its normal.
 
+Ties: parts whose distances are within :data:`TIE` (1e-12 m) of the least one are equally
+close, and the lowest part index wins; a deepest box point equally deep (within ``TIE``)
+below two faces escapes through the lower-indexed face (the deepest point of a segment
+that enters a box is usually such a point, on the crossing of two faces' depths). So
+rounding never decides which part or face is reported, and the compiled queries
+(:mod:`irlc.runtime.ik.accel_distance`), whose rounding differs, report the same ones.
+
 Robots without collision geometry fall back to radius-0 segments between successive
 link-frame origins, the last one ending at the TCP.
 """
@@ -41,6 +48,7 @@ from irlc.robots.model import Capsule, Sphere
 from irlc.runtime.kinematics import Kinematics
 
 _EPS = 1e-14
+TIE = 1e-12  # m: distances (and face depths) this close are ties (module doc)
 
 
 @dataclass
@@ -180,7 +188,8 @@ def _box_lower_bounds(pa: np.ndarray, u: np.ndarray, half: np.ndarray) -> np.nda
 
 
 def _segment_box_deepest(pa, u, half) -> tuple[float, float, int]:
-    """Exact minimum over t of ``max_i(|p_i(t)| − h_i)`` (≤ 0 here) and its face."""
+    """Exact minimum over t of ``max_i(|p_i(t)| − h_i)`` (≤ 0 here) and its face (the
+    lowest-indexed one within :data:`TIE` of the maximum: module doc)."""
     cands = [0.0, 1.0]
     for i in range(3):
         if u[i] != 0.0:
@@ -195,9 +204,9 @@ def _segment_box_deepest(pa, u, half) -> tuple[float, float, int]:
     for t in cands:
         if 0.0 <= t <= 1.0:
             excess = np.abs(pa + t * u) - half
-            k = int(np.argmax(excess))
-            if excess[k] < best:
-                best_t, best, face = t, float(excess[k]), k
+            top = float(excess.max())
+            if top < best:  # the face: the lowest index within TIE of the deepest
+                best_t, best, face = t, top, int(np.argmax(excess >= top - TIE))
     return best_t, best, face
 
 
@@ -259,19 +268,27 @@ def _fallback_direction(d1: np.ndarray, d2: np.ndarray) -> np.ndarray:
 
 # ---------------------------------------------------------------------- the robot side
 class RobotSegments:
-    """The robot's parts as arrays (hot path): ``links (k,)``, ``a, b (k, 3)`` world,
-    ``radius (k,)``. Built from the model's capsules/spheres, or the fallback chain."""
+    """The robot's parts as arrays (hot path; also the packed input of the compiled
+    queries, :mod:`irlc.runtime.ik.accel_distance`): ``links (k,)`` int64, the ends
+    ``a_local, b_local (k, 3)`` in their link frames (zeros for the fallback chain, whose
+    ends are link origins and the TCP), ``radius (k,)``, ``fallback``. Built from the
+    model's capsules/spheres, or the fallback chain; :meth:`world` gives the world ends."""
 
     def __init__(self, kin: Kinematics):
         geometry = [g for g in kin.model.geometry if isinstance(g, Capsule | Sphere)]
         self.fallback = not geometry
         if self.fallback:
-            self.links = np.arange(1, kin.n + 1)
+            self.links = np.arange(1, kin.n + 1, dtype=np.int64)
             self.radius = np.zeros(kin.n)
+            self.a_local = self.b_local = np.zeros((kin.n, 3))
             return
-        self.links = np.array([g.link for g in geometry])
-        self.a_local = np.array([g.a if isinstance(g, Capsule) else g.center for g in geometry])
-        self.b_local = np.array([g.b if isinstance(g, Capsule) else g.center for g in geometry])
+        self.links = np.array([g.link for g in geometry], dtype=np.int64)
+        self.a_local = np.array(
+            [g.a if isinstance(g, Capsule) else g.center for g in geometry], dtype=float
+        )
+        self.b_local = np.array(
+            [g.b if isinstance(g, Capsule) else g.center for g in geometry], dtype=float
+        )
         self.radius = np.array([g.radius for g in geometry], dtype=float)
 
     def world(self, kin: Kinematics, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -326,9 +343,9 @@ def critical_points(kin: Kinematics, frames: np.ndarray, obstacles) -> list[Crit
     (vectorised core distances; the closest pair is then built for the closest part
     only). For capsules, parts are visited in order of a lower bound of their distance
     (centre distance minus the obstacle's bounding radius) and the search stops when the
-    bound exceeds the best exact distance found — the result is still exact. Exact ties
-    (equal distances, e.g. a sphere at a joint and the capsule starting there) go to the
-    lowest part index, except for capsules (the first part visited)."""
+    bound exceeds the best exact distance found — the result is still exact. Ties
+    (distances within :data:`TIE`, e.g. a sphere at a joint and the capsule starting
+    there) go to the lowest part index (module doc)."""
     seg = robot_segments(kin)
     a_all, b_all = seg.world(kin, frames)
     radius = seg.radius
@@ -338,7 +355,7 @@ def critical_points(kin: Kinematics, frames: np.ndarray, obstacles) -> list[Crit
         if kind in ("point", "sphere"):
             p = obstacle.position if kind == "point" else obstacle.center
             _, dist = _points_to_segments(a_all, b_all, p)
-            i = int(np.argmin(dist - radius))
+            i = _first_tie(dist - radius)
             best = segment_obstacle(a_all[i], b_all[i], float(radius[i]), obstacle)
         elif kind == "box":
             best, i = _closest_part_box(a_all, b_all, radius, obstacle)
@@ -363,24 +380,25 @@ def critical_points(kin: Kinematics, frames: np.ndarray, obstacles) -> list[Crit
 def _closest_part_box(a_all, b_all, radius, box) -> tuple[Proximity, int]:
     """The part closest to a box: a cheap lower bound (:func:`_box_lower_bounds`) for all
     parts, then exact distances in increasing order of the bound until the bound
-    exceeds the best distance found (+1 nm, so that exact ties are all seen); ties go
-    to the lowest part index."""
+    exceeds the best distance found (+1 nm, so that ties are all seen); ties (within
+    :data:`TIE`) go to the lowest part index."""
     center, rotation, half = box.center, box.rotation, box.half
     pa = (a_all - center) @ rotation  # rows: Rᵀ(a − c)
     u = (b_all - a_all) @ rotation
     lower = _box_lower_bounds(pa, u, half)
     lower -= radius
     h, r_obst = half.tolist(), box.radius
-    best = (math.inf, 0, 0.0, 0.0)  # distance, part, t, φ(t)
+    best = math.inf
+    found = {}  # part → (distance, t, φ(t))
     for i in np.argsort(lower).tolist():
-        if lower[i] > best[0] + 1e-9:
+        if lower[i] > best + 1e-9:
             break
         t, d2 = _segment_box_outside(pa[i].tolist(), u[i].tolist(), h)
         core = math.sqrt(d2) if d2 > 1e-24 else _segment_box_deepest(pa[i], u[i], half)[1]
-        candidate = (core - float(radius[i]) - r_obst, i, t, d2)
-        if candidate[:2] < best[:2]:
-            best = candidate
-    _, i, t, d2 = best
+        found[i] = (core - float(radius[i]) - r_obst, t, d2)
+        best = min(best, found[i][0])
+    _, i = _lowest_tie([(d, j) for j, (d, _, _) in found.items()])
+    _, t, d2 = found[i]
     pair = _box_pair(pa[i], u[i], t, d2, center, rotation, half)
     return _swept(*pair, float(radius[i]), r_obst), i
 
@@ -391,33 +409,45 @@ def _closest_part_plane(a_all, b_all, radius, plane) -> int:
     sa = (a_all - plane.point) @ plane.normal
     sb = (b_all - plane.point) @ plane.normal
     core = np.where(np.abs(sa - sb) <= 1e-15, 0.5 * (sa + sb), np.minimum(sa, sb))
-    return int(np.argmin(core - radius))
+    return _first_tie(core - radius)
 
 
-def _visit_order(a_all, b_all, radius, obstacle):
-    """Parts in increasing order of a lower bound of their distance, and the bounds."""
-    if obstacle.kind == "box":
-        center, reach = obstacle.center, float(np.linalg.norm(obstacle.half))
-    elif obstacle.kind == "capsule":
-        center = 0.5 * (obstacle.a + obstacle.b)
-        reach = 0.5 * float(np.linalg.norm(obstacle.b - obstacle.a)) + obstacle.radius
-    else:  # plane: no useful bound, visit all
-        return range(a_all.shape[0]), np.full(a_all.shape[0], -np.inf)
+def _first_tie(d: np.ndarray) -> int:
+    """The lowest index whose value is within :data:`TIE` of the least."""
+    return int(np.argmax(d <= d.min() + TIE))
+
+
+def _lowest_tie(found: list[tuple[float, int]]) -> tuple[float, int]:
+    """Of ``(distance, part)`` pairs, the lowest part within :data:`TIE` of the least
+    distance (the same whatever order the parts were visited in)."""
+    least = min(d for d, _ in found)
+    i, d = min((i, d) for d, i in found if d <= least + TIE)
+    return d, i
+
+
+def _visit_order(a_all, b_all, radius, capsule):
+    """Parts in increasing order of a lower bound of their distance to a capsule (the
+    distance to its centre minus its bounding radius), and the bounds."""
+    center = 0.5 * (capsule.a + capsule.b)
+    reach = 0.5 * float(np.linalg.norm(capsule.b - capsule.a)) + capsule.radius
     _, dist = _points_to_segments(a_all, b_all, center)
     bound = dist - reach - radius
     return np.argsort(bound), bound
 
 
 def _search_parts(a_all, b_all, radius, obstacle) -> tuple[Proximity, int]:
+    """Parts in increasing order of the bound until it exceeds the best distance found
+    (+ :data:`TIE`, so that ties are all seen); ties go to the lowest part index."""
     order, bound = _visit_order(a_all, b_all, radius, obstacle)
-    best, best_i = None, 0
-    for i in order:
-        if best is not None and bound[i] >= best.distance:
+    best = math.inf
+    found: dict[int, Proximity] = {}
+    for i in order.tolist():
+        if bound[i] > best + TIE:
             break
-        prox = segment_obstacle(a_all[i], b_all[i], float(radius[i]), obstacle)
-        if best is None or prox.distance < best.distance:
-            best, best_i = prox, int(i)
-    return best, best_i
+        found[i] = segment_obstacle(a_all[i], b_all[i], float(radius[i]), obstacle)
+        best = min(best, found[i].distance)
+    _, i = _lowest_tie([(p.distance, j) for j, p in found.items()])
+    return found[i], i
 
 
 def _clamp01(x: float) -> float:

@@ -13,9 +13,10 @@ Covered: every cycle option — the default criterion, CYCLIC / WITH RECONFIGURA
 RECONFIGURATION (self-motion), position/speed/acceleration limits with braking, coupled
 joint limits, any task rows, FREEZE (the step over the free joints, the frozen ones
 stepping to their held values), reported and avoided obstacles (OBSTACLE: the criterion's
-terms — any number of critical points — are computed in Python once per cycle, at the
-first iterate, from the kernel's frames, and passed in as arrays; the full ``H`` then
-goes through the general compact QP). Not covered (the numpy path runs):
+terms — any number of critical points — are computed once per cycle, at the first
+iterate, from the kernel's frames by the compiled queries of :mod:`accel_distance`, and
+passed in as arrays; the full ``H`` then goes through the general compact QP; the
+reported clearances at the result come from the same queries). Not covered (the numpy path runs):
 ``solver="daqp"``, ``max_iter < 1``. The kernels read only public packed data:
 :attr:`Kinematics.chain_data`, the box constants' ``data`` (:class:`BoxData`), the
 coupled rows' ``A`` / ``bound_d`` and the cycle's options.
@@ -38,13 +39,21 @@ import time
 import numpy as np
 import quadprog
 from irlc.runtime import accel_support
+from irlc.runtime.distance import robot_segments
 
 AVAILABLE = accel_support.AVAILABLE  # numba importable and not IRLC_ENGINE=numpy
 compile_seconds: float | None = None  # first kernel call of this process (compile or load)
 
 _KERNELS = accel_support.Kernels("irlc.runtime.ik.accel_kernels", "newton_cycle")
 _module = _KERNELS.load
-cache_warm = _KERNELS.cache_warm
+_OBSTACLE_KERNELS = accel_support.Kernels(
+    "irlc.runtime.ik.accel_distance", "critical_points", "IK obstacle kernels"
+)
+
+
+def cache_warm() -> bool:
+    """True when numba's cache holds the cycle and the obstacle queries."""
+    return _KERNELS.cache_warm() and _OBSTACLE_KERNELS.cache_warm()
 
 
 def use_accel(requested: bool | None) -> bool:
@@ -52,13 +61,38 @@ def use_accel(requested: bool | None) -> bool:
     return accel_support.decide(requested)
 
 
-def warm_up() -> float:
-    """Compile (or load from the cache) every kernel by running one tiny cycle; returns
-    the seconds it took. Called on the first accelerated cycle of a process."""
-    global compile_seconds
-    if compile_seconds is not None:
-        return compile_seconds
-    t0 = time.perf_counter()
+def warm_up(obstacles: bool = True) -> float:
+    """Compile (or load from the cache) every kernel by running tiny cycles; returns the
+    seconds it took (all calls of this process). Called on the first accelerated cycle of
+    a process with ``obstacles=False``: the obstacle queries (:mod:`accel_distance`, ≈ 8
+    s of CPU to compile) then wait for the first cycle that has obstacles; ``irlc warmup``
+    compiles them too."""
+    global compile_seconds, _obstacles_warm
+    if compile_seconds is None:
+        t0 = time.perf_counter()
+        compile_seconds = -1.0  # (the cycles below must not recurse into warm_up)
+        ik, q, target = _tiny_cycle()
+        ik.step(q, q, target, 0.01)
+        compile_seconds = time.perf_counter() - t0
+    if obstacles and not _obstacles_warm:
+        t0 = time.perf_counter()
+        from irlc.runtime.ik.params import CycleOptions
+        from irlc.runtime.obstacles import PointObstacle
+
+        ik, q, target = _tiny_cycle()
+        near = PointObstacle("near", target[:3, 3] + (0.0, 0.0, 0.3))
+        avoid = CycleOptions(obstacles=(near,), active_obstacles=frozenset({"near"}))
+        ik.step(q, q, target, 0.01, avoid)
+        _obstacles_warm = True
+        compile_seconds += time.perf_counter() - t0
+    return compile_seconds
+
+
+_obstacles_warm = False
+
+
+def _tiny_cycle():
+    """A 3-joint planar arm's solver on the accelerator, a configuration and a target."""
     from irlc.robots.model import Joint, Limits, RobotModel
     from irlc.runtime.ik.newton import InverseTransformation
     from irlc.runtime.ik.params import IKParams
@@ -72,14 +106,11 @@ def warm_up() -> float:
         Joint(f"J{i}", "revolute", link if i else np.eye(4), axis, limits) for i in range(3)
     )
     model = RobotModel(name="warmup", joints=joints, flange=link)
-    compile_seconds = -1.0  # (the cycle below must not recurse into warm_up)
     ik = InverseTransformation(model, Kinematics(model), IKParams(task_rows=(0, 1), accel=True))
     q = np.array([0.1, 0.2, 0.3])
     target = ik.kin.tcp(q)
     target[0, 3] += 1e-3
-    ik.step(q, q, target, 0.01)
-    compile_seconds = time.perf_counter() - t0
-    return compile_seconds
+    return ik, q, target
 
 
 class Workspace:
@@ -191,6 +222,8 @@ class AcceleratedCycle:
         self._mode = (False, False)  # (V[W] is a_conf·W, V[WC] is a_conf·W)
         self._no_terms = (np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3, n)), np.zeros((0, n, n)))
         self.terms = self._no_terms
+        self._packed: dict[tuple, tuple] = {}  # ids of obstacles → (obstacles, rows)
+        self._term_bufs: dict[int, tuple] = {}  # obstacle count → criterion buffers, views
         self._box_key = None
         self._frozen = None  # the FrozenJoints the workspace's problem is cut for
         self._crel: dict[int, np.ndarray] = {}
@@ -261,26 +294,56 @@ class AcceleratedCycle:
             self._mode = (conf_w, conf_wc)
 
     def _obstacle_terms(self, opts, active: list) -> None:
-        """At the first iterate: the obstacle criterion's terms (:func:`obstacle_terms`,
-        at the kernel's frames) as arrays, and the cost's form with them."""
-        from irlc.runtime.ik.obstacle import obstacle_terms
-
+        """At the first iterate: the obstacle criterion's terms (the compiled
+        :func:`accel_distance.obstacle_terms` at the kernel's frames, as
+        :func:`obstacle.obstacle_terms` gives them) as arrays, and the cost's form."""
         k, ist, ik = self.k, self.ist, self.ik
-        terms = obstacle_terms(ik.kin, self.frames, active, ik.params.obstacle)
-        if terms:
-            self.terms = (
-                np.array([t.weight for t in terms]),
-                np.array([t.push for t in terms]),
-                np.array([t.jac for t in terms]),
-                np.array([t.jtj for t in terms]),
-            )
+        d = _OBSTACLE_KERNELS.load()
+        bufs = self._term_bufs.get(len(active))
+        if bufs is None:  # (params, cps, ow, opush, ojac, ojtj), then the first-cnt views
+            m, n = len(active), self.n
+            arrays = (d.pack_params(ik.params.obstacle), np.empty((m, d.N_CP)), np.empty(m),
+                      np.empty((m, 3)), np.empty((m, 3, n)), np.empty((m, n, n)))  # fmt: skip
+            views = [self._no_terms] + [tuple(a[:c] for a in arrays[2:]) for c in range(1, m + 1)]
+            bufs = self._term_bufs[m] = (arrays, views)
+        arrays, views = bufs
+        seg = robot_segments(ik.kin)
+        rows = self._packed_rows(active)[1]
+        cnt = d.obstacle_terms(self.frames, self.tcp, self.chain.joints, seg.links, seg.a_local,
+                               seg.b_local, seg.radius, seg.fallback, rows, *arrays)  # fmt: skip
+        self.terms = views[cnt]
         if opts.reference is not None:  # [CYCLIC, a_conf·W, terms…]: a full H
             self._weights(False, True)
             ist[k.GENERAL] = 1
         else:  # [a_conf·W, terms…]: diagonal when no obstacle is near
             self._weights(True, False)
-            ist[k.GENERAL] = int(bool(terms) or self._frozen is not None)
+            ist[k.GENERAL] = int(cnt > 0 or self._frozen is not None)
         ist[k.NEED_TERMS] = 0
+
+    def _packed_rows(self, obstacles) -> tuple:
+        """``(obstacles, rows, names, out)``: the packed rows of ``obstacles``
+        (:func:`accel_distance.pack_obstacles`), their names and an output buffer of
+        their critical points, kept while the same shapes come back (cycle after cycle)."""
+        key = tuple(map(id, obstacles))
+        hit = self._packed.get(key)
+        if hit is None:  # (the shapes are kept with their rows: their ids stay theirs)
+            d = _OBSTACLE_KERNELS.load()
+            hit = (tuple(obstacles), d.pack_obstacles(obstacles),
+                   [o.name for o in obstacles], np.empty((len(obstacles), d.N_CP)))  # fmt: skip
+            self._packed[key] = hit
+        return hit
+
+    def clearances(self, obstacles) -> dict[str, tuple[float, int]]:
+        """``{name: (distance, link)}`` of the reported ``obstacles`` at the cycle's result
+        (the kernel's last frames; ``InverseTransformation._clearances``)."""
+        d = _OBSTACLE_KERNELS.load()
+        seg = robot_segments(self.ik.kin)
+        _, rows, names, out = self._packed_rows(obstacles)
+        d.critical_points(self.frames, self.tcp, seg.links, seg.a_local, seg.b_local,
+                          seg.radius, seg.fallback, rows, out)  # fmt: skip
+        dist, link = d.D_DIST, d.D_LINK
+        rows_out = out.tolist()
+        return {name: (rows_out[i][dist], int(rows_out[i][link])) for i, name in enumerate(names)}
 
     # ------------------------------------------------------------------ the cycle
     def step(self, q_start, q_prev, target, dt, opts, frozen=None, active=()):
@@ -290,7 +353,7 @@ class AcceleratedCycle:
         ``limits.active_codes``); :meth:`snapshot` and :meth:`jacobian` copy the reused
         buffers only when the caller keeps them."""
         if compile_seconds is None:
-            warm_up()
+            warm_up(obstacles=False)
         k, ik, ws = self.k, self.ik, self.ws
         lim = ik.limits
         position = lim[0] if opts.position is None else opts.position

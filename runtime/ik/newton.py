@@ -291,7 +291,7 @@ class InverseTransformation:
         pe, oe = float(fst[k.PE]), float(fst[k.OE])
         p = self.params
         converged = pe < p.tol_position and oe < p.tol_orientation
-        clearances = self._clearances(acc.frames, opts) if opts.obstacles else {}
+        clearances = acc.clearances(opts.obstacles) if opts.obstacles else {}
         # as in the numpy path: keep the box and J only when a report can need them
         box = acc.snapshot(bounds, limits) if codes is not None or active.size else None
         J = acc.jacobian() if opts.jacobian or not converged else None

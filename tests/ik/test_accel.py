@@ -18,6 +18,7 @@ import pytest
 pytest.importorskip("numba")
 
 from irlc.robots import load_robot
+from irlc.runtime import spatial
 from irlc.runtime.distance import critical_points, robot_parts, segment_obstacle
 from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation, intersect_limits
 from irlc.runtime.ik import accel as accel_mod
@@ -373,3 +374,22 @@ def test_every_option_runs_compiled(robots, monkeypatch):
     q = np.array(irb6.home_q(), dtype=float)
     ik = _pair(irb6)[0]
     ik.step(q, q, Kinematics(irb6).tcp(q), 0.01, CycleOptions())
+
+
+def test_penetrating_obstacles_equal(robots):
+    """OBSTACLE with the arm inside a box and a sphere (negative clearances, the box's
+    deepest point on a crossing of two faces' depths: a tie that distance.TIE settles
+    the same way on both paths)."""
+    model = robots["koch11"]
+    kin = Kinematics(model)
+    home = np.array(model.home_q(), dtype=float)
+    parts = robot_parts(kin, kin.link_frames(home))
+    _, a, b, _ = max(parts, key=lambda p: np.linalg.norm(p[2] - p[1]))  # the longest part
+    box = BoxObstacle("box", 0.5 * (a + b), np.array([0.3, 0.4, 0.5]),
+                      spatial.zyx_to_matrix(0.3, -0.2, 0.7))  # fmt: skip
+    ball = SphereObstacle("ball", 0.3 * a + 0.7 * b, 0.1)
+    near = critical_points(kin, kin.link_frames(home), [box, ball])
+    assert all(cp.distance < 0.0 for cp in near)
+    avoid = CycleOptions(obstacles=[box, ball], active_obstacles=frozenset({"box", "ball"}))
+    stats = _compare(model, avoid, seed=31, starts=3, start=_near_home(model, 0.01))
+    assert stats["cycles"] > 0

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from irlc.robots import load_robot
 from irlc.runtime import spatial
-from irlc.runtime.distance import closest_segment_box, critical_points, robot_segments
+from irlc.runtime.distance import TIE, closest_segment_box, critical_points, robot_segments
 from irlc.runtime.interpolator import CartesianArc, CartesianLine, ReferencePath
 from irlc.runtime.kinematics import Kinematics
 from irlc.runtime.obstacles import BoxObstacle, PlaneObstacle
@@ -149,7 +149,8 @@ def test_box_search_equals_exhaustive_search(koch11):
             - seg.radius[i]
             for i in range(len(seg.radius))
         ]
-        best = int(np.argmin(dists))  # first of equal distances: the lowest index
+        # ties (within distance.TIE of the least) go to the lowest index
+        best = int(np.flatnonzero(np.array(dists) <= min(dists) + TIE)[0])
         cp = critical_points(kin, frames, [box])[0]
         assert cp.distance == dists[best]
         assert cp.link == int(seg.links[best])
