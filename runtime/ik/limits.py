@@ -205,7 +205,7 @@ def active_codes(
     tol = 1e-10 + 1e-9 * np.abs(delta)
     lo = delta <= lower + tol
     hi = delta >= upper - tol
-    if not (lo.any() or hi.any()):
+    if not (np.count_nonzero(lo) or np.count_nonzero(hi)):  # (cheaper than .any())
         return None
     src = np.argmin(cand, axis=0)  # (2, n): the candidate that sets each bound
     codes = np.zeros(delta.size, dtype=np.int8)
@@ -298,10 +298,10 @@ class JointBox:
             brake += 1.0
             np.divide(room, brake, out=brake)
             brake += brake
-        bound = np.minimum(cand[POSITION], cand[SPEED])  # [−lower; upper]
-        if c.accel_bounded:
-            np.minimum(bound, cand[ACCEL], out=bound)
-            np.minimum(bound, cand[BRAKING], out=bound)
+        if c.accel_bounded:  # [−lower; upper] (one reduction: min is exact, any order)
+            bound = np.minimum.reduce(cand, axis=0)
+        else:
+            bound = np.minimum(cand[POSITION], cand[SPEED])
         np.negative(bound[0], out=bound[0])
         self.bounds = bound  # [lower; upper], a fresh array every cycle
         self.lower_d, self.upper_d = bound[0], bound[1]

@@ -77,7 +77,8 @@ class NewtonStep:
 
         With ``−J_m⁻¹[J_free F] = [X y]`` (basic rows of ``N`` and ``Δθ_p``) and
         ``v = g + w∘Δθ_p``: ``H̃ = XᵀW_bX + W_f``, ``g̃ = Xᵀv_b + v_f``; the box rows
-        ``[N; −N]`` of ``Ãᵀ`` are rebuilt from ``N`` in place."""
+        ``[N; −N]`` of ``Ãᵀ`` are rebuilt from ``N`` in place. ``w`` is a criterion's
+        constant weights: its basic / free parts are kept while the same array comes."""
         self.last_singular = False
         basis = self.basis
         blocks = basis.blocks(J, F)
@@ -97,11 +98,13 @@ class NewtonStep:
             out = self._scalar_qp(dp, N[:, 0], w, g, bounds)
             if out is not False:
                 return out
+        if w is not self._w:  # (the criterion's weights: the same array cycle after cycle)
+            self._w, self._w_basic, self._w_free = w, w.take(self._basic), w.take(self._free)
         v = w * dp
         v += g
         gt = v.take(self._free) + v.take(self._basic) @ X
-        Ht = (X.T * w.take(self._basic)) @ X
-        Ht.flat[:: nz + 1] += w.take(self._free)
+        Ht = (X.T * self._w_basic) @ X
+        Ht.flat[:: nz + 1] += self._w_free
         Ct, bt, n = self._ct, self._bt, dp.shape[0]
         Ct[:, :n] = N.T
         np.negative(Ct[:, :n], out=Ct[:, n:])
@@ -130,6 +133,7 @@ class NewtonStep:
         self._zb = np.empty((2, n))
         self._zlo = np.empty(n)
         self._zhi = np.empty(n)
+        self._w = None  # w.take(basic), w.take(free) are cached per basis and weights
 
     def _scalar_qp(self, dp, col, w, g, bounds):
         """One null-space dimension, ``Δθ = Δθ_p + col·z``: ``min ½hz² + g̃z`` with
