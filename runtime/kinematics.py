@@ -220,6 +220,7 @@ class Kinematics:
         self._pp_flat = self._pp.reshape(-1)
         self._frames_flat = self._frames.reshape(-1)
         self._jac_out: tuple = (None,)  # (out, lin, ang flattened) of the last call
+        self._rev_pri = (self._rev_f[:, 0], self._pri_f[:, 0])
 
     def tcp_jacobian(self, frames: np.ndarray, point: np.ndarray, out: np.ndarray) -> np.ndarray:
         """``jacobian_at(frames, point)`` written into ``out`` — the IK hot path.
@@ -245,9 +246,10 @@ class Kinematics:
         if self._signed_axes:
             ang *= self._z_sign
         if not self._all_revolute:  # prismatic columns: [z; 0]
-            lin *= self._rev_f[:, 0]
-            lin += ang * self._pri_f[:, 0]
-            ang *= self._rev_f[:, 0]
+            rev, pri = self._rev_pri
+            lin *= rev
+            lin += ang * pri
+            ang *= rev
         return out
 
     def jacobian_at(self, frames: np.ndarray, point: np.ndarray, upto: int | None = None):

@@ -305,10 +305,8 @@ class JointBox:
             brake += 1.0
             np.divide(room, brake, out=brake)
             brake += brake
-        if c.accel_bounded:  # [−lower; upper] (one reduction: min is exact, any order)
-            bound = np.minimum.reduce(cand, axis=0)
-        else:
-            bound = np.minimum(c_pos, c_speed)
+        # [−lower; upper] (over all four candidates one reduction: min is exact, any order)
+        bound = np.minimum.reduce(cand, axis=0) if c.accel_bounded else np.minimum(c_pos, c_speed)
         lower, upper = bound
         np.negative(lower, out=lower)
         self.bounds = bound  # [lower; upper], a fresh array every cycle
