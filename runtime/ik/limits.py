@@ -290,10 +290,7 @@ class JointBox:
         np.multiply(_SIGN, d, out=sd)
         np.subtract(sd, c_speed, out=self._excess)
         # (builtins on lists: cheaper than numpy reductions for a handful of numbers)
-        if (
-            min(self._pos_flat.tolist()) < -TOLERANCE
-            or max(self._excess_flat.tolist()) > c.dtol
-        ):
+        if min(self._pos_flat.tolist()) < -TOLERANCE or max(self._excess_flat.tolist()) > c.dtol:
             self._check_state(model, q_start, d, dt, c.limits[0], c.limits[1])
         if c.accel_bounded:  # (otherwise both candidates stay at "no bound", set once)
             np.add(c.signed_accel, sd, out=c_accel)
