@@ -213,6 +213,14 @@ class Kinematics:
         self._signed_axes = bool(np.any(self._axis_signs < 0.0))  # else skip the products
         self._prod = np.empty((6, self.n))
         self._rr = np.empty((6, self.n))
+        # views made once for tcp_jacobian (a reshape or slice costs ~0.2 µs a call)
+        self._prod_flat, self._rr_flat = self._prod.reshape(-1), self._rr.reshape(-1)
+        self._prod_top, self._prod_bottom = self._prod[:3], self._prod[3:]
+        self._pp = np.empty((6, 1))
+        self._pp_flat = self._pp.reshape(-1)
+        self._frames_flat = self._frames.reshape(-1)
+        self._jac_out: tuple = (None,)  # (out, lin, ang flattened) of the last call
+        self._rev_pri = (self._rev_f[:, 0], self._pri_f[:, 0])
 
     def tcp_jacobian(self, frames: np.ndarray, point: np.ndarray, out: np.ndarray) -> np.ndarray:
         """``jacobian_at(frames, point)`` written into ``out`` — the IK hot path.
@@ -220,23 +228,28 @@ class Kinematics:
         if self._zz_idx is None:
             out[:] = self.jacobian_at(frames, point)
             return out
-        flat = frames.reshape(-1)
+        flat = self._frames_flat if frames is self._frames else frames.reshape(-1)
+        views = self._jac_out
+        if views[0] is not out:
+            views = self._jac_out = (out, out[:3], out[3:], out[3:].reshape(-1))
+        _, lin, ang, ang_flat = views
         zz, rr = self._prod, self._rr
-        flat.take(self._zz_idx, out=zz.reshape(-1))
+        flat.take(self._zz_idx, out=self._prod_flat)
         if self._signed_axes:
             zz *= self._zz_sign
-        flat.take(self._oo_idx, out=rr.reshape(-1))
-        np.subtract(point.take(self._pp_idx)[:, None], rr, out=rr)
+        flat.take(self._oo_idx, out=self._rr_flat)
+        point.take(self._pp_idx, out=self._pp_flat)
+        np.subtract(self._pp, rr, out=rr)
         zz *= rr
-        lin, ang = out[:3], out[3:]
-        np.subtract(zz[:3], zz[3:], out=lin)
-        flat.take(self._z_idx, out=ang.reshape(-1))
+        np.subtract(self._prod_top, self._prod_bottom, out=lin)
+        flat.take(self._z_idx, out=ang_flat)
         if self._signed_axes:
             ang *= self._z_sign
         if not self._all_revolute:  # prismatic columns: [z; 0]
-            lin *= self._rev_f[:, 0]
-            lin += ang * self._pri_f[:, 0]
-            ang *= self._rev_f[:, 0]
+            rev, pri = self._rev_pri
+            lin *= rev
+            lin += ang * pri
+            ang *= rev
         return out
 
     def jacobian_at(self, frames: np.ndarray, point: np.ndarray, upto: int | None = None):

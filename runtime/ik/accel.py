@@ -113,6 +113,11 @@ def _tiny_cycle():
     return ik, q, target
 
 
+_NO_ROWS = np.zeros(0, dtype=np.int64)  # a cycle without active QP rows (shared, never written)
+_NO_MULT = np.zeros(0)
+_NO_ROWS.flags.writeable = _NO_MULT.flags.writeable = False
+
+
 class Workspace:
     """The cycle's arrays in two buffers (``fw`` float, ``iw`` int) and the layout ``lay``
     that :func:`accel_kernels.newton_cycle` cuts them with; the same views as attributes here.
@@ -227,6 +232,7 @@ class AcceleratedCycle:
         self._box_key = None
         self._frozen = None  # the FrozenJoints the workspace's problem is cut for
         self._crel: dict[int, np.ndarray] = {}
+        self._basis_key: tuple | None = None  # (basis version, problem shape) last synced
         p = ik.params
         ist, fst = self.ist, self.fst
         ist[k.MAX_ITER] = p.max_iter
@@ -267,8 +273,14 @@ class AcceleratedCycle:
         return crel
 
     def _sync_basis(self) -> None:
+        """The compact basis's columns into the workspace (when the basis or the
+        problem's shape changed since the last sync: ``CompactBasis.version``)."""
         b = self.ik.stepper.basis
         ws = self.ws
+        key = (b.version, ws.shape)
+        if key == self._basis_key:
+            return
+        self._basis_key = key
         valid = b.columns is not None and b.shape == ws.shape
         self.ist[self.k.BASIS_VALID] = int(valid)
         if valid:
@@ -348,10 +360,13 @@ class AcceleratedCycle:
     # ------------------------------------------------------------------ the cycle
     def step(self, q_start, q_prev, target, dt, opts, frozen=None, active=()):
         """The numbers of ``InverseTransformation.step``; ``frozen``: the cycle's
-        ``FrozenJoints`` (or None), ``active``: the avoided obstacles. Returns
-        ``(theta, bounds, limits, outcome_active, outcome_mult, codes)`` (``codes``: as
-        ``limits.active_codes``); :meth:`snapshot` and :meth:`jacobian` copy the reused
-        buffers only when the caller keeps them."""
+        ``FrozenJoints`` (or None), ``active``: the avoided obstacles. The kernel tests
+        the inputs' finiteness first (``S_NOT_FINITE``: ``newton._require_finite``
+        raises, as the numpy path's first test). Returns ``(theta, limits,
+        outcome_active, outcome_mult, codes, iterations, pe, oe, relaxed, singular)``
+        (``codes``: as ``limits.active_codes``; Python numbers from one ``tolist`` of the
+        state arrays); :meth:`snapshot` and :meth:`jacobian` copy the reused buffers only
+        when the caller keeps them."""
         if compile_seconds is None:
             warm_up(obstacles=False)
         k, ik, ws = self.k, self.ik, self.ws
@@ -373,6 +388,7 @@ class AcceleratedCycle:
         V, ist = self.V, self.ist
         V[k.Q_START] = q_start
         V[k.Q_PREV] = q_prev
+        ws.target[:] = target
         if opts.reference is not None:
             V[k.REF] = opts.reference
         ist[k.HAS_REF] = opts.reference is not None
@@ -383,30 +399,38 @@ class AcceleratedCycle:
         self._criteria(opts, active)
         chain = self.chain = ik.kin.chain_data
         self._sync_basis()
-        ws.target[:] = target
         run, fw, iw, lay = k.newton_cycle, ws.fw, ws.iw, ws.lay
         while True:
             status = run(chain.basis, chain.joints, chain.ends, self.boxc, *self.terms, fw, iw,
                          lay)  # fmt: skip
             if status == k.S_DONE:
                 break
-            self._resume(status, q_start, q_prev, dt, position, speed, accel)
-        nact = int(ist[k.N_ACTIVE])
-        bounds = ws.bounds.copy()
-        self.bounds = bounds  # the last cycle's box on Δθ (with ``cand``: for observers)
-        codes = ws.codes.astype(np.int8) if ist[k.ANY_CODE] else None
+            self._resume(status, q_start, q_prev, target, dt, position, speed, accel)
+        self.bounds = ws.bounds  # the last cycle's box on Δθ (live; with ``cand``: observers)
+        il = ist.tolist()
+        nact = il[k.N_ACTIVE]
+        if nact:
+            rows, mult = ws.active[:nact].copy(), ws.mult[:nact].copy()
+        else:
+            rows, mult = _NO_ROWS, _NO_MULT
+        pe, oe = self.fst[k.PE : k.OE + 1].tolist()
         return (
             V[k.THETA].copy(),
-            bounds,
             c.limits,
-            ws.active[:nact].copy(),
-            ws.mult[:nact].copy(),
-            codes,
+            rows,
+            mult,
+            ws.codes.astype(np.int8) if il[k.ANY_CODE] else None,
+            il[k.K],
+            pe,
+            oe,
+            il[k.RELAXED] != 0,
+            il[k.SINGULAR] != 0,
         )
 
-    def _resume(self, status, q_start, q_prev, dt, position, speed, accel) -> None:
+    def _resume(self, status, q_start, q_prev, target, dt, position, speed, accel) -> None:
         """What the kernel asked Python for (a quadprog call, a basis, obstacle terms, the
-        box's error path) or the failure it found."""
+        box's error path, the exact finiteness test of the inputs) or the failure it
+        found."""
         k, ik, ist = self.k, self.ik, self.ist
         if status == k.S_NEED_QP:
             self._hard_qp()
@@ -422,7 +446,13 @@ class AcceleratedCycle:
             self.ws.bounds[:] = box.bounds
             self.cand[:] = box.cand
             ist[k.BOX_READY] = 1
-            ist[k.PHASE] = k.P_START
+            ist[k.PHASE] = k.P_START_CHECKED
+        elif status == k.S_NOT_FINITE:
+            from irlc.runtime.ik.newton import _require_finite
+
+            _require_finite("start configuration", q_start)  # raises, as the numpy path
+            _require_finite("target pose", target)
+            ist[k.PHASE] = k.P_START_CHECKED  # (finite: ‖q‖² overflowed)
         elif status == k.S_FROZEN_FAR:
             from irlc.runtime.ik.newton import IKFailure
 
@@ -437,10 +467,11 @@ class AcceleratedCycle:
                 f"inverse transformation produced a non-finite step: {self.V[k.DTHETA].copy()}"
             )
 
-    def snapshot(self, bounds, limits):
-        """The cycle's box for reports (copies the reused candidate buffer)."""
+    def snapshot(self, limits):
+        """The cycle's box for reports (copies the reused bounds and candidates)."""
         from irlc.runtime.ik.limits import BoxSnapshot
 
+        bounds = self.ws.bounds.copy()
         return BoxSnapshot(bounds[0], bounds[1], self.cand.copy(), limits)
 
     def jacobian(self):

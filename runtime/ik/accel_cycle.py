@@ -86,6 +86,7 @@ from irlc.runtime.ik.accel_layout import (
     P_APPLY_Z,
     P_SPLIT,
     P_START,
+    P_START_CHECKED,
     P_TERMS,
     PE,
     PHASE,
@@ -101,6 +102,7 @@ from irlc.runtime.ik.accel_layout import (
     S_NEED_QP,
     S_NEED_RELAXED,
     S_NEED_TERMS,
+    S_NOT_FINITE,
     SCALAR,
     SELF_MOTION,
     SIGMA,
@@ -134,7 +136,7 @@ from numba import njit
 
 # the modules whose code or constants newton_cycle's machine code includes
 CALLEES = ("accel_layout", "accel_chain", "accel_box", "accel_qp")
-SOURCES_DIGEST = "7c8f82762bc7f2ff"  # sources_digest() when this file was last updated
+SOURCES_DIGEST = "23e65527a989d62c"  # sources_digest() when this file was last updated
 
 
 def sources_digest() -> str:
@@ -245,14 +247,31 @@ def _v3(buf, off, a, b, c):
 
 
 @njit(cache=True)
+def _inputs_finite(q_start, target):
+    """``InverseTransformation.step``'s first test: ``q_start·q_start`` and the sum of the
+    target's first three rows are finite (an overflow of ``‖q‖²`` is no configuration:
+    the caller then runs the exact check)."""
+    s = 0.0
+    for j in range(q_start.shape[0]):
+        s += q_start[j] * q_start[j]
+    t = 0.0
+    for i in range(3):
+        for j in range(4):
+            t += target[i, j]
+    return math.isfinite(s) and math.isfinite(t)
+
+
+@njit(cache=True)
 def newton_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
     """Run Newton iterations of one cycle from ``ist[PHASE]`` until done or Python is
-    needed (returns the status; see the module docstring). The arrays are views of the
-    workspaces ``fw`` (float) and ``iw`` (int) cut by the layout ``lay`` (the driver's
-    ``accel.Workspace`` cuts the same). The step is solved on the reduced problem
-    ``Vr, Jr, Fr, Hr, Ar, bound_r`` (the free joints under FREEZE; without frozen joints
-    the layout points them at the full arrays). When the cycle is done, also the active
-    codes (``iw`` at ``I_CODES``, ``ist[ANY_CODE]``)."""
+    needed (returns the status; see the module docstring). At ``P_START`` the cycle's
+    inputs (``V[Q_START]``, the target) are first tested (:func:`_inputs_finite`;
+    ``S_NOT_FINITE``: Python checks them exactly and resumes with ``P_START_CHECKED``).
+    The arrays are views of the workspaces ``fw`` (float) and ``iw`` (int) cut by the
+    layout ``lay`` (the driver's ``accel.Workspace`` cuts the same). The step is solved
+    on the reduced problem ``Vr, Jr, Fr, Hr, Ar, bound_r`` (the free joints under FREEZE;
+    without frozen joints the layout points them at the full arrays). When the cycle is
+    done, also the active codes (``iw`` at ``I_CODES``, ``ist[ANY_CODE]``)."""
     n, m, nf, r, nfz = lay[Z_N], lay[Z_M], lay[Z_NF], lay[Z_R], lay[Z_NFZ]
     nz = max(nf - m, 0)
     nc = 2 * nf + r
@@ -282,7 +301,9 @@ def newton_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
     local = np.empty((4, 4))
     phase = ist[PHASE]
     stage = 0  # 0 evaluate, 1 split, 2 relax, 3 apply, 4 build the step's data
-    if phase == P_START:
+    if phase in (P_START, P_START_CHECKED):
+        if phase == P_START and not _inputs_finite(V[Q_START], target):
+            return S_NOT_FINITE
         if ist[BOX_READY] == 0 and not _box(
             boxc, ist[ACCEL_BOUNDED] != 0, fst[DTOL], V[Q_START], V[Q_PREV], cand, bounds
         ):

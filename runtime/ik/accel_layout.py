@@ -7,11 +7,12 @@ Plain module constants: numba freezes them into the machine code of every kernel
 reads them (a change here must touch :data:`accel_cycle.SOURCES_DIGEST`, see there).
 """
 
-# phases (ist[PHASE]) the caller resumes with
-P_START, P_APPLY, P_APPLY_Z, P_SPLIT, P_RELAX, P_TERMS = 0, 1, 2, 3, 4, 5
+# phases (ist[PHASE]) the caller resumes with (P_START_CHECKED: start a cycle whose
+# inputs Python has checked; P_START checks them first and may return S_NOT_FINITE)
+P_START, P_APPLY, P_APPLY_Z, P_SPLIT, P_RELAX, P_TERMS, P_START_CHECKED = 0, 1, 2, 3, 4, 5, 6
 # statuses returned
 S_DONE, S_BOX_CHECK, S_NEED_BASIS, S_NEED_QP, S_NEED_RELAXED, S_BAD_STEP = 0, 1, 2, 3, 4, 5
-S_NEED_TERMS, S_FROZEN_FAR = 6, 7
+S_NEED_TERMS, S_FROZEN_FAR, S_NOT_FINITE = 6, 7, 8
 # ist indices
 (
     PHASE,

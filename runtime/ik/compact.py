@@ -71,6 +71,7 @@ class CompactBasis:
         # J[:, perm] and F side by side: [J_m | J_free | F], solved in one LAPACK call
         self._aug = np.empty((m, n + 1))
         self._aug_perm = self._aug[:, :n]
+        self._aug_views = (self._aug[:, -1], self._aug[:, :m], self._aug[:, m:])  # made once
         if m == 0:
             return True
         r00 = abs(r[0, 0])
@@ -99,15 +100,14 @@ class CompactBasis:
         return out
 
     def _solve(self, J: np.ndarray, F: np.ndarray, cond_limit: float):
-        m = J.shape[0]
-        aug = self._aug
+        f_col, j_m, rhs = self._aug_views
         J.take(self.columns, axis=1, out=self._aug_perm)
-        aug[:, -1] = F
-        lu, _, x, info = _dgesv(aug[:, :m], aug[:, m:])
+        f_col[:] = F
+        lu, _, x, info = _dgesv(j_m, rhs)
         if info != 0:
             return None
         # cheap degradation test: spread of the LU pivots (a lower bound of cond(J_m))
-        piv = [abs(p) for p in lu.diagonal().tolist()]
+        piv = list(map(abs, lu.diagonal().tolist()))
         pmin = min(piv)
         self.cond = max(piv) / pmin if pmin > 0.0 else math.inf
         if not self.cond <= cond_limit:  # also catches NaN

@@ -205,7 +205,7 @@ def active_codes(
     tol = 1e-10 + 1e-9 * np.abs(delta)
     lo = delta <= lower + tol
     hi = delta >= upper - tol
-    if not (lo.any() or hi.any()):
+    if not (np.count_nonzero(lo) or np.count_nonzero(hi)):  # (cheaper than .any())
         return None
     src = np.argmin(cand, axis=0)  # (2, n): the candidate that sets each bound
     codes = np.zeros(delta.size, dtype=np.int8)
@@ -259,6 +259,12 @@ class JointBox:
         # overwrite it: it is a fresh array every cycle)
         self._signed_d = np.empty((2, n))
         self._room = np.empty((2, n))
+        self._excess = np.empty((2, n))  # d·sign − speed candidate (the speed check)
+        # views made once (indexing costs ~0.2 µs a time): the four candidates, flat
+        # position candidates and excess for the builtin reductions
+        self._cands = tuple(self.cand)
+        self._pos_flat = self.cand[POSITION].reshape(-1)
+        self._excess_flat = self._excess.reshape(-1)
         self._limits: tuple = ()
         self._cache: _BoxConstants | None = None
         self.naming: JointNaming | None = None  # joint names of failure messages
@@ -277,36 +283,33 @@ class JointBox:
         Infinite limits are allowed (they never bind)."""
         c = self.constants(position, speed, accel, dt)
         cand, sd = self.cand, self._signed_d
+        c_pos, c_speed, c_accel, brake = self._cands
         np.multiply(_SIGN, q_start, out=sd)
-        np.subtract(c.signed_pos, sd, out=cand[POSITION])  # [θ_s − θmin; θmax − θ_s]
+        np.subtract(c.signed_pos, sd, out=c_pos)  # [θ_s − θmin; θmax − θ_s]
         self.displacement = d = q_start - q_prev
         np.multiply(_SIGN, d, out=sd)
+        np.subtract(sd, c_speed, out=self._excess)
         # (builtins on lists: cheaper than numpy reductions for a handful of numbers)
-        if (
-            min(cand[POSITION].ravel().tolist()) < -TOLERANCE
-            or max((sd - cand[SPEED]).ravel().tolist()) > c.dtol
-        ):
+        if min(self._pos_flat.tolist()) < -TOLERANCE or max(self._excess_flat.tolist()) > c.dtol:
             self._check_state(model, q_start, d, dt, c.limits[0], c.limits[1])
         if c.accel_bounded:  # (otherwise both candidates stay at "no bound", set once)
-            np.add(c.signed_accel, sd, out=cand[ACCEL])
+            np.add(c.signed_accel, sd, out=c_accel)
             room = self._room
-            np.maximum(cand[POSITION], 0.0, out=room)  # braking: R = room to the limit ≥ 0
-            brake = cand[BRAKING]
+            np.maximum(c_pos, 0.0, out=room)  # braking: R = room to the limit ≥ 0
             np.multiply(room, c.two_over_eps, out=brake)
             brake += 1.0
             np.sqrt(brake, out=brake)
             brake += 1.0
             np.divide(room, brake, out=brake)
             brake += brake
-        bound = np.minimum(cand[POSITION], cand[SPEED])  # [−lower; upper]
-        if c.accel_bounded:
-            np.minimum(bound, cand[ACCEL], out=bound)
-            np.minimum(bound, cand[BRAKING], out=bound)
-        np.negative(bound[0], out=bound[0])
+        # [−lower; upper] (over all four candidates one reduction: min is exact, any order)
+        bound = np.minimum.reduce(cand, axis=0) if c.accel_bounded else np.minimum(c_pos, c_speed)
+        lower, upper = bound
+        np.negative(lower, out=lower)
         self.bounds = bound  # [lower; upper], a fresh array every cycle
-        self.lower_d, self.upper_d = bound[0], bound[1]
+        self.lower_d, self.upper_d = lower, upper
         self._limits = c.limits
-        if min((bound[1] - bound[0]).tolist()) < 0.0:
+        if min((upper - lower).tolist()) < 0.0:
             self._check_nonempty(model, q_start, d, dt)
 
     def constants(self, position, speed, accel, dt) -> _BoxConstants:

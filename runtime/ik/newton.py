@@ -143,6 +143,9 @@ class InverseTransformation:
         (the executor fails the run beyond its tolerance).
         """
         opts = options or self._default
+        if self._accel is not None and self.coupled is None and not opts.frozen:
+            # the kernel runs the same finiteness test first (nothing before it reads q)
+            return self._step_accel(q_start, q_prev, target, dt, opts)
         tl = target.tolist()
         if not (_finite(q_start) and math.isfinite(sum(tl[0]) + sum(tl[1]) + sum(tl[2]))):
             _require_finite("start configuration", q_start)
@@ -284,25 +287,23 @@ class InverseTransformation:
         """:meth:`step` through the compiled kernel (same numbers, see :mod:`accel`)."""
         acc = self._accel
         frozen = self.frozen_joints(opts.frozen) if opts.frozen else None
-        theta, bounds, limits, active, mult, codes = acc.step(
+        theta, limits, active, mult, codes, iterations, pe, oe, relaxed, singular = acc.step(
             q_start, q_prev, target, dt, opts, frozen, self.avoided(opts)
         )
-        k, ist, fst = acc.k, acc.ist, acc.fst
-        pe, oe = float(fst[k.PE]), float(fst[k.OE])
         p = self.params
         converged = pe < p.tol_position and oe < p.tol_orientation
         clearances = acc.clearances(opts.obstacles) if opts.obstacles else {}
         # as in the numpy path: keep the box and J only when a report can need them
-        box = acc.snapshot(bounds, limits) if codes is not None or active.size else None
+        box = acc.snapshot(limits) if codes is not None or active.size else None
         J = acc.jacobian() if opts.jacobian or not converged else None
         return CycleResult(
             theta,
-            int(ist[k.K]),
+            iterations,
             pe,
             oe,
             converged,
-            bool(ist[k.RELAXED]),
-            bool(ist[k.SINGULAR]),
+            relaxed,
+            singular,
             clearances,
             active_codes=codes,
             box=box,

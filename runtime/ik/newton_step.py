@@ -77,7 +77,8 @@ class NewtonStep:
 
         With ``−J_m⁻¹[J_free F] = [X y]`` (basic rows of ``N`` and ``Δθ_p``) and
         ``v = g + w∘Δθ_p``: ``H̃ = XᵀW_bX + W_f``, ``g̃ = Xᵀv_b + v_f``; the box rows
-        ``[N; −N]`` of ``Ãᵀ`` are rebuilt from ``N`` in place."""
+        ``[N; −N]`` of ``Ãᵀ`` are rebuilt from ``N`` in place. ``w`` is a criterion's
+        constant weights: its basic / free parts are kept while the same array comes."""
         self.last_singular = False
         basis = self.basis
         blocks = basis.blocks(J, F)
@@ -88,7 +89,7 @@ class NewtonStep:
         if self._version != basis.version:
             self._prepare()
         dp, N = self._dp, self._N
-        N[self._basic] = X
+        N.put(self._n_basic, X)  # N[basic] = X (flat indices: cheaper than row indexing)
         dp[self._basic] = y
         nz = N.shape[1]
         if nz == 0:
@@ -97,17 +98,19 @@ class NewtonStep:
             out = self._scalar_qp(dp, N[:, 0], w, g, bounds)
             if out is not False:
                 return out
+        if w is not self._w:  # (the criterion's weights: the same array cycle after cycle)
+            self._w, self._w_basic, self._w_free = w, w.take(self._basic), w.take(self._free)
         v = w * dp
         v += g
         gt = v.take(self._free) + v.take(self._basic) @ X
-        Ht = (X.T * w.take(self._basic)) @ X
-        Ht.flat[:: nz + 1] += w.take(self._free)
-        Ct, bt, n = self._ct, self._bt, dp.shape[0]
-        Ct[:, :n] = N.T
-        np.negative(Ct[:, :n], out=Ct[:, n:])
-        np.subtract(bounds[0], dp, out=bt[:n])
-        np.subtract(dp, bounds[1], out=bt[n:])
-        return self._solve_reduced(Ht, gt, Ct, bt, dp, N, ineq)
+        Ht = (X.T * self._w_basic) @ X
+        Ht.reshape(-1)[:: nz + 1] += self._w_free  # (Ht is fresh and contiguous)
+        ct_lo, ct_hi, bt_lo, bt_hi = self._halves
+        np.copyto(ct_lo, self._N_T)
+        np.negative(ct_lo, out=ct_hi)
+        np.subtract(bounds[0], dp, out=bt_lo)
+        np.subtract(dp, bounds[1], out=bt_hi)
+        return self._solve_reduced(Ht, gt, self._ct, self._bt, dp, N, ineq)
 
     def _solve_reduced(self, Ht, gt, Ct, bt, dp, N, ineq) -> StepOutcome | None:
         """Solve the compact QP in ``z`` (plus any coupled rows); ``Δθ = Δθ_p + N z``."""
@@ -127,9 +130,15 @@ class NewtonStep:
         n, nz = self._N.shape
         self._ct = np.empty((nz, 2 * n))
         self._bt = np.empty(2 * n)
+        # views made once: the box columns [Nᵀ, −Nᵀ], their right sides, N's basic rows
+        ct, bt = self._ct, self._bt
+        self._halves = (ct[:, :n], ct[:, n:], bt[:n], bt[n:])
+        self._N_T = self._N.T
+        self._n_basic = (self._basic[:, None] * nz + np.arange(nz)).ravel()
         self._zb = np.empty((2, n))
         self._zlo = np.empty(n)
         self._zhi = np.empty(n)
+        self._w = None  # w.take(basic), w.take(free) are cached per basis and weights
 
     def _scalar_qp(self, dp, col, w, g, bounds):
         """One null-space dimension, ``Δθ = Δθ_p + col·z``: ``min ½hz² + g̃z`` with

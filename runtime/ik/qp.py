@@ -24,6 +24,7 @@ Backends:
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -91,15 +92,25 @@ class QuadprogSolver:
     def solve_ct(self, H, g, C, b) -> QPResult:
         """Hot path: inequalities only, given transposed (``C = Aᵀ``, columns are rows of
         ``A``), as the compact form builds them; quadprog is called directly."""
-        scale = 1.0 / float(H.diagonal().max())
+        scale = 1.0 / _max_diagonal(H)
         try:
             z, _, _, _, lagr, iact = quadprog.solve_qp(H * scale, g * -scale, C, b, 0)
         except ValueError as exc:
             text = str(exc)
             status = INFEASIBLE if "inconsistent" in text else ERROR
             return QPResult(np.full(H.shape[0], np.nan), status, _EMPTY_INT, _EMPTY, text)
+        if not np.count_nonzero(iact):  # nothing active (the common cycle): no indexing
+            return QPResult(z, OPTIMAL, _EMPTY_INT, _EMPTY)
         rows = iact[iact > 0] - 1
         return QPResult(z, OPTIMAL, rows, lagr[rows] / scale)
+
+
+def _max_diagonal(H: np.ndarray) -> float:
+    """``max(diag H)`` as ``H.diagonal().max()`` (NaN when an entry is NaN; H's diagonal
+    is ≥ 0, so the sum is NaN only then), with builtins: a numpy reduction costs more
+    than the handful of numbers."""
+    d = H.diagonal().tolist()
+    return math.nan if math.isnan(sum(d)) else max(d)
 
 
 class DaqpSolver:

@@ -276,6 +276,30 @@ def test_freeze_releases_towards_held_values(robots):
             ik.step(home, home, Kinematics(model).tcp(home), 0.01, far)
 
 
+@pytest.mark.parametrize("freeze", [False, True])
+def test_non_finite_inputs_same_failure(robots, freeze):
+    """The kernel's own finiteness test (``S_NOT_FINITE``) raises what the numpy path's
+    first test raises; a configuration whose ‖q‖² overflows is finite and gets the
+    numpy path's next failure (the joint limits)."""
+    model = robots["panda"]
+    home = np.array(model.home_q(), dtype=float)
+    opts = CycleOptions(frozen={0: float(home[0])} if freeze else {})
+    target = Kinematics(model).tcp(home)
+    bad_q, bad_t, huge_q = home.copy(), target.copy(), home.copy()
+    bad_q[3] = np.nan
+    bad_t[1, 2] = np.inf
+    huge_q[2] = 1e200
+    cases = ((bad_q, target), (home, bad_t), (huge_q, target))
+    for q, t in cases:
+        with np.errstate(over="ignore"):  # (the numpy path's ‖q‖² overflows for huge_q)
+            outcomes = [_try(ik.step, q, home, t, 0.01, opts) for ik in _pair(model)]
+        assert all(isinstance(o, Exception) for o in outcomes), outcomes
+        assert type(outcomes[0]) is type(outcomes[1])
+        assert str(outcomes[0]) == str(outcomes[1])
+    fast, _ = _pair(model)
+    fast.step(home, home, target, 0.01, opts)  # a failed cycle leaves no state behind
+
+
 def test_freeze_too_many_joints_same_error(robots):
     model = robots["panda"]
     home = np.array(model.home_q(), dtype=float)
