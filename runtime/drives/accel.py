@@ -1,9 +1,13 @@
 """Optional compiled drive loop (``pip install irlc[fast]``: numba).
 
 The numpy loop of :mod:`.simulate` is the reference and the default without numba. With
-numba, :class:`AcceleratedLoop` runs the same steps through the kernel
-:func:`.accel_kernels.run_segment` and returns to numpy only to refresh ``M(q)`` and
-``C q̇ + G`` (:mod:`.refresh`). Results equal the numpy path to rounding (tested in
+numba, :class:`AcceleratedLoop` runs the same steps through the kernels: at the coupled
+level the whole run is one call of :func:`.accel_kernels.run_coupled`, which refreshes
+``M(q)``, ``C q̇ + G``, the transmission's rotor matrix and ``M⁻¹`` inside
+(:mod:`.refresh`'s policy) from the packed public data (``Kinematics.chain_data``,
+``Dynamics.data``, ``Transmission.data``); at the decoupled level
+:func:`.accel_kernels.run_segment` runs from one refresh of ``G(q)`` to the next and
+numpy refreshes it. Results equal the numpy path to rounding (tested in
 ``tests/drives/test_accel.py``).
 
 Covered: DC drives with the averaged power stage (``decoupled``, ``coupled``) on robots
@@ -28,7 +32,7 @@ from irlc.runtime import accel_support
 AVAILABLE = accel_support.AVAILABLE
 compile_seconds: float | None = None  # first kernel call of this process (compile or load)
 
-_KERNELS = accel_support.Kernels("irlc.runtime.drives.accel_kernels", "run_segment")
+_KERNELS = accel_support.Kernels("irlc.runtime.drives.accel_kernels", "run_coupled")
 _module = _KERNELS.load
 cache_warm = _KERNELS.cache_warm
 
@@ -56,35 +60,37 @@ class AcceleratedLoop:
         self.par = par
         self.trans = trans.data  # the packed motor map (public, read-only)
         self.static_j, self.running_j = static_j, running_j
-        self._kin = None  # link frames for the compiled M(q), C q̇ + G (coupled)
         self.ist = np.zeros(k.N_IST, dtype=np.int64)
         self.fst = np.array([sim.h, 0.0, 0.0])
         self.ist[k.STICKY], self.ist[k.SLIDING] = int(sticky), int(sliding)
 
     def _refresh(self, q, qd, mm, hb, m_inv) -> None:
-        """``M(q)``, ``C q̇ + G`` and ``M⁻¹`` (``Mechanics.terms``): the coupled terms by
-        the compiled :func:`accel_kernels.mass_and_bias` on the packed
-        :class:`~irlc.runtime.dynamics.DynamicsData` and the link frames."""
-        mech = self.sim.mech
-        if mech.coupled and mech.dyn is not None:
-            if self._kin is None:
-                from irlc.runtime.kinematics import Kinematics
-
-                self._kin = Kinematics(mech.dyn.model)
-            d = mech.dyn.data
-            self.k.mass_and_bias(self._kin.chain(q), d.axes, d.revolute, d.rotor, d.mass,
-                                 d.com, d.inertia, d.gravity, qd, mm, hb)  # fmt: skip
-            if mech.rotor_extra is not None:
-                mm += mech.rotor_extra(q)
-            m_inv[:] = np.linalg.inv(mm)
-            return
-        m_new, hb[:] = mech.terms(q, qd)
-        if m_new.ndim == 1:  # decoupled, plain ratios: D diagonal
+        """``D``, ``G(q)`` and ``D⁻¹`` of the decoupled level (``Mechanics.terms``; the
+        coupled level refreshes inside the kernel, :meth:`_coupled_data`)."""
+        m_new, hb[:] = self.sim.mech.terms(q, qd)
+        if m_new.ndim == 1:  # plain ratios: D diagonal
             mm[:] = np.diag(m_new)
             m_inv[:] = np.diag(1.0 / m_new)
         else:
             mm[:] = m_new
             m_inv[:] = np.linalg.inv(m_new)
+
+    def _coupled_data(self):
+        """``(chain, dyn, J_m, rotor_matrix)`` for :func:`accel_kernels.run_coupled`, or
+        ``None`` at the decoupled level: the packed chain (``Kinematics.chain_data``), the
+        packed inertial data (``Dynamics.data``, rotors of plain ratios on its diagonal)
+        and, for coupled or non-linear transmissions (``Mechanics.rotor_extra``), the
+        motor inertias of ``Kᵀ diag(J_m) K``."""
+        mech = self.sim.mech
+        if not mech.coupled:
+            return None
+        from irlc.runtime.kinematics import Kinematics
+
+        c, d = Kinematics(mech.dyn.model).chain_data, mech.dyn.data
+        chain = (c.basis, c.joints, c.ends[0])
+        dyn = (d.axes, d.revolute, d.rotor, d.mass, d.com, d.inertia, d.gravity)
+        j_m = np.ascontiguousarray(self.sim.p.chain.J_m, dtype=float)
+        return chain, dyn, j_m, mech.rotor_extra is not None
 
     @staticmethod
     def covers(sim) -> bool:
@@ -113,22 +119,23 @@ class AcceleratedLoop:
         xiu = bank.loop.x.copy()
         xi, xu = np.ascontiguousarray(xiu[:, 0]), np.ascontiguousarray(xiu[:, 1])
         theta_ref = np.ascontiguousarray(theta_ref)
-        s, fresh = 0, 0
-        while True:
-            ist[k.START], ist[k.FRESH], ist[k.S0] = s, fresh, refresh.s0
-            s = k.run_segment(
-                ist, fst, self.par, bank.fused, bank.limits, bank.loop.big, theta_ref,
-                self.trans.linear, self.trans.rows, self.trans.angle, self.trans.lever,
-                self.static_j, self.running_j,
-                q, qd, xv, xi, xu, mm, hb, m_inv, refresh.q0, refresh.qd0,
-                rec["q"], rec["qd"], rec["tau"], rec["f"], rec_i, rec_u, sat_rec,
-                energy, copper,
-            )  # fmt: skip
-            if s >= steps:
-                break
-            self._refresh(q, qd, mm, hb, m_inv)
-            refresh.mark(s, q, qd)
-            fresh = 1
+        args = (
+            ist, fst, self.par, bank.fused, bank.limits, bank.loop.big, theta_ref,
+            self.trans.linear, self.trans.rows, self.trans.angle, self.trans.lever,
+            self.static_j, self.running_j,
+            q, qd, xv, xi, xu, mm, hb, m_inv, refresh.q0, refresh.qd0,
+            rec["q"], rec["qd"], rec["tau"], rec["f"], rec_i, rec_u, sat_rec, energy, copper,
+        )  # fmt: skip
+        ist[k.START], ist[k.FRESH], ist[k.S0] = 0, 0, refresh.s0
+        coupled = self._coupled_data()
+        if coupled is not None:  # one call: the refreshes run inside (run_coupled)
+            refresh.count += k.run_coupled(*coupled, *args)
+            refresh.s0 = int(ist[k.S0])
+        else:
+            while (s := k.run_segment(*args)) < steps:
+                self._refresh(q, qd, mm, hb, m_inv)
+                refresh.mark(s, q, qd)
+                ist[k.START], ist[k.FRESH], ist[k.S0] = s, 1, refresh.s0
         bank.loop.x[:, 0], bank.loop.x[:, 1] = xi, xu
         bank.pi.x = xv
 
@@ -147,7 +154,8 @@ def warm_up() -> float:
     model = load_robot("irb6_track")  # screw levers, friction: every branch's types
     q0 = np.asarray(model.home_q(), dtype=float)
     times = np.array([0.0, 0.01])
-    simulate_drives(model, times, np.stack([q0, q0]), level="coupled", hold=0.0, accel=True)
+    for level in ("coupled", "decoupled"):  # run_coupled; run_segment from Python
+        simulate_drives(model, times, np.stack([q0, q0]), level=level, hold=0.0, accel=True)
     compile_seconds = time.perf_counter() - t0
     return compile_seconds
 

@@ -4,9 +4,12 @@ fused.
 Imported only through :mod:`.accel` when numba is available. :func:`run_segment` runs the
 steps of :meth:`irlc.runtime.drives.simulate._Simulation.run` from ``start`` until the
 held ``M``, ``C q̇ + G`` are due for a refresh (:mod:`.refresh`) or the run ends, and
-returns that step; the caller refreshes them in numpy and resumes. Per step, the same
-arithmetic as its numpy reference (named in each docstring), written as loops over the
-axes:
+returns that step. :func:`run_coupled` (coupled level) runs the whole run in one call:
+it refreshes at each such step with :func:`coupled_terms` — link frames
+(``ik.accel_chain._chain``), :func:`mass_and_bias`, the rotor matrix ``Kᵀ diag(J_m) K``,
+``M⁻¹`` (:func:`_invert`) — and resumes; at the decoupled level the caller refreshes
+``G(q)`` in numpy and resumes. Per step, the same arithmetic as its numpy reference
+(named in each docstring), written as loops over the axes:
 
 * transmission (:meth:`.transmission.Transmission.motor_and_jacobian`): ``θ_m = L q`` plus
   the screw-lever rows, ``K`` likewise, ``ω_m = K q̇``;
@@ -35,7 +38,22 @@ from irlc.runtime.drives.transmission import (
     LEVER_S0,
     LEVER_SQ,
 )
+from irlc.runtime.ik.accel_chain import _chain
 from numba import njit
+
+# numba's cache of a function is keyed by its own source file: run_coupled's machine code
+# includes ik/accel_chain._chain, so this digest of _chain's source (chain_source_digest(),
+# checked by tests/drives/test_accel_kernels.py) changes this file when _chain changes.
+CHAIN_SOURCE_DIGEST = "a9fece99e4e4cf85"
+
+
+def chain_source_digest() -> str:
+    """SHA-256 (first 16 hex digits) of the source of ``ik.accel_chain._chain``."""
+    import hashlib
+    import inspect
+
+    return hashlib.sha256(inspect.getsource(_chain.py_func).encode()).hexdigest()[:16]
+
 
 # ist
 START, STEPS, EVERY, MAX_STEPS, S0, FRESH, STICKY, SLIDING = range(8)
@@ -475,3 +493,93 @@ def run_segment(
                 qd[j] = 0.0
             q[j] += h * qd[j]
     return ist[STEPS]
+
+
+@njit(cache=True)
+def _invert(a, out, work):
+    """``out = a⁻¹`` (``np.linalg.inv``): Gauss–Jordan elimination with partial pivoting on
+    ``work = [a | I]`` (n × 2n)."""
+    n = a.shape[0]
+    for i in range(n):
+        for j in range(n):
+            work[i, j] = a[i, j]
+            work[i, n + j] = 1.0 if i == j else 0.0
+    for c in range(n):
+        piv = c
+        for r in range(c + 1, n):
+            if abs(work[r, c]) > abs(work[piv, c]):
+                piv = r
+        if piv != c:
+            for j in range(c, 2 * n):
+                work[c, j], work[piv, j] = work[piv, j], work[c, j]
+        inv_p = 1.0 / work[c, c]
+        for j in range(c, 2 * n):
+            work[c, j] *= inv_p
+        for r in range(n):
+            if r != c:
+                f = work[r, c]
+                if f != 0.0:
+                    for j in range(c, 2 * n):
+                        work[r, j] -= f * work[c, j]
+    for i in range(n):
+        for j in range(n):
+            out[i, j] = work[i, n + j]
+
+
+@njit(cache=True)
+def coupled_terms(chain, dyn, trans, j_m, rotor_matrix, q, qd, mm, hb, m_inv, buf):
+    """One refresh of the coupled level (``Mechanics.terms`` + ``Mechanics.inverse``):
+    link frames ``T_i = T_{i−1}·L_i`` (``Kinematics.chain`` on :class:`ChainData`
+    ``chain = (basis, joints, base)``), ``M(q)`` and ``h = C q̇ + G`` (:func:`mass_and_bias`
+    on :class:`DynamicsData` ``dyn``), with ``rotor_matrix`` the rotors of a coupled or
+    non-linear transmission ``M += Kᵀ diag(J_m) K`` (``Transmission.rotor_matrix``, ``K``
+    from :func:`_transmission` on :class:`TransmissionData` ``trans``), then ``M⁻¹``
+    (:func:`_invert`). ``buf = (frames (n+1, 4, 4), local (4, 4), θ_m (m,), K (m, n),
+    work (n, 2n))``."""
+    basis, joints, base = chain
+    axes, revolute, rotor, mass, com, inertia, gravity = dyn
+    frames, local, theta, kmat, work = buf
+    _chain(basis, joints, base, q, frames, local)
+    mass_and_bias(frames, axes, revolute, rotor, mass, com, inertia, gravity, qd, mm, hb)
+    if rotor_matrix:
+        lin, rows, coef, lev = trans
+        _transmission(lin, rows, coef, lev, q, theta, kmat)
+        n, m = mm.shape[0], kmat.shape[0]
+        for i in range(n):
+            for j in range(n):
+                acc = 0.0
+                for a in range(m):
+                    acc += kmat[a, i] * j_m[a] * kmat[a, j]
+                mm[i, j] += acc
+    _invert(mm, m_inv, work)
+
+
+@njit(cache=True)
+def run_coupled(
+    chain, dyn, j_m, rotor_matrix,
+    ist, fst, par, fused, lim5, big, theta_ref, lin, rows, coef, lev, static_j, running_j,
+    q, qd, xv, xi, xu, mm, hb, m_inv, q0, qd0,
+    rec_q, rec_qd, rec_tau, rec_f, rec_i, rec_u, rec_sat, energy, copper,
+):  # fmt: skip
+    """The whole coupled run from ``ist[START]`` in one call: :func:`run_segment` up to
+    each due refresh, :func:`coupled_terms` there (``Refresh.mark``: ``q0, q̇0 = q, q̇``,
+    ``ist[S0] = s``), and on to the end. Returns the number of refreshes."""
+    n, m = q.shape[0], xv.shape[0]
+    buf = (np.empty((n + 1, 4, 4)), np.empty((4, 4)), np.empty(m), np.empty((m, n)),
+           np.empty((n, 2 * n)))  # fmt: skip
+    trans = (lin, rows, coef, lev)
+    steps = ist[STEPS]
+    count = 0
+    while True:
+        s = run_segment(
+            ist, fst, par, fused, lim5, big, theta_ref, lin, rows, coef, lev, static_j,
+            running_j, q, qd, xv, xi, xu, mm, hb, m_inv, q0, qd0,
+            rec_q, rec_qd, rec_tau, rec_f, rec_i, rec_u, rec_sat, energy, copper,
+        )  # fmt: skip
+        if s >= steps:
+            return count
+        coupled_terms(chain, dyn, trans, j_m, rotor_matrix, q, qd, mm, hb, m_inv, buf)
+        for j in range(n):
+            q0[j], qd0[j] = q[j], qd[j]
+        ist[START], ist[FRESH], ist[S0] = s, 1, s
+        count += 1

@@ -63,6 +63,22 @@ def test_screw_levers_friction_and_limits(level, every):
 
 
 @needs_numba
+@pytest.mark.parametrize("every", [None, 1])
+def test_coupled_1ms_adaptive_and_every_step(every):
+    """The bench case (coupled, forced 1 ms) on both robots, adaptive refresh and a refresh
+    every step: the compiled run (refreshes inside run_coupled) equals the numpy loop."""
+    irb6 = load_toml(ROBOTS / "irb6_track.toml")
+    times, q = move(irb6, IRB6_MOVE / 2, 0.4)
+    ref, fast = both(irb6, times, q, level="coupled", step=1e-3, dynamics_every=every)
+    assert_same(ref, fast)
+    koch = load_toml(ROBOTS / "koch11.toml")
+    delta = np.linspace(0.05, 0.3, koch.n) * np.where(np.arange(11) == 9, 0.2, 1)
+    times, q = move(koch, delta, 0.6)
+    ref, fast = both(koch, times, q, level="coupled", step=1e-3, dynamics_every=every)
+    assert_same(ref, fast)
+
+
+@needs_numba
 def test_plain_ratios_and_rule_step():
     """koch11: diagonal transmission, no friction, the step-size rule's step."""
     model = load_toml(ROBOTS / "koch11.toml")
