@@ -39,6 +39,7 @@ CASES = [  # (setpoints, level, step s | None = rule, compiled loop)
     ("irb6_track line", "decoupled", 1e-3, False),
     ("irb6_track line", "pwm", None, False),
     ("koch11 square", "coupled", 1e-3, False),
+    ("koch11 square", "coupled", 1e-3, True),
 ]
 
 

@@ -2,7 +2,7 @@
 
 The numpy loop of :mod:`.simulate` is the reference and the default without numba. With
 numba, :class:`AcceleratedLoop` runs the same steps through the kernels: at the coupled
-level the whole run is one call of :func:`.accel_kernels.run_coupled`, which refreshes
+level the whole run is one call of :func:`.accel_kernels.run_segment`, which refreshes
 ``M(q)``, ``C q̇ + G``, the transmission's rotor matrix and ``M⁻¹`` inside
 (:mod:`.refresh`'s policy) from the packed public data (``Kinematics.chain_data``,
 ``Dynamics.data``, ``Transmission.data``); at the decoupled level
@@ -32,9 +32,14 @@ from irlc.runtime import accel_support
 AVAILABLE = accel_support.AVAILABLE
 compile_seconds: float | None = None  # first kernel call of this process (compile or load)
 
-_KERNELS = accel_support.Kernels("irlc.runtime.drives.accel_kernels", "run_coupled")
+_KERNELS = accel_support.Kernels("irlc.runtime.drives.accel_kernels", "run_segment")
 _module = _KERNELS.load
 cache_warm = _KERNELS.cache_warm
+
+
+def _read_only(a: np.ndarray) -> np.ndarray:
+    a.flags.writeable = False
+    return a
 
 
 def use_accel(requested: bool | None) -> bool:
@@ -66,7 +71,7 @@ class AcceleratedLoop:
 
     def _refresh(self, q, qd, mm, hb, m_inv) -> None:
         """``D``, ``G(q)`` and ``D⁻¹`` of the decoupled level (``Mechanics.terms``; the
-        coupled level refreshes inside the kernel, :meth:`_coupled_data`)."""
+        coupled level refreshes inside the kernel, :meth:`_terms`)."""
         m_new, hb[:] = self.sim.mech.terms(q, qd)
         if m_new.ndim == 1:  # plain ratios: D diagonal
             mm[:] = np.diag(m_new)
@@ -75,22 +80,24 @@ class AcceleratedLoop:
             mm[:] = m_new
             m_inv[:] = np.linalg.inv(m_new)
 
-    def _coupled_data(self):
-        """``(chain, dyn, J_m, rotor_matrix)`` for :func:`accel_kernels.run_coupled`, or
-        ``None`` at the decoupled level: the packed chain (``Kinematics.chain_data``), the
-        packed inertial data (``Dynamics.data``, rotors of plain ratios on its diagonal)
-        and, for coupled or non-linear transmissions (``Mechanics.rotor_extra``), the
-        motor inertias of ``Kᵀ diag(J_m) K``."""
-        mech = self.sim.mech
-        if not mech.coupled:
-            return None
+    def _terms(self) -> tuple:
+        """``(chain, dyn, J_m)`` for the refresh inside :func:`accel_kernels.run_segment`:
+        the packed chain (``Kinematics.chain_data``: basis, joints, base), the packed
+        inertial data (``Dynamics.data``, rotors of plain ratios on its diagonal) and the
+        motor inertias of the rotor matrix ``Kᵀ diag(J_m) K``. Without inertial data
+        (decoupled with ``load_inertia``; never refreshed inside) empty read-only arrays
+        of the same kinds (one compiled specialisation)."""
         from irlc.runtime.kinematics import Kinematics
 
-        c, d = Kinematics(mech.dyn.model).chain_data, mech.dyn.data
-        chain = (c.basis, c.joints, c.ends[0])
-        dyn = (d.axes, d.revolute, d.rotor, d.mass, d.com, d.inertia, d.gravity)
-        j_m = np.ascontiguousarray(self.sim.p.chain.J_m, dtype=float)
-        return chain, dyn, j_m, mech.rotor_extra is not None
+        mech = self.sim.mech
+        c = Kinematics(self.sim.model).chain_data
+        if mech.dyn is not None:
+            d = mech.dyn.data
+            dyn = (d.axes, d.revolute, d.rotor, d.mass, d.com, d.inertia, d.gravity)
+        else:
+            dyn = tuple(_read_only(np.zeros(s)) for s in ((0, 3), 0, 0, 0, (0, 3), (0, 3, 3), 3))
+        j_m = np.array(self.sim.p.chain.J_m, dtype=float)
+        return (c.basis, c.joints, c.ends[0]), dyn, j_m
 
     @staticmethod
     def covers(sim) -> bool:
@@ -119,23 +126,24 @@ class AcceleratedLoop:
         xiu = bank.loop.x.copy()
         xi, xu = np.ascontiguousarray(xiu[:, 0]), np.ascontiguousarray(xiu[:, 1])
         theta_ref = np.ascontiguousarray(theta_ref)
+        mech = sim.mech
+        inner = mech.coupled  # the refreshes run inside the kernel: one call
+        ist[k.START], ist[k.FRESH], ist[k.S0], ist[k.COUNT] = 0, 0, refresh.s0, 0
+        ist[k.INNER], ist[k.ROTOR] = int(inner), int(mech.rotor_extra is not None)
         args = (
             ist, fst, self.par, bank.fused, bank.limits, bank.loop.big, theta_ref,
             self.trans.linear, self.trans.rows, self.trans.angle, self.trans.lever,
             self.static_j, self.running_j,
             q, qd, xv, xi, xu, mm, hb, m_inv, refresh.q0, refresh.qd0,
             rec["q"], rec["qd"], rec["tau"], rec["f"], rec_i, rec_u, sat_rec, energy, copper,
+            self._terms(),
         )  # fmt: skip
-        ist[k.START], ist[k.FRESH], ist[k.S0] = 0, 0, refresh.s0
-        coupled = self._coupled_data()
-        if coupled is not None:  # one call: the refreshes run inside (run_coupled)
-            refresh.count += k.run_coupled(*coupled, *args)
-            refresh.s0 = int(ist[k.S0])
-        else:
-            while (s := k.run_segment(*args)) < steps:
-                self._refresh(q, qd, mm, hb, m_inv)
-                refresh.mark(s, q, qd)
-                ist[k.START], ist[k.FRESH], ist[k.S0] = s, 1, refresh.s0
+        while (s := k.run_segment(*args)) < steps:  # decoupled: G(q) refreshed in numpy
+            self._refresh(q, qd, mm, hb, m_inv)
+            refresh.mark(s, q, qd)
+            ist[k.START], ist[k.FRESH], ist[k.S0] = s, 1, refresh.s0
+        if inner:
+            refresh.s0, refresh.count = int(ist[k.S0]), refresh.count + int(ist[k.COUNT])
         bank.loop.x[:, 0], bank.loop.x[:, 1] = xi, xu
         bank.pi.x = xv
 
@@ -154,7 +162,7 @@ def warm_up() -> float:
     model = load_robot("irb6_track")  # screw levers, friction: every branch's types
     q0 = np.asarray(model.home_q(), dtype=float)
     times = np.array([0.0, 0.01])
-    for level in ("coupled", "decoupled"):  # run_coupled; run_segment from Python
+    for level in ("coupled", "decoupled"):  # (the same kernel; decoupled: no compile)
         simulate_drives(model, times, np.stack([q0, q0]), level=level, hold=0.0, accel=True)
     compile_seconds = time.perf_counter() - t0
     return compile_seconds

@@ -66,7 +66,7 @@ def test_screw_levers_friction_and_limits(level, every):
 @pytest.mark.parametrize("every", [None, 1])
 def test_coupled_1ms_adaptive_and_every_step(every):
     """The bench case (coupled, forced 1 ms) on both robots, adaptive refresh and a refresh
-    every step: the compiled run (refreshes inside run_coupled) equals the numpy loop."""
+    every step: the compiled run (refreshes inside run_segment) equals the numpy loop."""
     irb6 = load_toml(ROBOTS / "irb6_track.toml")
     times, q = move(irb6, IRB6_MOVE / 2, 0.4)
     ref, fast = both(irb6, times, q, level="coupled", step=1e-3, dynamics_every=every)

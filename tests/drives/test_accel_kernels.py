@@ -174,7 +174,7 @@ def test_coupled_terms_on_packed_data(robot):
 
 
 def test_chain_source_digest():
-    """run_coupled's machine code includes ik/accel_chain._chain; numba's cache is keyed by
+    """run_segment's machine code includes ik/accel_chain._chain; numba's cache is keyed by
     this module's file only, so a change of _chain must change CHAIN_SOURCE_DIGEST here."""
     k = _kernels()
     assert k.chain_source_digest() == k.CHAIN_SOURCE_DIGEST, (
