@@ -98,6 +98,28 @@ def test_dry_friction_robot_decoupled():
 
 
 @needs_numba
+def test_decoupled_without_inertial_data(monkeypatch):
+    """``[drives] load_inertia`` and no ``[[inertials]]``: the kernel gets empty inertial
+    arrays (never refreshed inside) and equals the numpy loop."""
+    from .drive_models import dc_drives, planar
+
+    accel.warm_up()  # (its own runs are not counted below)
+    calls = []
+    kernel_run = accel.AcceleratedLoop.run
+    monkeypatch.setattr(
+        accel.AcceleratedLoop, "run", lambda self, *a: calls.append(1) or kernel_run(self, *a)
+    )
+
+    model = planar(2, drives=dict(dc_drives(2, 30.0), load_inertia=0.5))
+    bare = type(model)(model.name, model.joints, extra=model.extra, source="<bare>")
+    times = np.linspace(0.0, 0.3, 31)
+    q = np.outer((times / 0.3) ** 2 * (3 - 2 * times / 0.3), [0.2, -0.1])
+    ref, fast = both(bare, times, q, level="decoupled")
+    assert_same(ref, fast)
+    assert calls == [1] and ref.axes[0].peak_current > 0.0  # the kernel ran (once)
+
+
+@needs_numba
 def test_pwm_and_steppers_run_the_numpy_loop():
     """Outside the kernel's scope ``accel=True`` is the numpy loop: identical results."""
     irb6 = load_toml(ROBOTS / "irb6_track.toml")
