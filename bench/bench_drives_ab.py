@@ -34,13 +34,16 @@ import warnings
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-CASES = [  # (setpoints, level, step s | None = rule, compiled loop)
+CASES = [  # (setpoints, level, step s | None = rule, compiled loop[, dynamics_every])
     ("irb6_track line", "coupled", 1e-3, False),
     ("irb6_track line", "coupled", 1e-3, True),
     ("irb6_track line", "decoupled", 1e-3, False),
     ("irb6_track line", "pwm", None, False),
     ("irb6_track line", "pwm", None, True),
     ("koch11 square", "coupled", 1e-3, False),
+    ("koch11 square", "coupled", 1e-3, True),
+    ("irb6_track line", "coupled", 1e-3, True, 1),  # M(q), C q̇ + G refreshed every step
+    ("koch11 square", "coupled", 1e-3, True, 1),
 ]
 
 
@@ -52,11 +55,15 @@ def worker(data_path: str) -> None:
         data = pickle.load(fh)
     warnings.simplefilter("ignore")
     out = {}
-    for case, level, step, fast in CASES:
+    for case, level, step, fast, *every in CASES:
         model, times, q = data[case]
+        every = every[0] if every else None
 
-        def go(model=model, times=times, q=q, level=level, step=step, fast=fast):
-            return simulate_drives(model, times, q, level=level, step=step, hold=0.0, accel=fast)
+        def go(model=model, times=times, q=q, level=level, step=step, fast=fast, every=every):
+            return simulate_drives(
+                model, times, q, level=level, step=step, hold=0.0, accel=fast,
+                dynamics_every=every,
+            )  # fmt: skip
 
         if level != "pwm":
             go()
@@ -65,13 +72,14 @@ def worker(data_path: str) -> None:
         w0, c0 = time.perf_counter(), time.process_time()
         run = go()
         wall, cpu = time.perf_counter() - w0, time.process_time() - c0
-        out[_label(case, level, step, fast)] = [wall, cpu, float(run.t[-1] - run.t[0])]
+        out[_label(case, level, step, fast, every)] = [wall, cpu, float(run.t[-1] - run.t[0])]
     print(json.dumps(out))
 
 
-def _label(case, level, step, fast) -> str:
+def _label(case, level, step, fast, every=None) -> str:
     when = "rule" if step is None else f"{step * 1e3:g} ms"
-    return f"{case}, {level} {when}, {'numba' if fast else 'numpy'}"
+    refresh = "" if every is None else f", M refreshed every {every} step(s)"
+    return f"{case}, {level} {when}, {'numba' if fast else 'numpy'}{refresh}"
 
 
 def overlay(rev: str, into: Path) -> Path:

@@ -21,8 +21,9 @@ explicit ``numpy`` wins.
 **Why numpy is the default.** The kernels must be compiled once per installation (``irlc
 warmup`` with an empty cache, 2026-11-25: ≈ 24 s of CPU, ≈ 17 s for the IK kernels and ≈ 7
 s for the drive kernels, so ≈ 25 s of wall time on a quiet machine and 35 s at load 2.7 on
-2 shared cores; earlier, at heavier load, 50–100 s; since 2026-11-26 ≈ 3 s more for the
-PWM drive kernels: 27 s of CPU, 61 s wall at load 5.5–7); numba caches the machine code
+2 shared cores; earlier, at heavier load, 50–100 s; 2026-11-26, the drive kernels with the
+coupled refresh compiled in: ≈ 14.5 s of CPU alone, the PWM drive kernels ≈ 3 s, the IK
+obstacle kernels ≈ 8 s); numba caches the machine code
 (``__pycache__`` next to the kernel module, or ``NUMBA_CACHE_DIR``) and later processes
 load it in ≈ 0.3 s. A default that compiles makes the first run slow; a default that
 switches to the kernels once the cache is warm makes the output bytes depend on the
@@ -54,7 +55,9 @@ KERNEL_NAMES = {  # the kernel modules, as the compile message names them
 }
 COMPILE_ESTIMATE = {  # wall time of the first compile, quiet machine … load ≈ 3 on 2 cores
     "IK kernels": "15–25 s",  # (measured 24.4 s wall at load 2.7, ≈ 17 s CPU)
-    "drive kernels": "5–10 s",  # (measured 9.0 s wall at load 2.7, ≈ 7 s CPU)
+    # (2026-11-26, with the coupled refresh compiled in: 14.6 s CPU, 53 s wall at load 13;
+    # the previous drive kernel 7.3 s CPU in the same run, earlier 9.0 s wall at load 2.7)
+    "drive kernels": "10–20 s",
     "PWM drive kernels": "3–6 s",  # (measured 4.0 s wall at load 5.5, ≈ 2.6 s CPU)
     "IK obstacle kernels": "5–15 s",  # (measured ≈ 8 s CPU; compiled on first use)
 }

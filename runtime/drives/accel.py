@@ -1,9 +1,13 @@
 """Optional compiled drive loop (``pip install irlc[fast]``: numba).
 
 The numpy loop of :mod:`.simulate` is the reference and the default without numba. With
-numba, :class:`AcceleratedLoop` runs the same steps through the kernel
-:func:`.accel_kernels.run_segment` and returns to numpy only to refresh ``M(q)`` and
-``C q̇ + G`` (:mod:`.refresh`). Results equal the numpy path to rounding (tested in
+numba, :class:`AcceleratedLoop` runs the same steps through the kernels: at the coupled
+level the whole run is one call of :func:`.accel_kernels.run_segment`, which refreshes
+``M(q)``, ``C q̇ + G``, the transmission's rotor matrix and ``M⁻¹`` inside
+(:mod:`.refresh`'s policy) from the packed public data (``Kinematics.chain_data``,
+``Dynamics.data``, ``Transmission.data``); at the decoupled level
+:func:`.accel_kernels.run_segment` runs from one refresh of ``G(q)`` to the next and
+numpy refreshes it. Results equal the numpy path to rounding (tested in
 ``tests/drives/test_accel.py``).
 
 Covered: DC drives with the averaged power stage (``decoupled``, ``coupled``) on robots
@@ -33,6 +37,11 @@ _module = _KERNELS.load
 cache_warm = _KERNELS.cache_warm
 
 
+def _read_only(a: np.ndarray) -> np.ndarray:
+    a.flags.writeable = False
+    return a
+
+
 def use_accel(requested: bool | None) -> bool:
     """Decide whether a run uses the compiled loop (:func:`accel_support.decide`)."""
     return accel_support.decide(requested)
@@ -56,35 +65,39 @@ class AcceleratedLoop:
         self.par = par
         self.trans = trans.data  # the packed motor map (public, read-only)
         self.static_j, self.running_j = static_j, running_j
-        self._kin = None  # link frames for the compiled M(q), C q̇ + G (coupled)
         self.ist = np.zeros(k.N_IST, dtype=np.int64)
         self.fst = np.array([sim.h, 0.0, 0.0])
         self.ist[k.STICKY], self.ist[k.SLIDING] = int(sticky), int(sliding)
 
     def _refresh(self, q, qd, mm, hb, m_inv) -> None:
-        """``M(q)``, ``C q̇ + G`` and ``M⁻¹`` (``Mechanics.terms``): the coupled terms by
-        the compiled :func:`accel_kernels.mass_and_bias` on the packed
-        :class:`~irlc.runtime.dynamics.DynamicsData` and the link frames."""
-        mech = self.sim.mech
-        if mech.coupled and mech.dyn is not None:
-            if self._kin is None:
-                from irlc.runtime.kinematics import Kinematics
-
-                self._kin = Kinematics(mech.dyn.model)
-            d = mech.dyn.data
-            self.k.mass_and_bias(self._kin.chain(q), d.axes, d.revolute, d.rotor, d.mass,
-                                 d.com, d.inertia, d.gravity, qd, mm, hb)  # fmt: skip
-            if mech.rotor_extra is not None:
-                mm += mech.rotor_extra(q)
-            m_inv[:] = np.linalg.inv(mm)
-            return
-        m_new, hb[:] = mech.terms(q, qd)
-        if m_new.ndim == 1:  # decoupled, plain ratios: D diagonal
+        """``D``, ``G(q)`` and ``D⁻¹`` of the decoupled level (``Mechanics.terms``; the
+        coupled level refreshes inside the kernel, :meth:`_terms`)."""
+        m_new, hb[:] = self.sim.mech.terms(q, qd)
+        if m_new.ndim == 1:  # plain ratios: D diagonal
             mm[:] = np.diag(m_new)
             m_inv[:] = np.diag(1.0 / m_new)
         else:
             mm[:] = m_new
             m_inv[:] = np.linalg.inv(m_new)
+
+    def _terms(self) -> tuple:
+        """``(chain, dyn, J_m)`` for the refresh inside :func:`accel_kernels.run_segment`:
+        the packed chain (``Kinematics.chain_data``: basis, joints, base), the packed
+        inertial data (``Dynamics.data``, rotors of plain ratios on its diagonal) and the
+        motor inertias of the rotor matrix ``Kᵀ diag(J_m) K``. Without inertial data
+        (decoupled with ``load_inertia``; never refreshed inside) empty read-only arrays
+        of the same kinds (one compiled specialisation)."""
+        from irlc.runtime.kinematics import Kinematics
+
+        mech = self.sim.mech
+        c = Kinematics(self.sim.model).chain_data
+        if mech.dyn is not None:
+            d = mech.dyn.data
+            dyn = (d.axes, d.revolute, d.rotor, d.mass, d.com, d.inertia, d.gravity)
+        else:
+            dyn = tuple(_read_only(np.zeros(s)) for s in ((0, 3), 0, 0, 0, (0, 3), (0, 3, 3), 3))
+        j_m = np.array(self.sim.p.chain.J_m, dtype=float)
+        return (c.basis, c.joints, c.ends[0]), dyn, j_m
 
     @staticmethod
     def covers(sim) -> bool:
@@ -113,22 +126,24 @@ class AcceleratedLoop:
         xiu = bank.loop.x.copy()
         xi, xu = np.ascontiguousarray(xiu[:, 0]), np.ascontiguousarray(xiu[:, 1])
         theta_ref = np.ascontiguousarray(theta_ref)
-        s, fresh = 0, 0
-        while True:
-            ist[k.START], ist[k.FRESH], ist[k.S0] = s, fresh, refresh.s0
-            s = k.run_segment(
-                ist, fst, self.par, bank.fused, bank.limits, bank.loop.big, theta_ref,
-                self.trans.linear, self.trans.rows, self.trans.angle, self.trans.lever,
-                self.static_j, self.running_j,
-                q, qd, xv, xi, xu, mm, hb, m_inv, refresh.q0, refresh.qd0,
-                rec["q"], rec["qd"], rec["tau"], rec["f"], rec_i, rec_u, sat_rec,
-                energy, copper,
-            )  # fmt: skip
-            if s >= steps:
-                break
+        mech = sim.mech
+        inner = mech.coupled  # the refreshes run inside the kernel: one call
+        ist[k.START], ist[k.FRESH], ist[k.S0], ist[k.COUNT] = 0, 0, refresh.s0, 0
+        ist[k.INNER], ist[k.ROTOR] = int(inner), int(mech.rotor_extra is not None)
+        args = (
+            ist, fst, self.par, bank.fused, bank.limits, bank.loop.big, theta_ref,
+            self.trans.linear, self.trans.rows, self.trans.angle, self.trans.lever,
+            self.static_j, self.running_j,
+            q, qd, xv, xi, xu, mm, hb, m_inv, refresh.q0, refresh.qd0,
+            rec["q"], rec["qd"], rec["tau"], rec["f"], rec_i, rec_u, sat_rec, energy, copper,
+            self._terms(),
+        )  # fmt: skip
+        while (s := k.run_segment(*args)) < steps:  # decoupled: G(q) refreshed in numpy
             self._refresh(q, qd, mm, hb, m_inv)
             refresh.mark(s, q, qd)
-            fresh = 1
+            ist[k.START], ist[k.FRESH], ist[k.S0] = s, 1, refresh.s0
+        if inner:
+            refresh.s0, refresh.count = int(ist[k.S0]), refresh.count + int(ist[k.COUNT])
         bank.loop.x[:, 0], bank.loop.x[:, 1] = xi, xu
         bank.pi.x = xv
 
@@ -147,7 +162,8 @@ def warm_up() -> float:
     model = load_robot("irb6_track")  # screw levers, friction: every branch's types
     q0 = np.asarray(model.home_q(), dtype=float)
     times = np.array([0.0, 0.01])
-    simulate_drives(model, times, np.stack([q0, q0]), level="coupled", hold=0.0, accel=True)
+    for level in ("coupled", "decoupled"):  # (the same kernel; decoupled: no compile)
+        simulate_drives(model, times, np.stack([q0, q0]), level=level, hold=0.0, accel=True)
     compile_seconds = time.perf_counter() - t0
     return compile_seconds
 

@@ -4,9 +4,12 @@ fused.
 Imported only through :mod:`.accel` when numba is available. :func:`run_segment` runs the
 steps of :meth:`irlc.runtime.drives.simulate._Simulation.run` from ``start`` until the
 held ``M``, ``C q̇ + G`` are due for a refresh (:mod:`.refresh`) or the run ends, and
-returns that step; the caller refreshes them in numpy and resumes. Per step, the same
-arithmetic as its numpy reference (named in each docstring), written as loops over the
-axes:
+returns that step, or (coupled level, ``ist[INNER]``) refreshes them itself with
+:func:`coupled_terms` — link frames (``ik.accel_chain._chain``), :func:`mass_and_bias`,
+the rotor matrix ``Kᵀ diag(J_m) K``, ``M⁻¹`` (:func:`_invert`) — and goes on, so that the
+whole run is one call; at the decoupled level the caller refreshes ``G(q)`` in numpy and
+resumes. Per step, the same arithmetic as its numpy reference
+(named in each docstring), written as loops over the axes:
 
 * transmission (:meth:`.transmission.Transmission.motor_and_jacobian`): ``θ_m = L q`` plus
   the screw-lever rows, ``K`` likewise, ``ω_m = K q̇``;
@@ -35,11 +38,27 @@ from irlc.runtime.drives.transmission import (
     LEVER_S0,
     LEVER_SQ,
 )
+from irlc.runtime.ik.accel_chain import _chain
 from numba import njit
 
-# ist
-START, STEPS, EVERY, MAX_STEPS, S0, FRESH, STICKY, SLIDING = range(8)
-N_IST = 8
+# numba's cache of a function is keyed by its own source file: run_segment's machine code
+# includes ik/accel_chain._chain, so this digest of _chain's source (chain_source_digest(),
+# checked by tests/drives/test_accel_kernels.py) changes this file when _chain changes.
+CHAIN_SOURCE_DIGEST = "a9fece99e4e4cf85"
+
+
+def chain_source_digest() -> str:
+    """SHA-256 (first 16 hex digits) of the source of ``ik.accel_chain._chain``."""
+    import hashlib
+    import inspect
+
+    return hashlib.sha256(inspect.getsource(_chain.py_func).encode()).hexdigest()[:16]
+
+
+# ist (INNER: 1 = refresh the coupled terms inside run_segment, ROTOR: add Kᵀ diag(J_m) K,
+# COUNT: refreshes done inside)
+START, STEPS, EVERY, MAX_STEPS, S0, FRESH, STICKY, SLIDING, INNER, ROTOR, COUNT = range(11)
+N_IST = 11
 # fst
 H, DQ, DV = range(3)
 N_FST = 3
@@ -397,10 +416,14 @@ def mass_and_bias(frames, axes, revolute, rotor, mass, com, inertia, gravity, qd
 def run_segment(
     ist, fst, par, fused, lim5, big, theta_ref, lin, rows, coef, lev, static_j, running_j,
     q, qd, xv, xi, xu, mm, hb, m_inv, q0, qd0,
-    rec_q, rec_qd, rec_tau, rec_f, rec_i, rec_u, rec_sat, energy, copper,
+    rec_q, rec_qd, rec_tau, rec_f, rec_i, rec_u, rec_sat, energy, copper, terms,
 ):  # fmt: skip
     """Run steps from ``ist[START]`` until a refresh is due (returns that step) or the end
-    (returns ``ist[STEPS]``). ``ist[FRESH] = 1``: the terms were just refreshed at START."""
+    (returns ``ist[STEPS]``). ``ist[FRESH] = 1``: the terms were just refreshed at START.
+    ``ist[INNER] = 1`` (coupled level): refresh inside instead of returning —
+    :func:`coupled_terms` on ``terms = (chain, dyn, J_m)`` (``ist[ROTOR]``: with the rotor
+    matrix), then ``Refresh.mark`` (``q0, q̇0 = q, q̇``, ``ist[S0] = s``, ``ist[COUNT] += 1``)
+    — so that the whole run is one call."""
     n = q.shape[0]
     m = xv.shape[0]
     h = fst[H]
@@ -422,9 +445,20 @@ def run_segment(
     rhs = np.empty(n)
     out = np.empty(6)
     res = np.empty(4)
+    inner = ist[INNER] != 0
+    chain, dyn, j_m = terms
+    trans = (lin, rows, coef, lev)
+    # (θ_m and K are recomputed right after a refresh: the step's buffers serve it too)
+    buf = (np.empty((n + 1, 4, 4)), np.empty((4, 4)), theta, kmat, np.empty((n, 2 * n)))
     for s in range(ist[START], ist[STEPS]):
         if not (s == ist[START] and ist[FRESH] != 0) and _due(s, q, qd, q0, qd0, ist, fst):
-            return s
+            if not inner:
+                return s
+            coupled_terms(chain, dyn, trans, j_m, ist[ROTOR] != 0, q, qd, mm, hb, m_inv, buf)
+            for j in range(n):
+                q0[j], qd0[j] = q[j], qd[j]
+            ist[S0] = s
+            ist[COUNT] += 1
         _transmission(lin, rows, coef, lev, q, theta, kmat)  # θ_m, K(q)
         any_stuck = False
         for a in range(m):
@@ -475,3 +509,62 @@ def run_segment(
                 qd[j] = 0.0
             q[j] += h * qd[j]
     return ist[STEPS]
+
+
+@njit(cache=True)
+def _invert(a, out, work):
+    """``out = a⁻¹`` (``np.linalg.inv``): Gauss–Jordan elimination with partial pivoting on
+    ``work = [a | I]`` (n × 2n)."""
+    n = a.shape[0]
+    for i in range(n):
+        for j in range(n):
+            work[i, j] = a[i, j]
+            work[i, n + j] = 1.0 if i == j else 0.0
+    for c in range(n):
+        piv = c
+        for r in range(c + 1, n):
+            if abs(work[r, c]) > abs(work[piv, c]):
+                piv = r
+        if piv != c:
+            for j in range(c, 2 * n):
+                work[c, j], work[piv, j] = work[piv, j], work[c, j]
+        inv_p = 1.0 / work[c, c]
+        for j in range(c, 2 * n):
+            work[c, j] *= inv_p
+        for r in range(n):
+            if r != c:
+                f = work[r, c]
+                if f != 0.0:
+                    for j in range(c, 2 * n):
+                        work[r, j] -= f * work[c, j]
+    for i in range(n):
+        for j in range(n):
+            out[i, j] = work[i, n + j]
+
+
+@njit(cache=True)
+def coupled_terms(chain, dyn, trans, j_m, rotor_matrix, q, qd, mm, hb, m_inv, buf):
+    """One refresh of the coupled level (``Mechanics.terms`` + ``Mechanics.inverse``):
+    link frames ``T_i = T_{i−1}·L_i`` (``Kinematics.chain`` on :class:`ChainData`
+    ``chain = (basis, joints, base)``), ``M(q)`` and ``h = C q̇ + G`` (:func:`mass_and_bias`
+    on :class:`DynamicsData` ``dyn``), with ``rotor_matrix`` the rotors of a coupled or
+    non-linear transmission ``M += Kᵀ diag(J_m) K`` (``Transmission.rotor_matrix``, ``K``
+    from :func:`_transmission` on :class:`TransmissionData` ``trans``), then ``M⁻¹``
+    (:func:`_invert`). ``buf = (frames (n+1, 4, 4), local (4, 4), θ_m (m,), K (m, n),
+    work (n, 2n))``."""
+    basis, joints, base = chain
+    axes, revolute, rotor, mass, com, inertia, gravity = dyn
+    frames, local, theta, kmat, work = buf
+    _chain(basis, joints, base, q, frames, local)
+    mass_and_bias(frames, axes, revolute, rotor, mass, com, inertia, gravity, qd, mm, hb)
+    if rotor_matrix:
+        lin, rows, coef, lev = trans
+        _transmission(lin, rows, coef, lev, q, theta, kmat)
+        n, m = mm.shape[0], kmat.shape[0]
+        for i in range(n):
+            for j in range(n):
+                acc = 0.0
+                for a in range(m):
+                    acc += kmat[a, i] * j_m[a] * kmat[a, j]
+                mm[i, j] += acc
+    _invert(mm, m_inv, work)

@@ -60,7 +60,7 @@ from irlc.runtime.drives.accel_kernels import (  # ist, fst: the layout _due rea
 from numba import njit
 
 CALLEES = (_sign, _clip, _first_order, _solve_free, _karnopp, _due, _transmission)
-SOURCES_DIGEST = "e7e942681a4464ab"  # sources_digest() when this file was last updated
+SOURCES_DIGEST = "51106cb08018b76c"  # sources_digest() when this file was last updated
 
 # per-axis constants (par columns)
 KZ, KE, KP, KI, ULIM, R, L, KS, U, IMAX, KC, KIWZM, RUN_M, VISC_M, BAND = range(15)

@@ -63,6 +63,22 @@ def test_screw_levers_friction_and_limits(level, every):
 
 
 @needs_numba
+@pytest.mark.parametrize("every", [None, 1])
+def test_coupled_1ms_adaptive_and_every_step(every):
+    """The bench case (coupled, forced 1 ms) on both robots, adaptive refresh and a refresh
+    every step: the compiled run (refreshes inside run_segment) equals the numpy loop."""
+    irb6 = load_toml(ROBOTS / "irb6_track.toml")
+    times, q = move(irb6, IRB6_MOVE / 2, 0.4)
+    ref, fast = both(irb6, times, q, level="coupled", step=1e-3, dynamics_every=every)
+    assert_same(ref, fast)
+    koch = load_toml(ROBOTS / "koch11.toml")
+    delta = np.linspace(0.05, 0.3, koch.n) * np.where(np.arange(11) == 9, 0.2, 1)
+    times, q = move(koch, delta, 0.6)
+    ref, fast = both(koch, times, q, level="coupled", step=1e-3, dynamics_every=every)
+    assert_same(ref, fast)
+
+
+@needs_numba
 def test_plain_ratios_and_rule_step():
     """koch11: diagonal transmission, no friction, the step-size rule's step."""
     model = load_toml(ROBOTS / "koch11.toml")
@@ -79,6 +95,28 @@ def test_dry_friction_robot_decoupled():
     times, q = move(model, np.full(model.n, 0.2), 0.8)
     ref, fast = both(model, times, q, level="decoupled", step=1e-3)
     assert_same(ref, fast)
+
+
+@needs_numba
+def test_decoupled_without_inertial_data(monkeypatch):
+    """``[drives] load_inertia`` and no ``[[inertials]]``: the kernel gets empty inertial
+    arrays (never refreshed inside) and equals the numpy loop."""
+    from .drive_models import dc_drives, planar
+
+    accel.warm_up()  # (its own runs are not counted below)
+    calls = []
+    kernel_run = accel.AcceleratedLoop.run
+    monkeypatch.setattr(
+        accel.AcceleratedLoop, "run", lambda self, *a: calls.append(1) or kernel_run(self, *a)
+    )
+
+    model = planar(2, drives=dict(dc_drives(2, 30.0), load_inertia=0.5))
+    bare = type(model)(model.name, model.joints, extra=model.extra, source="<bare>")
+    times = np.linspace(0.0, 0.3, 31)
+    q = np.outer((times / 0.3) ** 2 * (3 - 2 * times / 0.3), [0.2, -0.1])
+    ref, fast = both(bare, times, q, level="decoupled")
+    assert_same(ref, fast)
+    assert calls == [1] and ref.axes[0].peak_current > 0.0  # the kernel ran (once)
 
 
 @needs_numba

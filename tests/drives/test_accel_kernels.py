@@ -109,3 +109,75 @@ def test_mass_and_bias_on_packed_data(robot):
     _kernels().mass_and_bias(kin.chain(q), d.axes, d.revolute, np.zeros(model.n), d.mass, d.com,
                              d.inertia, d.gravity, qd, M, h)  # fmt: skip
     assert np.allclose(np.diag(ref_m) - np.diag(M), rotor, rtol=0, atol=1e-13 * np.abs(M).max())
+
+
+def test_invert_against_numpy():
+    """Gauss–Jordan with partial pivoting equals np.linalg.inv (SPD mass matrices and
+    general matrices that need row swaps)."""
+    rng = np.random.default_rng(14)
+    for n in (1, 2, 6, 11):
+        out, work = np.empty((n, n)), np.empty((n, 2 * n))
+        for spd in (True, False):
+            a = rng.normal(size=(n, n))
+            a = a @ a.T + n * np.eye(n) if spd else a
+            _kernels()._invert(a, out, work)
+            ref = np.linalg.inv(a)
+            assert np.allclose(out, ref, rtol=0, atol=1e-12 * np.abs(ref).max())
+            assert np.allclose(out @ a, np.eye(n), atol=1e-11)
+    a = np.array([[0.0, 2.0], [3.0, 1.0]])  # zero on the diagonal: a pivot swap
+    out = np.empty((2, 2))
+    _kernels()._invert(a, out, np.empty((2, 4)))
+    assert np.allclose(out, np.linalg.inv(a), rtol=1e-15)
+
+
+@pytest.mark.parametrize("robot", ["irb6_track", "koch11", "l1"])
+def test_coupled_terms_on_packed_data(robot):
+    """One compiled refresh (frames, M, C q̇ + G, rotor matrix, M⁻¹) from ChainData,
+    DynamicsData and TransmissionData equals the numpy pieces: Dynamics.mass_and_bias
+    (rotors of plain ratios on the diagonal) + Transmission.rotor_matrix, np.linalg.inv.
+    Screw levers (irb6_track), plain ratios (koch11), linear couplings (l1)."""
+    from irlc.runtime.dynamics import Dynamics
+    from irlc.runtime.kinematics import Kinematics
+
+    model = load_toml(ROBOTS / f"{robot}.toml")
+    params = drive_params(model)
+    trans = Transmission(model, params)
+    j_m = np.asarray(params.chain.J_m, dtype=float)
+    rotor = trans.reflected(j_m, model.n) if trans.diagonal else np.zeros(model.n)
+    dyn, c = Dynamics(model, rotor_inertia=rotor), Kinematics(model).chain_data
+    d, t = dyn.data, trans.data
+    n, m = model.n, len(params.axes)
+    buf = (np.empty((n + 1, 4, 4)), np.empty((4, 4)), np.empty(m), np.empty((m, n)),
+           np.empty((n, 2 * n)))  # fmt: skip
+    mm, hb, m_inv = np.empty((n, n)), np.empty(n), np.empty((n, n))
+    rng = np.random.default_rng(15)
+    lo, hi = np.clip(model.position_limits, -2.0, 2.0).T
+    for _ in range(20):
+        q, qd = lo + (hi - lo) * rng.uniform(0.2, 0.8, n), rng.normal(size=n)
+        _kernels().coupled_terms(
+            (c.basis, c.joints, c.ends[0]),
+            (d.axes, d.revolute, d.rotor, d.mass, d.com, d.inertia, d.gravity),
+            (t.linear, t.rows, t.angle, t.lever), j_m, not trans.diagonal, q, qd, mm, hb,
+            m_inv, buf,
+        )  # fmt: skip
+        ref_m, ref_h = dyn.mass_and_bias(q, qd)
+        if not trans.diagonal:
+            ref_m = ref_m + trans.rotor_matrix(j_m, q)
+        scale = np.abs(ref_m).max()
+        assert np.allclose(mm, ref_m, rtol=0, atol=1e-13 * scale)
+        assert np.allclose(hb, ref_h, rtol=0, atol=1e-13 * max(1.0, np.abs(ref_h).max()))
+        ref_inv = np.linalg.inv(ref_m)
+        assert np.allclose(m_inv, ref_inv, rtol=0, atol=1e-10 * np.abs(ref_inv).max())
+    if not trans.diagonal:  # the coupled rotor terms are exercised (off the diagonal)
+        extra = trans.rotor_matrix(j_m, q)
+        assert np.abs(extra - np.diag(np.diag(extra))).max() > 0.0
+
+
+def test_chain_source_digest():
+    """run_segment's machine code includes ik/accel_chain._chain; numba's cache is keyed by
+    this module's file only, so a change of _chain must change CHAIN_SOURCE_DIGEST here."""
+    k = _kernels()
+    assert k.chain_source_digest() == k.CHAIN_SOURCE_DIGEST, (
+        "ik/accel_chain._chain changed: set CHAIN_SOURCE_DIGEST in "
+        f"runtime/drives/accel_kernels.py to {k.chain_source_digest()!r}"
+    )
