@@ -434,15 +434,8 @@ def run_segment(
     omega = np.empty(m)
     tau_m = np.empty(m)
     f_m = np.zeros(m)
-    drive = np.empty(n)
-    slide = np.zeros(n)
     stuck = np.zeros(n, dtype=np.bool_)
-    qdd = np.empty(n)
-    fric = np.empty(n)
-    free = np.empty(n, dtype=np.int64)
-    work = np.empty((n, n + 1))
-    base = np.empty(n)
-    rhs = np.empty(n)
+    scratch = _joint_scratch(n)
     out = np.empty(6)
     res = np.empty(4)
     inner = ist[INNER] != 0
@@ -479,36 +472,64 @@ def run_segment(
             if sticky:
                 stuck[a] = abs(acc) < par[a, BAND]
                 any_stuck = any_stuck or stuck[a]
-        for j in range(n):  # joint side: Kᵀ τ_m, Kᵀ f_m
-            acc = 0.0
-            acc_f = 0.0
-            for a in range(m):
-                acc += kmat[a, j] * tau_m[a]
-                acc_f += kmat[a, j] * f_m[a]
-            drive[j] = acc
-            if sliding:
-                slide[j] = acc_f
-        if any_stuck:
-            _karnopp(
-                mm, hb, drive, slide, stuck, static_j, running_j, qdd, fric, free, work, base, rhs
-            )
-        else:
-            for i in range(n):
-                base[i] = drive[i] - slide[i] - hb[i]
-                fric[i] = slide[i]
-            for i in range(n):
-                acc = 0.0
-                for j in range(n):
-                    acc += m_inv[i, j] * base[j]
-                qdd[i] = acc
-        for j in range(n):
-            rec_tau[s, j], rec_q[s, j], rec_qd[s, j], rec_f[s, j] = drive[j], q[j], qd[j], fric[j]
-        for j in range(n):
-            qd[j] += h * qdd[j]
-            if stuck[j]:
-                qd[j] = 0.0
-            q[j] += h * qd[j]
+        _joint_step(
+            s, h, kmat, tau_m, f_m, sliding, any_stuck, stuck, mm, hb, m_inv, static_j,
+            running_j, q, qd, (rec_q, rec_qd, rec_tau, rec_f), scratch,
+        )  # fmt: skip
     return ist[STEPS]
+
+
+@njit(cache=True)
+def _joint_scratch(n):
+    """The buffers of :func:`_joint_step`: ``(drive, slide, q̈, friction, free, work, base,
+    rhs)``."""
+    return (
+        np.empty(n), np.zeros(n), np.empty(n), np.empty(n), np.empty(n, dtype=np.int64),
+        np.empty((n, n + 1)), np.empty(n), np.empty(n),
+    )  # fmt: skip
+
+
+@njit(cache=True)
+def _joint_step(
+    s, h, kmat, tau_m, f_m, sliding, any_stuck, stuck, mm, hb, m_inv, static_j, running_j,
+    q, qd, rec, scratch,
+):  # fmt: skip
+    """The joint side of step ``s``, shared by every drive level's kernel: ``T = Kᵀ τ_m``,
+    sliding friction ``f = Kᵀ f_m``; ``q̈ = M⁻¹ (T − f − h)``, or Karnopp's two passes when
+    an axis sticks (:func:`_karnopp`); the record row ``rec = (q, q̇, T, friction)[s]``; then
+    semi-implicit Euler ``q̇ += h q̈`` (stuck: ``q̇ := 0``), ``q += h q̇``.
+    ``scratch = (drive, slide, q̈, friction, free, work, base, rhs)``."""
+    rec_q, rec_qd, rec_tau, rec_f = rec
+    drive, slide, qdd, fric, free, work, base, rhs = scratch
+    n = q.shape[0]
+    m = tau_m.shape[0]
+    for j in range(n):  # joint side: Kᵀ τ_m, Kᵀ f_m
+        acc = 0.0
+        acc_f = 0.0
+        for a in range(m):
+            acc += kmat[a, j] * tau_m[a]
+            acc_f += kmat[a, j] * f_m[a]
+        drive[j] = acc
+        if sliding:
+            slide[j] = acc_f
+    if any_stuck:
+        _karnopp(mm, hb, drive, slide, stuck, static_j, running_j, qdd, fric, free, work, base, rhs)
+    else:
+        for i in range(n):
+            base[i] = drive[i] - slide[i] - hb[i]
+            fric[i] = slide[i]
+        for i in range(n):
+            acc = 0.0
+            for j in range(n):
+                acc += m_inv[i, j] * base[j]
+            qdd[i] = acc
+    for j in range(n):
+        rec_tau[s, j], rec_q[s, j], rec_qd[s, j], rec_f[s, j] = drive[j], q[j], qd[j], fric[j]
+    for j in range(n):
+        qd[j] += h * qdd[j]
+        if stuck[j]:
+            qd[j] = 0.0
+        q[j] += h * qd[j]
 
 
 @njit(cache=True)

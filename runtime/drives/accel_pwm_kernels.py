@@ -52,6 +52,8 @@ from irlc.runtime.drives.accel_kernels import (  # ist, fst: the layout _due rea
     _clip,
     _due,
     _first_order,
+    _joint_scratch,
+    _joint_step,
     _karnopp,
     _sign,
     _solve_free,
@@ -59,8 +61,11 @@ from irlc.runtime.drives.accel_kernels import (  # ist, fst: the layout _due rea
 )
 from numba import njit
 
-CALLEES = (_sign, _clip, _first_order, _solve_free, _karnopp, _due, _transmission)
-SOURCES_DIGEST = "51106cb08018b76c"  # sources_digest() when this file was last updated
+CALLEES = (
+    _sign, _clip, _first_order, _solve_free, _karnopp, _due, _transmission, _joint_scratch,
+    _joint_step,
+)  # fmt: skip
+SOURCES_DIGEST = "80d27df0701fb101"  # sources_digest() when this file was last updated
 
 # per-axis constants (par columns)
 KZ, KE, KP, KI, ULIM, R, L, KS, U, IMAX, KC, KIWZM, RUN_M, VISC_M, BAND = range(15)
@@ -154,15 +159,8 @@ def run_pwm_segment(
     kmat = np.empty((m, n))
     tau_m = np.empty(m)
     f_m = np.zeros(m)
-    drive = np.empty(n)
-    slide = np.zeros(n)
     stuck = np.zeros(n, dtype=np.bool_)
-    qdd = np.empty(n)
-    fric = np.empty(n)
-    free = np.empty(n, dtype=np.int64)
-    work = np.empty((n, n + 1))
-    base = np.empty(n)
-    rhs = np.empty(n)
+    scratch = _joint_scratch(n)
     out = np.empty(6)
     res = np.empty(4)
     for s in range(ist[START], ist[STEPS]):
@@ -184,33 +182,8 @@ def run_pwm_segment(
             if sticky:
                 stuck[a] = abs(omega) < par[a, BAND]
                 any_stuck = any_stuck or stuck[a]
-        for j in range(n):  # joint side: Kᵀ τ_m, Kᵀ f_m
-            acc = 0.0
-            acc_f = 0.0
-            for a in range(m):
-                acc += kmat[a, j] * tau_m[a]
-                acc_f += kmat[a, j] * f_m[a]
-            drive[j] = acc
-            if sliding:
-                slide[j] = acc_f
-        if any_stuck:
-            _karnopp(
-                mm, hb, drive, slide, stuck, static_j, running_j, qdd, fric, free, work, base, rhs
-            )
-        else:
-            for i in range(n):
-                base[i] = drive[i] - slide[i] - hb[i]
-                fric[i] = slide[i]
-            for i in range(n):
-                acc = 0.0
-                for j in range(n):
-                    acc += m_inv[i, j] * base[j]
-                qdd[i] = acc
-        for j in range(n):
-            rec_tau[s, j], rec_q[s, j], rec_qd[s, j], rec_f[s, j] = drive[j], q[j], qd[j], fric[j]
-        for j in range(n):
-            qd[j] += h * qdd[j]
-            if stuck[j]:
-                qd[j] = 0.0
-            q[j] += h * qd[j]
+        _joint_step(
+            s, h, kmat, tau_m, f_m, sliding, any_stuck, stuck, mm, hb, m_inv, static_j,
+            running_j, q, qd, (rec_q, rec_qd, rec_tau, rec_f), scratch,
+        )  # fmt: skip
     return ist[STEPS]
