@@ -161,6 +161,7 @@ def run_pwm_segment(
     f_m = np.zeros(m)
     stuck = np.zeros(n, dtype=np.bool_)
     scratch = _joint_scratch(n)
+    rec = (rec_q, rec_qd, rec_tau, rec_f)
     out = np.empty(6)
     res = np.empty(4)
     for s in range(ist[START], ist[STEPS]):
@@ -184,6 +185,6 @@ def run_pwm_segment(
                 any_stuck = any_stuck or stuck[a]
         _joint_step(
             s, h, kmat, tau_m, f_m, sliding, any_stuck, stuck, mm, hb, m_inv, static_j,
-            running_j, q, qd, (rec_q, rec_qd, rec_tau, rec_f), scratch,
+            running_j, q, qd, rec, scratch,
         )  # fmt: skip
     return ist[STEPS]
