@@ -350,7 +350,8 @@ class _SpillFile:
     one record ``(rows, {field: (offset, dtype, row shape)})`` per spilled piece."""
 
     def __init__(self):
-        self._file = tempfile.TemporaryFile(prefix="irlc-samples-")
+        # open as long as the recorder (its samples); deleted when closed or collected
+        self._file = tempfile.TemporaryFile(prefix="irlc-samples-")  # noqa: SIM115
         self._pieces: list[tuple[int, dict[str, tuple[int, np.dtype, tuple]]]] = []
 
     def write(self, arrays: dict[str, np.ndarray]) -> None:
