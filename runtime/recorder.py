@@ -319,7 +319,8 @@ class Recorder:
     def _recorded(self, piece: dict[str, np.ndarray], carry) -> RecordedRun:
         """A :class:`RecordedRun` of one piece (``carry``: :func:`finite_differences`')."""
         times, q = piece["times"], piece["q"]
-        speed, accel = finite_differences(times, q, carry)
+        args = (times, q) if carry is None else (times, q, carry)
+        speed, accel = finite_differences(*args)
         clearance = piece["clearance"]
         return RecordedRun(
             times=times,
@@ -418,9 +419,14 @@ def finite_differences(
     same values row for row as the whole run's)."""
     if carry is not None and len(times):
         t0, q0, v0 = carry
-        speed, accel = finite_differences(np.r_[t0, times], np.vstack([q0, q]))
+        speed, accel = _differences(np.r_[t0, times], np.vstack([q0, q]))
         accel[1] = (speed[1] - v0) / _positive_step(times[0] - t0)
         return speed[1:], accel[1:]
+    return _differences(times, q)
+
+
+def _differences(times: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`finite_differences` of a whole run (rest before the first sample)."""
     speed = np.zeros_like(q)
     accel = np.zeros_like(q)
     if len(times) < 2:
