@@ -20,7 +20,7 @@ import csv
 import io
 import json
 import math
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -62,11 +62,11 @@ def trace_csv(columns: list[str], table: np.ndarray, partial: bool = False) -> s
 
 
 def trace_chunks(
-    columns: list[str], table: np.ndarray | Iterable[np.ndarray], partial: bool = False
+    columns: list[str], table: np.ndarray | Iterator[np.ndarray], partial: bool = False
 ) -> Iterator[str]:
     """The trace's CSV text in pieces of :data:`TRACE_CHUNK_ROWS` rows (header first).
-    ``table`` is the whole table, or consecutive pieces of its rows (a streamed run's,
-    :meth:`~irlc.runtime.run.RunResult.trace_tables`): the same text either way. Each
+    ``table`` is the whole table, or an iterator of consecutive pieces of its rows (a
+    streamed run's, :meth:`~irlc.runtime.run.RunResult.trace_tables`): the same text. Each
     piece of the table is checked finite before its first row is formatted (a whole
     table before the header: nothing is produced for a bad one; a bad piece stops the
     text, which :func:`write_trace`'s atomic write then discards); each piece of text
@@ -75,7 +75,7 @@ def trace_chunks(
     :data:`PARTIAL_COLUMN`, 1 on every row, so the file itself says so."""
     if partial:
         columns = [*columns, PARTIAL_COLUMN]
-    whole = isinstance(table, np.ndarray)
+    whole = not isinstance(table, Iterator)  # an array (or nested lists), not pieces
     pieces = [_checked(columns, table, partial, 0)] if whole else table
     cells = [FLOAT_FORMAT] * len(columns)
     if "line" in columns:
@@ -112,7 +112,7 @@ def _checked(columns: list[str], table, partial: bool, row0: int) -> np.ndarray:
 
 def write_trace(
     columns: list[str],
-    table: np.ndarray | Iterable[np.ndarray],
+    table: np.ndarray | Iterator[np.ndarray],
     path: str | Path,
     partial: bool = False,
 ) -> Path:
