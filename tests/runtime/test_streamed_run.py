@@ -6,6 +6,7 @@ The spill buffer is made tiny here (16 samples), so every run is cut into many p
 
 from __future__ import annotations
 
+import itertools
 from pathlib import Path
 
 import numpy as np
@@ -138,7 +139,7 @@ def test_carried_differences_equal_the_whole_runs():
     cuts = [0, 1, 2, 97, 250, 251, 500]
     parts_v, parts_a, parts_j = [], [], []
     carry = jcarry = None
-    for lo, hi in zip(cuts, cuts[1:], strict=False):
+    for lo, hi in itertools.pairwise(cuts):
         v, a = finite_differences(t[lo:hi], q[lo:hi], carry)
         parts_j.append(backward_jerk(t[lo:hi], a, jcarry))
         carry, jcarry = (t[hi - 1], q[hi - 1], v[-1]), (t[hi - 1], a[-1])
