@@ -3,7 +3,10 @@
 Presentation only: everything is read from the run's :class:`~irlc.runtime.samples.Samples`
 (set points and, with drives, the actual motion, each derived once by the pipeline stage
 that owns it: :mod:`irlc.runtime.run`, :mod:`irlc.runtime.drive_stage`) and the other
-parts of a :class:`RunData`; nothing is simulated or re-derived here.
+parts of a :class:`RunData`; nothing is simulated or re-derived here. The samples are read
+in consecutive pieces (:meth:`RunData.pieces`: one for a run kept in memory, the
+recorder's spilled pieces for a streamed one): the report sums them up (:class:`_Tally`),
+the trace is built piece by piece (:func:`trace_tables`), with the same values either way.
 
 Everything user-facing is in program units (mm, deg, s; joints deg | mm) through
 :mod:`units`. Numbers in the report are rounded to fixed precision (``ROUND``) so that the
