@@ -127,7 +127,7 @@ class Recorder:
         """Rows ``start:stop`` (sample indices of the run) of one sample array, a view;
         only samples still in memory (those after the oldest held mark are)."""
         if start < self._base:
-            raise IndexError(f"samples before {self._base} were spilled to the trace file")
+            raise IndexError(f"samples before {self._base} were spilled (Recorder.spill)")
         return getattr(self, "_" + name)[start - self._base : stop - self._base]
 
     def add(
