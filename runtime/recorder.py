@@ -119,6 +119,17 @@ class Recorder:
         self._alloc(max(capacity, self._k - self._base, 2))
 
     @property
+    def pos_error(self) -> np.ndarray:
+        """Path position errors of the samples in memory (m; a view; all of them unless
+        spilled)."""
+        return self._pos_error[: self._k - self._base]
+
+    @property
+    def ori_error(self) -> np.ndarray:
+        """Path orientation errors of the samples in memory (rad; a view)."""
+        return self._ori_error[: self._k - self._base]
+
+    @property
     def spilled(self) -> int:
         """How many samples are in the temporary file (0: all in memory)."""
         return self._base
