@@ -5,8 +5,9 @@ The program is generated: the chapter-6 square (``programs/square.irl``) driven 
 ``3 × scale`` laps by a ``FOR`` loop (``square_cell``'s points). Each length runs as a
 fresh ``irlc run PROGRAM --quiet --trace FILE.csv`` process, so the figures are those a
 user sees (start-up and the written trace included); peak RSS is the child's
-``ru_maxrss`` (``os.wait4``). Memory is bounded when the peak does not grow with the
-length beyond the samples' own arrays; time is linear when wall / cycle stays constant.
+``ru_maxrss`` (``os.wait4``). ``irlc run`` streams (the recorder spills its samples to a
+temporary file, the trace is written piece by piece): memory is bounded when the peak
+does not grow with the length; time is linear when CPU / cycle stays constant.
 
 "Marginal" figures are the differences to the previous (shorter) length per extra cycle:
 start-up and fixed costs cancel. Usage::

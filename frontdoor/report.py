@@ -61,16 +61,42 @@ def trace_csv(columns: list[str], table: np.ndarray, partial: bool = False) -> s
     return "".join(trace_chunks(columns, table, partial))
 
 
-def trace_chunks(columns: list[str], table: np.ndarray, partial: bool = False) -> Iterator[str]:
+def trace_chunks(
+    columns: list[str], table: np.ndarray | Iterator[np.ndarray], partial: bool = False
+) -> Iterator[str]:
     """The trace's CSV text in pieces of :data:`TRACE_CHUNK_ROWS` rows (header first).
-    The whole table is checked finite before the first piece (nothing is written for a
-    bad table); each piece holds only its own rows' text, so writing a long trace needs
-    memory for one piece, not for the file. ``partial`` (the run failed, the trace ends at
-    the failure) adds the column :data:`PARTIAL_COLUMN`, 1 on every row, so the file
-    itself says so."""
-    table = np.asarray(table, dtype=float)
+    ``table`` is the whole table, or an iterator of consecutive pieces of its rows (a
+    streamed run's, :meth:`~irlc.runtime.run.RunResult.trace_tables`): the same text. Each
+    piece of the table is checked finite before its first row is formatted (a whole
+    table before the header: nothing is produced for a bad one; a bad piece stops the
+    text, which :func:`write_trace`'s atomic write then discards); each piece of text
+    holds only its own rows, so writing a long trace needs memory for one piece, not for
+    the file. ``partial`` (the run failed, the trace ends at the failure) adds the column
+    :data:`PARTIAL_COLUMN`, 1 on every row, so the file itself says so."""
     if partial:
         columns = [*columns, PARTIAL_COLUMN]
+    whole = not isinstance(table, Iterator)  # an array (or nested lists), not pieces
+    pieces = [_checked(columns, table, partial, 0)] if whole else table
+    cells = [FLOAT_FORMAT] * len(columns)
+    if "line" in columns:
+        cells[columns.index("line")] = "%d"  # an integer (the value is a whole number)
+    row_format = ",".join(cells) + "\n"
+    yield ",".join(columns) + "\n"
+    row0 = 0
+    for piece in pieces:
+        piece = piece if whole else _checked(columns, piece, partial, row0)
+        row0 += len(piece)
+        for start in range(0, len(piece), TRACE_CHUNK_ROWS):
+            rows = (piece[start : start + TRACE_CHUNK_ROWS] + 0.0).tolist()  # no negative zero
+            yield "".join([row_format % tuple(row) for row in rows])
+
+
+def _checked(columns: list[str], table, partial: bool, row0: int) -> np.ndarray:
+    """``table`` as floats, with the ``partial`` column (1) when asked for, checked: the
+    column count, every value finite (:class:`NonFiniteError` naming the column and the
+    row, counted from ``row0``)."""
+    table = np.asarray(table, dtype=float)
+    if partial:
         table = np.hstack([table.reshape(len(table), -1), np.ones((len(table), 1))])
     if table.ndim != 2 or table.shape[1] != len(columns):
         raise ValueError(f"trace has {table.shape} values for {len(columns)} columns")
@@ -79,22 +105,19 @@ def trace_chunks(columns: list[str], table: np.ndarray, partial: bool = False) -
         if bad.any():
             r, c = np.argwhere(bad)[0]
             raise NonFiniteError(
-                f"trace: non-finite value in column {columns[c]!r}, row {start + r}"
+                f"trace: non-finite value in column {columns[c]!r}, row {row0 + start + r}"
             )
-    cells = [FLOAT_FORMAT] * len(columns)
-    if "line" in columns:
-        cells[columns.index("line")] = "%d"  # an integer (the value is a whole number)
-    row_format = ",".join(cells) + "\n"
-    yield ",".join(columns) + "\n"
-    for start in range(0, len(table), TRACE_CHUNK_ROWS):
-        rows = (table[start : start + TRACE_CHUNK_ROWS] + 0.0).tolist()  # no negative zero
-        yield "".join([row_format % tuple(row) for row in rows])
+    return table
 
 
 def write_trace(
-    columns: list[str], table: np.ndarray, path: str | Path, partial: bool = False
+    columns: list[str],
+    table: np.ndarray | Iterator[np.ndarray],
+    path: str | Path,
+    partial: bool = False,
 ) -> Path:
-    """Write the trace atomically, streamed piece by piece (:func:`trace_chunks`)."""
+    """Write the trace atomically, streamed piece by piece (:func:`trace_chunks`; ``table``
+    whole or in pieces of rows)."""
     return atomic_write_chunks(
         path, (piece.encode("utf-8") for piece in trace_chunks(columns, table, partial))
     )

@@ -149,9 +149,12 @@ class ApproximatePositioning:
                 raise
             self._rewind(state, pending.run, run)
             return exc
-        if not keep:
-            self._rewind(state, pending.run, run)
-        return None
+        else:
+            if not keep:
+                self._rewind(state, pending.run, run)
+            return None
+        finally:
+            self.recorder.release(state[5])  # its samples may be spilled (recorder.py)
 
     def _mark(self, a_run: SegmentRun, b_run: SegmentRun) -> tuple:
         return (self.q.copy(), self.q_prev.copy(), self._t, self._cycles, self._last_reference,
@@ -321,10 +324,10 @@ class ApproximatePositioning:
             self._last_reference = opts.reference
         a_run.done, run.done = big_k, max(run.done, m)
         if m:
-            tcp = self.recorder._tcp[max(k0 - 1, 0) : k0 + m, :3, 3]
+            tcp = self.recorder.rows("tcp", max(k0 - 1, 0), k0 + m)[:, :3, 3]
             speeds = np.linalg.norm(np.diff(tcp, axis=0), axis=1) / dt
             pending.min_speed = float(speeds.min()) if speeds.size else 0.0
-            pending.start_time = float(self.recorder._times[max(k0 - 1, 0)])
+            pending.start_time = float(self.recorder.rows("times", max(k0 - 1, 0), k0)[0])
 
     def _check_chain(self, pending: PendingSegment, k: int, line: int) -> None:
         """The joints computed ahead for a Cartesian segment are those it reached (the

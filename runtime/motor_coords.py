@@ -44,54 +44,114 @@ def trace_columns(names) -> list[str]:
 
 def motor_report(model: RobotModel, names, times: np.ndarray, q: np.ndarray) -> dict[str, Any]:
     """The report's ``motors`` section of the motion ``q`` (SI, ``(k, n)``) at ``times``."""
-    theta = motor_angles(model, q) if len(q) else np.zeros((0, model.n))
-    limits = motor_limits(model)
-    speed_limit = limits.speed if limits is not None else np.full(model.n, np.inf)
-    step = np.abs(np.diff(theta, axis=0))
-    travel = step.sum(axis=0) if len(theta) > 1 else np.zeros(model.n)
-    dt = np.diff(np.asarray(times, dtype=float))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        speed = step / dt[:, None] if len(dt) else np.zeros((0, model.n))
-    speed = np.where(np.isfinite(speed), speed, 0.0)
-    axes = []
-    for j, name in enumerate(names):
-        limit = float(speed_limit[j])
-        finite = np.isfinite(limit)
-        axes.append(
-            {
-                "joint": name,
-                "robot_name": model.joint_names[j],
-                "start_rad": float(theta[0, j]) if len(theta) else 0.0,
-                "end_rad": float(theta[-1, j]) if len(theta) else 0.0,
-                "travel_rad": float(travel[j]),
-                "max_abs_speed_rad_s": float(speed[:, j].max()) if len(speed) else 0.0,
-                "speed_limit_rad_s": limit if finite else None,
-                "travel_time_s": float(travel[j]) / limit if finite else None,
-            }
-        )
-    source = limits.source if limits is not None else None
-    return {"units": dict(UNITS), "speed_limits_from": source, "axes": axes}
+    tally = MotorTally(model, [])
+    tally.add(times, q)
+    return tally.report(names)
 
 
 def add_statement_motors(rows: list[dict], model: RobotModel, times, q: np.ndarray, rnd) -> None:
     """Per statement row (``start_s``, ``duration_s``): ``motor_travel_rad`` (``Σ|Δθs|``
     per motor over the samples of the statement) and ``motor_travel_time_s`` (travel /
     speed limit, ``None`` for an unlimited motor); ``rnd`` rounds the numbers."""
-    times = np.asarray(times, dtype=float)
     if not len(times):
         return
-    theta = motor_angles(model, q)
-    limits = motor_limits(model)
-    speed = limits.speed if limits is not None else np.full(model.n, np.inf)
-    for row in rows:
-        start = row["start_s"] or 0.0
-        end = start + (row["duration_s"] or 0.0)
-        i0 = int(np.searchsorted(times, start - 1e-9))
-        i1 = int(np.searchsorted(times, end + 1e-9, side="right"))
-        span = theta[i0:i1]  # from the sample at the statement's start to its end
-        travel = np.abs(np.diff(span, axis=0)).sum(axis=0) if len(span) > 1 else np.zeros(model.n)
-        row["motor_travel_rad"] = [rnd(float(v)) for v in travel]
-        row["motor_travel_time_s"] = [
-            rnd(float(t / v)) if np.isfinite(v) else None
-            for t, v in zip(travel, speed, strict=True)
-        ]
+    tally = MotorTally(model, rows)
+    tally.add(times, q)
+    tally.add_statements(rnd)
+
+
+class MotorTally:
+    """:func:`motor_report` and :func:`add_statement_motors` of a motion given in
+    consecutive pieces (a streamed run, :meth:`Recorder.chunks`): each piece is joined to
+    the previous piece's last sample, and the travels are summed on in sample order, so
+    they are those of the whole motion (to the last bit for two motors or more, whose sums
+    numpy forms row by row; a single motor's may differ in the last bit)."""
+
+    def __init__(self, model: RobotModel, rows: list[dict]):
+        self.model, self.rows = model, rows
+        self._windows = []  # a statement's samples: those within [start, end] ± 1 ns
+        for row in rows:
+            start = row["start_s"] or 0.0
+            self._windows.append((start - 1e-9, start + (row["duration_s"] or 0.0) + 1e-9))
+        self._row_travel: list[np.ndarray | None] = [None] * len(rows)
+        self._travel: np.ndarray | None = None
+        self._max_speed: np.ndarray | None = None
+        self._first: np.ndarray | None = None
+        self._last: tuple[np.ndarray, np.ndarray] | None = None  # (times, θs) of one sample
+
+    def add(self, times: np.ndarray, q: np.ndarray) -> None:
+        """The next piece of the motion: ``q`` (SI, ``(k, n)``) at ``times``."""
+        times = np.asarray(times, dtype=float)
+        if not len(times):
+            return
+        theta = motor_angles(self.model, q)
+        if self._last is None:
+            self._first = theta[0]
+        else:
+            times, theta = np.r_[self._last[0], times], np.vstack([self._last[1], theta])
+        self._last = (times[-1:], theta[-1:])
+        step = np.abs(np.diff(theta, axis=0))
+        if len(step):
+            self._travel = _summed(self._travel, step)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                speed = step / np.diff(times)[:, None]
+            top = np.where(np.isfinite(speed), speed, 0.0).max(axis=0)
+            self._max_speed = top if self._max_speed is None else np.maximum(self._max_speed, top)
+        for i, (lo, hi) in enumerate(self._windows):
+            if hi < times[0] or lo > times[-1]:
+                continue
+            i0 = int(np.searchsorted(times, lo))
+            i1 = int(np.searchsorted(times, hi, side="right"))
+            if i1 - i0 > 1:
+                self._row_travel[i] = _summed(
+                    self._row_travel[i], np.abs(np.diff(theta[i0:i1], axis=0))
+                )
+
+    def report(self, names) -> dict[str, Any]:
+        """The ``motors`` section (:func:`motor_report`)."""
+        n = self.model.n
+        limits = motor_limits(self.model)
+        speed_limit = limits.speed if limits is not None else np.full(n, np.inf)
+        travel = self._travel if self._travel is not None else np.zeros(n)
+        top = self._max_speed if self._max_speed is not None else np.zeros(n)
+        axes = []
+        for j, name in enumerate(names):
+            limit = float(speed_limit[j])
+            finite = np.isfinite(limit)
+            axes.append(
+                {
+                    "joint": name,
+                    "robot_name": self.model.joint_names[j],
+                    "start_rad": float(self._first[j]) if self._first is not None else 0.0,
+                    "end_rad": float(self._last[1][0, j]) if self._last is not None else 0.0,
+                    "travel_rad": float(travel[j]),
+                    "max_abs_speed_rad_s": float(top[j]),
+                    "speed_limit_rad_s": limit if finite else None,
+                    "travel_time_s": float(travel[j]) / limit if finite else None,
+                }
+            )
+        source = limits.source if limits is not None else None
+        return {"units": dict(UNITS), "speed_limits_from": source, "axes": axes}
+
+    def add_statements(self, rnd) -> None:
+        """Write the rows' ``motor_travel_rad`` / ``motor_travel_time_s``
+        (:func:`add_statement_motors`); nothing when no sample was added."""
+        if self._last is None:
+            return
+        limits = motor_limits(self.model)
+        speed = limits.speed if limits is not None else np.full(self.model.n, np.inf)
+        for row, travel in zip(self.rows, self._row_travel, strict=True):
+            travel = travel if travel is not None else np.zeros(self.model.n)
+            row["motor_travel_rad"] = [rnd(float(v)) for v in travel]
+            row["motor_travel_time_s"] = [
+                rnd(float(t / v)) if np.isfinite(v) else None
+                for t, v in zip(travel, speed, strict=True)
+            ]
+
+
+def _summed(total: np.ndarray | None, steps: np.ndarray) -> np.ndarray:
+    """``total + Σ steps`` per column, added on row by row in order (the whole motion's
+    ``steps.sum(axis=0)`` when the pieces are joined)."""
+    if total is None:
+        return steps.sum(axis=0)
+    return np.add.reduce(np.vstack([total[None], steps]), axis=0)

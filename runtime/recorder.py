@@ -32,6 +32,8 @@ limits is a check of the controller.
 from __future__ import annotations
 
 import dataclasses
+import tempfile
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -72,7 +74,10 @@ class Recorder:
         self.events: list[dict] = []
         self.warnings: list[str] = []
         self.ik_cycles = 0
-        self._k = 0
+        self._k = 0  # samples recorded (spilled ones included)
+        self._base = 0  # the index of the buffer's first row (rows before it are spilled)
+        self._pins: list[int] = []  # the sample counts of the marks still held
+        self._spill: _SpillFile | None = None
         self._alloc(max(1, capacity))
         self._last_clearance = [float("inf")] * len(self.obstacle_names)
         self.tol_position = 5e-5  # m, the path tolerance in effect (R_PATH_TOL), per sample
@@ -80,7 +85,7 @@ class Recorder:
     def _alloc(self, cap: int) -> None:
         """(Re)allocate the sample arrays with room for ``cap`` samples, keeping the
         filled rows."""
-        k, n, m = self._k, self.n, len(self.obstacle_names)
+        k, n, m = self._k - self._base, self.n, len(self.obstacle_names)
         new = {
             "times": np.empty(cap),
             "lines": np.empty(cap, dtype=int),
@@ -107,15 +112,34 @@ class Recorder:
     def __len__(self) -> int:
         return self._k
 
+    def spill(self, capacity: int = 8192) -> None:
+        """From now on keep at most about ``capacity`` samples in memory: full buffers go
+        to a temporary file (module doc). The buffer is resized to ``capacity`` rows."""
+        self._spill = self._spill or _SpillFile()
+        self._alloc(max(capacity, self._k - self._base, 2))
+
     @property
     def pos_error(self) -> np.ndarray:
-        """Path position errors of the samples so far (m; a view)."""
-        return self._pos_error[: self._k]
+        """Path position errors of the samples in memory (m; a view; all of them unless
+        spilled)."""
+        return self._pos_error[: self._k - self._base]
 
     @property
     def ori_error(self) -> np.ndarray:
-        """Path orientation errors of the samples so far (rad; a view)."""
-        return self._ori_error[: self._k]
+        """Path orientation errors of the samples in memory (rad; a view)."""
+        return self._ori_error[: self._k - self._base]
+
+    @property
+    def spilled(self) -> int:
+        """How many samples are in the temporary file (0: all in memory)."""
+        return self._base
+
+    def rows(self, name: str, start: int, stop: int) -> np.ndarray:
+        """Rows ``start:stop`` (sample indices of the run) of one sample array, a view;
+        only samples still in memory (those after the oldest held mark are)."""
+        if start < self._base:
+            raise IndexError(f"samples before {self._base} were spilled (Recorder.spill)")
+        return getattr(self, "_" + name)[start - self._base : stop - self._base]
 
     def add(
         self,
@@ -140,9 +164,9 @@ class Recorder:
         e.g. standing still or PTP). Active limits: ``active_codes`` (per joint, coded by
         :func:`~irlc.runtime.ik.limits.active_codes`) or ``active`` (joint → label); they
         count ``dt`` towards :attr:`active_time`."""
-        k = self._k
-        if k == self._cap:
-            self._alloc(2 * self._cap)
+        if self._k - self._base == self._cap:
+            self._make_room()
+        k = self._k - self._base  # the buffer row
         self._times[k] = t
         self._lines[k] = line
         self._q[k] = q
@@ -165,7 +189,25 @@ class Recorder:
                 self._active[k, j] = encode_label(label)
         if self.obstacle_names:
             self._add_clearances(k, clearances)
-        self._k = k + 1
+        self._k += 1
+
+    def _make_room(self) -> None:
+        """The buffer is full: spill the rows no mark holds (keeping the one before the
+        oldest mark, which a blend reads back) when that frees half of it, else double it."""
+        free = self._k if not self._pins else max(min(self._pins) - 1, self._base)
+        if self._spill is None or free - self._base < self._cap // 2:
+            self._alloc(2 * self._cap)
+            return
+        n = free - self._base
+        names = _FIELDS
+        self._spill.write({name: getattr(self, "_" + name)[:n] for name in names})
+        kept = self._k - free
+        for name in names:
+            arr = getattr(self, "_" + name)
+            arr[:kept] = arr[n : n + kept]
+            if name in ("dt", "active", "on_path"):  # zero-filled by default (add)
+                arr[kept:] = 0
+        self._base = free
 
     def restamp_first(
         self, tcp: np.ndarray, clearances: dict[str, tuple[float, int]] | None = None
@@ -173,7 +215,7 @@ class Recorder:
         """Replace the TCP pose (and clearances) of the start sample while it is the only
         one: the program set another tool (``R_TOOL``) before it first moved, and every
         output uses the program's tool from t = 0."""
-        if self._k != 1:
+        if self._k != 1 or self._base:
             raise ValueError("only the start sample can be re-stamped, before the next one")
         self._tcp[0] = tcp
         if not self._on_path[0]:  # off a path the desired pose is the sample's own
@@ -187,10 +229,11 @@ class Recorder:
         """(joint, ``"speed max"``-style label) → seconds the limit was active (the
         ``dt`` of the samples it was active in, summed in time order)."""
         out: dict[tuple[int, str], float] = {}
-        codes, dts = self._active[: self._k], self._dt
-        for k, j in zip(*np.nonzero(codes), strict=True):
-            key = (int(j), active_label(codes[k, j]))
-            out[key] = out.get(key, 0.0) + float(dts[k])
+        for piece in self._pieces(("active", "dt")):
+            codes, dts = piece["active"], piece["dt"]
+            for k, j in zip(*np.nonzero(codes), strict=True):
+                key = (int(j), active_label(codes[k, j]))
+                out[key] = out.get(key, 0.0) + float(dts[k])
         return out
 
     def _add_clearances(self, k: int, clearances: dict[str, tuple[float, int]] | None) -> None:
@@ -228,49 +271,127 @@ class Recorder:
         """The recorder's state, to :meth:`rewind` to (a blend that is tried and
         shortened: approximate positioning)."""
         spans = [dataclasses.replace(s) for s in self.relaxed_spans]
+        self._pins.append(self._k)  # its samples stay in memory until release(mark)
         return (self._k, spans, len(self.warnings), len(self.events), self.ik_cycles,
                 list(self._last_clearance))  # fmt: skip
 
     def rewind(self, mark: tuple) -> None:
         """Drop every sample, span, warning and event recorded after :meth:`mark`."""
+        if mark[0] < self._base:
+            raise RuntimeError("rewind to samples that were spilled (a mark not held)")
         self._k, spans, n_warn, n_events, self.ik_cycles, clearance = mark
         self.relaxed_spans = [dataclasses.replace(s) for s in spans]
         del self.warnings[n_warn:], self.events[n_events:]
         self._last_clearance = list(clearance)
 
+    def release(self, mark: tuple) -> None:
+        """The caller of :meth:`mark` will not :meth:`rewind` to it any more: its samples
+        may be spilled (module doc)."""
+        if mark[0] in self._pins:
+            self._pins.remove(mark[0])
+
     # ------------------------------------------------------------------ arrays
     def _rows(self, name: str) -> np.ndarray:
         """A read-only view of the filled rows of one sample array (module doc)."""
-        view = getattr(self, "_" + name)[: self._k]
+        view = getattr(self, "_" + name)[: self._k - self._base]
         view.flags.writeable = False
         return view
 
+    def _pieces(self, names: tuple[str, ...] = ()) -> Iterator[dict[str, np.ndarray]]:
+        """The samples in order as pieces ``name → rows`` (all fields unless ``names``):
+        the spilled ones read back from the file, then the buffer's (views)."""
+        names = names or _FIELDS
+        if self._spill is not None:
+            yield from self._spill.read(names, self._base)
+        if self._k > self._base or not self._base:
+            yield {name: self._rows(name) for name in names}
+
     def arrays(self) -> RecordedRun:
         """The samples so far as a :class:`RecordedRun` of read-only views (module doc);
-        speeds, accelerations, the active flags and the clearances are new arrays."""
-        k = self._k
-        times, q = self._rows("times"), self._rows("q")
-        speed, accel = finite_differences(times, q)
+        speeds, accelerations, the active flags and the clearances are new arrays. After
+        spilling, the pieces joined: the whole run in memory."""
+        if not self._base:
+            return self._recorded(self._pieces().__next__(), None)
+        pieces = list(self._pieces())
+        whole = {name: np.concatenate([p[name] for p in pieces]) for name in _FIELDS}
+        return self._recorded(whole, None)
+
+    def chunks(self) -> Iterator[RecordedRun]:
+        """The samples so far as consecutive :class:`RecordedRun` pieces (one when nothing
+        was spilled); each piece's derivatives carry the previous piece's last row, so they
+        equal those of :meth:`arrays` row for row."""
+        carry = None
+        for piece in self._pieces():
+            rec = self._recorded(piece, carry)
+            if len(rec.times):
+                carry = (rec.times[-1], rec.q[-1], rec.speed[-1])
+            yield rec
+
+    def _recorded(self, piece: dict[str, np.ndarray], carry) -> RecordedRun:
+        """A :class:`RecordedRun` of one piece (``carry``: :func:`finite_differences`')."""
+        times, q = piece["times"], piece["q"]
+        args = (times, q) if carry is None else (times, q, carry)
+        speed, accel = finite_differences(*args)
+        clearance = piece["clearance"]
         return RecordedRun(
             times=times,
-            lines=self._rows("lines"),
+            lines=piece["lines"],
             q=q,
             speed=speed,
             accel=accel,
-            tcp=self._rows("tcp"),
-            pos_error=self._rows("pos_error"),
-            ori_error=self._rows("ori_error"),
-            iterations=self._rows("iterations"),
-            relaxed=self._rows("relaxed"),
-            manipulability=self._rows("manipulability"),
-            active=self._active[:k] != 0,
-            clearance={
-                name: self._clearance[:k, i].copy() for i, name in enumerate(self.obstacle_names)
-            },
-            desired=self._rows("desired"),
-            on_path=self._rows("on_path"),
-            tol_position=self._rows("tol"),
+            tcp=piece["tcp"],
+            pos_error=piece["pos_error"],
+            ori_error=piece["ori_error"],
+            iterations=piece["iterations"],
+            relaxed=piece["relaxed"],
+            manipulability=piece["manipulability"],
+            active=piece["active"] != 0,
+            clearance={name: clearance[:, i].copy() for i, name in enumerate(self.obstacle_names)},
+            desired=piece["desired"],
+            on_path=piece["on_path"],
+            tol_position=piece["tol"],
         )
+
+
+_FIELDS = ("times", "lines", "q", "tcp", "pos_error", "ori_error", "iterations", "relaxed",
+           "manipulability", "dt", "active", "clearance", "desired", "on_path", "tol")  # fmt: skip
+
+
+class _SpillFile:
+    """Spilled samples: an anonymous temporary file (deleted when closed) of raw rows,
+    one record ``(rows, {field: (offset, dtype, row shape)})`` per spilled piece."""
+
+    def __init__(self):
+        # open as long as the recorder (its samples); deleted when closed or collected
+        self._file = tempfile.TemporaryFile(prefix="irlc-samples-")  # noqa: SIM115
+        self._pieces: list[tuple[int, dict[str, tuple[int, np.dtype, tuple]]]] = []
+
+    def write(self, arrays: dict[str, np.ndarray]) -> None:
+        """Append one piece (equal row counts)."""
+        f, layout, rows = self._file, {}, 0
+        f.seek(0, 2)
+        for name, arr in arrays.items():
+            rows = len(arr)
+            layout[name] = (f.tell(), arr.dtype, arr.shape[1:])
+            f.write(np.ascontiguousarray(arr).tobytes())
+        self._pieces.append((rows, layout))
+
+    def read(self, names: tuple[str, ...], upto: int) -> Iterator[dict[str, np.ndarray]]:
+        """The pieces in order (``upto``: the samples spilled; a check)."""
+        total = 0
+        for rows, layout in self._pieces:
+            out = {}
+            for name in names:
+                offset, dtype, shape = layout[name]
+                self._file.seek(offset)
+                count = rows * int(np.prod(shape, dtype=int))
+                arr = np.fromfile(self._file, dtype=dtype, count=count).reshape((rows, *shape))
+                arr.flags.writeable = False
+                out[name] = arr
+            total += rows
+            yield out
+        if total != upto:
+            raise RuntimeError(f"spill file holds {total} samples, expected {upto}")
 
 
 @dataclass
@@ -301,26 +422,47 @@ def encode_label(label: str) -> int:
     return encode_active(SOURCE_NAMES.index(source), side == "max")
 
 
-def finite_differences(times: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Backward differences (module doc); rest before the first sample."""
+def finite_differences(
+    times: np.ndarray, q: np.ndarray, carry: tuple | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Backward differences (module doc); rest before the first sample. ``carry``: the
+    time, joints and speed of the sample before ``times[0]`` (a later piece of a run: the
+    same values row for row as the whole run's)."""
+    if carry is not None and len(times):
+        t0, q0, v0 = carry
+        speed, accel = _differences(np.r_[t0, times], np.vstack([q0, q]))
+        accel[1] = (speed[1] - v0) / _positive_step(times[0] - t0)
+        return speed[1:], accel[1:]
+    return _differences(times, q)
+
+
+def _differences(times: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`finite_differences` of a whole run (rest before the first sample)."""
     speed = np.zeros_like(q)
     accel = np.zeros_like(q)
     if len(times) < 2:
         return speed, accel
-    dt = np.diff(times)[:, None]
-    dt = np.where(dt > 0.0, dt, np.inf)  # repeated time stamps: no derivative
+    dt = _positive_step(np.diff(times)[:, None])  # repeated time stamps: no derivative
     speed[1:] = np.diff(q, axis=0) / dt
     accel[1:] = np.diff(speed, axis=0) / dt
     return speed, accel
 
 
-def backward_jerk(times: np.ndarray, accel: np.ndarray) -> np.ndarray:
+def _positive_step(dt):
+    """``Δt`` where positive, else ∞ (a repeated time stamp: no derivative)."""
+    return np.where(dt > 0.0, dt, np.inf)
+
+
+def backward_jerk(times: np.ndarray, accel: np.ndarray, carry: tuple | None = None) -> np.ndarray:
     """The jerk as the backward difference of :func:`finite_differences`' accelerations
     (third differences of the positions over ``Δt³`` on a uniform grid); 0 at the first
-    sample."""
+    sample. ``carry``: the time and acceleration of the sample before ``times[0]``."""
+    if carry is not None and len(times):
+        t0, a0 = carry
+        return backward_jerk(np.r_[t0, times], np.vstack([a0, accel]))[1:]
     jerk = np.zeros_like(accel)
     if len(times) < 2:
         return jerk
     dt = np.diff(times)[:, None]
-    jerk[1:] = np.diff(accel, axis=0) / np.where(dt > 0.0, dt, np.inf)
+    jerk[1:] = np.diff(accel, axis=0) / _positive_step(dt)
     return jerk

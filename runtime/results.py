@@ -3,7 +3,10 @@
 Presentation only: everything is read from the run's :class:`~irlc.runtime.samples.Samples`
 (set points and, with drives, the actual motion, each derived once by the pipeline stage
 that owns it: :mod:`irlc.runtime.run`, :mod:`irlc.runtime.drive_stage`) and the other
-parts of a :class:`RunData`; nothing is simulated or re-derived here.
+parts of a :class:`RunData`; nothing is simulated or re-derived here. The samples are read
+in consecutive pieces (:meth:`RunData.pieces`: one for a run kept in memory, the
+recorder's spilled pieces for a streamed one): the report sums them up (:class:`_Tally`),
+the trace is built piece by piece (:func:`trace_tables`), with the same values either way.
 
 Everything user-facing is in program units (mm, deg, s; joints deg | mm) through
 :mod:`units`. Numbers in the report are rounded to fixed precision (``ROUND``) so that the
@@ -27,6 +30,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Iterator
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -78,6 +82,16 @@ class RunData:
     level: str = "ideal"  # the drive level asked for
     verdict: Verdict | None = None  # drives
     base_dir: Path | None = None  # the program's folder (statement texts)
+    streamed: bool = False  # the samples are read from the recorder piece by piece
+
+    def pieces(self) -> Iterator[Samples]:
+        """The run's samples in consecutive pieces: ``samples`` whole, or (``streamed``)
+        the recorder's :meth:`~irlc.runtime.recorder.Recorder.chunks` one by one."""
+        if not self.streamed:
+            yield self.samples
+            return
+        for rec in self.controller.recorder.chunks():
+            yield Samples.of(rec)
 
     @cached_property
     def names(self) -> tuple[str, ...]:
@@ -98,41 +112,115 @@ class RunData:
         recorder = self.controller.recorder
         out = list(recorder.warnings) + list(self.execution.warnings)
         out += relaxed_warnings(recorder)
-        if self.samples.drive is not None:
+        if self.samples is not None and self.samples.drive is not None:
             out += list(self.samples.drive.notes) + self.verdict.warnings
         return out
 
 
 def assemble(run: RunData):
     """The :class:`~irlc.runtime.run.RunResult`: the report and the trace of ``run``'s
-    samples (presentation only: nothing is simulated or derived again here)."""
+    samples (presentation only: nothing is simulated or derived again here). A streamed
+    run's trace is not built here: :class:`StreamedTrace` makes it piece by piece when it
+    is written (or whole, when asked for)."""
     from irlc.runtime.run import RunResult
 
     report = build_report(run)
-    samples, execution, code = run.samples, run.execution, run.code
-    columns, table = build_trace(run.model, samples, run.names)
-    signals = signal_timelines(execution.events)
-    io_names, io_table = io_columns(table[:, 0], code.inputs, execution.state.outputs, signals)
-    columns, table = columns + io_names, np.hstack((table, io_table))
-    traced = samples.traced
     error = run.error
+    if run.streamed:
+        source = StreamedTrace(run)
+        columns = source.columns
+    else:
+        columns, table = trace_columns(run), next(trace_tables(run))
+        traced = run.samples.traced
+        source = TraceArrays(traced.times, traced.q, traced.tcp, table, run.samples.recorded)
     return RunResult(
         status="ok" if error is None else "failed",
         error=error,
         report=report,
-        times=traced.times,
-        q=traced.q,
-        tcp=traced.tcp,
         trace_columns=columns,
-        trace=table,
         model=run.model,
         obstacles=tuple(run.controller.obstacles.values()),
-        output=list(execution.output),
-        drive=samples.drive,
-        recorded=samples.recorded,
-        code=code,
+        output=list(run.execution.output),
+        drive=run.samples.drive if run.samples is not None else None,
+        code=run.code,
         joint_names=run.names,
+        source=source,
     )
+
+
+def trace_columns(run: RunData) -> list[str]:
+    """The trace's columns (:func:`trace_header`, motors, then the I/O columns)."""
+    names, model = run.names, run.model
+    drives = run.samples is not None and run.samples.drive is not None
+    cols = trace_header(names, model.joint_kinds, drives, run.controller.obstacles)
+    return cols + _motor_header(model, names) + _io(run, np.zeros(0))[0]
+
+
+def trace_tables(run: RunData) -> Iterator[np.ndarray]:
+    """The trace table (program units) in consecutive pieces of rows, one per piece of
+    :meth:`RunData.pieces` (one for a run kept in memory): :func:`build_trace`'s columns
+    and the I/O columns (:func:`~irlc.runtime.digital_io.io_columns`), each row-local."""
+    for samples in run.pieces():
+        table = build_trace(run.model, samples, run.names)[1]
+        yield np.hstack((table, _io(run, table[:, 0])[1]))
+
+
+def _io(run: RunData, times: np.ndarray):
+    """The I/O columns' names and values at ``times``."""
+    signals = signal_timelines(run.execution.events)
+    return io_columns(times, run.code.inputs, run.execution.state.outputs, signals)
+
+
+@dataclass
+class TraceArrays:
+    """A run's samples and trace table kept in memory (what :class:`RunResult` reads)."""
+
+    times: np.ndarray  # (k,) s
+    q: np.ndarray  # (k, n) SI
+    tcp: np.ndarray  # (k, 4, 4) world, m
+    trace: np.ndarray  # (k', columns), program units
+    recorded: Any = None  # RecordedRun
+
+    def tables(self) -> Iterator[np.ndarray]:
+        """The trace table as pieces (here: one)."""
+        yield self.trace
+
+
+class StreamedTrace:
+    """A streamed run's trace (kinematic runs only: no drives): :meth:`tables` builds it
+    piece by piece from the recorder (:func:`trace_tables`), so writing it needs memory
+    for one piece; the whole-run arrays (:class:`TraceArrays`' fields) are built on first
+    use, for the tools that want them (plots, animation, the Python API)."""
+
+    def __init__(self, run: RunData):
+        self.run = run
+        self.columns = trace_columns(run)
+
+    def tables(self) -> Iterator[np.ndarray]:
+        """The trace table in pieces of rows."""
+        return trace_tables(self.run)
+
+    @cached_property
+    def recorded(self):
+        """The recorder's samples joined (:meth:`~irlc.runtime.recorder.Recorder.arrays`)."""
+        return self.run.controller.recorder.arrays()
+
+    @property
+    def times(self) -> np.ndarray:
+        return self.recorded.times
+
+    @property
+    def q(self) -> np.ndarray:
+        return self.recorded.q
+
+    @property
+    def tcp(self) -> np.ndarray:
+        return self.recorded.tcp
+
+    @cached_property
+    def trace(self) -> np.ndarray:
+        pieces = list(self.tables())
+        return np.vstack(pieces) if pieces else np.zeros((0, len(self.columns)))
 
 
 # --------------------------------------------------------------------------- report
@@ -157,42 +245,38 @@ def relaxed_warnings(recorder) -> list[str]:
 def build_report(run: RunData) -> dict:
     """The report (``docs/interfaces.md``). With drives the joints, path errors and
     clearances are the actual motion's (:attr:`Samples.shown`); the ideal ones are under
-    ``ideal``."""
+    ``ideal``. The samples are read once, piece by piece (:class:`_Tally`)."""
     model, controller, execution, opts = run.model, run.controller, run.execution, run.options
-    rec, shown, drive = run.samples.recorded, run.samples.shown, run.samples.drive
     names, code, error, verdict = run.names, run.code, run.error, run.verdict
+    drive = run.samples.drive if run.samples is not None else None
     kinds = model.joint_kinds
-    scale = units.joint_scale(kinds)
-    k = len(rec.times)
-    q = shown.q / scale if k else np.zeros((0, model.n))
-    speed, accel = shown.speed / scale, shown.accel / scale
-    jerk = backward_jerk(rec.times, accel) if k else np.zeros((0, model.n))  # program units
-    pos_err, ori_err, clearance = shown.pos_error, shown.ori_error, shown.clearance
+    rows = statement_rows(  # cycle time per statement (cycle_time.py)
+        controller.statements, source_lines(code.source, run.base_dir), rnd
+    )
+    tally = _Tally(model, controller.obstacles, rows, drive is not None)
+    for samples in run.pieces():
+        tally.add(samples)
+    k = tally.k
     activity = controller.recorder.active_time  # (joint, label) → s, built once here
     active_time = _active_time(activity, model.n)
     following = _following(drive, model)
     joints = []
     for j, name in enumerate(names):
-        col = q[:, j] if k else np.zeros(1)
         joints.append(
             {
                 "name": name,
                 "unit": units.joint_unit(kinds[j]),
                 "robot_name": model.joint_names[j],
-                "min": rnd(float(col.min())),
-                "max": rnd(float(col.max())),
-                "max_abs_speed": rnd(float(np.abs(speed[:, j]).max()) if k else 0.0),
-                "max_abs_accel": rnd(float(np.abs(accel[:, j]).max()) if k else 0.0),
-                "max_abs_jerk": rnd(float(np.abs(jerk[:, j]).max()) if k else 0.0),
+                "min": rnd(float(tally.q_min[j]) if k else 0.0),
+                "max": rnd(float(tally.q_max[j]) if k else 0.0),
+                "max_abs_speed": rnd(float(tally.top_speed[j]) if k else 0.0),
+                "max_abs_accel": rnd(float(tally.top_accel[j]) if k else 0.0),
+                "max_abs_jerk": rnd(float(tally.top_jerk[j]) if k else 0.0),
                 "limit_active_s": rnd(active_time[j]),
                 "limit_activity": {lab: rnd(t) for lab, t in sorted(_labels(activity, j).items())},
                 "max_following_error": following[j],
             }
         )
-    ik_mask = rec.iterations > 0
-    iters = rec.iterations[ik_mask]
-    manip = rec.manipulability[ik_mask]
-    manip = manip[np.isfinite(manip)]
     report: dict[str, Any] = {
         "status": "ok" if error is None else "failed",
         "error": _error_dict(error),
@@ -201,20 +285,22 @@ def build_report(run: RunData) -> dict:
         "units": {"length": "mm", "angle": "deg", "time": "s"},
         "ipo_s": rnd(controller.dt_used),
         "drives": run.level,
-        "duration_s": rnd(float(rec.times[-1]) if k else 0.0),
+        "duration_s": rnd(tally.end_time if k else 0.0),
         "samples": k,
         "joints": joints,
-        "start_joints": [rnd(float(v)) for v in (q[0] if k else [])],
-        "end_joints": [rnd(float(v)) for v in (q[-1] if k else [])],
-        "max_path_error_mm": rnd(float(pos_err.max()) / units.MM if k else 0.0),
-        "max_orientation_error_deg": rnd(float(ori_err.max()) / units.DEG if k else 0.0),
-        "obstacles": _obstacles(rec.times, clearance),
+        "start_joints": [rnd(float(v)) for v in (tally.q_first if k else [])],
+        "end_joints": [rnd(float(v)) for v in (tally.q_last if k else [])],
+        "max_path_error_mm": rnd(tally.shown.pos / units.MM if k else 0.0),
+        "max_orientation_error_deg": rnd(tally.shown.ori / units.DEG if k else 0.0),
+        "obstacles": tally.shown.obstacles(),
         "ik": {
-            "cycles": int(ik_mask.sum()),
-            "iterations_mean": rnd(float(iters.mean()) if iters.size else 0.0, 6),
-            "iterations_max": int(iters.max()) if iters.size else 0,
-            "relaxed_cycles": int(rec.relaxed.sum()),
-            "min_manipulability": rnd(float(manip.min())) if manip.size else None,
+            "cycles": tally.ik_cycles,
+            "iterations_mean": rnd(
+                float(tally.iterations) / tally.ik_iterated if tally.ik_iterated else 0.0, 6
+            ),
+            "iterations_max": tally.iterations_max,
+            "relaxed_cycles": tally.relaxed,
+            "min_manipulability": rnd(tally.manipulability) if tally.manip_seen else None,
         },
         "output": list(execution.output),
         "warnings": run.warnings,
@@ -228,21 +314,18 @@ def build_report(run: RunData) -> dict:
         "robot_joint_names": list(model.joint_names),
         "program_name": code.program,
         "tool": tool_report(model, execution.state.settings.tool),
-        "statements": statement_rows(  # cycle time per statement (cycle_time.py)
-            controller.statements, source_lines(code.source, run.base_dir), rnd
-        ),
+        "statements": rows,
     }
-    if motor_coords.has_motors(model):  # per motor and statement: travel, travel time
-        moved = shown.q if k else np.zeros((0, model.n))
-        report["motors"] = _clean(motor_coords.motor_report(model, names, rec.times, moved))
-        motor_coords.add_statement_motors(report["statements"], model, rec.times, moved, rnd)
+    if tally.motors is not None:  # per motor and statement: travel, travel time
+        report["motors"] = _clean(tally.motors.report(names))
+        tally.motors.add_statements(rnd)
     if drive is not None:
         from irlc.runtime.drives import report_axes
 
         report["ideal"] = {  # the commanded (kinematic) motion, for comparison
-            "max_path_error_mm": rnd(float(rec.pos_error.max()) / units.MM if k else 0.0),
-            "max_orientation_error_deg": rnd(float(rec.ori_error.max()) / units.DEG if k else 0.0),
-            "obstacles": _obstacles(rec.times, rec.clearance),
+            "max_path_error_mm": rnd(tally.ideal.pos / units.MM if k else 0.0),
+            "max_orientation_error_deg": rnd(tally.ideal.ori / units.DEG if k else 0.0),
+            "obstacles": tally.ideal.obstacles(),
         }
         could_follow = verdict.could_follow if verdict is not None else drive.could_follow
         report["verdict"] = _clean(verdict.as_dict()) if verdict is not None else None
@@ -256,6 +339,105 @@ def build_report(run: RunData) -> dict:
             ],
         }
     return report
+
+
+class _Extrema:
+    """The largest path errors (m, rad) and, per obstacle, the smallest clearance (m) and
+    the time of the first sample at the smallest one, over pieces of a motion."""
+
+    def __init__(self, obstacles):
+        self.pos = self.ori = -math.inf
+        # name → [finite min, argmin value, its time]
+        self.clearance: dict[str, list] = {name: [None, None, None] for name in obstacles}
+
+    def add(self, times: np.ndarray, pos: np.ndarray, ori: np.ndarray, clearance: dict) -> None:
+        self.pos, self.ori = max(self.pos, float(pos.max())), max(self.ori, float(ori.max()))
+        for name, d in clearance.items():
+            best = self.clearance[name]
+            finite = d[np.isfinite(d)]
+            if finite.size and (best[0] is None or finite.min() < best[0]):
+                best[0] = finite.min()
+            i = int(np.argmin(d))
+            if best[1] is None or d[i] < best[1]:  # the first sample at the minimum
+                best[1], best[2] = d[i], times[i]
+
+    def obstacles(self) -> dict:
+        """The report's ``obstacles`` section."""
+        out = {}
+        for name in sorted(self.clearance):
+            low, _, at = self.clearance[name]
+            out[name] = {
+                "min_distance_mm": rnd(float(low) / units.MM) if low is not None else None,
+                "at_time_s": rnd(float(at)) if low is not None else None,
+            }
+        return out
+
+
+class _Tally:
+    """What the report reads of a run's samples, summed up over consecutive pieces
+    (:meth:`RunData.pieces`): joint extrema in program units (the jerk the backward
+    difference of the accelerations, the previous piece's last row carried), path-error
+    and clearance extrema (shown and, with drives, ideal), the inverse transformation's
+    counts and the motors' travel. Extrema and integer counts do not depend on how the
+    samples are cut into pieces."""
+
+    def __init__(self, model, obstacles, statement_rows: list[dict], drives: bool):
+        self.scale = units.joint_scale(model.joint_kinds)
+        self.k = self.ik_cycles = self.ik_iterated = self.iterations = 0
+        self.iterations_max = self.relaxed = 0
+        self.manipulability, self.manip_seen = math.inf, False
+        self.q_min = self.q_max = self.q_first = self.q_last = None
+        self.top_speed = self.top_accel = self.top_jerk = None
+        self.end_time = 0.0
+        self._carry: tuple | None = None  # (time, acceleration) of the last sample
+        self.shown = _Extrema(obstacles)
+        self.ideal = _Extrema(obstacles) if drives else None
+        has_motors = motor_coords.has_motors(model)
+        self.motors = motor_coords.MotorTally(model, statement_rows) if has_motors else None
+
+    def add(self, samples: Samples) -> None:
+        rec, shown = samples.recorded, samples.shown
+        if not len(rec.times):
+            return
+        q, speed = shown.q / self.scale, np.abs(shown.speed / self.scale)
+        accel = shown.accel / self.scale
+        jerk = np.abs(backward_jerk(rec.times, accel, self._carry))
+        self._carry = (rec.times[-1], accel[-1])
+        accel = np.abs(accel)
+        if self.k == 0:
+            self.q_first = q[0]
+            self.q_min, self.q_max = q.min(axis=0), q.max(axis=0)
+            self.top_speed, self.top_accel = speed.max(axis=0), accel.max(axis=0)
+            self.top_jerk = jerk.max(axis=0)
+        else:
+            self.q_min = np.minimum(self.q_min, q.min(axis=0))
+            self.q_max = np.maximum(self.q_max, q.max(axis=0))
+            self.top_speed = np.maximum(self.top_speed, speed.max(axis=0))
+            self.top_accel = np.maximum(self.top_accel, accel.max(axis=0))
+            self.top_jerk = np.maximum(self.top_jerk, jerk.max(axis=0))
+        self.q_last, self.end_time, self.k = q[-1], float(rec.times[-1]), self.k + len(rec.times)
+        self.shown.add(rec.times, shown.pos_error, shown.ori_error, shown.clearance)
+        if self.ideal is not None:
+            self.ideal.add(rec.times, rec.pos_error, rec.ori_error, rec.clearance)
+        self._add_ik(rec)
+        if self.motors is not None:
+            self.motors.add(rec.times, shown.q)
+
+    def _add_ik(self, rec) -> None:
+        """The inverse transformation's cycles (iterations > 0): count, iterations (sum,
+        max), relaxed cycles, the smallest finite manipulability."""
+        ik = rec.iterations > 0
+        iters = rec.iterations[ik]
+        self.ik_cycles += int(ik.sum())
+        self.ik_iterated += iters.size
+        self.iterations += int(iters.sum())
+        self.iterations_max = max(self.iterations_max, int(iters.max()) if iters.size else 0)
+        self.relaxed += int(rec.relaxed.sum())
+        manip = rec.manipulability[ik]
+        manip = manip[np.isfinite(manip)]
+        if manip.size:
+            self.manipulability = min(self.manipulability, float(manip.min()))
+            self.manip_seen = True
 
 
 def tool_report(model, r_tool) -> dict:
@@ -294,19 +476,6 @@ def _following(drive, model) -> list[float | None]:
         return [None] * model.n
     scale = units.joint_scale(model.joint_kinds)
     return [rnd(a.max_following_error / scale[a.joint]) for a in drive.axes]
-
-
-def _obstacles(times: np.ndarray, clearance: dict[str, np.ndarray]) -> dict:
-    out = {}
-    for name in sorted(clearance):
-        d = clearance[name]
-        finite = d[np.isfinite(d)]
-        idx = int(np.argmin(d)) if finite.size else None
-        out[name] = {
-            "min_distance_mm": rnd(float(finite.min()) / units.MM) if finite.size else None,
-            "at_time_s": rnd(float(times[idx])) if idx is not None else None,
-        }
-    return out
 
 
 def _error_dict(error: RunFailure | None) -> dict | None:

@@ -51,26 +51,64 @@ class RunSetupError(IrlcError):
 
 @dataclass
 class RunResult:
+    """A run's result. ``times``, ``q``, ``tcp`` (SI: the actual joints, the commanded ones
+    with ideal drives), ``trace`` (program units, one row per sample) and ``recorded`` are
+    read from ``source``: arrays kept in memory, or, for a streamed run
+    (``run_code(stream=True)``), built on first use; :meth:`trace_tables` gives the trace
+    in pieces of rows, which is how the CLI writes it (bounded memory)."""
+
     status: str  # "ok" | "failed"
     error: RunFailure | None
     report: dict
-    times: np.ndarray  # (k,) s
-    q: np.ndarray  # (k, n) SI (actual joints; the commanded ones with ideal drives)
-    tcp: np.ndarray  # (k, 4, 4) world, m
     trace_columns: list[str]
-    trace: np.ndarray  # (k', len(trace_columns)), program units
     model: RobotModel
     obstacles: tuple[Obstacle, ...]  # SI shapes (runtime.obstacles)
     output: list[str]
     drive: Any = None  # the drive simulation result, or None (ideal)
-    recorded: RecordedRun | None = None
     code: Code | None = None
     joint_names: tuple[str, ...] = ()
     diagnostics: list = field(default_factory=list)  # compiler warnings (run_file)
+    source: Any = None  # results.TraceArrays | results.StreamedTrace
 
     @property
     def ok(self) -> bool:
         return self.status == "ok"
+
+    @property
+    def times(self) -> np.ndarray:
+        """(k,) s."""
+        return self.source.times
+
+    @property
+    def q(self) -> np.ndarray:
+        """(k, n) SI."""
+        return self.source.q
+
+    @property
+    def tcp(self) -> np.ndarray:
+        """(k, 4, 4) world, m."""
+        return self.source.tcp
+
+    @property
+    def trace(self) -> np.ndarray:
+        """(k', len(trace_columns)), program units (a streamed run's: built on first use)."""
+        return self.source.trace
+
+    @trace.setter
+    def trace(self, table: np.ndarray) -> None:
+        from irlc.runtime.results import TraceArrays
+
+        src = self.source
+        self.source = TraceArrays(src.times, src.q, src.tcp, table, src.recorded)
+
+    @property
+    def recorded(self) -> RecordedRun | None:
+        """The recorder's samples (SI; :class:`~irlc.runtime.recorder.RecordedRun`)."""
+        return self.source.recorded if self.source is not None else None
+
+    def trace_tables(self):
+        """The trace table in consecutive pieces of rows (bounded memory when streamed)."""
+        return self.source.tables()
 
     @property
     def lines(self) -> np.ndarray:
@@ -192,6 +230,7 @@ def run_code(
     max_time: float | None = None,
     override: float | None = None,
     allow_any_path: bool = False,
+    stream: bool = False,
 ) -> RunResult:
     """Execute compiled ``code`` (see the module doc). ``path_tolerance`` (mm, the start
     value of ``R_PATH_TOL``) and ``orientation_tolerance`` (deg) override ``options``'
@@ -202,7 +241,12 @@ def run_code(
     simulated-time budget in s (default ``ExecutionOptions.max_time_s``, 24 h).
     ``override`` (%): the start value of ``R_OVERRIDE`` (``--override``; lang/settings.py's
     range, 1–100). ``allow_any_path``: the code's robot file may lie outside the program's
-    folder and the robot library (``irlc.lang.file_access``).
+    folder and the robot library (``irlc.lang.file_access``). ``stream``: bounded memory
+    for a long kinematic run (``drives = ideal``; ignored with drives, which read the whole
+    run): the recorder spills its samples to a temporary file
+    (:meth:`~irlc.runtime.recorder.Recorder.spill`), the report is summed up piece by piece
+    and the trace is built piece by piece when written (:meth:`RunResult.trace_tables`);
+    the same bytes as without it.
 
     The pipeline, one call per stage: the setup (robot, start, options), the interpreter
     with the simulated controller (the set points, :mod:`recorder`), the drives
@@ -217,15 +261,23 @@ def run_code(
     controller = SimulatedController(setup.model, setup.q0, obstacles=setup.obstacles,
                                      options=setup.options, progress=progress,
                                      naming=setup.naming)  # fmt: skip
+    streamed = stream and drives == "ideal"
+    if streamed:
+        controller.recorder.spill(SPILL_ROWS)
     execution = _interpret(code, controller, setup.settings, output, setup.budget)
-    samples, verdict = Samples.of(controller.recorder.arrays()), None
+    samples, verdict = None, None
+    if not streamed:
+        samples = Samples.of(controller.recorder.arrays())
     if drives != "ideal" and len(samples.recorded.times) > 0:
         samples, verdict = run_drives(samples, setup.model, drives, trace_every_step,
                                       controller.obstacles, controller.recorder.task_rows,
                                       setup.naming.program, setup.options)  # fmt: skip
     run = RunData(code, setup.model, controller, execution, setup.options, samples, drives,
-                  verdict, setup.base_dir)  # fmt: skip
+                  verdict, setup.base_dir, streamed)  # fmt: skip
     return assemble(run)
+
+
+SPILL_ROWS = 8192  # samples a streamed run keeps in memory (≈ 3.5 MB on koch11)
 
 
 @dataclass

@@ -193,6 +193,7 @@ def run_cmd(
             instruction_budget=instruction_budget,
             max_time=max_time,
             allow_any_path=allow_any_path,
+            stream=True,  # bounded memory: the trace is written piece by piece
         ),
         seed,
         trace_every_step,
@@ -288,7 +289,8 @@ def _write_outputs(run, report_path, trace_path) -> None:
         if report_path is not None:
             write_report(run.report, report_path)
         if trace_path is not None:
-            write_trace(run.trace_columns, run.trace, trace_path, run.error is not None)
+            partial = run.error is not None
+            write_trace(run.trace_columns, run.trace_tables(), trace_path, partial)
     except OSError as exc:
         raise UsageError(f"cannot write {exc.filename}: {exc.strerror}") from None
 
