@@ -21,7 +21,10 @@ absolute path into the program's folder are allowed.
 
 from __future__ import annotations
 
+import math
+import os
 import re
+import stat
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -75,6 +78,8 @@ def describe(value: object, limit: int = 60) -> str:
         return "no value"
     if isinstance(value, bool):
         return "true" if value else "false"
+    if isinstance(value, float) and not math.isfinite(value):
+        return "not-a-number" if value != value else ("-" if value < 0 else "") + "infinity"
     if isinstance(value, int | float):
         text = repr(value)
         return text if len(text) <= limit else f"an integer of {len(str(abs(value)))} digits"
@@ -92,3 +97,33 @@ def describe(value: object, limit: int = 60) -> str:
         keys = ", ".join(str(k) for k in list(value)[:6]) + (", ..." if len(value) > 6 else "")
         return f"a table (keys: {keys})" if value else "an empty table"
     return f"a {type(value).__name__}"
+
+
+MAX_SOURCE_BYTES = 16 * 1024 * 1024
+"""The largest program source read to show its lines (disassembly, the report's
+statements): a larger or special file (a FIFO, a device) is treated as missing."""
+
+
+def read_source_text(path: str | Path, limit: int = MAX_SOURCE_BYTES) -> str | None:
+    """The UTF-8 text of a regular file of at most ``limit`` bytes, else ``None`` (missing,
+    unreadable, a FIFO or device — which would block or never end —, too big, not UTF-8, or
+    a name the system refuses: a NUL byte, too long). For a program's source, which an
+    ``.ird`` file names and which is shown only when it can be."""
+    try:
+        with open(path, "rb", opener=_nonblocking) as f:
+            if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
+                return None
+            data = f.read(limit + 1)
+    except (OSError, ValueError):
+        return None
+    if len(data) > limit:
+        return None
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return None
+
+
+def _nonblocking(path: str, flags: int) -> int:
+    """Open without blocking on a FIFO (the file type is checked after opening)."""
+    return os.open(path, flags | getattr(os, "O_NONBLOCK", 0))

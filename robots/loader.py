@@ -17,6 +17,7 @@ is stored unvalidated for :mod:`irlc.runtime.drives.params`.
 
 from __future__ import annotations
 
+import re
 import tomllib
 from dataclasses import replace
 from pathlib import Path
@@ -82,8 +83,17 @@ def load_toml(path: str | Path) -> RobotModel:
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
-        raise RobotFileError(file, "", f"not valid TOML: {e}") from None
+        raise RobotFileError(*toml_error(file, text, e)) from None
     return build_model(doc, file, path.parent)
+
+
+def toml_error(file: str, text: str, e: tomllib.TOMLDecodeError) -> tuple[str, str, str, int]:
+    """``RobotFileError`` arguments of a TOML syntax error: the parser's reason without its
+    position, the position as the file's line (the last line for "at end of document")."""
+    reason = re.sub(r"\s*\(at (line \d+, column \d+|end of document)\)", "", str(e))
+    m = re.search(r"\(at line (\d+), column (\d+)\)", str(e))
+    line = int(m.group(1)) if m else max(1, text.count("\n") + (not text.endswith("\n")))
+    return file, "", f"not valid TOML: {reason or 'invalid TOML'}", line
 
 
 def _read_ik(rd: Reader, table: Any) -> dict:

@@ -1,0 +1,72 @@
+"""The line of a key in a TOML text: robot files and data lists name the key of an error
+(``joints[3].axis``, ``obstacles.wall.size``); ``tomllib`` gives no positions, so the
+line is searched in the text (best effort: tables ``[a.b]``, arrays of tables
+``[[joints]]`` counted from 1, dotted and quoted keys, ``key = …`` lines; an index into an
+inline array names the array's line)."""
+
+from __future__ import annotations
+
+import re
+
+_HEADER = re.compile(r"\s*(\[\[?)\s*([^\]]*?)\s*\]\]?\s*(#.*)?$")
+_KEY = r"(?:[A-Za-z0-9_-]+|\"[^\"]*\"|'[^']*')"
+_ASSIGN = re.compile(rf"\s*({_KEY}(?:\s*\.\s*{_KEY})*)\s*=")
+_PART = re.compile(r"([^.\[\]]+)((?:\[\d+\])*)")
+
+Path_ = list[tuple[str, int | None]]
+
+
+def _dotted(text: str) -> list[str]:
+    parts = re.findall(r"\"[^\"]*\"|'[^']*'|[^.\s]+", text)
+    return [p[1:-1] if p[:1] in "\"'" else p for p in parts]
+
+
+def key_path(key: str) -> Path_:
+    """``joints[3].axis`` → ``[("joints", 3), ("axis", None)]`` (the first index only)."""
+    out: Path_ = []
+    for name, idx in _PART.findall(key):
+        first = re.match(r"\[(\d+)\]", idx)
+        out.append((name, int(first.group(1)) if first else None))
+    return out
+
+
+def key_line(text: str, key: str) -> int | None:
+    """The 1-based line that defines ``key`` (or the nearest enclosing table or array of
+    tables written in the text), ``None`` when no part of it is found."""
+    want = key_path(key)
+    if not want:
+        return None
+    best, best_len = None, 0
+    counts: dict[str, int] = {}
+    table: Path_ = []
+    for lineno, raw in enumerate(text.splitlines(), start=1):
+        if (m := _HEADER.match(raw)) and not raw.lstrip().startswith("#"):
+            names = _dotted(m.group(2))
+            if m.group(1) == "[[":
+                dotted = ".".join(names)
+                counts[dotted] = counts.get(dotted, 0) + 1
+                table = [(n, None) for n in names[:-1]] + [(names[-1], counts[dotted])]
+            else:
+                table = [(n, None) for n in names]
+            path = table
+        elif m := _ASSIGN.match(raw):
+            path = table + [(n, None) for n in _dotted(m.group(1))]
+        else:
+            continue
+        n = _common(path, want)
+        if n > best_len:
+            best, best_len = lineno, n
+    return best
+
+
+def _common(path: Path_, want: Path_) -> int:
+    """How many leading parts of ``want`` the line's ``path`` matches (an array of tables
+    must match its index; a line deeper than ``want`` does not match)."""
+    if len(path) > len(want):
+        return 0
+    n = 0
+    for (name, idx), (wname, widx) in zip(path, want, strict=False):
+        if name != wname or (idx is not None and idx != widx):
+            return 0 if idx is not None and name == wname else n
+        n += 1
+    return n
