@@ -24,7 +24,7 @@ from importlib import resources
 from pathlib import Path
 
 from irlc.lang.diagnostics import Diagnostic, Span
-from irlc.lang.file_access import describe
+from irlc.lang.file_access import describe, is_file
 from irlc.lang.irdata import (
     JOINT_TUPLE_TYPES,
     OBSTACLE_KEYS,
@@ -32,6 +32,7 @@ from irlc.lang.irdata import (
     Value,
     obstacle_field_problem,
 )
+from irlc.lang.textfile import read_user_text
 
 SECTIONS = ("poses", "joints", "limits", "obstacles", "inputs")
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
@@ -73,7 +74,7 @@ def find(
     for folder in folders(program_dir, search_path):
         candidate = folder / f"{name}.toml"
         searched.append(str(folder) if str(folder) else ".")
-        if _is_file(candidate):
+        if is_file(candidate):
             return candidate, searched
     return None, searched
 
@@ -87,14 +88,6 @@ def folders(program_dir: Path, search_path: tuple[str, ...]) -> list[Path]:
     if lib is not None:
         out.append(lib)
     return out
-
-
-def _is_file(path: Path) -> bool:
-    """``path.is_file()``, ``False`` for a name the system refuses (e.g. ENAMETOOLONG)."""
-    try:
-        return path.is_file()
-    except OSError:
-        return False
 
 
 def shown_path(path: Path, program_dir: Path) -> str:
@@ -179,8 +172,8 @@ def load(
     """Read and validate one data list; ``joint_count`` None skips joint-arity checks."""
     dl = Datalist(name, str(path), shown_path(path, program_dir))
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as e:
+        text = read_user_text(path, lambda file, reason: ValueError(reason))
+    except ValueError as e:  # missing, unreadable, not UTF-8 (the byte's line)
         return dl, [Diagnostic("error", f"cannot read data list: {e}", str(path))]
     ld = _Loader(path, text, joint_count)
     try:
@@ -310,7 +303,7 @@ def _obstacle_fields(ld: _Loader, key: str, kind: str, table: dict, spec) -> lis
 def _read_inputs(ld: _Loader, dl: Datalist, body: dict) -> None:
     for name, events in body.items():
         key = f"inputs.{name}"
-        if not re.fullmatch(r"\d+", name):
+        if not re.fullmatch(r"[0-9]{1,18}", name):  # ASCII digits, inside the 64-bit range
             ld.error(key, "input keys are input numbers (0, 1, 2, ...)")
             continue
         timeline = _timeline(ld, key, events)
@@ -332,7 +325,7 @@ def _timeline(ld: _Loader, key: str, events) -> list[tuple[float, bool]] | None:
             return None
         t = float(ev[0])
         if not math.isfinite(t) or t < 0:
-            ld.error(key, f"event times must be finite and >= 0, got {ev[0]}")
+            ld.error(key, f"event times must be finite and >= 0, got {_show(ev[0])}")
             return None
         if out and t < out[-1][0]:
             ld.error(key, f"event times must not decrease ({out[-1][0]} then {t})")

@@ -39,6 +39,15 @@ def _real(path: Path) -> Path | None:
         return None
 
 
+def is_file(path: Path) -> bool:
+    """``path.is_file()``, but ``False`` for a name the system refuses (too long, a NUL
+    byte, any other OSError): such a name never names a file a program can use."""
+    try:
+        return Path(path).is_file()
+    except (OSError, ValueError):
+        return False
+
+
 def shown(path: Path) -> str:
     """``path`` as a message shows it: resolved where it can be (where ``..`` and links lead)."""
     return str(_real(path) or path)
@@ -104,19 +113,25 @@ MAX_SOURCE_BYTES = 16 * 1024 * 1024
 statements): a larger or special file (a FIFO, a device) is treated as missing."""
 
 
-def read_source_text(path: str | Path, limit: int = MAX_SOURCE_BYTES) -> str | None:
-    """The UTF-8 text of a regular file of at most ``limit`` bytes, else ``None`` (missing,
-    unreadable, a FIFO or device — which would block or never end —, too big, not UTF-8, or
-    a name the system refuses: a NUL byte, too long). For a program's source, which an
-    ``.ird`` file names and which is shown only when it can be."""
+def read_regular_bytes(path: str | Path, limit: int) -> bytes | None:
+    """At most ``limit + 1`` bytes of a regular file, else ``None`` (missing, unreadable, a
+    FIFO or device — which would block or never end —, or a name the system refuses: a
+    NUL byte, too long). More than ``limit`` bytes returned means the file is larger."""
     try:
         with open(path, "rb", opener=_nonblocking) as f:
             if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
                 return None
-            data = f.read(limit + 1)
+            return f.read(limit + 1)
     except (OSError, ValueError):
         return None
-    if len(data) > limit:
+
+
+def read_source_text(path: str | Path, limit: int = MAX_SOURCE_BYTES) -> str | None:
+    """The UTF-8 text of a regular file of at most ``limit`` bytes, else ``None``
+    (:func:`read_regular_bytes`; too big or not UTF-8 too). For a program's source, which
+    an ``.ird`` file names and which is shown only when it can be."""
+    data = read_regular_bytes(path, limit)
+    if data is None or len(data) > limit:
         return None
     try:
         return data.decode("utf-8-sig")

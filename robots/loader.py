@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from irlc.lang.file_access import ALLOW_HINT, describe, inside_roots, is_file, refusal, shown
 from irlc.lang.textfile import read_user_text
 from irlc.robots.chain import read_chain
 from irlc.robots.inertia import read_geometry, read_inertials
@@ -75,8 +76,10 @@ ROBOT_KEYS = {
 # ----------------------------------------------------------------------------- entry
 
 
-def load_toml(path: str | Path) -> RobotModel:
-    """Parse and validate one TOML robot file (raises :class:`RobotFileError`)."""
+def load_toml(path: str | Path, roots: tuple[Path, ...] | None = None) -> RobotModel:
+    """Parse and validate one TOML robot file (raises :class:`RobotFileError`). ``roots``:
+    the folders a URDF the file names must lie in (a program's robot file,
+    :mod:`irlc.lang.file_access`); ``None``: anywhere."""
     path = Path(path)
     file = str(path)
     text = read_user_text(path, lambda f, reason: RobotFileError(f, "", reason))
@@ -84,7 +87,7 @@ def load_toml(path: str | Path) -> RobotModel:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
         raise RobotFileError(*toml_error(file, text, e)) from None
-    return build_model(doc, file, path.parent)
+    return build_model(doc, file, path.parent, roots)
 
 
 def toml_error(file: str, text: str, e: tomllib.TOMLDecodeError) -> tuple[str, str, str, int]:
@@ -118,7 +121,9 @@ def _read_ik(rd: Reader, table: Any) -> dict:
     return {**out, "task": names}
 
 
-def build_model(doc: dict, file: str, folder: Path) -> RobotModel:
+def build_model(
+    doc: dict, file: str, folder: Path, roots: tuple[Path, ...] | None = None
+) -> RobotModel:
     rd = Reader(file)
     rd.table(doc, "", TOP_KEYS)
     if "robot" not in doc:
@@ -127,7 +132,7 @@ def build_model(doc: dict, file: str, folder: Path) -> RobotModel:
     _read_units(rd, robot)
     assumed = _read_assumptions(rd, doc)
     if "urdf" in robot:
-        joints, fixed = _from_urdf(rd, robot, folder, doc)
+        joints, fixed = _from_urdf(rd, robot, folder, doc, roots)
     else:
         joints, fixed = read_chain(rd, robot, doc, assumed)
     n = len(joints)
@@ -212,16 +217,22 @@ def _read_reachability(rd: Reader, value: Any, n: int) -> dict:
 # ----------------------------------------------------------------------------- URDF-backed
 
 
-def _from_urdf(rd: Reader, robot: dict, folder: Path, doc: dict) -> tuple[list[Joint], dict]:
+def _from_urdf(
+    rd: Reader, robot: dict, folder: Path, doc: dict, roots: tuple[Path, ...] | None
+) -> tuple[list[Joint], dict]:
     """``[robot] urdf = "file.urdf"``: chain, limits, inertials, geometry from the URDF; the
-    TOML may override name, home, tool, base, weights (``[[joints]]`` with name + weight)."""
+    TOML may override name, home, tool, base, weights (``[[joints]]`` with name + weight).
+    With ``roots`` (a program's robot file) the URDF must lie inside them, once resolved."""
     from irlc.robots import urdf_import
 
     rel = rd.string(robot["urdf"], "robot.urdf")
     tip = rd.string(robot["tip"], "robot.tip") if "tip" in robot else None
-    path = (folder / rel).resolve()
-    if not path.is_file():
-        raise rd.fail("robot.urdf", f"file not found: {path}")
+    path = folder / rel
+    if roots is not None and not inside_roots(path, roots):
+        raise rd.fail("robot.urdf", f"{shown(path)}: {refusal(roots)}; {ALLOW_HINT}")
+    if not is_file(path):
+        raise rd.fail("robot.urdf", f"file not found: {shown(path)}")
+    path = path.resolve()
     model = urdf_import.load_urdf(path, tip=tip)
     joints = list(model.joints)
     if "joints" in doc:
@@ -235,7 +246,8 @@ def _from_urdf(rd: Reader, robot: dict, folder: Path, doc: dict) -> tuple[list[J
             rd.table(row, key, {"name", "weight", "accel", "jerk", "assumed", "reason"})
             rd.assumption(row, key)
             if "name" in row and row["name"] != joints[i].name:
-                raise rd.fail(f"{key}.name", f"expected {joints[i].name!r} (URDF order)")
+                urdf_name = describe(joints[i].name)
+                raise rd.fail(f"{key}.name", f"expected the URDF's joint {i + 1}, {urdf_name}")
             if "weight" in row:
                 joints[i] = replace(joints[i], weight=rd.positive(row["weight"], f"{key}.weight"))
             if "accel" in row:
