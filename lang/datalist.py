@@ -18,13 +18,12 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 
 from irlc.lang.diagnostics import Diagnostic, Span
-from irlc.lang.file_access import describe, is_file
+from irlc.lang.file_access import describe, is_file, shown_key
 from irlc.lang.irdata import (
     JOINT_TUPLE_TYPES,
     OBSTACLE_KEYS,
@@ -33,6 +32,7 @@ from irlc.lang.irdata import (
     obstacle_field_problem,
 )
 from irlc.lang.textfile import read_user_text
+from irlc.lang.toml_keys import TomlError, parse_toml
 
 SECTIONS = ("poses", "joints", "limits", "obstacles", "inputs")
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
@@ -114,7 +114,8 @@ class _Loader:
 
     def error(self, key: str, message: str, hint: str | None = None) -> None:
         span = self.key_span(key)
-        self.diags.append(Diagnostic("error", f"key '{key}': {message}", self.file, span, hint))
+        message = f"key '{shown_key(key)}': {message}"
+        self.diags.append(Diagnostic("error", message, self.file, span, hint))
 
     def key_span(self, key: str) -> Span | None:
         """Best-effort line of ``key`` (``table.sub.name``) in the TOML text."""
@@ -177,12 +178,10 @@ def load(
         return dl, [Diagnostic("error", f"cannot read data list: {e}", str(path))]
     ld = _Loader(path, text, joint_count)
     try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        m = re.search(r"\(at line (\d+), column (\d+)\)", str(e))
-        span = Span(int(m.group(1)), int(m.group(2))) if m else None
-        msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(e)) or "invalid TOML"
-        return dl, [Diagnostic("error", f"invalid TOML: {msg}", str(path), span)]
+        doc = parse_toml(text)
+    except TomlError as e:
+        span = Span(e.line, e.column or 1) if e.line else None
+        return dl, [Diagnostic("error", f"invalid TOML: {e.reason}", str(path), span)]
     for section, body in doc.items():
         if section not in SECTIONS:
             ld.error(section, "unknown section", f"data list sections: {', '.join(SECTIONS)}")
@@ -195,7 +194,7 @@ def load(
 
 def _item(ld: _Loader, dl: Datalist, key: str, name: str, value: Value) -> None:
     if not _IDENT.fullmatch(name):
-        ld.error(key, f"'{name}' is not a valid IRL name (letters, digits, '_')")
+        ld.error(key, f"'{shown_key(name)}' is not a valid IRL name (letters, digits, '_')")
         return
     dl.items.append(Item(name, value, ld.file, key, ld.key_span(key)))
 
@@ -262,7 +261,7 @@ def _read_obstacles(ld: _Loader, dl: Datalist, body: dict) -> None:
         fields = _obstacle_fields(ld, key, kind, table, spec)
         if fields is None or not _IDENT.fullmatch(name):
             if fields is not None:
-                ld.error(key, f"'{name}' is not a valid IRL name (letters, digits, '_')")
+                ld.error(key, f"'{shown_key(name)}' is not a valid IRL name (letters, digits, '_')")
             continue
         o = ObstacleDef(name, kind, tuple(fields))
         dl.obstacles.append((o, Item(name, Value("OBSTACLE", ()), ld.file, key, ld.key_span(key))))

@@ -71,6 +71,13 @@ def refusal(roots: Iterable[Path]) -> str:
     return f"outside the folders a program may read from ({folders})"
 
 
+def shown_key(key: str, limit: int = 60) -> str:
+    """A key of a user's file for an error message (``joints[3].axis``): as written, or
+    its start and its length when longer than ``limit`` characters (a key is named, never
+    a whole line of the file)."""
+    return key if len(key) <= limit else f"{key[:40]}… ({len(key)} characters)"
+
+
 _WORD = re.compile(r"[a-z][a-z0-9_]{0,15}")  # a vocabulary word: shown (describe)
 
 

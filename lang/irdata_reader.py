@@ -355,6 +355,11 @@ def _read_type(r: _Reader, code: Code, words, cols, lineno) -> None:
 
 def _check_header(r: _Reader, code: Code) -> None:
     """The checks of :mod:`irlc.lang.irdata_checks` on the records kept in ``r.later``."""
+    if code.robot_record is None:
+        r.error(1, 1, "no ROBOT record")
+    elif not any(what == "joints" for what, *_ in r.later):
+        _, line, col = code.robot_record
+        r.error(line, col, f"no JOINTS record for the ROBOT record's {code.joint_count} joint(s)")
     types = r.types = TypeTable({t.index: t.fields for t in code.types})
     for what, item, lineno, col in r.later:
         problem = None

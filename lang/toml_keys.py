@@ -7,6 +7,7 @@ inline array names the array's line)."""
 from __future__ import annotations
 
 import re
+import tomllib
 
 _HEADER = re.compile(r"\s*(\[\[?)\s*([^\]]*?)\s*\]\]?\s*(#.*)?$")
 _KEY = r"(?:[A-Za-z0-9_-]+|\"[^\"]*\"|'[^']*')"
@@ -70,3 +71,55 @@ def _common(path: Path_, want: Path_) -> int:
             return 0 if idx is not None and name == wname else n
         n += 1
     return n
+
+
+MAX_KEY_PARTS = 64
+"""The most dotted parts a key or table header of a user's TOML file may have: ``tomllib``
+builds the nested tables of a dotted key in time and memory growing with the square of its
+length (a key of 100,000 parts fills gigabytes)."""
+
+
+class TomlError(ValueError):
+    """A user's TOML text is not valid TOML: the reason (without the parser's position, and
+    never the text) and the line (and column) where the parser stopped, when known."""
+
+    def __init__(self, reason: str, line: int | None, column: int | None = None):
+        self.reason, self.line, self.column = reason, line, column
+        super().__init__(reason)
+
+
+def parse_toml(text: str) -> dict:
+    """``tomllib.loads(text)``, raising :class:`TomlError` for every way a text can fail:
+    a syntax error, a number of more than 4,300 digits (``ValueError`` in ``int()``),
+    nesting deeper than Python's recursion limit, a key of more than
+    :data:`MAX_KEY_PARTS` parts."""
+    lines = text.splitlines()
+    for lineno, raw in enumerate(lines, start=1):
+        if _key_text(raw).count(".") >= MAX_KEY_PARTS:
+            raise TomlError(f"a key of more than {MAX_KEY_PARTS} dotted parts", lineno, 1)
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        m = re.search(r"\(at line (\d+), column (\d+)\)", str(e))
+        reason = re.sub(r"\s*\(at (line \d+, column \d+|end of document)\)", "", str(e))
+        if m:
+            raise TomlError(reason or "invalid TOML", int(m.group(1)), int(m.group(2))) from None
+        raise TomlError(reason or "invalid TOML", max(1, len(lines))) from None
+    except RecursionError:
+        line = _first(lines, lambda s: s.count("[") + s.count("{") > 100)
+        raise TomlError("arrays or tables nested too deeply", line) from None
+    except ValueError:  # int() of more than 4,300 digits (sys.get_int_max_str_digits)
+        line = _first(lines, re.compile(r"[0-9_]{4000,}").search)
+        raise TomlError("a number with too many digits", line) from None
+
+
+def _key_text(raw: str) -> str:
+    """The key part of a line: a table header's name, or the text before ``=``."""
+    stripped = raw.lstrip()
+    if stripped.startswith("["):
+        return stripped.split("]", 1)[0]
+    return raw.split("=", 1)[0] if "=" in raw else ""
+
+
+def _first(lines: list[str], test) -> int | None:
+    return next((k for k, s in enumerate(lines, start=1) if test(s)), None)

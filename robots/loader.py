@@ -17,8 +17,6 @@ is stored unvalidated for :mod:`irlc.runtime.drives.params`.
 
 from __future__ import annotations
 
-import re
-import tomllib
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -26,6 +24,7 @@ from typing import Any
 import numpy as np
 from irlc.lang.file_access import ALLOW_HINT, describe, inside_roots, is_file, refusal, shown
 from irlc.lang.textfile import read_user_text
+from irlc.lang.toml_keys import TomlError, parse_toml
 from irlc.robots.chain import read_chain
 from irlc.robots.inertia import read_geometry, read_inertials
 from irlc.robots.limits import read_coupled, read_home, read_limit_sets, read_pair
@@ -84,19 +83,10 @@ def load_toml(path: str | Path, roots: tuple[Path, ...] | None = None) -> RobotM
     file = str(path)
     text = read_user_text(path, lambda f, reason: RobotFileError(f, "", reason))
     try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        raise RobotFileError(*toml_error(file, text, e)) from None
+        doc = parse_toml(text)
+    except TomlError as e:
+        raise RobotFileError(file, "", f"not valid TOML: {e.reason}", e.line) from None
     return build_model(doc, file, path.parent, roots)
-
-
-def toml_error(file: str, text: str, e: tomllib.TOMLDecodeError) -> tuple[str, str, str, int]:
-    """``RobotFileError`` arguments of a TOML syntax error: the parser's reason without its
-    position, the position as the file's line (the last line for "at end of document")."""
-    reason = re.sub(r"\s*\(at (line \d+, column \d+|end of document)\)", "", str(e))
-    m = re.search(r"\(at line (\d+), column (\d+)\)", str(e))
-    line = int(m.group(1)) if m else max(1, text.count("\n") + (not text.endswith("\n")))
-    return file, "", f"not valid TOML: {reason or 'invalid TOML'}", line
 
 
 def _read_ik(rd: Reader, table: Any) -> dict:

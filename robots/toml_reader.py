@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 from irlc.lang.errors import IrlcError
-from irlc.lang.file_access import describe
+from irlc.lang.file_access import describe, shown_key
 from irlc.lang.geometry_range import geometry_problem
 from irlc.lang.toml_keys import key_line
 from irlc.runtime.spatial import zyx_to_matrix
@@ -37,7 +37,8 @@ class RobotFileError(IrlcError, LookupError):
             line = _key_line(file, key)
         self.file, self.key, self.message, self.line = file, key, message, line
         where = f"{file}:{line}" if line else file
-        super().__init__(f"{where}: key '{key}': {message}" if key else f"{where}: {message}")
+        text = f"{where}: key '{shown_key(key)}': {message}" if key else f"{where}: {message}"
+        super().__init__(text)
 
 
 def _key_line(file: str, key: str) -> int | None:
