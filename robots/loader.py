@@ -27,7 +27,7 @@ from irlc.lang.textfile import read_user_text
 from irlc.lang.toml_keys import TomlError, parse_toml
 from irlc.robots.chain import read_chain
 from irlc.robots.inertia import read_geometry, read_inertials
-from irlc.robots.limits import read_coupled, read_home, read_limit_sets, read_pair
+from irlc.robots.limits import read_coupled, read_home, read_limit_sets, read_pair, read_rate
 from irlc.robots.model import TASK_COMPONENTS, Joint, RobotModel
 from irlc.robots.toml_reader import (
     ANGLE_UNITS,
@@ -246,7 +246,7 @@ def _from_urdf(
                 joints[i] = replace(joints[i], limits=limits)
                 model.extra["assumed"].pop(f"joint '{joints[i].name}' acceleration", None)
             if "jerk" in row:
-                jerk = rd.positive(row["jerk"], f"{key}.jerk") * rd.scale(joints[i].kind)
+                jerk = read_rate(rd, row["jerk"], f"{key}.jerk", rd.scale(joints[i].kind))
                 joints[i] = replace(joints[i], limits=replace(joints[i].limits, jerk=jerk))
     fixed = {
         "urdf_extra": model.extra,

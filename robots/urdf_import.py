@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 from irlc.lang.file_access import describe
 from irlc.robots.inertia import inertial_problem
+from irlc.robots.limits import limit_problem
 from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
 from irlc.robots.toml_reader import MissingExtraError, RobotFileError, robot_geometry_problem
 
@@ -304,6 +305,9 @@ def _joint(j, src: _Source, origin: np.ndarray, assumed: dict) -> Joint:
         )
     v = float(velocity)
     _check_finite(src, j, ".limit.velocity", np.array([ACCEL_PER_VELOCITY * v]))
+    for sub, values in ((".limit", position), (".limit.velocity", (ACCEL_PER_VELOCITY * v,))):
+        if problem := limit_problem(values, 1.0):
+            raise src.error(j, sub, problem)
     a = ACCEL_PER_VELOCITY * v
     assumed[f"joint '{j.name}' acceleration"] = (
         f"URDF has no acceleration limit: {ACCEL_PER_VELOCITY:g} × velocity = {a:g}/s²"
