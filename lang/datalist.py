@@ -32,7 +32,7 @@ from irlc.lang.irdata import (
     obstacle_field_problem,
 )
 from irlc.lang.textfile import read_user_text
-from irlc.lang.toml_keys import TomlError, parse_toml
+from irlc.lang.toml_keys import TomlError, key_position, parse_toml
 
 SECTIONS = ("poses", "joints", "limits", "obstacles", "inputs")
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
@@ -108,7 +108,6 @@ class _Loader:
     def __init__(self, path: Path, text: str, joint_count: int | None):
         self.file = str(path)
         self.text = text
-        self.lines = text.splitlines()
         self.n = joint_count
         self.diags: list[Diagnostic] = []
 
@@ -118,33 +117,9 @@ class _Loader:
         self.diags.append(Diagnostic("error", message, self.file, span, hint))
 
     def key_span(self, key: str) -> Span | None:
-        """Best-effort line of ``key`` (``table.sub.name``) in the TOML text."""
-        parts = key.split(".")
-        whole = self._find(parts, None)
-        if whole is not None:
-            return whole
-        for split in range(len(parts) - 1, -1, -1):
-            table, leaf = parts[:split], parts[split:]
-            span = self._find(table, leaf[0] if leaf else None)
-            if span is not None:
-                return span
-        return None
-
-    def _find(self, table: list[str], leaf: str | None) -> Span | None:
-        current: list[str] = []
-        for i, raw in enumerate(self.lines, start=1):
-            line = raw.strip()
-            m = re.match(r"\[\s*([^\]]+?)\s*\]", line)
-            if m:
-                current = [p.strip().strip("\"'") for p in m.group(1).split(".")]
-                if leaf is None and current == table:
-                    return Span(i, raw.index("[") + 1)
-                continue
-            if leaf is not None and current == table:
-                m = re.match(r"\s*[\"']?" + re.escape(leaf) + r"[\"']?\s*=", raw)
-                if m:
-                    return Span(i, raw.index(leaf[0]) + 1)
-        return None
+        """Best-effort position of ``key`` (``table.sub.name``) in the TOML text."""
+        position = key_position(self.text, key)
+        return Span(*position) if position else None
 
     def numbers(self, value, key: str, size: int | None, what: str) -> tuple[float, ...] | None:
         if not isinstance(value, list) or not all(_is_number(v) for v in value):

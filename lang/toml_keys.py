@@ -34,10 +34,17 @@ def key_path(key: str) -> Path_:
 def key_line(text: str, key: str) -> int | None:
     """The 1-based line that defines ``key`` (or the nearest enclosing table or array of
     tables written in the text), ``None`` when no part of it is found."""
+    position = key_position(text, key)
+    return position[0] if position else None
+
+
+def key_position(text: str, key: str) -> tuple[int, int] | None:
+    """:func:`key_line` and the 1-based column where that line's key or ``[`` starts."""
     want = key_path(key)
     if not want:
         return None
-    best, best_len = None, 0
+    best: tuple[int, int] | None = None
+    best_len = 0
     counts: dict[str, int] = {}
     table: Path_ = []
     for lineno, raw in enumerate(text.splitlines(), start=1):
@@ -49,14 +56,14 @@ def key_line(text: str, key: str) -> int | None:
                 table = [(n, None) for n in names[:-1]] + [(names[-1], counts[dotted])]
             else:
                 table = [(n, None) for n in names]
-            path = table
+            path, column = table, raw.index("[") + 1
         elif m := _ASSIGN.match(raw):
-            path = table + [(n, None) for n in _dotted(m.group(1))]
+            path, column = table + [(n, None) for n in _dotted(m.group(1))], m.start(1) + 1
         else:
             continue
         n = _common(path, want)
         if n > best_len:
-            best, best_len = lineno, n
+            best, best_len = (lineno, column), n
     return best
 
 
