@@ -100,10 +100,11 @@ def resolve_model(
             raise RunSetupError(code.robot_problem(str(exc))) from None
     kinds = kind_letters(model.joint_kinds)
     if code.joint_kinds and kinds != code.joint_kinds:
-        raise RunSetupError(
+        message = (
             f"the code was compiled for {code.joint_count} joints ({code.joint_kinds}) but robot "
             f"{model.name} has {model.n} ({kinds})"
         )
+        raise RunSetupError(message if robot else code.robot_problem(message))
     return model
 
 
