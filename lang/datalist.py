@@ -16,14 +16,13 @@ when it can be found in the text).
 
 from __future__ import annotations
 
-import math
 import re
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 
 from irlc.lang.diagnostics import Diagnostic, Span
-from irlc.lang.file_access import describe, is_file, shown_key
+from irlc.lang.file_access import describe, is_file, is_finite_number, shown_key
 from irlc.lang.irdata import (
     JOINT_TUPLE_TYPES,
     OBSTACLE_KEYS,
@@ -128,7 +127,7 @@ class _Loader:
         if size is not None and len(value) != size:
             self.error(key, f"expected {size} numbers ({what}), got {len(value)}")
             return None
-        if not all(math.isfinite(v) for v in value):
+        if not all(is_finite_number(v) for v in value):
             self.error(key, "numbers must be finite")
             return None
         return tuple(float(v) for v in value)
@@ -253,7 +252,7 @@ def _obstacle_fields(ld: _Loader, key: str, kind: str, table: dict, spec) -> lis
             continue
         raw = table[k]
         if size == 1:
-            if not _is_number(raw) or not math.isfinite(raw) or raw <= 0:
+            if not _is_number(raw) or not is_finite_number(raw) or raw <= 0:
                 ld.error(f"{key}.{k}", f"expected a positive number (mm), got {_show(raw)}")
                 ok = False
                 continue
@@ -297,10 +296,10 @@ def _timeline(ld: _Loader, key: str, events) -> list[tuple[float, bool]] | None:
         ):
             ld.error(key, f"expected {shape}, got the event {_show(ev)}")
             return None
-        t = float(ev[0])
-        if not math.isfinite(t) or t < 0:
+        if not is_finite_number(ev[0]) or ev[0] < 0:
             ld.error(key, f"event times must be finite and >= 0, got {_show(ev[0])}")
             return None
+        t = float(ev[0])
         if out and t < out[-1][0]:
             ld.error(key, f"event times must not decrease ({out[-1][0]} then {t})")
             return None

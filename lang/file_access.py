@@ -71,11 +71,19 @@ def refusal(roots: Iterable[Path]) -> str:
     return f"outside the folders a program may read from ({folders})"
 
 
-def shown_key(key: str, limit: int = 60) -> str:
+def is_finite_number(value: int | float) -> bool:
+    """A finite float, or an integer a float can hold (TOML integers have any size:
+    ``0x`` and 5,000 ``f`` is an integer ``float()`` and ``math.isfinite`` refuse)."""
+    if isinstance(value, int):
+        return abs(value) <= 2**1023
+    return math.isfinite(value)
+
+
+def shown_key(key: str, limit: int = 48) -> str:
     """A key of a user's file for an error message (``joints[3].axis``): as written, or
     its start and its length when longer than ``limit`` characters (a key is named, never
     a whole line of the file)."""
-    return key if len(key) <= limit else f"{key[:40]}… ({len(key)} characters)"
+    return key if len(key) <= limit else f"{key[:32]}… ({len(key)} characters)"
 
 
 _WORD = re.compile(r"[a-z][a-z0-9_]{0,15}")  # a vocabulary word: shown (describe)
@@ -96,9 +104,11 @@ def describe(value: object, limit: int = 60) -> str:
         return "true" if value else "false"
     if isinstance(value, float) and not math.isfinite(value):
         return "not-a-number" if value != value else ("-" if value < 0 else "") + "infinity"
+    if isinstance(value, int) and abs(value).bit_length() > 3 * limit:  # repr() may refuse it
+        return f"an integer of about {int(abs(value).bit_length() * 0.30103) + 1} digits"
     if isinstance(value, int | float):
         text = repr(value)
-        return text if len(text) <= limit else f"an integer of {len(str(abs(value)))} digits"
+        return text if len(text) <= limit else f"an integer of {len(text.lstrip('-'))} digits"
     if isinstance(value, str):
         if _WORD.fullmatch(value):
             return repr(value)

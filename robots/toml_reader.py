@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 from irlc.lang.errors import IrlcError
-from irlc.lang.file_access import describe, shown_key
+from irlc.lang.file_access import describe, is_finite_number, shown_key
 from irlc.lang.geometry_range import geometry_problem
 from irlc.lang.toml_keys import key_line
 from irlc.runtime.spatial import zyx_to_matrix
@@ -104,7 +104,7 @@ class Reader:
     def number(self, value: Any, key: str) -> float:
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise self.fail(key, f"expected a number, got {show(value)}")
-        if not math.isfinite(value):
+        if not is_finite_number(value):
             raise self.fail(key, f"expected a finite number, got {show(value)}")
         return float(value)
 

@@ -64,6 +64,11 @@ def test_non_finite_values_are_described_not_printed(tmp_path, value, shown) -> 
     assert f"got {shown}" in str(e) and "nan" not in str(e).replace("not-a-number", "")
 
 
+def test_a_huge_hex_integer_is_described(tmp_path) -> None:
+    e = _error(tmp_path, GOOD.replace("accel = 500.0", "accel = 0x" + "f" * 6000))  # exit 4
+    assert "expected a finite number, got an integer of about 7225 digits" in str(e)
+
+
 def test_a_joint_bound_beyond_the_range_is_refused(tmp_path, capsys) -> None:
     e = _error(tmp_path, GOOD.replace("accel = 5.0", "accel = 1e308"))  # irlc robot showed ±inf
     assert e.key == "joints[2].accel" and "outside the range of a joint bound" in str(e)
@@ -142,6 +147,8 @@ ROBOT = SimpleRobot("six", ("revolute",) * 6)
         ('[inputs]\n"' + "9" * 5000 + '" = [[0.0, true]]\n', "input keys are input numbers"),
         ('[inputs]\n"١" = [[0.0, true]]\n', "input keys are input numbers"),  # a non-ASCII digit
         ("[inputs]\n1 = [[nan, true]]\n", "got not-a-number"),
+        ("[inputs]\n1 = [[0x" + "f" * 6000 + ", true]]\n", "finite and >= 0, got an integer"),
+        ("[poses]\np = [0x" + "f" * 6000 + ", 0, 0, 0, 0, 0]\n", "numbers must be finite"),
         ("[poses]\np = " + "[" * 2000 + "]" * 2000 + "\n", "invalid TOML: arrays or tables nested"),
     ],
 )
