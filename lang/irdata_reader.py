@@ -480,6 +480,20 @@ def _read_instruction(r: _Reader, toks, lineno, idx, fixups) -> Instruction | No
     return Instruction(op, tuple(args), line)
 
 
+def _option_problem(ins: Instruction, code: Code) -> str | None:
+    """The operands of ``OPTON``/``OPTOFF OPTION …``: one obstacle name for OBSTACLE,
+    joint numbers 1..N for ``OPTON FREEZE``, none otherwise."""
+    option, rest = ins.args[0], ins.args[1:]
+    if option == "OBSTACLE":
+        return None if len(rest) == 1 else f"expected one obstacle name, got {len(rest)} operands"
+    if option == "FREEZE" and ins.op == "OPTON":
+        n = code.joint_count
+        if rest and all(isinstance(j, int) and 1 <= j <= n for j in rest):
+            return None
+        return f"expected joint numbers in 1..{n}"
+    return f"expected no operands, got {len(rest)}" if rest else None
+
+
 _MOVE_CLAUSES = (*BY_WITH_WORD, "JOINTLIMIT", "JOINTSPEEDLIMIT", "JOINTACCELLIMIT")
 
 
@@ -522,5 +536,7 @@ def _check_references(r: _Reader, code: Code, code_records) -> None:
             _check_move(r, ins, lineno, toks)
         if ins.op in ("OPTON", "OPTOFF") and ins.args[0] not in MODAL_OPTIONS:
             r.error(lineno, toks[2][1], f"unknown modal option {shown_word(ins.args[0])}")
+        elif ins.op in ("OPTON", "OPTOFF") and (problem := _option_problem(ins, code)):
+            r.error(lineno, toks[2][1], f"{ins.op} {ins.args[0]}: {problem}")
     if not r.bad_routine and not any(rt.kind == "MAIN" for rt in code.routines):
         r.error(1, 1, "no MAIN routine")

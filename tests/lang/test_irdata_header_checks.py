@@ -183,3 +183,20 @@ def test_a_source_that_is_a_fifo_is_not_read(tmp_path) -> None:
     start = time.monotonic()
     assert read_source_text(fifo) is None  # opening a FIFO to read blocked for ever
     assert time.monotonic() - start < 2.0
+
+
+@pytest.mark.parametrize(
+    ("instruction", "message"),
+    [
+        ("OPTON CYCLIC 5", "OPTON CYCLIC: expected no operands, got 1"),
+        ("OPTOFF OBSTACLE okno -inf", "OPTOFF OBSTACLE: expected one obstacle name, got 2"),
+        ("OPTON FREEZE 7", "OPTON FREEZE: expected joint numbers in 1..6"),
+    ],
+)
+def test_modal_option_operands_are_checked(ird: str, instruction: str, message: str) -> None:
+    lines = ird.splitlines()
+    k = next(i for i, s in enumerate(lines) if " WRITELN " in s)
+    number, line_op = lines[k].split(" ", 1)
+    lines[k] = f"{number} {line_op.split()[0]} {instruction}"
+    found = errors("\n".join(lines) + "\n")
+    assert any(ln == k + 1 and message in m for ln, _, m in found), found
