@@ -87,6 +87,7 @@ def shown_key(key: str, limit: int = 48) -> str:
 
 
 _WORD = re.compile(r"[a-z][a-z0-9_]{0,15}")  # a vocabulary word: shown (describe)
+_NON_FINITE_WORDS = {"nan", "inf", "infinity"}  # described: no "nan" in a message
 
 
 def describe(value: object, limit: int = 60) -> str:
@@ -110,7 +111,7 @@ def describe(value: object, limit: int = 60) -> str:
         text = repr(value)
         return text if len(text) <= limit else f"an integer of {len(text.lstrip('-'))} digits"
     if isinstance(value, str):
-        if _WORD.fullmatch(value):
+        if _WORD.fullmatch(value) and value not in _NON_FINITE_WORDS:
             return repr(value)
         return f"a string of {len(value)} character{'s' if len(value) != 1 else ''}"
     if isinstance(value, list | tuple):

@@ -194,6 +194,8 @@ def robot_geometry_problem(what: str, values_m, unit: str = "m") -> str | None:
     the message speaking ``unit`` (the file's length unit)."""
     scale = LENGTH_UNITS[unit]
     values = np.asarray(values_m, dtype=float).ravel() / scale
+    if not np.all(np.isfinite(values)):
+        return "expected finite numbers"
     return geometry_problem(what, values, unit, scale * 1e3)
 
 

@@ -63,6 +63,8 @@ def load_urdf(path: str | Path, tip: str | None = None, name: str | None = None)
                 load_collision_meshes=False,
             )
         except Exception as e:
+            if problem := _attribute_problem(file):  # the parser's ValueError, positioned
+                raise RobotFileError(file, problem[1], problem[2], problem[0]) from None
             raise RobotFileError(file, "", f"cannot parse the URDF ({_parse_error(e)})") from None
         robot = urdf.robot
         return _convert(robot, file, tip, name or robot.name or Path(file).stem)
@@ -110,6 +112,82 @@ def _element_lines(file: str) -> dict[tuple[str, int], int]:
         }
     except Exception:  # a best-effort position: any failure leaves it out
         return {}
+
+
+# Numeric attributes of URDF elements (tag, attribute) → how many numbers they hold.
+_NUMBERS = {
+    **{("origin", a): 3 for a in ("xyz", "rpy")},
+    ("axis", "xyz"): 3,
+    ("box", "size"): 3,
+    ("sphere", "radius"): 1,
+    **{("cylinder", a): 1 for a in ("radius", "length")},
+    ("mass", "value"): 1,
+    **{("inertia", a): 1 for a in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")},
+    **{("limit", a): 1 for a in ("lower", "upper", "velocity", "effort")},
+    ("color", "rgba"): 4,
+    **{("dynamics", a): 1 for a in ("damping", "friction")},
+    **{("mimic", a): 1 for a in ("multiplier", "offset")},
+}
+
+
+_REQUIRED = {
+    "link": ("name",),
+    "joint": ("name", "type"),
+    "parent": ("link",),
+    "child": ("link",),
+    "sphere": ("radius",),
+    "cylinder": ("radius", "length"),
+    "box": ("size",),
+    "mimic": ("joint",),
+}
+
+
+def _attribute_problem(file: str) -> tuple[int | None, str, str] | None:
+    """Why the parser failed, positioned: (line, key, message), else None. The parser
+    says neither where nor which for a malformed file (it retries with a recovering
+    parser and fails later with a ``ValueError``, ``KeyError``, ``TypeError`` …): XML that
+    is not well-formed, a missing required attribute or ``<parent>``/``<child>``, a
+    numeric attribute (:data:`_NUMBERS`) that is not its count of numbers."""
+    try:
+        from lxml import etree
+
+        parser = etree.XMLParser(resolve_entities=False, no_network=True, huge_tree=False)
+        root = etree.parse(file, parser=parser).getroot()
+    except ImportError:
+        return None
+    except Exception as e:
+        line, column = getattr(e, "position", (None, None))
+        return line, "", f"not well-formed XML ({type(e).__name__} at column {column})"
+    for el in root.iter():
+        if isinstance(el.tag, str) and (problem := _element_problem(el)):
+            return el.sourceline, *problem
+    return None
+
+
+def _element_problem(el) -> tuple[str, str] | None:
+    """(key, message) of one element's missing or malformed attribute, else None."""
+    for attr in _REQUIRED.get(el.tag, ()):
+        if attr not in el.attrib:
+            return f"<{el.tag}>", f"missing the attribute '{attr}'"
+    if el.tag == "geometry" and any(
+        isinstance(c.tag, str) and c.tag not in ("box", "cylinder", "sphere", "mesh") for c in el
+    ):
+        return "<geometry>", "expected a box, cylinder, sphere or mesh element"
+    if el.tag == "joint" and el.getparent() is not None and el.getparent().tag == "robot":
+        for end in ("parent", "child"):
+            if el.find(end) is None:
+                return "<joint>", f"missing its <{end}> element"
+    for attr, text in el.attrib.items():
+        count = _NUMBERS.get((el.tag, attr))
+        if count is None:
+            continue
+        try:
+            ok = len([float(w) for w in text.split()]) == count
+        except ValueError:
+            ok = False
+        if not ok:
+            return f"<{el.tag}> {attr}", f"expected {count} number(s), got {describe(text)}"
+    return None
 
 
 def _names(names: list[str], most: int = 4) -> str:
@@ -201,8 +279,14 @@ def _check_tree(robot, src: _Source, links: dict) -> None:
             )
         parent_joint[j.child] = j
     roots = [n for n in links if n not in parent_joint]
-    if len(roots) != 1:
-        raise src.fail(f"expected one root link, found {len(roots)}: {_names(roots)}")
+    if len(roots) > 1:  # at the second: the link no joint holds that the user must join
+        raise src.error(
+            links[roots[1]],
+            "",
+            f"a second root link (no joint has it as its child; roots: {_names(roots)})",
+        )
+    if not roots:
+        raise src.fail("no root link: every link is some joint's child (a cycle)")
     children: dict[str, list[str]] = {}
     for j in robot.joints:
         children.setdefault(j.parent, []).append(j.child)

@@ -168,3 +168,36 @@ def test_key_line_finds_arrays_of_tables_inline_tables_and_dotted_keys() -> None
     assert key_line(text, "joints[1].x") == 4
     assert key_line(text, "joints[2].x") == 5  # not written: its table
     assert key_line(text, "nowhere") is None
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "line", "words"),
+    [  # each was "cannot parse the URDF (ValueError|KeyError|TypeError)" without a position
+        (
+            '<axis xyz="0 0 1"/>\n<limit',
+            '<axis xyz="0 0"/>\n<limit',
+            2,
+            "axis': expected 3 numbers",
+        ),
+        (
+            '<link name="a"/>',
+            '<link name="a"><collision><geometry><sphere/></geometry></collision></link>',
+            1,
+            "missing the attribute 'radius'",
+        ),
+        (
+            '<link name="a"/>',
+            '<link name="a"><collision><geometry><cone r="1"/></geometry></collision></link>',
+            1,
+            "expected a box, cylinder, sphere or mesh",
+        ),
+        ('<link name="b"/>', '<link name="b"/><link name="z"/>', 1, "a second root link"),
+    ],
+)
+def test_a_malformed_urdf_is_positioned(tmp_path, old, new, line, words) -> None:
+    pytest.importorskip("yourdfpy")
+    serial = BRANCHED.replace('<link name="b"/>', "").split('<joint name="jb"')[0] + "</robot>"
+    base = BRANCHED if "second root" in words else serial
+    assert old in base
+    e = _error(tmp_path, base.replace(old, new, 1), "m.urdf")
+    assert e.line == line and words in str(e), str(e)
