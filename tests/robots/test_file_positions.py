@@ -173,12 +173,7 @@ def test_key_line_finds_arrays_of_tables_inline_tables_and_dotted_keys() -> None
 @pytest.mark.parametrize(
     ("old", "new", "line", "words"),
     [  # each was "cannot parse the URDF (ValueError|KeyError|TypeError)" without a position
-        (
-            '<axis xyz="0 0 1"/>\n<limit',
-            '<axis xyz="0 0"/>\n<limit',
-            2,
-            "axis': expected 3 numbers",
-        ),
+        ('<axis xyz="0 0 1"/>', '<axis xyz="0 0"/>', 2, "axis': expected 3 numbers"),
         (
             '<link name="a"/>',
             '<link name="a"><collision><geometry><sphere/></geometry></collision></link>',
