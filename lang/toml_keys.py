@@ -9,6 +9,8 @@ from __future__ import annotations
 import re
 import tomllib
 
+from irlc.lang.errors import IrlcError
+
 _HEADER = re.compile(r"\s*(\[\[?)\s*([^\]]*?)\s*\]\]?\s*(#.*)?$")
 _KEY = r"(?:[A-Za-z0-9_-]+|\"[^\"]*\"|'[^']*')"
 _ASSIGN = re.compile(rf"\s*({_KEY}(?:\s*\.\s*{_KEY})*)\s*=")
@@ -86,7 +88,7 @@ builds the nested tables of a dotted key in time and memory growing with the squ
 length (a key of 100,000 parts fills gigabytes)."""
 
 
-class TomlError(ValueError):
+class TomlError(IrlcError, ValueError):
     """A user's TOML text is not valid TOML: the reason (without the parser's position, and
     never the text) and the line (and column) where the parser stopped, when known."""
 
