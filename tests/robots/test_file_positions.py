@@ -196,3 +196,11 @@ def test_a_malformed_urdf_is_positioned(tmp_path, old, new, line, words) -> None
     assert old in base
     e = _error(tmp_path, base.replace(old, new, 1), "m.urdf")
     assert e.line == line and words in str(e), str(e)
+
+
+def test_a_study_file_tomllib_cannot_take_is_a_positioned_error(tmp_path, capsys) -> None:
+    study = tmp_path / "s.toml"
+    study.write_text('program = "p.irl"\nx = 1' + "0" * 5000 + "\n")  # ValueError: exit 4
+    assert main(["study", str(study)]) == 3
+    err = capsys.readouterr().err
+    assert "s.toml:2" in err and "too many digits" in err and "0" * 50 not in err
