@@ -405,6 +405,9 @@ def _read_const(r: _Reader, expected: int, words, cols, lineno) -> Value | None:
 
 def _read_value(r: _Reader, words, cols, lineno) -> Value | None:
     ty, rest = words[0], words[1:]
+    if not re.fullmatch(r"[A-Z_]{1,32}(#[0-9]{1,9})?", ty):  # echoed below: a type word only
+        r.error(lineno, cols[0], f"CONST: expected a type, got {shown_word(ty)}")
+        return None
     if ty in ("STRING", "CHAR"):
         s = _unquote(rest[0]) if rest else None
         if s is None:

@@ -76,6 +76,11 @@ def test_the_program_reads_back(ird: str) -> None:
         ),
         (r"(\d+ CONST 0) INTEGER 3(.*)", r"\1 POSE 1.0 2.0\2", "POSE: expected 6 numbers, got 2"),
         (r"(\d+ CONST 0) INTEGER 3(.*)", r"\1 CHAR 'ab'\2", "CHAR: expected one character"),
+        (  # a 5,000-digit type word was echoed whole
+            r"(\d+ CONST 0) INTEGER 3(.*)",
+            r"\g<1> " + "1" * 5000 + r" 3\2",
+            "CONST: expected a type, got '" + "1" * 32 + "'… (a word of 5000 characters)",
+        ),
         (  # a file name with a NUL byte: ValueError when the run read the source (exit 4)
             r"(\d+ SOURCE) '.*'",
             "\\1 'a\x00b.irl'",
