@@ -327,11 +327,15 @@ def _read_header_record(r: _Reader, code: Code, op, toks, lineno, pending) -> No
 
 
 def _file_name(r: _Reader, word: str, lineno: int, col: int, op: str) -> str:
-    """A file or robot name operand (quoted or a bare word); a NUL character, which no file
-    name holds, is an error."""
+    """A file or robot name operand (quoted or a bare word); a NUL character or a name no
+    file system takes (over 4,096 characters, a part over 255) is an error."""
     name = _unquote(word) or word
     if "\x00" in name:
         r.error(lineno, col, f"{op}: a file name cannot hold a NUL character")
+    elif len(name) > 4096 or any(len(part) > 255 for part in re.split(r"[/\\]", name)):
+        r.error(
+            lineno, col, f"{op}: a file name too long for a file system ({len(name)} characters)"
+        )
     return name
 
 

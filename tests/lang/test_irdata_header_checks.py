@@ -86,6 +86,11 @@ def test_the_program_reads_back(ird: str) -> None:
             "\\1 'a\x00b.irl'",
             "SOURCE: a file name cannot hold a NUL character",
         ),
+        (  # ENAMETOOLONG from Path.is_file when the CLI looked for the source (exit 4)
+            r"(\d+ SOURCE) '.*'",
+            r"\1 '" + "s" * 300 + ".irl'",
+            "SOURCE: a file name too long for a file system (304 characters)",
+        ),
         (r"(\d+ JOINTS) a1 .*", r"\1 a1", "JOINTS: 1 name(s) for the ROBOT record's 6 joint(s)"),
         (r"(\d+ GLOBAL) 1 (RECORD#0 p.*)", r"\1 5 \2", "GLOBAL: expected index 1, got 5"),
         (r"(\d+ ROUTINE 1 q PROC) 1 1 (@.*)", r"\1 1 2 \2", "declares 1 parameter(s) and 2"),
