@@ -246,7 +246,8 @@ def _convert(robot, file: str, tip: str | None, name: str) -> RobotModel:
         if merged is not None:
             inertials.append(merged)
     if not joints:
-        raise src.fail("no movable joint between the root and the tip")
+        tip_link = links[path[-1].child] if path else links[roots[0]]
+        raise src.error(tip_link, "", "no movable joint between the root link and this tip")
     n = len(joints)
     joints = [replace(j, weight=float(n - i)) for i, j in enumerate(joints)]  # w_i = n − i + 1
     home = np.array([_home_value(j) for j in joints])
