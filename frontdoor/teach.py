@@ -20,12 +20,12 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
 from collections.abc import Sequence
 from pathlib import Path
 
 from irlc.files import atomic_write_text, read_user_text
 from irlc.lang.errors import IrlcError
+from irlc.lang.toml_keys import TomlError, parse_toml
 
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 JOINTS_SUFFIX = "_joints"
@@ -68,9 +68,10 @@ def teach(path: Path, name: str, pose: Sequence[float], joints: Sequence[float])
 
 def _parse(text: str, path: Path) -> dict:
     try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise TeachError(f"{path}: not valid TOML ({exc}); nothing written") from None
+        return parse_toml(text)  # every way tomllib fails (lang/toml_keys.py)
+    except TomlError as exc:
+        where = f"{path}:{exc.line}" if exc.line else str(path)
+        raise TeachError(f"{where}: not valid TOML ({exc.reason}); nothing written") from None
 
 
 def _verify(before: dict, after: dict, entries, path: Path) -> None:

@@ -16,15 +16,13 @@ when it can be found in the text).
 
 from __future__ import annotations
 
-import math
 import re
-import tomllib
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 
 from irlc.lang.diagnostics import Diagnostic, Span
-from irlc.lang.file_access import describe
+from irlc.lang.file_access import describe, is_file, is_finite_number, shown_key
 from irlc.lang.irdata import (
     JOINT_TUPLE_TYPES,
     OBSTACLE_KEYS,
@@ -32,6 +30,8 @@ from irlc.lang.irdata import (
     Value,
     obstacle_field_problem,
 )
+from irlc.lang.textfile import read_user_text
+from irlc.lang.toml_keys import TomlError, key_position, parse_toml
 
 SECTIONS = ("poses", "joints", "limits", "obstacles", "inputs")
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
@@ -73,7 +73,7 @@ def find(
     for folder in folders(program_dir, search_path):
         candidate = folder / f"{name}.toml"
         searched.append(str(folder) if str(folder) else ".")
-        if _is_file(candidate):
+        if is_file(candidate):
             return candidate, searched
     return None, searched
 
@@ -87,14 +87,6 @@ def folders(program_dir: Path, search_path: tuple[str, ...]) -> list[Path]:
     if lib is not None:
         out.append(lib)
     return out
-
-
-def _is_file(path: Path) -> bool:
-    """``path.is_file()``, ``False`` for a name the system refuses (e.g. ENAMETOOLONG)."""
-    try:
-        return path.is_file()
-    except OSError:
-        return False
 
 
 def shown_path(path: Path, program_dir: Path) -> str:
@@ -115,42 +107,18 @@ class _Loader:
     def __init__(self, path: Path, text: str, joint_count: int | None):
         self.file = str(path)
         self.text = text
-        self.lines = text.splitlines()
         self.n = joint_count
         self.diags: list[Diagnostic] = []
 
     def error(self, key: str, message: str, hint: str | None = None) -> None:
         span = self.key_span(key)
-        self.diags.append(Diagnostic("error", f"key '{key}': {message}", self.file, span, hint))
+        message = f"key '{shown_key(key)}': {message}"
+        self.diags.append(Diagnostic("error", message, self.file, span, hint))
 
     def key_span(self, key: str) -> Span | None:
-        """Best-effort line of ``key`` (``table.sub.name``) in the TOML text."""
-        parts = key.split(".")
-        whole = self._find(parts, None)
-        if whole is not None:
-            return whole
-        for split in range(len(parts) - 1, -1, -1):
-            table, leaf = parts[:split], parts[split:]
-            span = self._find(table, leaf[0] if leaf else None)
-            if span is not None:
-                return span
-        return None
-
-    def _find(self, table: list[str], leaf: str | None) -> Span | None:
-        current: list[str] = []
-        for i, raw in enumerate(self.lines, start=1):
-            line = raw.strip()
-            m = re.match(r"\[\s*([^\]]+?)\s*\]", line)
-            if m:
-                current = [p.strip().strip("\"'") for p in m.group(1).split(".")]
-                if leaf is None and current == table:
-                    return Span(i, raw.index("[") + 1)
-                continue
-            if leaf is not None and current == table:
-                m = re.match(r"\s*[\"']?" + re.escape(leaf) + r"[\"']?\s*=", raw)
-                if m:
-                    return Span(i, raw.index(leaf[0]) + 1)
-        return None
+        """Best-effort position of ``key`` (``table.sub.name``) in the TOML text."""
+        position = key_position(self.text, key)
+        return Span(*position) if position else None
 
     def numbers(self, value, key: str, size: int | None, what: str) -> tuple[float, ...] | None:
         if not isinstance(value, list) or not all(_is_number(v) for v in value):
@@ -159,7 +127,7 @@ class _Loader:
         if size is not None and len(value) != size:
             self.error(key, f"expected {size} numbers ({what}), got {len(value)}")
             return None
-        if not all(math.isfinite(v) for v in value):
+        if not all(is_finite_number(v) for v in value):
             self.error(key, "numbers must be finite")
             return None
         return tuple(float(v) for v in value)
@@ -179,17 +147,15 @@ def load(
     """Read and validate one data list; ``joint_count`` None skips joint-arity checks."""
     dl = Datalist(name, str(path), shown_path(path, program_dir))
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as e:
+        text = read_user_text(path, lambda file, reason: ValueError(reason))
+    except ValueError as e:  # missing, unreadable, not UTF-8 (the byte's line)
         return dl, [Diagnostic("error", f"cannot read data list: {e}", str(path))]
     ld = _Loader(path, text, joint_count)
     try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        m = re.search(r"\(at line (\d+), column (\d+)\)", str(e))
-        span = Span(int(m.group(1)), int(m.group(2))) if m else None
-        msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(e)) or "invalid TOML"
-        return dl, [Diagnostic("error", f"invalid TOML: {msg}", str(path), span)]
+        doc = parse_toml(text)
+    except TomlError as e:
+        span = Span(e.line, e.column or 1) if e.line else None
+        return dl, [Diagnostic("error", f"invalid TOML: {e.reason}", str(path), span)]
     for section, body in doc.items():
         if section not in SECTIONS:
             ld.error(section, "unknown section", f"data list sections: {', '.join(SECTIONS)}")
@@ -202,7 +168,7 @@ def load(
 
 def _item(ld: _Loader, dl: Datalist, key: str, name: str, value: Value) -> None:
     if not _IDENT.fullmatch(name):
-        ld.error(key, f"'{name}' is not a valid IRL name (letters, digits, '_')")
+        ld.error(key, f"'{shown_key(name)}' is not a valid IRL name (letters, digits, '_')")
         return
     dl.items.append(Item(name, value, ld.file, key, ld.key_span(key)))
 
@@ -269,7 +235,7 @@ def _read_obstacles(ld: _Loader, dl: Datalist, body: dict) -> None:
         fields = _obstacle_fields(ld, key, kind, table, spec)
         if fields is None or not _IDENT.fullmatch(name):
             if fields is not None:
-                ld.error(key, f"'{name}' is not a valid IRL name (letters, digits, '_')")
+                ld.error(key, f"'{shown_key(name)}' is not a valid IRL name (letters, digits, '_')")
             continue
         o = ObstacleDef(name, kind, tuple(fields))
         dl.obstacles.append((o, Item(name, Value("OBSTACLE", ()), ld.file, key, ld.key_span(key))))
@@ -286,7 +252,7 @@ def _obstacle_fields(ld: _Loader, key: str, kind: str, table: dict, spec) -> lis
             continue
         raw = table[k]
         if size == 1:
-            if not _is_number(raw) or not math.isfinite(raw) or raw <= 0:
+            if not _is_number(raw) or not is_finite_number(raw) or raw <= 0:
                 ld.error(f"{key}.{k}", f"expected a positive number (mm), got {_show(raw)}")
                 ok = False
                 continue
@@ -310,7 +276,7 @@ def _obstacle_fields(ld: _Loader, key: str, kind: str, table: dict, spec) -> lis
 def _read_inputs(ld: _Loader, dl: Datalist, body: dict) -> None:
     for name, events in body.items():
         key = f"inputs.{name}"
-        if not re.fullmatch(r"\d+", name):
+        if not re.fullmatch(r"[0-9]{1,18}", name):  # ASCII digits, inside the 64-bit range
             ld.error(key, "input keys are input numbers (0, 1, 2, ...)")
             continue
         timeline = _timeline(ld, key, events)
@@ -330,10 +296,10 @@ def _timeline(ld: _Loader, key: str, events) -> list[tuple[float, bool]] | None:
         ):
             ld.error(key, f"expected {shape}, got the event {_show(ev)}")
             return None
-        t = float(ev[0])
-        if not math.isfinite(t) or t < 0:
-            ld.error(key, f"event times must be finite and >= 0, got {ev[0]}")
+        if not is_finite_number(ev[0]) or ev[0] < 0:
+            ld.error(key, f"event times must be finite and >= 0, got {_show(ev[0])}")
             return None
+        t = float(ev[0])
         if out and t < out[-1][0]:
             ld.error(key, f"event times must not decrease ({out[-1][0]} then {t})")
             return None

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from irlc.lang.file_access import read_source_text
 from irlc.lang.irdata import Code, write_code
 
 
@@ -17,11 +18,9 @@ def find_source(code: Code, ird_path: str | Path | None = None) -> list[str] | N
     candidates = [Path(code.source)]
     if ird_path is not None:
         candidates.append(Path(ird_path).parent / Path(code.source).name)
-    for p in candidates:
-        try:
-            return p.read_text(encoding="utf-8").splitlines()
-        except (OSError, UnicodeDecodeError):
-            continue
+    for p in candidates:  # a regular file of bounded size only (irlc.lang.file_access)
+        if (text := read_source_text(p)) is not None:
+            return text.splitlines()
     return None
 
 

@@ -21,7 +21,10 @@ absolute path into the program's folder are allowed.
 
 from __future__ import annotations
 
+import math
+import os
 import re
+import stat
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -34,6 +37,15 @@ def _real(path: Path) -> Path | None:
         return Path(path).resolve()
     except (OSError, RuntimeError, ValueError):  # a symlink loop (Python < 3.13); a NUL byte
         return None
+
+
+def is_file(path: Path) -> bool:
+    """``path.is_file()``, but ``False`` for a name the system refuses (too long, a NUL
+    byte, any other OSError): such a name never names a file a program can use."""
+    try:
+        return Path(path).is_file()
+    except (OSError, ValueError):
+        return False
 
 
 def shown(path: Path) -> str:
@@ -59,7 +71,23 @@ def refusal(roots: Iterable[Path]) -> str:
     return f"outside the folders a program may read from ({folders})"
 
 
+def is_finite_number(value: int | float) -> bool:
+    """A finite float, or an integer a float can hold (TOML integers have any size:
+    ``0x`` and 5,000 ``f`` is an integer ``float()`` and ``math.isfinite`` refuse)."""
+    if isinstance(value, int):
+        return abs(value) <= 2**1023
+    return math.isfinite(value)
+
+
+def shown_key(key: str, limit: int = 48) -> str:
+    """A key of a user's file for an error message (``joints[3].axis``): as written, or
+    its start and its length when longer than ``limit`` characters (a key is named, never
+    a whole line of the file)."""
+    return key if len(key) <= limit else f"{key[:32]}… ({len(key)} characters)"
+
+
 _WORD = re.compile(r"[a-z][a-z0-9_]{0,15}")  # a vocabulary word: shown (describe)
+_NON_FINITE_WORDS = {"nan", "inf", "infinity"}  # described: no "nan" in a message
 
 
 def describe(value: object, limit: int = 60) -> str:
@@ -75,11 +103,15 @@ def describe(value: object, limit: int = 60) -> str:
         return "no value"
     if isinstance(value, bool):
         return "true" if value else "false"
+    if isinstance(value, float) and not math.isfinite(value):
+        return "not-a-number" if value != value else ("-" if value < 0 else "") + "infinity"
+    if isinstance(value, int) and abs(value).bit_length() > 3 * limit:  # repr() may refuse it
+        return f"an integer of about {int(abs(value).bit_length() * 0.30103) + 1} digits"
     if isinstance(value, int | float):
         text = repr(value)
-        return text if len(text) <= limit else f"an integer of {len(str(abs(value)))} digits"
+        return text if len(text) <= limit else f"an integer of {len(text.lstrip('-'))} digits"
     if isinstance(value, str):
-        if _WORD.fullmatch(value):
+        if _WORD.fullmatch(value) and value not in _NON_FINITE_WORDS:
             return repr(value)
         return f"a string of {len(value)} character{'s' if len(value) != 1 else ''}"
     if isinstance(value, list | tuple):
@@ -92,3 +124,39 @@ def describe(value: object, limit: int = 60) -> str:
         keys = ", ".join(str(k) for k in list(value)[:6]) + (", ..." if len(value) > 6 else "")
         return f"a table (keys: {keys})" if value else "an empty table"
     return f"a {type(value).__name__}"
+
+
+MAX_SOURCE_BYTES = 16 * 1024 * 1024
+"""The largest program source read to show its lines (disassembly, the report's
+statements): a larger or special file (a FIFO, a device) is treated as missing."""
+
+
+def read_regular_bytes(path: str | Path, limit: int) -> bytes | None:
+    """At most ``limit + 1`` bytes of a regular file, else ``None`` (missing, unreadable, a
+    FIFO or device — which would block or never end —, or a name the system refuses: a
+    NUL byte, too long). More than ``limit`` bytes returned means the file is larger."""
+    try:
+        with open(path, "rb", opener=_nonblocking) as f:
+            if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
+                return None
+            return f.read(limit + 1)
+    except (OSError, ValueError):
+        return None
+
+
+def read_source_text(path: str | Path, limit: int = MAX_SOURCE_BYTES) -> str | None:
+    """The UTF-8 text of a regular file of at most ``limit`` bytes, else ``None``
+    (:func:`read_regular_bytes`; too big or not UTF-8 too). For a program's source, which
+    an ``.ird`` file names and which is shown only when it can be."""
+    data = read_regular_bytes(path, limit)
+    if data is None or len(data) > limit:
+        return None
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return None
+
+
+def _nonblocking(path: str, flags: int) -> int:
+    """Open without blocking on a FIFO (the file type is checked after opening)."""
+    return os.open(path, flags | getattr(os, "O_NONBLOCK", 0))

@@ -40,6 +40,14 @@ OPCODES: dict[str, str] = {
 }  # fmt: skip
 
 
+def shown_word(word: str, limit: int = 32) -> str:
+    """A word of an ``.ird`` file for a message: quoted, or its start and its length when
+    long (a corrupted file may hold a word of any length)."""
+    if len(word) <= limit:
+        return repr(word)
+    return f"{word[:limit]!r}… (a word of {len(word)} characters)"
+
+
 @dataclass(frozen=True)
 class Target:
     """A jump or entry target: the index of an instruction in ``Code.code``."""
@@ -121,10 +129,23 @@ class Code:
     globals: list[Slot] = field(default_factory=list)
     routines: list[Routine] = field(default_factory=list)
     code: list[Instruction] = field(default_factory=list)
+    # Where the ROBOT record was read from: (file, line, column of the robot operand); not
+    # part of the format. Empty for code the compiler made (its ROBOT clause was resolved).
+    robot_record: tuple[str, int, int] | None = None
 
     @property
     def joint_count(self) -> int:
         return len(self.joint_kinds)
+
+    def robot_problem(self, message: str) -> str:
+        """``message`` about the code's robot, positioned at its ROBOT record when the code
+        was read from a file (``x.ird:3:9: the code's ROBOT record: …``), else saying the
+        code records no position for it."""
+        robot = f"cannot use robot {shown_word(self.robot)}"
+        if self.robot_record is None:
+            return f"{robot} (the code records no position for its ROBOT record): {message}"
+        file, line, col = self.robot_record
+        return f"{file}:{line}:{col}: {robot} (the code's ROBOT record): {message}"
 
     def obstacle(self, name: str) -> ObstacleDef | None:
         key = name.lower()

@@ -5,9 +5,16 @@ checked, so a hand-written file fails here rather than at run time."""
 from __future__ import annotations
 
 import re
+from dataclasses import replace
 
 from irlc.lang.diagnostics import CompileError, Diagnostic, Span
-from irlc.lang.geometry_range import OBSTACLE_KINDS
+from irlc.lang.irdata_checks import (
+    TypeTable,
+    const_problem,
+    obstacle_problem,
+    shown_word,
+    timeline_problem,
+)
 from irlc.lang.irdata_model import (
     FORMAT_VERSION,
     MAGIC,
@@ -25,8 +32,10 @@ from irlc.lang.irdata_model import (
     Target,
     Value,
 )
+from irlc.lang.settings import BY_WITH_WORD
 from irlc.lang.value_ranges import parse_integer, string_too_long
 
+MAX_ERRORS = 20  # errors shown of one file
 _DECIMAL = re.compile(r"[+-]?[0-9]+")
 # The escaped form E'…' of a string holding a line break (irdata_writer._quote).
 _UNESCAPE = re.compile(r"\\(\\|u[0-9a-f]{4})")
@@ -38,10 +47,25 @@ class _Reader:
         self.text = text
         self.file = filename
         self.diags: list[Diagnostic] = []
+        self.more = 0  # errors beyond MAX_ERRORS (counted, not shown)
         self.bad_routine = False  # a malformed ROUTINE record: "no MAIN routine" would be noise
+        # (what, item, line, column) of header records checked once the header is read
+        # (types refer to TYPE records; joint tuples to the ROBOT record's joint count)
+        self.later: list[tuple[str, object, int, int]] = []
+        self.types = TypeTable({})
 
     def error(self, line: int, col: int, msg: str, hint: str | None = None) -> None:
+        if len(self.diags) >= MAX_ERRORS:
+            self.more += 1  # a damaged file repeats its error on every record: shown once
+            return
         self.diags.append(Diagnostic("error", msg, self.file, Span(line, col), hint))
+
+    def failure(self) -> CompileError:
+        """The errors found, the first :data:`MAX_ERRORS` of them with a count of the rest."""
+        if self.more:
+            note = f"{self.more} more error(s) in {self.file} not shown"
+            self.diags[-1] = replace(self.diags[-1], notes=(*self.diags[-1].notes, note))
+        return CompileError(self.diags)
 
     def index(self, word: str, col: int, lineno: int, op: str) -> int | None:
         """A table index operand (a non-negative integer), or ``None`` after an error."""
@@ -51,7 +75,7 @@ class _Reader:
                 return value
             self.error(lineno, col, f"{op}: {value}")
             return None
-        self.error(lineno, col, f"{op}: expected an index, got {word!r}")
+        self.error(lineno, col, f"{op}: expected an index, got {shown_word(word)}")
         return None
 
     def tokens(self, line_text: str) -> list[tuple[str, int]]:
@@ -112,11 +136,9 @@ def read_code(text: str, filename: str = "<irdata>") -> Code:
     r = _Reader(text, filename)
     lines = text.splitlines()
     if not lines or lines[0].strip() != MAGIC:
-        got = lines[0].strip() if lines else "an empty file"
-        r.error(
-            1, 1, f"not IRDATA code of version {FORMAT_VERSION}: expected '{MAGIC}', got {got!r}"
-        )
-        raise CompileError(r.diags)
+        got = shown_word(lines[0].strip()) if lines else "an empty file"
+        r.error(1, 1, f"not IRDATA code of version {FORMAT_VERSION}: expected '{MAGIC}', got {got}")
+        raise r.failure()
     code = Code("", "", "", "", "", ())
     records: list[tuple[int, list[tuple[str, int]]]] = []  # (file line, tokens)
     expected = 1
@@ -128,8 +150,9 @@ def read_code(text: str, filename: str = "<irdata>") -> Code:
             continue
         num = _parse_number(toks[0][0])
         if not isinstance(num, int) or num != expected:
-            r.error(lineno, toks[0][1], f"expected record number {expected}, got {toks[0][0]!r}")
-            raise CompileError(r.diags)
+            got = shown_word(toks[0][0])
+            r.error(lineno, toks[0][1], f"expected record number {expected}, got {got}")
+            raise r.failure()
         expected += 1
         records.append((lineno, toks[1:]))
     # header
@@ -147,7 +170,8 @@ def read_code(text: str, filename: str = "<irdata>") -> Code:
         _read_header_record(r, code, op, toks, lineno, pending_entries)
     else:
         r.error(len(lines), 1, "missing CODE record")
-        raise CompileError(r.diags)
+        raise r.failure()
+    _check_header(r, code)
     first_code_recno = k + 1
     jump_fixups: list[tuple[int, int, int, int, int]] = []
     for idx, (lineno, toks) in enumerate(records[k:]):
@@ -170,7 +194,7 @@ def read_code(text: str, filename: str = "<irdata>") -> Code:
         routine.entry = target
     _check_references(r, code, records[k:])
     if r.diags:
-        raise CompileError(r.diags)
+        raise r.failure()
     return code
 
 
@@ -187,26 +211,32 @@ def _read_header_record(r: _Reader, code: Code, op, toks, lineno, pending) -> No
     if op == "PROGRAM" and need(2):
         code.program = words[1]
     elif op == "SOURCE" and need(2):
-        code.source = _unquote(words[1]) or words[1]
+        code.source = _file_name(r, words[1], lineno, col_of[1], op)
     elif op == "ROBOT" and need(5):
         code.robot_var = words[1]
-        code.robot = _unquote(words[2]) or words[2]
+        code.robot = _file_name(r, words[2], lineno, col_of[2], op)
+        code.robot_record = (r.file, lineno, col_of[2])
         kinds = words[4]
         if not re.fullmatch(r"[RP]+", kinds) or str(len(kinds)) != words[3]:
             r.error(
-                lineno, col_of[4], f"ROBOT: joint kinds {kinds!r} do not match count {words[3]}"
+                lineno,
+                col_of[4],
+                f"ROBOT: joint kinds {shown_word(kinds)} do not match count {shown_word(words[3])}",
             )
         code.joint_kinds = kinds
     elif op == "JOINTS":
         code.joint_names = tuple(words[1:])
+        r.later.append(("joints", len(words) - 1, lineno, col_of[0]))
     elif op == "UNITS":
         if words[1:] != ["mm", "deg", "s"]:
             r.error(lineno, col_of[0], "UNITS: only 'mm deg s' is supported")
     elif op == "DATALIST" and need(3):
-        code.datalists.append((words[1], _unquote(words[2]) or words[2]))
+        code.datalists.append((words[1], _file_name(r, words[2], lineno, col_of[2], op)))
     elif op == "CONST":
         v = _read_const(r, len(code.consts), words, col_of, lineno) if need(3) else None
         code.consts.append(v if v is not None else _BAD_VALUE)  # later indices stay right
+        if v is not None:
+            r.later.append(("const", v, lineno, col_of[2]))
     elif op == "OBSTACLE" and need(3):
         fields: list[tuple[str, tuple[float, ...]]] = []
         key, vals = None, []
@@ -222,9 +252,10 @@ def _read_header_record(r: _Reader, code: Code, op, toks, lineno, pending) -> No
                 vals.append(num)
         if key is not None:
             fields.append((key, tuple(float(v) for v in vals)))
-        if words[2] not in OBSTACLE_KINDS:
-            r.error(lineno, col_of[2], f"OBSTACLE: unknown kind {words[2]!r}")
-        code.obstacles.append(ObstacleDef(words[1], words[2], tuple(fields)))
+        obstacle = ObstacleDef(words[1], words[2], tuple(fields))
+        if problem := obstacle_problem(obstacle):
+            r.error(lineno, col_of[2], f"OBSTACLE {shown_word(words[1])}: {problem}")
+        code.obstacles.append(obstacle)
     elif op == "INPUT" and need(2):
         events = []
         rest = words[2:]
@@ -233,39 +264,54 @@ def _read_header_record(r: _Reader, code: Code, op, toks, lineno, pending) -> No
         for t, v in zip(rest[::2], rest[1::2], strict=False):
             tv, bv = _parse_number(t), _parse_bool(v)
             if tv is None or bv is None:
-                r.error(lineno, col_of[0], f"INPUT: bad event {t} {v}")
+                r.error(lineno, col_of[0], f"INPUT: bad event {shown_word(t)} {shown_word(v)}")
                 continue
             events.append((float(tv), bv))
+        if problem := timeline_problem(events):
+            r.error(lineno, col_of[0], f"INPUT: {problem}")
         signal = r.index(words[1], col_of[1], lineno, op)
         if signal is not None:
             code.inputs[signal] = events
     elif op == "TYPE" and need(3):
-        fields_t = tuple(tuple(w.split(":", 1)) for w in words[3:])
-        index = r.index(words[1], col_of[1], lineno, op)
-        index = len(code.types) if index is None else index
-        code.types.append(RecordType(index, fields_t))  # type: ignore[arg-type]
+        _read_type(r, code, words, col_of, lineno)
     elif op == "GLOBAL":
         index = r.index(words[1], col_of[1], lineno, op) if need(4) else None
+        if index is not None and index != len(code.globals):
+            r.error(lineno, col_of[1], f"GLOBAL: expected index {len(code.globals)}, got {index}")
         slot = Slot(index, words[2], words[3]) if index is not None else _BAD_SLOT
         code.globals.append(slot)  # a placeholder keeps later indices right
+        if index is not None:
+            r.later.append(("slot", words[2], lineno, col_of[2]))
     elif op == "ROUTINE":
         index = r.index(words[1], col_of[1], lineno, op) if need(7) else None
         if index is None:
             r.bad_routine = True
             code.routines.append(Routine(len(code.routines), "?", "?", -1))
             return
+        if index != len(code.routines):
+            r.error(lineno, col_of[1], f"ROUTINE: expected index {len(code.routines)}, got {index}")
         routine = Routine(index, words[2], words[3], -1)
         code.routines.append(routine)
+        if words[3].startswith("FUNC:"):
+            r.later.append(("result", words[3][5:], lineno, col_of[3]))
+        elif words[3] not in ("MAIN", "PROC"):
+            r.error(
+                lineno,
+                col_of[3],
+                f"ROUTINE: expected MAIN, PROC or FUNC:TYPE, got {shown_word(words[3])}",
+            )
+        counts = [r.index(w, c, lineno, op) for w, c in zip(words[4:6], col_of[4:6], strict=True)]
+        r.later.append(("routine", (routine, counts), lineno, col_of[4]))
         rec = words[6]
         entry = _record_number(rec)
         if entry is None:
-            r.error(lineno, col_of[6], f"ROUTINE: expected an entry @record, got {rec!r}")
+            r.error(lineno, col_of[6], f"ROUTINE: expected an entry @record, got {shown_word(rec)}")
         else:
             pending.append((routine, entry, lineno, col_of[6]))
     elif op in ("PARAM", "LOCAL") and need(5):
         routine = next((x for x in code.routines if x.index == _parse_number(words[1])), None)
         if routine is None:
-            r.error(lineno, col_of[1], f"{op}: unknown routine {words[1]}")
+            r.error(lineno, col_of[1], f"{op}: unknown routine {shown_word(words[1])}")
             return
         by_ref = words[3] == "VAR"
         rest = words[4:] if by_ref else words[3:]
@@ -274,9 +320,78 @@ def _read_header_record(r: _Reader, code: Code, op, toks, lineno, pending) -> No
             return
         slot = Slot(index, rest[0], rest[1] if len(rest) > 1 else "?", by_ref)
         (routine.params if op == "PARAM" else routine.locals).append(slot)
+        r.later.append(("slot", rest[0], lineno, col_of[4] if by_ref else col_of[3]))
     elif op not in ("PROGRAM", "SOURCE", "ROBOT", "DATALIST", "CONST", "OBSTACLE", "INPUT",
                     "TYPE", "GLOBAL", "ROUTINE", "PARAM", "LOCAL"):  # fmt: skip
-        r.error(lineno, col_of[0], f"unknown header record {op!r}")
+        r.error(lineno, col_of[0], f"unknown header record {shown_word(op)}")
+
+
+def _file_name(r: _Reader, word: str, lineno: int, col: int, op: str) -> str:
+    """A file or robot name operand (quoted or a bare word); a NUL character or a name no
+    file system takes (over 4,096 characters, a part over 255) is an error."""
+    name = _unquote(word) or word
+    if "\x00" in name:
+        r.error(lineno, col, f"{op}: a file name cannot hold a NUL character")
+    elif len(name) > 4096 or any(len(part) > 255 for part in re.split(r"[/\\]", name)):
+        r.error(
+            lineno, col, f"{op}: a file name too long for a file system ({len(name)} characters)"
+        )
+    return name
+
+
+def _read_type(r: _Reader, code: Code, words, cols, lineno) -> None:
+    """``TYPE k RECORD name:TYPE …``: ``k`` the next index, each field ``name:TYPE``."""
+    index = r.index(words[1], cols[1], lineno, "TYPE")
+    if index is not None and index != len(code.types):
+        r.error(lineno, cols[1], f"TYPE: expected index {len(code.types)}, got {index}")
+    if words[2] != "RECORD":
+        r.error(lineno, cols[2], f"TYPE: expected RECORD, got {shown_word(words[2])}")
+    fields = []
+    for w, c in zip(words[3:], cols[3:], strict=True):
+        name, _, ty = w.partition(":")
+        if not name or not ty:
+            r.error(lineno, c, f"TYPE: expected a field 'name:TYPE', got {shown_word(w)}")
+            continue
+        fields.append((name, ty))
+        r.later.append(("field", ty, lineno, c))
+    code.types.append(RecordType(len(code.types), tuple(fields)))
+
+
+def _check_header(r: _Reader, code: Code) -> None:
+    """The checks of :mod:`irlc.lang.irdata_checks` on the records kept in ``r.later``."""
+    if code.robot_record is None:
+        r.error(1, 1, "no ROBOT record")
+    elif not any(what == "joints" for what, *_ in r.later):
+        _, line, col = code.robot_record
+        r.error(line, col, f"no JOINTS record for the ROBOT record's {code.joint_count} joint(s)")
+    types = r.types = TypeTable({t.index: t.fields for t in code.types})
+    for what, item, lineno, col in r.later:
+        problem = None
+        if what in ("slot", "field", "result"):
+            problem = types.problem(item, signal=what == "slot")  # type: ignore[arg-type]
+        elif what == "const":
+            problem = const_problem(item, code.joint_count)  # type: ignore[arg-type]
+        elif what == "joints" and item != code.joint_count:
+            problem = f"JOINTS: {item} name(s) for the ROBOT record's {code.joint_count} joint(s)"
+        elif what == "routine":
+            problem = _slot_problem(*item)  # type: ignore[misc]
+        if problem:
+            r.error(lineno, col, problem)
+
+
+def _slot_problem(routine: Routine, counts: list[int | None]) -> str | None:
+    """The PARAM and LOCAL records of ``routine`` number its slots 0, 1, … (parameters
+    first) and match the counts of its ROUTINE record."""
+    slots = [s.index for s in routine.params + routine.locals]
+    if slots != list(range(len(slots))):
+        return f"the PARAM and LOCAL records of routine {routine.index} do not number 0..n-1"
+    found = [len(routine.params), len(routine.locals)]
+    if None not in counts and counts != found:
+        return (
+            f"routine {routine.index} declares {counts[0]} parameter(s) and {counts[1]} "
+            f"local(s); its PARAM and LOCAL records give {found[0]} and {found[1]}"
+        )
+    return None
 
 
 _BAD_VALUE = Value("<bad>", ())  # placeholders of malformed records (the read fails anyway)
@@ -294,6 +409,9 @@ def _read_const(r: _Reader, expected: int, words, cols, lineno) -> Value | None:
 
 def _read_value(r: _Reader, words, cols, lineno) -> Value | None:
     ty, rest = words[0], words[1:]
+    if not re.fullmatch(r"[A-Z_]{1,32}(#[0-9]{1,9})?", ty):  # echoed below: a type word only
+        r.error(lineno, cols[0], f"CONST: expected a type, got {shown_word(ty)}")
+        return None
     if ty in ("STRING", "CHAR"):
         s = _unquote(rest[0]) if rest else None
         if s is None:
@@ -336,7 +454,7 @@ def _read_instruction(r: _Reader, toks, lineno, idx, fixups) -> Instruction | No
     op, col = toks[1]
     sig = OPCODES.get(op)
     if sig is None:
-        r.error(lineno, col, f"unknown opcode {op!r}")
+        r.error(lineno, col, f"unknown opcode {shown_word(op)}")
         return None
     operands = toks[2:]
     args: list[Operand] = []
@@ -350,13 +468,14 @@ def _read_instruction(r: _Reader, toks, lineno, idx, fixups) -> Instruction | No
         if kind == "t":
             rec = _record_number(tok)
             if rec is None:
-                r.error(lineno, c, f"{op}: expected a jump target '@<record>', got {tok!r}")
+                got = shown_word(tok)
+                r.error(lineno, c, f"{op}: expected a jump target '@<record>', got {got}")
                 return None
             fixups.append((idx, k, rec, lineno, c))
             args.append(Target(-1))
         elif kind == "i" or (kind == "*" and re.fullmatch(r"-?[0-9]+", tok)):
             if not re.fullmatch(r"-?[0-9]+", tok):
-                r.error(lineno, c, f"{op}: expected an integer, got {tok!r}")
+                r.error(lineno, c, f"{op}: expected an integer, got {shown_word(tok)}")
                 return None
             value = parse_integer(tok)
             if isinstance(value, str):
@@ -366,6 +485,36 @@ def _read_instruction(r: _Reader, toks, lineno, idx, fixups) -> Instruction | No
         else:
             args.append(tok)
     return Instruction(op, tuple(args), line)
+
+
+def _option_problem(ins: Instruction, code: Code) -> str | None:
+    """The operands of ``OPTON``/``OPTOFF OPTION …``: one obstacle name for OBSTACLE,
+    joint numbers 1..N for ``OPTON FREEZE``, none otherwise."""
+    option, rest = ins.args[0], ins.args[1:]
+    if option == "OBSTACLE":
+        return None if len(rest) == 1 else f"expected one obstacle name, got {len(rest)} operands"
+    if option == "FREEZE" and ins.op == "OPTON":
+        n = code.joint_count
+        if rest and all(isinstance(j, int) and 1 <= j <= n for j in rest):
+            return None
+        return f"expected joint numbers in 1..{n}"
+    return f"expected no operands, got {len(rest)}" if rest else None
+
+
+_MOVE_CLAUSES = (*BY_WITH_WORD, "JOINTLIMIT", "JOINTSPEEDLIMIT", "JOINTACCELLIMIT")
+
+
+def _check_move(r: _Reader, ins: Instruction, lineno: int, toks) -> None:
+    """``MOVE KIND npts clause…``: a positive point count, known clause words (``WITH``
+    words, the joint-limit options, ``RECONF:k`` with ``k`` ≥ 1)."""
+    npts = ins.args[1]
+    if not isinstance(npts, int) or npts < 1:
+        r.error(lineno, toks[3][1], f"MOVE: expected a positive number of points, got {npts}")
+    for (tok, col), word in zip(toks[4:], ins.args[2:], strict=True):
+        word = str(word)
+        reconf = word.startswith("RECONF:") and re.fullmatch(r"[1-9][0-9]{0,5}", word[7:])
+        if word not in _MOVE_CLAUSES and not reconf:
+            r.error(lineno, col, f"MOVE: unknown clause {shown_word(tok)}")
 
 
 def _check_references(r: _Reader, code: Code, code_records) -> None:
@@ -385,10 +534,16 @@ def _check_references(r: _Reader, code: Code, code_records) -> None:
                 lineno, toks[2][1], f"{ins.op}: index {ins.args[0]} out of range (0..{limit - 1})"
             )
         if ins.op in ("PUSHSYS", "POPSYS") and ins.args[0] not in SYSTEM_VARIABLES:
-            r.error(lineno, toks[2][1], f"unknown system variable {ins.args[0]!r}")
+            r.error(lineno, toks[2][1], f"unknown system variable {shown_word(ins.args[0])}")
+        if ins.op == "MAKE" and (problem := r.types.problem(str(ins.args[0]))):
+            r.error(lineno, toks[2][1], f"MAKE: {problem}")
         if ins.op == "MOVE" and ins.args[0] not in MOVE_KINDS:
-            r.error(lineno, toks[2][1], f"unknown motion kind {ins.args[0]!r}")
+            r.error(lineno, toks[2][1], f"unknown motion kind {shown_word(ins.args[0])}")
+        elif ins.op == "MOVE":
+            _check_move(r, ins, lineno, toks)
         if ins.op in ("OPTON", "OPTOFF") and ins.args[0] not in MODAL_OPTIONS:
-            r.error(lineno, toks[2][1], f"unknown modal option {ins.args[0]!r}")
+            r.error(lineno, toks[2][1], f"unknown modal option {shown_word(ins.args[0])}")
+        elif ins.op in ("OPTON", "OPTOFF") and (problem := _option_problem(ins, code)):
+            r.error(lineno, toks[2][1], f"{ins.op} {ins.args[0]}: {problem}")
     if not r.bad_routine and not any(rt.kind == "MAIN" for rt in code.routines):
         r.error(1, 1, "no MAIN routine")

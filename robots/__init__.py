@@ -20,7 +20,14 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-from irlc.lang.file_access import ALLOW_HINT, inside_roots, refusal, shown
+from irlc.lang.file_access import (
+    ALLOW_HINT,
+    inside_roots,
+    is_file,
+    read_regular_bytes,
+    refusal,
+    shown,
+)
 from irlc.robots.loader import RobotFileError, load_toml
 from irlc.robots.model import Capsule, Inertial, Joint, Limits, RobotModel, Sphere
 
@@ -46,7 +53,7 @@ __all__ = [
     "resolver",
 ]
 
-_cache: dict[tuple[str, int, int], RobotModel] = {}
+_cache: dict[tuple, RobotModel] = {}
 
 
 class UnknownRobotError(RobotFileError):
@@ -106,19 +113,26 @@ def _program_robot_file(text: str, base_dir: Path) -> Path:
     candidate = base_dir / text  # an absolute ``text`` stays as written
     roots = program_roots(base_dir)
     if not inside_roots(candidate, roots):
+        if (library := _library_copy(candidate)) is not None:
+            return library
         raise RobotFileError(shown(candidate), "", f"{refusal(roots)}; {ALLOW_HINT}")
     if not is_file(candidate):
         raise RobotFileError(text, "", "file not found (looked in the program's folder)")
     return candidate
 
 
-def is_file(path: Path) -> bool:
-    """``path.is_file()``, but ``False`` for a name the system refuses (too long: ENAMETOOLONG,
-    or any other OSError): such a name never names a file the program can use."""
-    try:
-        return path.is_file()
-    except OSError:
-        return False
+def _library_copy(path: Path) -> Path | None:
+    """The library robot file ``path`` is a byte-identical copy of (same file name), else
+    None. A program in a source tree may name the tree's ``robots/planar3.toml`` by a
+    relative path; installed without ``-e``, that file lies outside the installed library
+    but holds the same bytes, so the program gets the library's file — the robot it
+    named, read from inside the allowed folders. Only a regular file no larger than the
+    library's is read, and the answer says nothing of its text."""
+    library = ROBOTS_DIR / path.name
+    if path.suffix.lower() != ".toml" or not is_file(library):
+        return None
+    expected = library.read_bytes()
+    return library if read_regular_bytes(path, len(expected)) == expected else None
 
 
 def resolve_robot(
@@ -131,12 +145,17 @@ def resolve_robot(
     path = robot_file(name_or_path, base_dir, restricted=restricted)
     try:
         stat = path.stat()
-    except OSError as e:
-        raise RobotFileError(str(path), "", f"cannot read the file ({e.strerror or e})") from None
-    key = (str(path.resolve()), stat.st_mtime_ns, stat.st_size)
+        real = str(path.resolve())
+    except (OSError, RuntimeError, ValueError) as e:
+        reason = getattr(e, "strerror", None) or "it cannot be resolved"
+        raise RobotFileError(str(path), "", f"cannot read the file ({reason})") from None
+    # a program's robot file may name a URDF only inside the same folders
+    folder = Path(base_dir) if base_dir is not None else Path()
+    roots = program_roots(folder) if restricted else None
+    key = (real, stat.st_mtime_ns, stat.st_size, roots)
     model = _cache.get(key)
     if model is None:
-        model = _load_file(path)
+        model = _load_file(path, roots)
         if len(_cache) >= _CACHE_SIZE:
             _cache.pop(next(iter(_cache)))
         _cache[key] = model
@@ -162,12 +181,12 @@ def resolver(
     return resolve
 
 
-def _load_file(path: Path) -> RobotModel:
+def _load_file(path: Path, roots: tuple[Path, ...] | None = None) -> RobotModel:
     if path.suffix.lower() == ".urdf":
         from irlc.robots.urdf_import import load_urdf
 
         return load_urdf(path)
-    return load_toml(path)
+    return load_toml(path, roots)
 
 
 def load_robot(name_or_path: str | Path) -> RobotModel:

@@ -13,9 +13,24 @@ import numpy as np
 from irlc.robots.model import Joint, Limits
 from irlc.robots.toml_reader import Reader, show
 
+MAX_LIMIT_SI = 1e9
+"""The largest magnitude of a joint bound in SI (m or rad, per s, s², s³): a bound beyond
+it is a typo, and converted to mm it could overflow to infinity in the output."""
+
+
+def limit_problem(values_si, scale: float) -> str | None:
+    """Why a bound (SI) is beyond :data:`MAX_LIMIT_SI`, in file units (``scale``: the SI
+    size of one), else None."""
+    for v in np.atleast_1d(values_si):
+        if not abs(v) <= MAX_LIMIT_SI:
+            top = MAX_LIMIT_SI / scale
+            return f"{v / scale:g} is outside the range of a joint bound (within ±{top:g})"
+    return None
+
 
 def read_pair(rd: Reader, value: Any, key: str, scale: float) -> tuple[float, float]:
-    """``[min, max]`` or a positive number ``v`` meaning ``[-v, v]``; checks min ≤ max."""
+    """``[min, max]`` or a positive number ``v`` meaning ``[-v, v]``; checks min ≤ max and
+    the range (:func:`limit_problem`)."""
     if isinstance(value, list):
         lo, hi = rd.vector(value, key, 2)
     else:
@@ -23,7 +38,17 @@ def read_pair(rd: Reader, value: Any, key: str, scale: float) -> tuple[float, fl
         lo, hi = -v, v
     if lo > hi:
         raise rd.fail(key, f"expected min ≤ max, got [{lo:g}, {hi:g}]")
+    if problem := limit_problem([lo * scale, hi * scale], scale):
+        raise rd.fail(key, problem)
     return lo * scale, hi * scale
+
+
+def read_rate(rd: Reader, value: Any, key: str, scale: float) -> float:
+    """A positive bound (``jerk``) in SI, in the range of :func:`limit_problem`."""
+    v = rd.positive(value, key) * scale
+    if problem := limit_problem([v], scale):
+        raise rd.fail(key, problem)
+    return v
 
 
 def read_joint_limits(rd: Reader, row: dict, key: str, kind: str) -> Limits:
@@ -39,7 +64,7 @@ def read_joint_limits(rd: Reader, row: dict, key: str, kind: str) -> Limits:
             raise rd.fail(
                 f"{key}.{k}", "expected min < 0 < max (the joint must be able to move both ways)"
             )
-    jerk = rd.positive(row["jerk"], f"{key}.jerk") * s if "jerk" in row else None
+    jerk = read_rate(rd, row["jerk"], f"{key}.jerk", s) if "jerk" in row else None
     return Limits(pos, speed, accel, jerk)
 
 

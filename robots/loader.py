@@ -17,16 +17,17 @@ is stored unvalidated for :mod:`irlc.runtime.drives.params`.
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from irlc.lang.file_access import ALLOW_HINT, describe, inside_roots, is_file, refusal, shown
 from irlc.lang.textfile import read_user_text
+from irlc.lang.toml_keys import TomlError, parse_toml
 from irlc.robots.chain import read_chain
 from irlc.robots.inertia import read_geometry, read_inertials
-from irlc.robots.limits import read_coupled, read_home, read_limit_sets, read_pair
+from irlc.robots.limits import read_coupled, read_home, read_limit_sets, read_pair, read_rate
 from irlc.robots.model import TASK_COMPONENTS, Joint, RobotModel
 from irlc.robots.toml_reader import (
     ANGLE_UNITS,
@@ -74,16 +75,18 @@ ROBOT_KEYS = {
 # ----------------------------------------------------------------------------- entry
 
 
-def load_toml(path: str | Path) -> RobotModel:
-    """Parse and validate one TOML robot file (raises :class:`RobotFileError`)."""
+def load_toml(path: str | Path, roots: tuple[Path, ...] | None = None) -> RobotModel:
+    """Parse and validate one TOML robot file (raises :class:`RobotFileError`). ``roots``:
+    the folders a URDF the file names must lie in (a program's robot file,
+    :mod:`irlc.lang.file_access`); ``None``: anywhere."""
     path = Path(path)
     file = str(path)
     text = read_user_text(path, lambda f, reason: RobotFileError(f, "", reason))
     try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        raise RobotFileError(file, "", f"not valid TOML: {e}") from None
-    return build_model(doc, file, path.parent)
+        doc = parse_toml(text)
+    except TomlError as e:
+        raise RobotFileError(file, "", f"not valid TOML: {e.reason}", e.line) from None
+    return build_model(doc, file, path.parent, roots)
 
 
 def _read_ik(rd: Reader, table: Any) -> dict:
@@ -108,7 +111,9 @@ def _read_ik(rd: Reader, table: Any) -> dict:
     return {**out, "task": names}
 
 
-def build_model(doc: dict, file: str, folder: Path) -> RobotModel:
+def build_model(
+    doc: dict, file: str, folder: Path, roots: tuple[Path, ...] | None = None
+) -> RobotModel:
     rd = Reader(file)
     rd.table(doc, "", TOP_KEYS)
     if "robot" not in doc:
@@ -117,7 +122,7 @@ def build_model(doc: dict, file: str, folder: Path) -> RobotModel:
     _read_units(rd, robot)
     assumed = _read_assumptions(rd, doc)
     if "urdf" in robot:
-        joints, fixed = _from_urdf(rd, robot, folder, doc)
+        joints, fixed = _from_urdf(rd, robot, folder, doc, roots)
     else:
         joints, fixed = read_chain(rd, robot, doc, assumed)
     n = len(joints)
@@ -202,16 +207,22 @@ def _read_reachability(rd: Reader, value: Any, n: int) -> dict:
 # ----------------------------------------------------------------------------- URDF-backed
 
 
-def _from_urdf(rd: Reader, robot: dict, folder: Path, doc: dict) -> tuple[list[Joint], dict]:
+def _from_urdf(
+    rd: Reader, robot: dict, folder: Path, doc: dict, roots: tuple[Path, ...] | None
+) -> tuple[list[Joint], dict]:
     """``[robot] urdf = "file.urdf"``: chain, limits, inertials, geometry from the URDF; the
-    TOML may override name, home, tool, base, weights (``[[joints]]`` with name + weight)."""
+    TOML may override name, home, tool, base, weights (``[[joints]]`` with name + weight).
+    With ``roots`` (a program's robot file) the URDF must lie inside them, once resolved."""
     from irlc.robots import urdf_import
 
     rel = rd.string(robot["urdf"], "robot.urdf")
     tip = rd.string(robot["tip"], "robot.tip") if "tip" in robot else None
-    path = (folder / rel).resolve()
-    if not path.is_file():
-        raise rd.fail("robot.urdf", f"file not found: {path}")
+    path = folder / rel
+    if roots is not None and not inside_roots(path, roots):
+        raise rd.fail("robot.urdf", f"{shown(path)}: {refusal(roots)}; {ALLOW_HINT}")
+    if not is_file(path):
+        raise rd.fail("robot.urdf", f"file not found: {shown(path)}")
+    path = path.resolve()
     model = urdf_import.load_urdf(path, tip=tip)
     joints = list(model.joints)
     if "joints" in doc:
@@ -225,7 +236,8 @@ def _from_urdf(rd: Reader, robot: dict, folder: Path, doc: dict) -> tuple[list[J
             rd.table(row, key, {"name", "weight", "accel", "jerk", "assumed", "reason"})
             rd.assumption(row, key)
             if "name" in row and row["name"] != joints[i].name:
-                raise rd.fail(f"{key}.name", f"expected {joints[i].name!r} (URDF order)")
+                urdf_name = describe(joints[i].name)
+                raise rd.fail(f"{key}.name", f"expected the URDF's joint {i + 1}, {urdf_name}")
             if "weight" in row:
                 joints[i] = replace(joints[i], weight=rd.positive(row["weight"], f"{key}.weight"))
             if "accel" in row:
@@ -234,7 +246,7 @@ def _from_urdf(rd: Reader, robot: dict, folder: Path, doc: dict) -> tuple[list[J
                 joints[i] = replace(joints[i], limits=limits)
                 model.extra["assumed"].pop(f"joint '{joints[i].name}' acceleration", None)
             if "jerk" in row:
-                jerk = rd.positive(row["jerk"], f"{key}.jerk") * rd.scale(joints[i].kind)
+                jerk = read_rate(rd, row["jerk"], f"{key}.jerk", rd.scale(joints[i].kind))
                 joints[i] = replace(joints[i], limits=replace(joints[i].limits, jerk=jerk))
     fixed = {
         "urdf_extra": model.extra,

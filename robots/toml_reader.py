@@ -11,12 +11,14 @@ geometry that obstacles share (:func:`irlc.lang.geometry_range.geometry_problem`
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 from irlc.lang.errors import IrlcError
-from irlc.lang.file_access import describe
+from irlc.lang.file_access import describe, is_finite_number, shown_key
 from irlc.lang.geometry_range import geometry_problem
+from irlc.lang.toml_keys import key_line
 from irlc.runtime.spatial import zyx_to_matrix
 
 ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
@@ -30,9 +32,25 @@ class RobotFileError(IrlcError, LookupError):
     A ``LookupError``: the robot cannot be had, which is what the compiler's robot
     resolvers raise (``irlc.lang.signature``)."""
 
-    def __init__(self, file: str, key: str, message: str):
-        self.file, self.key, self.message = file, key, message
-        super().__init__(f"{file}: key '{key}': {message}" if key else f"{file}: {message}")
+    def __init__(self, file: str, key: str, message: str, line: int | None = None):
+        if line is None and key:
+            line = _key_line(file, key)
+        self.file, self.key, self.message, self.line = file, key, message, line
+        where = f"{file}:{line}" if line else file
+        text = f"{where}: key '{shown_key(key)}': {message}" if key else f"{where}: {message}"
+        super().__init__(text)
+
+
+def _key_line(file: str, key: str) -> int | None:
+    """The line of ``key`` in the TOML file ``file`` (:func:`irlc.lang.toml_keys.key_line`),
+    ``None`` when the file is not a TOML file that can be read again."""
+    if not file.lower().endswith(".toml"):
+        return None
+    try:
+        text = Path(file).read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError, ValueError):
+        return None
+    return key_line(text, key)
 
 
 class MissingExtraError(RobotFileError):
@@ -86,8 +104,8 @@ class Reader:
     def number(self, value: Any, key: str) -> float:
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise self.fail(key, f"expected a number, got {show(value)}")
-        if not math.isfinite(value):
-            raise self.fail(key, f"expected a finite number, got {value}")
+        if not is_finite_number(value):
+            raise self.fail(key, f"expected a finite number, got {show(value)}")
         return float(value)
 
     def positive(self, value: Any, key: str) -> float:
@@ -176,6 +194,8 @@ def robot_geometry_problem(what: str, values_m, unit: str = "m") -> str | None:
     the message speaking ``unit`` (the file's length unit)."""
     scale = LENGTH_UNITS[unit]
     values = np.asarray(values_m, dtype=float).ravel() / scale
+    if not np.all(np.isfinite(values)):
+        return "expected finite numbers"
     return geometry_problem(what, values, unit, scale * 1e3)
 
 

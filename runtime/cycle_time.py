@@ -22,6 +22,7 @@ from pathlib import Path
 
 # How a motion statement is written, for runs without the source text: owned by the
 # language's settings table, re-exported here for the executor.
+from irlc.lang.file_access import read_source_text
 from irlc.lang.settings import KIND_WORDS as KIND_WORDS
 
 
@@ -58,11 +59,9 @@ def source_lines(source: str, base_dir: str | Path | None) -> list[str]:
     candidates = [Path(source)]
     if base_dir is not None:
         candidates.insert(0, Path(base_dir) / Path(source).name)
-    for path in candidates:
-        try:
-            return path.read_text(encoding="utf-8").splitlines()
-        except (OSError, UnicodeDecodeError):
-            continue
+    for path in candidates:  # a regular file of bounded size only (irlc.lang.file_access)
+        if (text := read_source_text(path)) is not None:
+            return text.splitlines()
     return []
 
 

@@ -132,13 +132,17 @@ def resolve_model(
     elif robot:
         model = load_model(robot, base_dir)
     else:
-        model = load_model(code.robot, base_dir, restricted=not allow_any_path)
+        try:
+            model = load_model(code.robot, base_dir, restricted=not allow_any_path)
+        except RunSetupError as exc:  # positioned at the code's ROBOT record (h7, issue 11)
+            raise RunSetupError(code.robot_problem(str(exc))) from None
     kinds = kind_letters(model.joint_kinds)
     if code.joint_kinds and kinds != code.joint_kinds:
-        raise RunSetupError(
+        message = (
             f"the code was compiled for {code.joint_count} joints ({code.joint_kinds}) but robot "
             f"{model.name} has {model.n} ({kinds})"
         )
+        raise RunSetupError(message if robot else code.robot_problem(message))
     return model
 
 

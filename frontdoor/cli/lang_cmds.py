@@ -146,18 +146,16 @@ def disasm_cmd(code_file: Path) -> int:
     """Pretty-print IRDATA code with the source lines interleaved."""
     from irlc.lang import CompileError, read_code, render
     from irlc.lang.disasm import disassemble, find_source
+    from irlc.lang.textfile import read_user_text
 
     if not code_file.is_file():
         raise UsageError(f"{code_file}: no such file")
-    try:
-        text = code_file.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as e:
-        raise UsageError(f"cannot read {code_file}: {e}") from None
+    text = read_user_text(code_file, lambda file, reason: UsageError(f"{file}: {reason}"))
     try:
         code = read_code(text, str(code_file))
     except CompileError as e:
-        for d in e.diagnostics:
-            click.echo(render(d, text), err=True)
+        for d in e.diagnostics:  # positioned, without the code's line (as `irlc run` does)
+            click.echo(render(d), err=True)
         return EXIT_COMPILE
     click.echo(disassemble(code, find_source(code, code_file)), nl=False)
     return EXIT_OK

@@ -38,13 +38,13 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from irlc.errors import UsageError
 from irlc.files import read_user_text
+from irlc.lang.toml_keys import TomlError, parse_toml
 
 TOP_KEYS = ("program", "robot", "datalist_path", "name", "run", "grid", "random", "output")
 RUN_KEYS = (
@@ -160,13 +160,9 @@ def read_study(path: str | Path) -> Study:
     path = Path(path)
     text = read_user_text(path, lambda f, reason: StudyError(f, None, "", reason))
     try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        m = re.search(r"\(at line (\d+), column (\d+)\)", str(e))
-        msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(e))
-        raise StudyError(
-            str(path), int(m.group(1)) if m else None, "", f"invalid TOML: {msg}"
-        ) from None
+        doc = parse_toml(text)  # every way tomllib fails, with a line (lang/toml_keys.py)
+    except TomlError as e:
+        raise StudyError(str(path), e.line, "", f"invalid TOML: {e.reason}") from None
     study = Study(file=path, text=text, program=Path())
     for key in doc:
         if key not in TOP_KEYS:
