@@ -490,7 +490,7 @@ def _joint_scratch(n):
     )  # fmt: skip
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _joint_step(
     s, h, kmat, tau_m, f_m, sliding, any_stuck, stuck, mm, hb, m_inv, static_j, running_j,
     q, qd, rec, scratch,

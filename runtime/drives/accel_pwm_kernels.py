@@ -65,7 +65,7 @@ CALLEES = (
     _sign, _clip, _first_order, _solve_free, _karnopp, _due, _transmission, _joint_scratch,
     _joint_step,
 )  # fmt: skip
-SOURCES_DIGEST = "29bb503551c2810c"  # sources_digest() when this file was last updated
+SOURCES_DIGEST = "80d27df0701fb101"  # sources_digest() when this file was last updated
 
 # per-axis constants (par columns)
 KZ, KE, KP, KI, ULIM, R, L, KS, U, IMAX, KC, KIWZM, RUN_M, VISC_M, BAND = range(15)
