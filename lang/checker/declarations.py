@@ -19,8 +19,7 @@ from irlc.lang.checker.scope import Reporter, RoutineInfo, Scope, Symbol
 from irlc.lang.datalist import Datalist
 from irlc.lang.diagnostics import Diagnostic, Span
 from irlc.lang.irdata import Slot, Value
-
-MAX_ARRAY = 1_000_000
+from irlc.lang.value_ranges import MAX_SCOPE_ELEMENTS, elements_too_many
 
 
 class Declarations:
@@ -168,6 +167,7 @@ class Declarations:
         for name, span in d.names:
             if self._collides_with_datalist(scope, name, span):
                 continue
+            self._room_for(ty, is_global, span)
             sym = Symbol("var", name, ty, f"line {span.line}")
             if is_global:
                 sym.storage, sym.index = "G", len(self.global_slots)
@@ -184,6 +184,27 @@ class Declarations:
                 assert self.scope.routine is not None
                 self.scope.routine.locals.append(Slot(sym.index, ty.ird(), name))
                 self.scope.routine.local_types.append(ty)
+
+    def _room_for(self, ty: T.Type, is_global: bool, span: Span) -> None:
+        """Report a variable of ``ty`` that does not fit into its scope's
+        :data:`MAX_SCOPE_ELEMENTS` (the program's globals; a routine's parameters passed by
+        value and its locals), the first one only."""
+        if ty == T.ERROR:
+            return
+        if is_global:
+            held = sum(T.elements(t) for t in self.global_types)
+            what = "the program's variables"
+        else:
+            r = self.scope.routine
+            assert r is not None
+            by_value = (t for t, p in zip(r.param_types, r.params, strict=True) if not p.by_ref)
+            held = sum(T.elements(t) for t in (*by_value, *r.local_types))
+            what = f"the variables of '{r.name}'"
+        if held > MAX_SCOPE_ELEMENTS:  # reported at an earlier variable
+            return
+        problem = elements_too_many(held + T.elements(ty), what, MAX_SCOPE_ELEMENTS)
+        if problem is not None:
+            self.report.error(span, problem, "nested arrays multiply, records add their fields")
 
     def resolve_type(self, ref: ast.TypeRef, name: str | None = None) -> T.Type:
         if isinstance(ref, ast.SimpleTypeRef):
@@ -220,14 +241,13 @@ class Declarations:
                 ref.span, f"array bounds [{lo}..{hi}]: the upper bound is below the lower"
             )
             return T.ERROR
-        if hi - lo + 1 > MAX_ARRAY:
-            self.report.error(
-                ref.span, f"array of {hi - lo + 1} elements is too large (max {MAX_ARRAY})"
-            )
-            return T.ERROR
         elem = self.resolve_type(ref.elem)
         if elem == T.SIGNAL:
             self.report.error(ref.elem.span, "SIGNAL can only be the type of a plain variable")
+        problem = elements_too_many((hi - lo + 1) * T.elements(elem), "this array")
+        if problem is not None:
+            self.report.error(ref.span, problem, "nested arrays multiply, records add their fields")
+            return T.ERROR
         return T.Array("ARRAY", lo, hi, elem)
 
     def record_type(self, ref: ast.RecordTypeRef, name: str | None) -> T.Type:
@@ -243,6 +263,10 @@ class Declarations:
                     continue
                 seen.add(n.lower())
                 fields.append((n, ty))
+        problem = elements_too_many(sum(T.elements(t) for _, t in fields), "this RECORD")
+        if problem is not None:
+            self.report.error(ref.span, problem, "nested arrays multiply, records add their fields")
+            return T.ERROR
         rec = T.Record(name or f"RECORD#{len(self.records)}", len(self.records), tuple(fields))
         self.records.append(rec)
         return rec
@@ -251,10 +275,16 @@ class Declarations:
         info = RoutineInfo(len(self.routines) + 1, r.name, r.is_function, [], [], None, node=r)
         saved = self.scope.locals
         self.scope.locals = {}
+        held = 0  # elements of the parameters passed by value
         for i, prm in enumerate(r.params):
             ty = self.resolve_type(prm.type)
             if ty == T.SIGNAL:
                 self.report.error(prm.type.span, "a parameter cannot be a SIGNAL")
+            held += 0 if prm.by_ref else T.elements(ty)
+            problem = elements_too_many(held, f"the parameters of '{r.name}'", MAX_SCOPE_ELEMENTS)
+            if problem is not None and not prm.by_ref:
+                self.report.error(prm.span, problem, "pass large arrays as VAR parameters")
+                ty = T.ERROR
             info.params.append(Slot(i, ty.ird(), prm.name, prm.by_ref))
             info.param_types.append(ty)
         if r.result is not None:
