@@ -142,9 +142,9 @@ def test_modal_options_persist_and_runtime_errors_continue(tmp_path):
     res = _session(script + "\n")
     out = res.stdout.splitlines()
     assert "Traceback" not in res.stdout + res.stderr
-    errors = [line for line in out if "run-time error" in line]
+    errors = [line for line in out if "error: run-time failure" in line]
     assert len(errors) == 2
-    assert errors[0].startswith("<stdin>:5: ") and errors[1].startswith("<stdin>:8: ")
+    assert errors[0].startswith("<stdin>:5:1: ") and errors[1].startswith("<stdin>:8:1: ")
     assert "already on" in errors[0]
     assert "a11" in errors[1] and "20" in errors[1]
     assert res.returncode == 2
@@ -240,8 +240,8 @@ def test_script_diagnostics_point_at_script_lines_and_columns():
         text, caret = shown[header]
         assert text == script[line - 1] and caret == column, (header, text, caret)
         assert text[column - 1] == token
-    failed = [p for p in printed if "run-time error" in p]
-    assert len(failed) == 1 and failed[0].startswith("<stdin>:9: run-time error"), failed
+    failed = [p for p in printed if "run-time failure" in p]
+    assert len(failed) == 1 and failed[0].startswith("<stdin>:9:1: error: run-time failure"), failed
 
 
 @needs_runtime
@@ -252,7 +252,7 @@ def test_terminal_entries_keep_positions_within_the_entry():
     entry = s.enter("  x := 1 + R_ACT_POSE;")
     assert entry.failure == 1
     assert entry.lines[0].splitlines()[0] == "<input>:1:3: error: unknown name 'x'"
-    assert s.enter("JOINTLIMITEND").lines[0].startswith("<input>:1: run-time error")
+    assert s.enter("JOINTLIMITEND").lines[0].startswith("<input>:1:1: error: run-time failure")
 
 
 @needs_runtime
@@ -278,7 +278,7 @@ def test_the_input_ending_inside_a_block_names_the_block_and_its_line():
     proc = _session(script)
     assert proc.returncode == 1, proc.stderr
     assert proc.stdout.strip() == (
-        "<stdin>:6: error: the input ends inside a block: IF on line 3 is not closed "
+        "<stdin>:6:1: error: the input ends inside a block: IF on line 3 is not closed "
         "(expected ENDIF)"
     )
     assert "ENDPROGRAM" not in proc.stdout + proc.stderr
@@ -311,7 +311,7 @@ def test_the_session_survives_an_entry_that_escapes_the_interpreter(monkeypatch)
         monkeypatch.setattr(Interpreter, "run", broken)
         result = session.enter("x := x + 1;", 5)
         assert result.failure == status
-        assert result.lines[0].startswith("<stdin>:5: ")
+        assert result.lines[0].startswith("<stdin>:5:1: error: ")
         monkeypatch.setattr(Interpreter, "run", real_run)
     assert session.enter("WRITELN(x + 1);").lines == ["42.0"]  # the state survived
 
