@@ -96,7 +96,7 @@ def position_scale(s: float, p: Position) -> Position:
 
 def distance(a: Position, b: Position) -> float:
     """Euclidean distance ``‖a − b‖`` (mm)."""
-    return math.sqrt((a.x - b.x) ** 2 + (a.y - b.y) ** 2 + (a.z - b.z) ** 2)
+    return math.hypot(a.x - b.x, a.y - b.y, a.z - b.z)  # the squares would overflow at 1e155
 
 
 # --------------------------------------------------------------------------- joint tuples
@@ -162,7 +162,7 @@ def orientation_from_rpy(roll: float, pitch: float, yaw: float) -> Orientation:
 
 def orientation_from_axis_angle(axis: Position, angle: float) -> Orientation:
     """``ORIVANG(axis, angle)``: rotation by ``angle`` degrees about ``axis`` (any length > 0)."""
-    n = math.sqrt(axis.x**2 + axis.y**2 + axis.z**2)
+    n = math.hypot(axis.x, axis.y, axis.z)
     if n < 1e-12:
         raise ValueError("the rotation axis (0, 0, 0) has no direction")
     return _orientation(spatial.quat_from_axis_angle(axis.as_tuple(), angle * units.DEG))

@@ -178,6 +178,8 @@ class Interpreter(DataOps, IoOps, MotionOps):
             raise e.original from None
         except IndexError:
             raise self._bad_code("stack underflow or an operand out of range") from None
+        except OverflowError:  # a float operation that raises instead of giving inf
+            raise RunFailure("a number is out of range (the result is not finite)") from None
         except (TypeError, ValueError, AttributeError, KeyError, ZeroDivisionError) as e:
             raise self._bad_code(f"{type(e).__name__}: {e}") from None
 
