@@ -32,6 +32,7 @@ class Declarations:
         self.records: list[T.Record] = []
         self.global_slots: list[Slot] = []
         self.global_types: list[T.Type] = []
+        self.global_elements = 0  # of the global variables (T.elements)
         self.routines: list[RoutineInfo] = []
         self.inputs: dict[int, list[tuple[float, bool]]] = {}
 
@@ -191,18 +192,18 @@ class Declarations:
         value and its locals), the first one only."""
         if ty == T.ERROR:
             return
+        n = T.elements(ty)
         if is_global:
-            held = sum(T.elements(t) for t in self.global_types)
+            held, self.global_elements = self.global_elements, self.global_elements + n
             what = "the program's variables"
         else:
             r = self.scope.routine
             assert r is not None
-            by_value = (t for t, p in zip(r.param_types, r.params, strict=True) if not p.by_ref)
-            held = sum(T.elements(t) for t in (*by_value, *r.local_types))
+            held, r.elements = r.elements, r.elements + n
             what = f"the variables of '{r.name}'"
         if held > MAX_SCOPE_ELEMENTS:  # reported at an earlier variable
             return
-        problem = elements_too_many(held + T.elements(ty), what, MAX_SCOPE_ELEMENTS)
+        problem = elements_too_many(held + n, what, MAX_SCOPE_ELEMENTS)
         if problem is not None:
             self.report.error(span, problem, "nested arrays multiply, records add their fields")
 
@@ -275,16 +276,17 @@ class Declarations:
         info = RoutineInfo(len(self.routines) + 1, r.name, r.is_function, [], [], None, node=r)
         saved = self.scope.locals
         self.scope.locals = {}
-        held = 0  # elements of the parameters passed by value
         for i, prm in enumerate(r.params):
             ty = self.resolve_type(prm.type)
             if ty == T.SIGNAL:
                 self.report.error(prm.type.span, "a parameter cannot be a SIGNAL")
-            held += 0 if prm.by_ref else T.elements(ty)
-            problem = elements_too_many(held, f"the parameters of '{r.name}'", MAX_SCOPE_ELEMENTS)
-            if problem is not None and not prm.by_ref:
-                self.report.error(prm.span, problem, "pass large arrays as VAR parameters")
-                ty = T.ERROR
+            if not prm.by_ref:  # a VAR parameter holds no elements of its own
+                info.elements += T.elements(ty)
+                what = f"the parameters of '{r.name}'"
+                problem = elements_too_many(info.elements, what, MAX_SCOPE_ELEMENTS)
+                if problem is not None:
+                    self.report.error(prm.span, problem, "pass large arrays as VAR parameters")
+                    ty, info.elements = T.ERROR, info.elements - T.elements(ty)
             info.params.append(Slot(i, ty.ird(), prm.name, prm.by_ref))
             info.param_types.append(ty)
         if r.result is not None:
