@@ -654,7 +654,7 @@ def _failure_status(e: Exception) -> int:
 
     if isinstance(e, RunFailure):
         return 2
-    if isinstance(e, RunSetupError | RobotFileError | OSError):
+    if isinstance(e, RunSetupError | RobotFileError | OSError | MemoryError):
         return 3
     return 4
 

@@ -164,3 +164,20 @@ def test_an_array_of_unset_items_shares_one_initial_value() -> None:
     a = DataTypes([], ["a1"]).initial("ARRAY[1..1000000]OFARRAY[0..1]OFREAL")
     assert len(a.items) == 1_000_000 and a.items[0] is a.items[-1]
     assert a.items[0].items == (UNSET, UNSET) and a.elem == "ARRAY[0..1]OFREAL"
+
+
+def test_running_out_of_memory_is_an_environment_error(tmp_path, capsys, monkeypatch):
+    # --drives pwm at --override 1 allocated (4186001, 10) arrays: MemoryError, exit 4.
+    from irlc.runtime import run as run_module
+
+    def exhausted(*args, **kwargs):
+        raise MemoryError("Unable to allocate 319. MiB")
+
+    monkeypatch.setattr(run_module, "run_file", exhausted)
+    prog = tmp_path / "p.irl"
+    prog.write_text(HEAD + "BEGIN\n  WAIT 1 SEC;\nENDPROGRAM\n", "utf-8")
+    assert main(["run", str(prog), "-q"]) == 3
+    err = capsys.readouterr().err
+    assert err.startswith("irlc: error: out of memory: the command needs more memory") and (
+        "internal error" not in err
+    )
