@@ -590,8 +590,13 @@ class Session:
 
         if not arg:
             return Entry([self._located("usage: :trace FILE.csv")], 3)
+        target = self.cwd / Path(arg).expanduser()
+        if target.is_dir():
+            return Entry(
+                [self._located(f"{target} is a folder; :trace takes a file (FILE.csv)")], 3
+            )
         run = self.run_result()
-        path = write_trace(run.trace_columns, run.trace, Path(arg).expanduser())
+        path = write_trace(run.trace_columns, run.trace, target)
         return Entry([f"trace: {len(run.trace)} samples → {path}"])
 
     def _meta_plot(self, arg: str) -> Entry:

@@ -322,3 +322,26 @@ def test_a_scripted_session_goes_on_after_a_failing_line():
     assert "internal error" not in proc.stdout + proc.stderr
     assert proc.returncode in (2, 3), proc.stdout
     assert proc.stdout.strip().splitlines()[-1] == "42.0"
+
+
+@needs_runtime
+def test_failing_meta_commands_are_positioned_and_keep_the_session(tmp_path):
+    # ':robot nosuch' re-created the session (declarations lost); ':trace DIR' said
+    # "[Errno 21] Is a directory: '/.tmp.….tmp' -> '/tmp'"; neither had a position.
+    from irlc.repl import Session
+
+    s = Session("planar3", cwd=tmp_path)
+    assert s.enter("VAR REAL: x;", 1).failure == 0
+    assert s.enter("x := 41;", 2).failure == 0
+    robot = s.enter(":robot nosuch", 3)
+    assert robot.failure == 3 and robot.lines[0].startswith("<stdin>:3:1: error: unknown robot")
+    trace = s.enter(f":trace {tmp_path}", 4)
+    assert trace.failure == 3
+    assert trace.lines == [
+        f"<stdin>:4:1: error: {tmp_path} is a folder; :trace takes a file (FILE.csv)"
+    ]
+    unknown = s.enter(":nosuch", 5)
+    assert unknown.failure == 1 and unknown.lines[0].startswith(
+        "<stdin>:5:1: error: unknown command"
+    )
+    assert s.enter("WRITELN(x + 1);", 6).lines == ["42.0"]
