@@ -49,3 +49,13 @@ def test_orientations_from_huge_quaternions_and_axes(tmp_path, capsys) -> None:
     assert report["output"] == [
         "ORIZYX(0.0, 0.0, 90.0)", "ORIZYX(90.0, 0.0, 0.0)", "ORIZYX(90.0, 0.0, 0.0)",
     ]  # fmt: skip
+
+
+def test_an_overflowing_duration_is_never_shown_as_inf(tmp_path, capsys) -> None:
+    # 'the motion would take inf s …' in the message and the report (found by the fuzz).
+    code, report, err = run(
+        tmp_path, capsys, "  MOVE LIN POSE(1500, 500, 0, 0, 0, 0) WITH SPEED := 1e-320;"
+    )
+    assert code == 2
+    assert "p.irl:5:1: error: run-time failure at t = 0.000 s: the motion would take longer" in err
+    assert "inf" not in err and "inf" not in json.dumps(report)
