@@ -244,7 +244,7 @@ class Session:
         errors = [d for d in diags if d.is_error]
         messages = [self._render(d, chunk, chunk_line) for d in diags]
         if errors or result.code is None:
-            return None, messages or ["error: the entry does not compile"]
+            return None, messages or [self._located("the entry does not compile")]
         return result.code, messages
 
     def _render(self, diag, chunk: str, chunk_line: int) -> str:
@@ -253,9 +253,15 @@ class Session:
 
         span = diag.span
         n_lines = chunk.count("\n") + 1
+        session = str(self.cwd / "repl.irl")
+        if diag.file != session:  # a data list's problem: its own file and line
+            return render(diag, "")
         if span is None or not chunk_line <= span.line < chunk_line + n_lines:
-            text = render(dataclasses.replace(diag, span=None), "")
-            return text.replace(str(self.cwd / "repl.irl"), "<session>")
+            # outside the entry (the session program's end): at the entry's first or last line
+            local_line = n_lines if span is not None and span.line >= chunk_line else 1
+            _, _, rest = render(dataclasses.replace(diag, span=None), "").partition("\n")
+            header = self._located(diag.message, local_line, severity=diag.severity)
+            return f"{header}\n{rest}" if rest else header
         local = _shifted(span, 1 - chunk_line)  # line 1 = the entry's first line
         _, _, shown = render(dataclasses.replace(diag, span=local), chunk).partition("\n")
         file, where = self._entry_file(), local
@@ -266,6 +272,14 @@ class Session:
 
     def _entry_file(self) -> str:
         return INPUT_NAME if self.origin is None else SCRIPT_NAME
+
+    def _located(
+        self, message: str, local_line: int = 1, column: int = 1, severity: str = "error"
+    ) -> str:
+        """``FILE:LINE:COL: error: message`` at a line of the entry (1 = its first), as
+        every diagnostic of the session is (``docs/interfaces.md``, Diagnostics)."""
+        line = self._entry_line(local_line)
+        return f"{self._entry_file()}:{line}:{column}: {severity}: {message}"
 
     def _entry_line(self, local_line: int) -> int:
         """A line of the entry (1 = its first) as the user counts it."""
@@ -284,18 +298,17 @@ class Session:
         try:
             return self._enter(text)
         except RecursionError:
-            return Entry([f"{self._entry_file()}: error: the entry nests too deeply"], 1)
+            return Entry([self._located("the entry nests too deeply")], 1)
         except Exception as e:
             return Entry([self._escaped_failure(e)], _failure_status(e))
 
     def _escaped_failure(self, e: Exception) -> str:
-        where = self._entry_file() + (f":{self.origin}" if self.origin is not None else "")
         if _failure_status(e) == 2:
-            return f"{where}: run-time error: {getattr(e, 'message', e)}"
+            return self._located(f"run-time failure: {getattr(e, 'message', e)}")
         if _failure_status(e) == 3:
-            return f"{where}: error: {e}"
-        return (
-            f"{where}: internal error: {type(e).__name__}: {e} (a bug in irlc; the session goes on)"
+            return self._located(str(e))
+        return self._located(
+            f"internal error: {type(e).__name__}: {e} (a bug in irlc; the session goes on)"
         )
 
     def _enter(self, text: str) -> Entry:
@@ -305,7 +318,7 @@ class Session:
         if kind == "meta":
             return self.meta(text.strip())
         if kind == "robot":
-            return Entry(["the robot is chosen with --robot or :robot NAME"], 1)
+            return Entry([self._located("the robot is chosen with --robot or :robot NAME")], 1)
         # entries keep their leading blanks, so that columns match what was typed
         if kind == "import":
             return self._declare(imports=[_terminated(text)], decls=[])
@@ -326,7 +339,7 @@ class Session:
             return self._declare(imports=[], decls=[decl], shown=text, skip=1, kept=kept)
         names = [n.strip() for n in m.group("names").split(",")]
         if len(names) != 1:
-            return Entry(["error: ':=' declares one name at a time"], 1)
+            return Entry([self._located("':=' declares one name at a time")], 1)
         entry = self._declare(imports=[], decls=[decl], shown=text, skip=1, kept=kept)
         if entry.failure:
             return entry
@@ -408,13 +421,17 @@ class Session:
         return Entry(lines)
 
     def _run_error(self, error, first: int, body: str) -> str:
+        """``FILE:LINE:1: error: run-time failure at t = … s: message`` (as ``irlc run``);
+        a failure in a routine declared earlier is placed at the entry's first line."""
         line = getattr(error, "line", None)
-        where = self._entry_file()
+        local = 1
         if line is not None and first <= line < first + body.count("\n") + 1:
-            where += f":{self._entry_line(line - first + 1)}"
+            local = line - first + 1
         t = getattr(error, "time_s", None)
-        at = f" (t = {t:.3f} s)" if t is not None else ""
-        return f"{where}: run-time error{at}: {getattr(error, 'message', str(error))}"
+        at = f" at t = {t:.3f} s" if t is not None else ""
+        return self._located(
+            f"run-time failure{at}: {getattr(error, 'message', str(error))}", local
+        )
 
     # ------------------------------------------------------------------ meta-commands
 
@@ -437,11 +454,11 @@ class Session:
         handler = handlers.get(name.lower())
         if handler is None:
             known = " ".join(":" + k for k in [*handlers, "quit"])
-            return Entry([f"unknown command :{name}; known: {known}"], 1)
+            return Entry([self._located(f"unknown command :{name}; known: {known}")], 1)
         try:
             return handler(arg)
         except Exception as e:  # a meta-command must not end the session
-            return Entry([f"error: {e}"], 3)
+            return Entry([self._located(str(e))], 3)
 
     def _program_units(self, q_si: np.ndarray) -> list[float]:
         return [float(v) for v in units.joints_from_si(q_si, self.model.joint_kinds)]
@@ -476,13 +493,11 @@ class Session:
         ]
 
     def _meta_robot(self, arg: str) -> Entry:
-        if arg:
-            old = self.robot_name
-            try:
-                self.__init__(arg, self.datalist_path, self.cwd, self.allow_any_path)
-            except Exception as e:
-                self.__init__(old, self.datalist_path, self.cwd, self.allow_any_path)
-                return Entry([f"error: {e}"], 3)
+        if arg:  # the robot is loaded first: one that cannot be keeps the session as it is
+            from irlc.robots import load_robot
+
+            load_robot(arg)
+            self.__init__(arg, self.datalist_path, self.cwd, self.allow_any_path)
             return Entry([f"robot {self.model.name}: a new session (declarations cleared)"])
         m = self.model
         out = [f"robot {m.name}: {m.n} joints  {m.description}".rstrip()]
@@ -574,16 +589,21 @@ class Session:
         from irlc.report import write_trace
 
         if not arg:
-            return Entry(["usage: :trace FILE.csv"], 3)
+            return Entry([self._located("usage: :trace FILE.csv")], 3)
+        target = self.cwd / Path(arg).expanduser()
+        if target.is_dir():
+            return Entry(
+                [self._located(f"{target} is a folder; :trace takes a file (FILE.csv)")], 3
+            )
         run = self.run_result()
-        path = write_trace(run.trace_columns, run.trace, Path(arg).expanduser())
+        path = write_trace(run.trace_columns, run.trace, target)
         return Entry([f"trace: {len(run.trace)} samples → {path}"])
 
     def _meta_plot(self, arg: str) -> Entry:
         from irlc.plots import write_plots
 
         if not arg:
-            return Entry(["usage: :plot DIR"], 3)
+            return Entry([self._located("usage: :plot DIR")], 3)
         paths = write_plots(self.run_result(), Path(arg).expanduser())
         return Entry([f"{len(paths)} figures → {Path(arg)}"])
 
@@ -592,26 +612,28 @@ class Session:
         joints into a data list (:mod:`irlc.teach`); ``FILE`` relative to the session's
         folder, ``.toml`` added when it has no suffix, default ``taught.toml``."""
         from irlc.lang.parser import keywords
+        from irlc.lang.settings import SYSTEM_VARIABLES
         from irlc.teach import JOINTS_SUFFIX, TeachError, teach
 
         parts = arg.split()
         if len(parts) not in (1, 2):
-            return Entry(["usage: :teach NAME [FILE.toml]"], 3)
+            return Entry([self._located("usage: :teach NAME [FILE.toml]")], 3)
         name = parts[0]
         path = self.cwd / Path(parts[1] if len(parts) == 2 else "taught.toml").expanduser()
         path = path if path.suffix else path.with_suffix(".toml")
-        taken = {n.lower() for n in self.names} | {k.lower() for k in keywords()}
+        taken = {n.lower() for n in (*self.names, *keywords(), *SYSTEM_VARIABLES)}
         clash = [n for n in (name, name + JOINTS_SUFFIX) if n.lower() in taken]
         if clash:
-            return Entry([f"error: '{clash[0]}' is already a name of this session or a "
-                          "keyword; choose another name"], 3)  # fmt: skip
+            return Entry([self._located(f"'{clash[0]}' is already a name of this session, a "
+                                        "keyword or a system variable; choose another name")],
+                         3)  # fmt: skip
         pose = self.controller.pose(self.state.settings)
         xyzabc = units.pose_from_si(units.pose_value_to_si(pose))
         joints = self._program_units(self.controller.q)
         try:
             keys = teach(path, name, xyzabc, joints)
         except TeachError as e:
-            return Entry([f"error: {e}"], 3)
+            return Entry([self._located(str(e))], 3)
         return Entry([
             f"taught {name}: pose ({', '.join(_fmt(v) for v in xyzabc)}) [mm, deg ZYX] and "
             f"joints → {', '.join(keys)} in {path}",
@@ -637,7 +659,7 @@ def _failure_status(e: Exception) -> int:
 
     if isinstance(e, RunFailure):
         return 2
-    if isinstance(e, RunSetupError | RobotFileError | OSError):
+    if isinstance(e, RunSetupError | RobotFileError | OSError | MemoryError):
         return 3
     return 4
 
@@ -753,7 +775,7 @@ def _unfinished(entry: str, first: int) -> Entry:
     else:
         what = "a comment is not closed"
     end = first + entry.count("\n")
-    return Entry([f"{SCRIPT_NAME}:{end}: error: the input ends inside a block: {what}"], 1)
+    return Entry([f"{SCRIPT_NAME}:{end}:1: error: the input ends inside a block: {what}"], 1)
 
 
 def history_file() -> Path:

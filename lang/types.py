@@ -87,6 +87,17 @@ SIMPLE = {
 }
 
 
+def elements(t: Type) -> int:
+    """How many elements a value of ``t`` holds: an ARRAY its length times its element's,
+    a RECORD the sum of its fields' (at least 1), anything else 1
+    (``value_ranges.MAX_ELEMENTS``)."""
+    if isinstance(t, Array):
+        return t.length * elements(t.elem)
+    if isinstance(t, Record):
+        return max(1, sum(elements(ft) for _, ft in t.fields))
+    return 1
+
+
 def value_type(t: Type) -> Type:
     """The type of a variable's value when read (a SIGNAL reads as BOOLEAN)."""
     return BOOLEAN if t == SIGNAL else t

@@ -1,6 +1,8 @@
-"""The ranges of IRL's scalar values: INTEGER is signed 64-bit, a STRING holds at most
-:data:`MAX_STRING` characters. The one owner of both ranges and of their messages, for the
-compiler (literals, constant folding), the ``.ird`` reader and the runtime.
+"""The ranges of IRL's values: INTEGER is signed 64-bit, a STRING holds at most
+:data:`MAX_STRING` characters, a variable's type and one scope's variables at most
+:data:`MAX_ELEMENTS` elements. The one owner of these ranges and of their messages, for
+the compiler (literals, constant folding, declarations), the ``.ird`` reader and the
+runtime.
 """
 
 from __future__ import annotations
@@ -9,6 +11,26 @@ INT_MIN, INT_MAX = -(2**63), 2**63 - 1  # INTEGER is signed 64-bit, as in the ru
 MAX_STRING = 65_535
 """The most characters a STRING holds: a longer literal, .ird constant or concatenation
 result is an error (a loop doubling a string would otherwise fill the memory)."""
+
+
+MAX_ELEMENTS = 1_000_000
+"""The most elements a type holds: nested arrays multiply, records add their fields'
+elements; a scalar, a POSE or a joint tuple is one."""
+
+MAX_SCOPE_ELEMENTS = 2 * MAX_ELEMENTS
+"""The most elements the variables of one scope hold together: the program's globals; one
+routine's parameters passed by value and its locals."""
+
+MAX_LIVE_ELEMENTS = 8 * MAX_ELEMENTS
+"""The most elements the globals and the variables of every active call hold together at
+run time (a recursion of routines with large locals would otherwise fill the memory)."""
+
+
+def elements_too_many(n: int, what: str, most: int = MAX_ELEMENTS) -> str | None:
+    """The words for ``what`` holding ``n`` elements, beyond ``most``; else ``None``."""
+    if n <= most:
+        return None
+    return f"{what} would hold {n} elements (at most {most})"
 
 
 def string_too_long(n: int) -> str | None:

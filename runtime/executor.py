@@ -457,7 +457,8 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
         if self._t + seconds <= budget:
             return
         raise RunFailure(
-            f"{what} would take {seconds:.6g} s and the run past its simulated-time budget "
+            f"{what} would take {units.seconds_text(seconds)} and the run past its"
+            " simulated-time budget "
             f"of {budget:g} s (at t = {self._t:.3f} s; raise it with --max-time)",
             line,
             self._t,

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from irlc.lang.settings import setting_message
 from irlc.runtime import scurve as sc
+from irlc.runtime import units
 from irlc.runtime.controller import MotionCommand, Settings
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.motor_limits import MotorLimits
@@ -131,7 +132,8 @@ def segment_profile(b: Bounds, duration, dt: float, line, max_duration: float) -
     t_min = minimum_time(v, a)
     if not t_min <= max_duration:
         raise RunFailure(
-            f"the motion would take {t_min:.6g} s at the active speed and acceleration, "
+            f"the motion would take {units.seconds_text(t_min)} at the active speed and"
+            " acceleration, "
             f"longer than the run's simulated-time budget of {max_duration:g} s "
             "(a speed or acceleration too small for the distance?)",
             line,

@@ -160,7 +160,7 @@ Quat = tuple[float, float, float, float]
 
 def quat_unit(w: float, x: float, y: float, z: float) -> Quat:
     """``q / ‖q‖`` with the sign chosen so that ``w ≥ 0``; the caller guarantees ``q ≠ 0``."""
-    n = math.sqrt(w * w + x * x + y * y + z * z)
+    n = math.hypot(w, x, y, z)  # no overflow or underflow of the squares (1e300, 1e-300)
     if w < 0.0:
         n = -n
     return (w / n, x / n, y / n, z / n)
@@ -201,7 +201,7 @@ def quat_from_axis_angle(axis: tuple[float, float, float], angle: float) -> Quat
     """The rotation by ``angle`` (rad) about ``axis`` (any length > 0, the caller's check):
     ``(cos(θ/2), sin(θ/2)·axis/‖axis‖)``, ``w ≥ 0``."""
     x, y, z = axis
-    n = math.sqrt(x**2 + y**2 + z**2)
+    n = math.hypot(x, y, z)
     h = 0.5 * angle
     s = math.sin(h) / n
     return quat_unit(math.cos(h), x * s, y * s, z * s)

@@ -41,6 +41,12 @@ def fixed(value: float, decimals: int) -> str:
     return f"{shown(round(shown(value), decimals)):.{decimals}f}"
 
 
+def seconds_text(seconds: float) -> str:
+    """A duration for a message: ``"12.5 s"`` (6 significant digits), or ``"longer than
+    any finite time"`` when it overflowed (a message never shows ``inf`` or ``nan``)."""
+    return f"{seconds:.6g} s" if math.isfinite(seconds) else "longer than any finite time"
+
+
 def joint_scale(kinds: Sequence[str]) -> np.ndarray:
     """Per-joint factor from program units to SI (deg → rad, mm → m)."""
     return np.array([DEG if k == REVOLUTE else MM for k in kinds])

@@ -16,7 +16,7 @@ Geometry (all in mm and unit quaternions ``q = (w, x, y, z)``, ``w ≥ 0``):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from irlc.runtime import spatial, units
@@ -64,8 +64,13 @@ class JointTuple:
 
 @dataclass(frozen=True, slots=True)
 class ArrayValue:
+    """An ARRAY value; ``elem`` is the IRDATA type its items are known to have (set by the
+    interpreter's :class:`~irlc.runtime.interpreter.datatypes.DataTypes`, which then stores
+    the array in a cell of that type without looking at each item again)."""
+
     low: int
     items: tuple
+    elem: str | None = field(default=None, compare=False)
 
 
 @dataclass(frozen=True, slots=True)
@@ -91,7 +96,7 @@ def position_scale(s: float, p: Position) -> Position:
 
 def distance(a: Position, b: Position) -> float:
     """Euclidean distance ``‖a − b‖`` (mm)."""
-    return math.sqrt((a.x - b.x) ** 2 + (a.y - b.y) ** 2 + (a.z - b.z) ** 2)
+    return math.hypot(a.x - b.x, a.y - b.y, a.z - b.z)  # the squares would overflow at 1e155
 
 
 # --------------------------------------------------------------------------- joint tuples
@@ -157,7 +162,7 @@ def orientation_from_rpy(roll: float, pitch: float, yaw: float) -> Orientation:
 
 def orientation_from_axis_angle(axis: Position, angle: float) -> Orientation:
     """``ORIVANG(axis, angle)``: rotation by ``angle`` degrees about ``axis`` (any length > 0)."""
-    n = math.sqrt(axis.x**2 + axis.y**2 + axis.z**2)
+    n = math.hypot(axis.x, axis.y, axis.z)
     if n < 1e-12:
         raise ValueError("the rotation axis (0, 0, 0) has no direction")
     return _orientation(spatial.quat_from_axis_angle(axis.as_tuple(), angle * units.DEG))
@@ -279,6 +284,32 @@ def format_real(x: float) -> str:
 
 def _seq(items) -> str:
     return "(" + ", ".join(items) + ")"
+
+
+_REAL_TEXT = 24  # the longest format_real: repr of a float, e.g. -1.7976931348623157e+308
+_INTEGER_TEXT = 20  # the longest 64-bit integer, -9223372036854775808
+
+
+def text_bound(v: object) -> int:
+    """An upper bound of ``len(format_value(v))`` without building the text: the reals
+    of a value count :data:`_REAL_TEXT` characters each (O(elements), strings by length).
+    """
+    if isinstance(v, bool):
+        return 5
+    if isinstance(v, int):
+        return _INTEGER_TEXT
+    if isinstance(v, float):
+        return _REAL_TEXT
+    if isinstance(v, str):
+        return len(v)
+    if isinstance(v, Position | Pose | JointTuple | Orientation):
+        n = len(v.values) if isinstance(v, JointTuple) else 6
+        return 6 + n * (_REAL_TEXT + 2)
+    if isinstance(v, ArrayValue):
+        return 2 + sum(text_bound(item) + 2 for item in v.items)
+    if isinstance(v, RecordValue):
+        return 2 + sum(len(name) + 4 + text_bound(item) for name, item in v.fields)
+    return len(str(v))
 
 
 def format_value(v: object) -> str:

@@ -41,6 +41,13 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_USAGE
     except KeyboardInterrupt:
         return EXIT_INTERRUPTED
+    except MemoryError:  # the environment: the machine's (or the limit's) memory is too small
+        click.echo(
+            "irlc: error: out of memory: the command needs more memory than this process may"
+            " use (a shorter run: --max-time, a larger --ipo, a coarser --drives level)",
+            err=True,
+        )
+        return EXIT_USAGE
     except Exception as e:
         import traceback
 

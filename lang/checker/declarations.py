@@ -19,8 +19,7 @@ from irlc.lang.checker.scope import Reporter, RoutineInfo, Scope, Symbol
 from irlc.lang.datalist import Datalist
 from irlc.lang.diagnostics import Diagnostic, Span
 from irlc.lang.irdata import Slot, Value
-
-MAX_ARRAY = 1_000_000
+from irlc.lang.value_ranges import MAX_SCOPE_ELEMENTS, elements_too_many
 
 
 class Declarations:
@@ -33,6 +32,7 @@ class Declarations:
         self.records: list[T.Record] = []
         self.global_slots: list[Slot] = []
         self.global_types: list[T.Type] = []
+        self.global_elements = 0  # of the global variables (T.elements)
         self.routines: list[RoutineInfo] = []
         self.inputs: dict[int, list[tuple[float, bool]]] = {}
 
@@ -168,6 +168,7 @@ class Declarations:
         for name, span in d.names:
             if self._collides_with_datalist(scope, name, span):
                 continue
+            self._room_for(ty, is_global, span)
             sym = Symbol("var", name, ty, f"line {span.line}")
             if is_global:
                 sym.storage, sym.index = "G", len(self.global_slots)
@@ -184,6 +185,27 @@ class Declarations:
                 assert self.scope.routine is not None
                 self.scope.routine.locals.append(Slot(sym.index, ty.ird(), name))
                 self.scope.routine.local_types.append(ty)
+
+    def _room_for(self, ty: T.Type, is_global: bool, span: Span) -> None:
+        """Report a variable of ``ty`` that does not fit into its scope's
+        :data:`MAX_SCOPE_ELEMENTS` (the program's globals; a routine's parameters passed by
+        value and its locals), the first one only."""
+        if ty == T.ERROR:
+            return
+        n = T.elements(ty)
+        if is_global:
+            held, self.global_elements = self.global_elements, self.global_elements + n
+            what = "the program's variables"
+        else:
+            r = self.scope.routine
+            assert r is not None
+            held, r.elements = r.elements, r.elements + n
+            what = f"the variables of '{r.name}'"
+        if held > MAX_SCOPE_ELEMENTS:  # reported at an earlier variable
+            return
+        problem = elements_too_many(held + n, what, MAX_SCOPE_ELEMENTS)
+        if problem is not None:
+            self.report.error(span, problem, "nested arrays multiply, records add their fields")
 
     def resolve_type(self, ref: ast.TypeRef, name: str | None = None) -> T.Type:
         if isinstance(ref, ast.SimpleTypeRef):
@@ -220,14 +242,13 @@ class Declarations:
                 ref.span, f"array bounds [{lo}..{hi}]: the upper bound is below the lower"
             )
             return T.ERROR
-        if hi - lo + 1 > MAX_ARRAY:
-            self.report.error(
-                ref.span, f"array of {hi - lo + 1} elements is too large (max {MAX_ARRAY})"
-            )
-            return T.ERROR
         elem = self.resolve_type(ref.elem)
         if elem == T.SIGNAL:
             self.report.error(ref.elem.span, "SIGNAL can only be the type of a plain variable")
+        problem = elements_too_many((hi - lo + 1) * T.elements(elem), "this array")
+        if problem is not None:
+            self.report.error(ref.span, problem, "nested arrays multiply, records add their fields")
+            return T.ERROR
         return T.Array("ARRAY", lo, hi, elem)
 
     def record_type(self, ref: ast.RecordTypeRef, name: str | None) -> T.Type:
@@ -243,6 +264,10 @@ class Declarations:
                     continue
                 seen.add(n.lower())
                 fields.append((n, ty))
+        problem = elements_too_many(sum(T.elements(t) for _, t in fields), "this RECORD")
+        if problem is not None:
+            self.report.error(ref.span, problem, "nested arrays multiply, records add their fields")
+            return T.ERROR
         rec = T.Record(name or f"RECORD#{len(self.records)}", len(self.records), tuple(fields))
         self.records.append(rec)
         return rec
@@ -255,6 +280,13 @@ class Declarations:
             ty = self.resolve_type(prm.type)
             if ty == T.SIGNAL:
                 self.report.error(prm.type.span, "a parameter cannot be a SIGNAL")
+            if not prm.by_ref:  # a VAR parameter holds no elements of its own
+                info.elements += T.elements(ty)
+                what = f"the parameters of '{r.name}'"
+                problem = elements_too_many(info.elements, what, MAX_SCOPE_ELEMENTS)
+                if problem is not None:
+                    self.report.error(prm.span, problem, "pass large arrays as VAR parameters")
+                    ty, info.elements = T.ERROR, info.elements - T.elements(ty)
             info.params.append(Slot(i, ty.ird(), prm.name, prm.by_ref))
             info.param_types.append(ty)
         if r.result is not None:

@@ -31,6 +31,7 @@ class RoutineInfo:
     locals: list[Slot] = field(default_factory=list)
     local_types: list[T.Type] = field(default_factory=list)
     node: ast.Routine | None = None
+    elements: int = 0  # of its parameters passed by value and its locals (T.elements)
 
     @property
     def kind(self) -> str:

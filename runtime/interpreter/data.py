@@ -19,11 +19,16 @@ from irlc.runtime.controller import check_setting
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.interpreter.datatypes import number
 from irlc.runtime.interpreter.state import UNSET, Ref
-from irlc.runtime.values import JointTuple, Pose
+from irlc.runtime.values import ArrayValue, JointTuple, Pose
 
 SETTINGS_FIELDS = {  # system variable → Settings field (rows: lang/settings.py)
     name: v.field for name, v in SYSTEM_VARIABLES.items() if v.field is not None
 }
+# Work proportional to an array's length (copying it to store one element; the cells of a
+# call's large locals, machine._hold) is charged to the endless-loop guard: one instruction
+# per ELEMENTS_PER_STEP elements (about the same CPU time), so a loop over a large array
+# is stopped as soon as one over a small one.
+ELEMENTS_PER_STEP = 128
 _ACTUAL = ("R_ACT_POSE", "R_ACT_JOINT")  # read from the controller: stop the advance run
 
 
@@ -143,6 +148,8 @@ class DataOps:
         v = self.stack.pop()
         i = self.stack.pop()
         c = self.stack.pop()
+        if isinstance(c, ArrayValue):  # the copy costs its length
+            self._charge_elements(len(c.items))
         self._push(self.types.set_item(c, i, v))
 
     # ------------------------------------------------------------------ operators

@@ -41,6 +41,8 @@ class DataTypes:
         self.record_types = {t.index: t for t in record_types}
         self.joint_count = len(joint_names)
         self.joint_index = {n.lower(): i for i, n in enumerate(joint_names)}
+        self._elements: dict[str, int] = {}  # type → elements (a cache of elements())
+        self._counting: set[str] = set()  # the types elements() is inside of
 
     # ------------------------------------------------------------------ constants and cells
 
@@ -73,19 +75,50 @@ class DataTypes:
         raise ValueError(f"{len(data)} value(s) do not make a {ty}")
 
     def initial(self, ty: str) -> object:
-        """The value a fresh cell of type ``ty`` holds."""
+        """The value a fresh cell of type ``ty`` holds (values are immutable, so the items
+        of an array share one initial value: O(length) pointers, no per-item work)."""
         if ty == "SIGNAL":
             return False
         m = ARRAY_TYPE.fullmatch(ty)
         if m:
-            low, high = int(m.group(1)), int(m.group(2))
-            if high < low:
-                raise B.malformed(f"empty array type {ty}")
-            return ArrayValue(low, tuple(self.initial(m.group(3)) for _ in range(high - low + 1)))
+            low, n, elem = self._array_shape(m)
+            return ArrayValue(low, (self.initial(elem),) * n, elem)
         if ty.startswith("RECORD#"):
             rt = self.record_type(ty)
             return RecordValue(rt.index, tuple((n, self.initial(t)) for n, t in rt.fields))
         return UNSET
+
+    @staticmethod
+    def _array_shape(m: re.Match) -> tuple[int, int, str]:
+        """``(low, length, element type)`` of a matched ``ARRAY[lo..hi]OFT``."""
+        low, high = int(m.group(1)), int(m.group(2))
+        if high < low:
+            raise B.malformed(f"empty array type {m.group(0)}")
+        return low, high - low + 1, m.group(3)
+
+    def elements(self, ty: str) -> int:
+        """How many elements a cell of ``ty`` holds (``lang.types.elements``: an ARRAY its
+        length times its element's, a RECORD its fields' sum but at least 1, anything else
+        1); a type nested in itself (a hand-written ``.ird``) is malformed."""
+        known = self._elements.get(ty)
+        if known is not None:
+            return known
+        if ty in self._counting:
+            raise B.malformed(f"type {ty} contains itself")
+        self._counting.add(ty)
+        try:
+            m = ARRAY_TYPE.fullmatch(ty)
+            if m:
+                _, n, elem = self._array_shape(m)
+                count = n * self.elements(elem)
+            elif ty.startswith("RECORD#"):
+                count = max(1, sum(self.elements(t) for _, t in self.record_type(ty).fields))
+            else:
+                count = 1
+        finally:
+            self._counting.discard(ty)
+        self._elements[ty] = count
+        return count
 
     def record_type(self, ty: str) -> RecordType:
         rt = self.record_types.get(int(ty[7:])) if ty[7:].isdigit() else None
@@ -131,10 +164,12 @@ class DataTypes:
     def _coerced_array(self, v: object, low: int, high: int, elem: str) -> object:
         if not isinstance(v, ArrayValue) or v.low != low or len(v.items) != high - low + 1:
             return UNSET
+        if v.elem == elem:  # its items were stored as ``elem`` (initial, MAKE, set_item)
+            return v
         items = tuple(x if x is UNSET else self._coerced(x, elem) for x in v.items)
         if any(x is UNSET and y is not UNSET for x, y in zip(items, v.items, strict=True)):
             return UNSET
-        return ArrayValue(low, items)
+        return ArrayValue(low, items, elem)
 
     def _coerced_fields(self, v: RecordValue, rt: RecordType) -> object:
         if len(v.fields) != len(rt.fields):
@@ -177,7 +212,7 @@ class DataTypes:
         if m and n == int(m.group(2)) - int(m.group(1)) + 1:
             elem = m.group(3)
             return ArrayValue(
-                int(m.group(1)), tuple(self.coerce(x, elem, "element") for x in items)
+                int(m.group(1)), tuple(self.coerce(x, elem, "element") for x in items), elem
             )
         if ty.startswith("RECORD#"):
             rt = self.record_type(ty)
@@ -261,6 +296,8 @@ class DataTypes:
             values = list(c.values)
             values[k] = number(v, f"joint [{i}]")
             return JointTuple(c.type, tuple(values))
+        if c.elem is not None:
+            v = self.coerce(v, c.elem, f"element [{i}]")
         items = list(c.items)
         items[k] = v
-        return ArrayValue(c.low, tuple(items))
+        return ArrayValue(c.low, tuple(items), c.elem)

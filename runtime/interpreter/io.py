@@ -15,12 +15,15 @@ from __future__ import annotations
 from irlc.lang.digital_io import output_error, pulse_error
 from irlc.runtime import builtins as B
 from irlc.runtime import values as V
+from irlc.runtime.digital_io import value_at
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.interpreter.datatypes import number
 from irlc.runtime.interpreter.state import UNSET, Ref
 from irlc.runtime.values import ArrayValue, RecordValue
 
 TIME_TOLERANCE = 1e-9  # s, when comparing simulated time with input event times
+MAX_OUTPUT_CHARS = 10_000_000  # the most characters one run writes (WRITE, WRITELN)
+MAX_EVENTS = 200_000  # the most events (signals, outputs, PAUSE, …) and warnings of a run
 
 
 class IoOps:
@@ -77,12 +80,7 @@ class IoOps:
         return max(self._time(), self.state.input_clock)
 
     def _input(self, n: int, t: float) -> bool:
-        value = False
-        for time, v in self._inputs.get(n, ()):
-            if time > t + TIME_TOLERANCE:
-                break
-            value = v
-        return value
+        return value_at(self._inputs.get(n, ()), t)
 
     def _next_input_change(self, t: float) -> float | None:
         """The next time an input — or an output with a PULSE's end still ahead — changes."""
@@ -148,19 +146,31 @@ class IoOps:
         self._run_events.append(end)
 
     def _drop_event(self, event: dict | None) -> None:
-        """Remove a pulse's end that an assignment overrode (``digital_io.Outputs.set``)."""
+        """Remove a pulse's end that an assignment overrode (``digital_io.Outputs.set``),
+        searching from the newest event (it is among the last)."""
+        if event is None:
+            return
         for events in (self.state.events, self._run_events):
-            for i, e in enumerate(events):
-                if e is event:
+            for i in range(len(events) - 1, -1, -1):
+                if events[i] is event:
                     del events[i]
                     break
 
     # ------------------------------------------------------------------ text output
 
     def _write(self, argc: int) -> None:
+        """The values' text onto the open line; a run writes at most
+        :data:`MAX_OUTPUT_CHARS` characters (checked before a value's text is built)."""
         for v in self._pop_n(argc):
             _check_set(v)
-            self._line_buffer.append(V.format_value(v))
+            if self._written + V.text_bound(v) > MAX_OUTPUT_CHARS:
+                raise RunFailure(
+                    f"the program's output would exceed {MAX_OUTPUT_CHARS} characters"
+                    " — endless loop?"
+                )
+            text = V.format_value(v)
+            self._written += len(text)
+            self._line_buffer.append(text)
 
     def _op_write(self, args) -> None:
         self._write(args[0])
@@ -183,7 +193,16 @@ class IoOps:
 
     # ------------------------------------------------------------------ events and warnings
 
+    def _count_event(self) -> None:
+        """A run logs at most :data:`MAX_EVENTS` events and warnings."""
+        if len(self._run_events) + len(self._run_warnings) >= MAX_EVENTS:
+            raise RunFailure(
+                f"more than {MAX_EVENTS} events (signals, outputs, PAUSE …) and warnings"
+                " in one run — endless loop?"
+            )
+
     def _event(self, kind: str, **data) -> None:
+        self._count_event()
         line = self._line()
         event = {"kind": kind, "line": line, "time_s": self._time(), **data}
         self.state.events.append(event)
@@ -191,6 +210,7 @@ class IoOps:
         self._ctl(self.controller.log_event, kind, line, **data)
 
     def _warn(self, text: str) -> None:
+        self._count_event()
         self.state.warnings.append(text)
         self._run_warnings.append(text)
 

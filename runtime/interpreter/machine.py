@@ -50,11 +50,12 @@ import math
 from collections.abc import Callable
 
 from irlc.lang.irdata import Code, Routine, Slot, Target
+from irlc.lang.value_ranges import MAX_LIVE_ELEMENTS
 from irlc.runtime import builtins as B
 from irlc.runtime import values as V
 from irlc.runtime.controller import WAIT_SAMPLED_CYCLES, Controller, ModalOptions, Settings
 from irlc.runtime.errors import RunFailure
-from irlc.runtime.interpreter.data import DataOps
+from irlc.runtime.interpreter.data import ELEMENTS_PER_STEP, DataOps
 from irlc.runtime.interpreter.datatypes import DataTypes
 from irlc.runtime.interpreter.io import IoOps
 from irlc.runtime.interpreter.motion import MotionOps
@@ -112,6 +113,8 @@ class Interpreter(DataOps, IoOps, MotionOps):
         self.stack: list = []
         self.frames: list[Frame] = []
         self._line_buffer: list[str] = []
+        self._written = 0  # characters of WRITE output (io.MAX_OUTPUT_CHARS)
+        self._element_steps = 0  # budget charged for work on array elements
         self._run_output: list[str] = []
         self._run_events: list[dict] = []
         self._run_warnings: list[str] = []
@@ -175,6 +178,8 @@ class Interpreter(DataOps, IoOps, MotionOps):
             raise e.original from None
         except IndexError:
             raise self._bad_code("stack underflow or an operand out of range") from None
+        except OverflowError:  # a float operation that raises instead of giving inf
+            raise RunFailure("a number is out of range (the result is not finite)") from None
         except (TypeError, ValueError, AttributeError, KeyError, ZeroDivisionError) as e:
             raise self._bad_code(f"{type(e).__name__}: {e}") from None
 
@@ -204,9 +209,21 @@ class Interpreter(DataOps, IoOps, MotionOps):
     def _budget_failure(self) -> RunFailure:
         return RunFailure(
             f"more than {self.budget} instructions without motion (a cycle of waiting counts "
-            f"as {WAIT_CYCLE_COST}) — endless loop? If not, raise the budget: "
+            f"as {WAIT_CYCLE_COST}{self._array_work()}) — endless loop? If not, raise the budget: "
             "--instruction-budget N (Python: instruction_budget=N)"
         )
+
+    def _array_work(self) -> str:
+        """The budget's rule for arrays, for its message when arrays were charged."""
+        if not self._element_steps:
+            return ""
+        return f", work on an array as its elements / {ELEMENTS_PER_STEP}"
+
+    def _charge_elements(self, n: int) -> None:
+        """Charge work on ``n`` elements to the budget (data.ELEMENTS_PER_STEP)."""
+        steps = n // ELEMENTS_PER_STEP
+        self._steps += steps
+        self._element_steps += steps
 
     def _time(self) -> float:
         return float(self.controller.time)
@@ -244,6 +261,11 @@ class Interpreter(DataOps, IoOps, MotionOps):
         self._inputs = {n: sorted(ev) for n, ev in code.inputs.items()}
         self._routines = {r.index: r for r in code.routines}
         self._slot_tables = {r.index: self._slot_table(r) for r in code.routines}
+        self._frame_elements = {  # elements a call's cells hold (VAR parameters: none)
+            r.index: sum(self.types.elements(s.type) for s in r.params + r.locals if not s.by_ref)
+            for r in code.routines
+        }
+        self._live = 0  # elements the globals and the active calls' cells hold
         self._bind_globals()
         self._prog = [self._decode(ins) for ins in code.code]
         self._prog.append((self._op_fell_off, ()))
@@ -274,6 +296,7 @@ class Interpreter(DataOps, IoOps, MotionOps):
                     f"global {new.index} is {new.type} {new.name!r} in the code but"
                     f" {old.type} {old.name!r} in the session state"
                 )
+        self._hold(sum(self.types.elements(s.type) for s in slots), "the global variables")
         st.globals.extend(self.types.initial(s.type) for s in slots[len(st.globals) :])
         st.global_slots = list(slots)
 
@@ -291,9 +314,23 @@ class Interpreter(DataOps, IoOps, MotionOps):
 
     # ------------------------------------------------------------------ frames
 
+    def _hold(self, n: int, what: str, hint: str = "") -> None:
+        """``n`` more elements live (:data:`MAX_LIVE_ELEMENTS` at most), charged to the
+        budget like copies of them."""
+        if self._live + n > MAX_LIVE_ELEMENTS:
+            raise RunFailure(
+                f"{what} would hold {self._live + n} elements with the variables already in"
+                f" use (at most {MAX_LIVE_ELEMENTS}){hint}"
+            )
+        self._live += n
+        self._charge_elements(n)
+
     def _push_frame(self, r: Routine, args: list, return_pc: int) -> None:
         if len(self.frames) >= MAX_CALL_DEPTH:
             raise RunFailure(f"more than {MAX_CALL_DEPTH} nested calls — endless recursion?")
+        self._hold(
+            self._frame_elements[r.index], f"the call of '{r.name}'", " — endless recursion?"
+        )
         slots = self._slot_tables[r.index]
         cells: list = []
         for slot, arg in zip(r.params, args, strict=True):
@@ -358,6 +395,7 @@ class Interpreter(DataOps, IoOps, MotionOps):
 
     def _leave(self, frame: Frame) -> None:
         self.frames.pop()
+        self._live -= self._frame_elements[frame.routine.index]
         del self.stack[frame.stack_base :]
         self.pc = frame.return_pc
 

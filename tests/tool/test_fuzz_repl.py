@@ -1,7 +1,10 @@
 """Fuzz REPL lines (issue 11): a session survives any line — each entry ends with a status
-of 0, 1, 2 or 3 (never 4, never an exception) and the next entry still runs."""
+of 0, 1, 2 or 3 (never 4, never an exception), a failing entry says where
+(``<stdin>:LINE:COL: error: …``), and the next entry still runs."""
 
 from __future__ import annotations
+
+import re
 
 import pytest
 from hypothesis import given
@@ -21,7 +24,13 @@ LINES = [
     "q;", "VAR STRING: s;", "s := 'ab';", "s := s + s + s + s + s + s + s + s;",
     "x := " + "9" * 5000 + ";", "x := " + "-" * 600 + "x;", "{ unclosed", "'", "(*",
     "\u2028", "\x00", "POSE: p := (1, 2, 3, 4, 5, 6);", "JOINTLIMIT (0,0,0), (1,1,1);",
+    ":robot /nonexistent.toml", ":trace", ":teach", ":teach R_SPEED", ":teach a b c",
+    "ROBOT r := x;",
+    "POSE: a, b := (1, 2, 3, 4, 5, 6);", "JOINTLIMITEND;", "VAR ARRAY [1..1000000] OF REAL: big;",
+    "big[1] := 1;", "WRITELN(big);", "x := DIST(POSITION(1e300, 0, 0), POSITION(-1e300, 0, 0));",
+    "WHILE TRUE DO OUT[1] := TRUE; ENDWHILE;",
 ]  # fmt: skip
+POSITIONED = re.compile(r"^<stdin>:\d+:\d+: error: ", re.M)
 
 
 @pytest.fixture(scope="module")
@@ -41,4 +50,6 @@ def test_fuzz_repl_lines(session_class, lines: list[str]) -> None:
     for k, line in enumerate(lines, start=1):
         entry = session.enter(line, k)
         assert entry.failure in (0, 1, 2, 3), (line, entry.lines)
+        if entry.failure:
+            assert POSITIONED.search("\n".join(entry.lines)), (line, entry.lines)
     assert session.enter("WRITELN(1 + 1);").lines[-1] == "2"

@@ -142,9 +142,9 @@ def test_modal_options_persist_and_runtime_errors_continue(tmp_path):
     res = _session(script + "\n")
     out = res.stdout.splitlines()
     assert "Traceback" not in res.stdout + res.stderr
-    errors = [line for line in out if "run-time error" in line]
+    errors = [line for line in out if "error: run-time failure" in line]
     assert len(errors) == 2
-    assert errors[0].startswith("<stdin>:5: ") and errors[1].startswith("<stdin>:8: ")
+    assert errors[0].startswith("<stdin>:5:1: ") and errors[1].startswith("<stdin>:8:1: ")
     assert "already on" in errors[0]
     assert "a11" in errors[1] and "20" in errors[1]
     assert res.returncode == 2
@@ -240,8 +240,8 @@ def test_script_diagnostics_point_at_script_lines_and_columns():
         text, caret = shown[header]
         assert text == script[line - 1] and caret == column, (header, text, caret)
         assert text[column - 1] == token
-    failed = [p for p in printed if "run-time error" in p]
-    assert len(failed) == 1 and failed[0].startswith("<stdin>:9: run-time error"), failed
+    failed = [p for p in printed if "run-time failure" in p]
+    assert len(failed) == 1 and failed[0].startswith("<stdin>:9:1: error: run-time failure"), failed
 
 
 @needs_runtime
@@ -252,7 +252,7 @@ def test_terminal_entries_keep_positions_within_the_entry():
     entry = s.enter("  x := 1 + R_ACT_POSE;")
     assert entry.failure == 1
     assert entry.lines[0].splitlines()[0] == "<input>:1:3: error: unknown name 'x'"
-    assert s.enter("JOINTLIMITEND").lines[0].startswith("<input>:1: run-time error")
+    assert s.enter("JOINTLIMITEND").lines[0].startswith("<input>:1:1: error: run-time failure")
 
 
 @needs_runtime
@@ -278,7 +278,7 @@ def test_the_input_ending_inside_a_block_names_the_block_and_its_line():
     proc = _session(script)
     assert proc.returncode == 1, proc.stderr
     assert proc.stdout.strip() == (
-        "<stdin>:6: error: the input ends inside a block: IF on line 3 is not closed "
+        "<stdin>:6:1: error: the input ends inside a block: IF on line 3 is not closed "
         "(expected ENDIF)"
     )
     assert "ENDPROGRAM" not in proc.stdout + proc.stderr
@@ -311,7 +311,7 @@ def test_the_session_survives_an_entry_that_escapes_the_interpreter(monkeypatch)
         monkeypatch.setattr(Interpreter, "run", broken)
         result = session.enter("x := x + 1;", 5)
         assert result.failure == status
-        assert result.lines[0].startswith("<stdin>:5: ")
+        assert result.lines[0].startswith("<stdin>:5:1: error: ")
         monkeypatch.setattr(Interpreter, "run", real_run)
     assert session.enter("WRITELN(x + 1);").lines == ["42.0"]  # the state survived
 
@@ -322,3 +322,26 @@ def test_a_scripted_session_goes_on_after_a_failing_line():
     assert "internal error" not in proc.stdout + proc.stderr
     assert proc.returncode in (2, 3), proc.stdout
     assert proc.stdout.strip().splitlines()[-1] == "42.0"
+
+
+@needs_runtime
+def test_failing_meta_commands_are_positioned_and_keep_the_session(tmp_path):
+    # ':robot nosuch' re-created the session (declarations lost); ':trace DIR' said
+    # "[Errno 21] Is a directory: '/.tmp.….tmp' -> '/tmp'"; neither had a position.
+    from irlc.repl import Session
+
+    s = Session("planar3", cwd=tmp_path)
+    assert s.enter("VAR REAL: x;", 1).failure == 0
+    assert s.enter("x := 41;", 2).failure == 0
+    robot = s.enter(":robot nosuch", 3)
+    assert robot.failure == 3 and robot.lines[0].startswith("<stdin>:3:1: error: unknown robot")
+    trace = s.enter(f":trace {tmp_path}", 4)
+    assert trace.failure == 3
+    assert trace.lines == [
+        f"<stdin>:4:1: error: {tmp_path} is a folder; :trace takes a file (FILE.csv)"
+    ]
+    unknown = s.enter(":nosuch", 5)
+    assert unknown.failure == 1 and unknown.lines[0].startswith(
+        "<stdin>:5:1: error: unknown command"
+    )
+    assert s.enter("WRITELN(x + 1);", 6).lines == ["42.0"]

@@ -87,7 +87,8 @@ def test_bad_names(tmp_path):
     session.enter("VAR POSE: q;")
     assert session.meta(":teach q").failure == 3
     assert session.meta(":teach LIN").failure == 3
-    assert session.meta(":teach").lines == ["usage: :teach NAME [FILE.toml]"]
+    assert session.meta(":teach R_SPEED").failure == 3  # a system variable
+    assert session.meta(":teach").lines == ["<input>:1:1: error: usage: :teach NAME [FILE.toml]"]
     assert not (tmp_path / "taught.toml").exists()
 
 

@@ -1,0 +1,183 @@
+"""Runs stay bounded in time and memory (issue 11): each test reproduces one hang or
+memory blow-up the adversarial run found, with the CPU time of the fixed run far below
+what the unfixed one took (CPU time: the machine may be loaded)."""
+
+from __future__ import annotations
+
+import json
+import random
+import time
+from pathlib import Path
+
+import pytest
+from irlc.cli import main
+from irlc.lang.value_ranges import MAX_LIVE_ELEMENTS
+from irlc.runtime.digital_io import value_at
+from irlc.runtime.interpreter.io import MAX_EVENTS, MAX_OUTPUT_CHARS
+from irlc.runtime.interpreter.state import UNSET
+from irlc.runtime.values import ArrayValue, format_value, pose_from_zyx, text_bound
+
+
+def run(tmp_path: Path, capsys, program: str, *extra: str) -> tuple[int, str, str, float]:
+    """Run ``program`` (with ``-q`` unless ``extra`` says ``--json``); (exit code, stdout,
+    stderr flattened, CPU seconds)."""
+    prog = tmp_path / "p.irl"
+    prog.write_text(program, "utf-8")
+    start = time.process_time()
+    code = main(["run", str(prog), *([] if "--json" in extra else ["-q"]), *extra])
+    cpu = time.process_time() - start
+    out = capsys.readouterr()
+    assert "Traceback" not in out.err and "internal error" not in out.err, out.err
+    return code, out.out, " ".join(out.err.split()), cpu
+
+
+HEAD = "PROGRAM p;\nROBOT r := planar3;\n"
+
+
+def test_a_recursion_with_large_locals_fails_before_it_fills_the_memory(tmp_path, capsys):
+    # Each call allocated a million cells; 10,000 nested calls: no end (killed after 30 s).
+    code, _, err, cpu = run(
+        tmp_path, capsys,
+        HEAD + "PROCEDURE q(INTEGER: n);\nVAR ARRAY [1..1000000] OF REAL: a;\nBEGIN\n"
+        "  q(n + 1);\nENDPROC;\nBEGIN\n  q(0);\nENDPROGRAM\n",
+    )  # fmt: skip
+    assert code == 2, err
+    assert "p.irl:6:1: error: run-time failure at t = 0.000 s: the call of 'q' would hold" in err
+    assert f"(at most {MAX_LIVE_ELEMENTS}) — endless recursion?" in err
+    assert cpu < 20
+
+
+def test_storing_into_a_large_array_is_charged_to_the_loop_guard(tmp_path, capsys):
+    # Every a[i] := … converted all million items again (0.1 s a store): a hang.
+    code, _, err, cpu = run(
+        tmp_path, capsys,
+        HEAD + "VAR ARRAY [1..1000000] OF REAL: a; INTEGER: i;\nBEGIN\n"
+        "  FOR i := 1 TO 1000000 DO a[i] := i; ENDFOR;\nENDPROGRAM\n",
+        "--instruction-budget", "100000",
+    )  # fmt: skip
+    assert code == 2, err
+    assert "p.irl:5:1: error: run-time failure at t = 0.000 s: more than 100000 instructions" in err
+    assert "work on an array as its elements / 128" in err
+    assert cpu < 20
+
+
+def test_array_items_keep_their_type_without_a_conversion_per_store(tmp_path, capsys):
+    # An INTEGER stored into an ARRAY OF REAL is a REAL; an array passed by value is a copy.
+    code, out, err, _ = run(
+        tmp_path, capsys,
+        HEAD + "TYPE v = ARRAY [0..2] OF REAL;\nVAR v: a, b; INTEGER: i;\n"
+        "PROCEDURE bump(v: c);\nBEGIN\n  c[0] := 99;\n  WRITELN(c);\nENDPROC;\nBEGIN\n"
+        "  FOR i := 0 TO 2 DO a[i] := i * 2; ENDFOR;\n  b := a;\n  bump(b);\n"
+        "  WRITELN(a, b[2]);\nENDPROGRAM\n",
+        "--json",
+    )  # fmt: skip
+    assert code == 0, err
+    assert json.loads(out)["output"] == ["(99.0, 2.0, 4.0)", "(0.0, 2.0, 4.0)4.0"]
+
+
+@pytest.mark.parametrize(
+    "body",
+    [
+        "WHILE TRUE DO OUT[1] := TRUE; ENDWHILE;",  # scanned every event: O(n²), > 60 s
+        "WHILE TRUE DO OUT[1] := NOT OUT[1]; PULSE(OUT[2], 1); ENDWHILE;",  # read: O(n) each
+    ],
+)
+def test_switching_outputs_in_a_loop_takes_linear_time(tmp_path, capsys, body):
+    code, _, err, cpu = run(
+        tmp_path, capsys, HEAD + f"BEGIN\n  {body}\nENDPROGRAM\n", "--instruction-budget", "200000"
+    )
+    assert code == 2 and "more than 200000 instructions without motion" in err, err
+    assert cpu < 20
+
+
+def test_the_output_of_a_run_is_bounded(tmp_path, capsys):
+    # 83,000 lines of 32,768 characters: a MemoryError (exit 4) after a minute.
+    code, _, err, cpu = run(
+        tmp_path, capsys,
+        HEAD + "VAR STRING: s; INTEGER: i;\nBEGIN\n  s := 'abcdefghijklmnop';\n"
+        "  FOR i := 1 TO 11 DO s := s + s; ENDFOR;\n  WHILE TRUE DO WRITELN(s, i); ENDWHILE;\n"
+        "ENDPROGRAM\n",
+    )  # fmt: skip
+    assert code == 2, err
+    assert (
+        "p.irl:7:1: error: run-time failure at t = 0.000 s: the program's output would exceed"
+        f" {MAX_OUTPUT_CHARS} characters — endless loop?"
+    ) in err
+    assert cpu < 20
+
+
+def test_a_huge_value_is_refused_before_its_text_is_built(tmp_path, capsys):
+    # A million strings of 32,768 characters (64 GB of text) cost a few thousand stores.
+    code, _, err, cpu = run(
+        tmp_path, capsys,
+        HEAD + "VAR ARRAY [1..1000] OF STRING: row;\n"
+        "  ARRAY [1..1000] OF ARRAY [1..1000] OF STRING: a; STRING: s; INTEGER: i;\nBEGIN\n"
+        "  s := 'abcdefghijklmnop';\n"
+        "  FOR i := 1 TO 11 DO s := s + s; ENDFOR;\n  FOR i := 1 TO 1000 DO row[i] := s; ENDFOR;\n"
+        "  FOR i := 1 TO 1000 DO a[i] := row; ENDFOR;\n  WRITELN(a);\nENDPROGRAM\n",
+    )  # fmt: skip
+    assert code == 2, err
+    assert "p.irl:10:1: error: run-time failure" in err and "output would exceed" in err
+    assert cpu < 20
+
+
+@pytest.mark.parametrize("body", ["g := TRUE;", "PAUSE;", "OUT[3] := TRUE;"])
+def test_events_of_a_run_are_bounded(tmp_path, capsys, monkeypatch, body):
+    # Each event is a dict kept to the end; a loop of them under a raised budget (or
+    # between motions) grew the memory without bound. 2,000 stands for MAX_EVENTS here.
+    from irlc.runtime.interpreter import io
+
+    assert MAX_EVENTS == 200_000
+    monkeypatch.setattr(io, "MAX_EVENTS", 2_000)
+    code, _, err, _ = run(
+        tmp_path, capsys,
+        HEAD + f"VAR SIGNAL: g;\nBEGIN\n  WHILE TRUE DO {body} ENDWHILE;\nENDPROGRAM\n",
+    )  # fmt: skip
+    assert code == 2, err
+    assert "p.irl:5:1: error: run-time failure at t = 0.000 s: more than 2000 events" in err
+
+
+def test_text_bound_is_an_upper_bound_of_the_text() -> None:
+    rng = random.Random(7)
+    for _ in range(300):
+        items = [
+            rng.choice([True, -(2**63), rng.uniform(-1e308, 1e308), -1.2345678901234567e-300,
+                        "x" * rng.randrange(5), pose_from_zyx(*[rng.uniform(-1e300, 1e300)] * 6)])
+            for _ in range(rng.randrange(1, 5))
+        ]  # fmt: skip
+        v = ArrayValue(1, tuple(items))
+        assert len(format_value(v)) <= text_bound(v)
+
+
+def test_value_at_is_the_last_switch_at_or_before_the_time() -> None:
+    rng = random.Random(3)
+    times = sorted(rng.choice([0.0, 0.5, 1.0, 1.5, 2.0]) for _ in range(40))
+    timeline = [(t, rng.random() < 0.5) for t in times]
+    for t in [-1.0, 0.0, 0.25, 0.5, 1.0 - 1e-12, 1.0, 1.7, 2.0, 3.0]:
+        linear = [v for time_, v in timeline if time_ <= t + 1e-9]
+        assert value_at(timeline, t) == (linear[-1] if linear else False)
+
+
+def test_an_array_of_unset_items_shares_one_initial_value() -> None:
+    from irlc.runtime.interpreter.datatypes import DataTypes
+
+    a = DataTypes([], ["a1"]).initial("ARRAY[1..1000000]OFARRAY[0..1]OFREAL")
+    assert len(a.items) == 1_000_000 and a.items[0] is a.items[-1]
+    assert a.items[0].items == (UNSET, UNSET) and a.elem == "ARRAY[0..1]OFREAL"
+
+
+def test_running_out_of_memory_is_an_environment_error(tmp_path, capsys, monkeypatch):
+    # --drives pwm at --override 1 allocated (4186001, 10) arrays: MemoryError, exit 4.
+    from irlc.runtime import run as run_module
+
+    def exhausted(*args, **kwargs):
+        raise MemoryError("Unable to allocate 319. MiB")
+
+    monkeypatch.setattr(run_module, "run_file", exhausted)
+    prog = tmp_path / "p.irl"
+    prog.write_text(HEAD + "BEGIN\n  WAIT 1 SEC;\nENDPROGRAM\n", "utf-8")
+    assert main(["run", str(prog), "-q"]) == 3
+    err = capsys.readouterr().err
+    assert err.startswith("irlc: error: out of memory: the command needs more memory") and (
+        "internal error" not in err
+    )
