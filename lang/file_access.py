@@ -86,6 +86,16 @@ def shown_key(key: str, limit: int = 48) -> str:
     return key if len(key) <= limit else f"{key[:32]}… ({len(key)} characters)"
 
 
+def shown_names(names: Iterable[str], limit: int = 10) -> str:
+    """Names from a user's file for a hint (``box1, box2, and 3 more``): at most ``limit``
+    of them, each as :func:`shown_key` shows a key."""
+    names = list(names)
+    shown = [shown_key(n) for n in names[:limit]]
+    if len(names) > limit:
+        shown.append(f"and {len(names) - limit} more")
+    return ", ".join(shown)
+
+
 _WORD = re.compile(r"[a-z][a-z0-9_]{0,15}")  # a vocabulary word: shown (describe)
 _NON_FINITE_WORDS = {"nan", "inf", "infinity"}  # described: no "nan" in a message
 

@@ -16,6 +16,7 @@ from irlc.lang.checker.expressions import ExpressionTyper
 from irlc.lang.checker.motion import LIMIT_TYPES, MotionChecker
 from irlc.lang.checker.scope import Reporter, Scope
 from irlc.lang.diagnostics import Span
+from irlc.lang.file_access import shown_names
 
 _START_WORD = {
     "JOINTLIMIT": "JOINTLIMIT",
@@ -152,7 +153,7 @@ class ModalBlocks:
     def unknown_obstacle(self, name: str, span: Span) -> None:
         known = sorted(o.name for o in self.scope.obstacles.values())
         hint = (
-            f"known obstacles: {', '.join(known)}"
+            f"known obstacles: {shown_names(known)}"
             if known
             else "define obstacles in an imported data list: [obstacles.NAME]"
         )

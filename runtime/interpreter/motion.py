@@ -16,6 +16,7 @@ check, tolerance and message: :mod:`irlc.runtime.limit_check`).
 
 from __future__ import annotations
 
+from irlc.lang.file_access import shown_key, shown_names
 from irlc.lang.joint_kinds import kind_from_letter
 from irlc.lang.settings import ALL_KINDS, BY_WITH_WORD, PATH_KINDS, reconfiguration_counts
 from irlc.runtime import builtins as B
@@ -183,8 +184,8 @@ class MotionOps:
             raise B.malformed("OPTON OBSTACLE needs one obstacle name")
         obstacle = self.code.obstacle(str(rest[0]))
         if obstacle is None:
-            known = ", ".join(o.name for o in self.code.obstacles) or "none"
-            raise RunFailure(f"unknown obstacle '{rest[0]}' (known: {known})")
+            known = shown_names(o.name for o in self.code.obstacles) or "none"
+            raise RunFailure(f"unknown obstacle '{shown_key(str(rest[0]))}' (known: {known})")
         opts = self.state.options
         if obstacle.name in opts.obstacles:
             raise RunFailure(f"OBSTACLE {obstacle.name} is already on")

@@ -100,7 +100,7 @@ def test_messages_are_the_robot_readers():
     base = dc_drives(2)
     t = copy.deepcopy(base)
     t["dc"]["ke"] = float("inf")
-    bad(t, "drives.dc.ke", "expected a finite number, got inf$")
+    bad(t, "drives.dc.ke", "expected a finite number, got infinity$")
     t = copy.deepcopy(base)
     t["friction"] = {"static": [0.1, -0.1]}
     bad(t, "drives.friction.static[2]", "expected a non-negative number, got -0.1$")

@@ -153,3 +153,19 @@ def test_ast_spans() -> None:
     assign = program.body[0]
     assert (assign.span.line, assign.span.column) == (3, 3)
     assert (assign.value.span.line, assign.value.span.column) == (3, 10)  # the operator
+
+
+def test_unknown_obstacle_hint_names_a_bounded_list(tmp_path: Path) -> None:
+    """The hint lists at most ten known obstacles, each name cut to a bounded length: a data
+    list with many obstacles or a 3,000-character name is never echoed whole."""
+    long_name = "a" * 3000  # sorted first: shown, cut short
+    names = [long_name, *(f"box{i:02d}" for i in range(11))]
+    sphere = 'kind = "sphere"\ncenter = [1, 2, 3]\nradius = 4\n'
+    (tmp_path / "cell.toml").write_text("".join(f"[obstacles.{n}]\n{sphere}" for n in names))
+    src = "PROGRAM t;\nROBOT r := six;\nIMPORT DATALIST cell;\nBEGIN\n  OBSTACLE wal;\nENDPROGRAM\n"
+    (error,) = compile_text(src, str(tmp_path / "t.irl")).errors
+    assert error.message == "unknown obstacle 'wal'"
+    hint = error.hint or ""
+    shown_long = f"{'a' * 32}… (3000 characters)"
+    assert hint.startswith(f"known obstacles: {shown_long}, box00, box01, ")
+    assert hint.endswith(", box08, and 2 more") and len(hint) < 250
