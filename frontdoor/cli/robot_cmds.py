@@ -18,6 +18,7 @@ import math
 import click
 import numpy as np
 from irlc.cli.app import cli
+from irlc.cli.console import Console
 from irlc.errors import EXIT_RUN, UsageError
 from irlc.lang.joint_kinds import kind_letters
 from irlc.robots import RobotFileError, list_robots, load_robot
@@ -28,7 +29,6 @@ from irlc.runtime.errors import RunFailure
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.reachability import check_vertical_plane
 from rich import box
-from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 

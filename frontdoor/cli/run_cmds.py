@@ -169,7 +169,7 @@ def run_cmd(
     allow_any_path,
 ) -> int:
     """Compile (.irl) or load (.ird) PROGRAM and simulate it; print a summary."""
-    from rich.console import Console
+    from irlc.cli.console import Console, echo
 
     seed = parse_seed_config(seed_config)
     if not program.is_file():
@@ -198,7 +198,7 @@ def run_cmd(
         seed,
         trace_every_step,
         live and sys.stdout.isatty(),
-        None if not live else click.echo,
+        None if not live else echo,
         err,
     )
     if isinstance(run, int):
@@ -210,7 +210,7 @@ def run_cmd(
     if as_json:
         from irlc.report import report_json
 
-        click.echo(report_json(run.report), nl=False)
+        echo(report_json(run.report), nl=False)
     elif not quiet:
         from irlc.summary import render_comparison, render_summary
 
@@ -341,7 +341,7 @@ def _progress(show: bool):
     """A transient rich progress line (simulated time, program line) on stderr."""
     if not show:
         return None, lambda: None
-    from rich.console import Console
+    from irlc.cli.console import Console
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 
     bar = Progress(

@@ -33,6 +33,7 @@ def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet, allo
     program does not compile, 3 a bad study file, value, robot or option, 130 interrupted
     (rows written so far are kept: complete them with --resume).
     """
+    from irlc.cli.console import Console
     from irlc.lang.diagnostics import CompileError
     from irlc.robots import RobotFileError
     from irlc.runtime.run import RunSetupError
@@ -40,7 +41,6 @@ def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet, allo
     from irlc.study.runner import ClusterError
     from irlc.study.summary import check_metric, split_sort, summary_table
     from irlc.study.summary import plot as draw
-    from rich.console import Console
 
     if not study_file.is_file():
         raise UsageError(f"{study_file}: no such file")

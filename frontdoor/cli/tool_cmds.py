@@ -27,8 +27,8 @@ def test_cmd(directory: Path, update: bool, jobs: int, allow_any_path: bool) -> 
     Exit status: 0 all passed (or updated), 1 some failed or have no expectation,
     3 the directory does not exist or holds no programs.
     """
+    from irlc.cli.console import Console
     from irlc.golden import find_programs, render_results, run_golden
-    from rich.console import Console
 
     if not directory.is_dir():
         raise UsageError(f"{directory}: no such directory")

@@ -1,0 +1,48 @@
+"""A reader that stops reading (``irlc run prog.irl | head -2``) does not change the run's
+exit status: the rest of the standard output is dropped and the run carries on (click and
+rich would both exit 1, the status of a program that does not compile)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+LOOP = """PROGRAM w;
+ROBOT r := planar3;
+VAR INTEGER: i;
+BEGIN
+  FOR i := 1 TO {n} DO
+    WRITELN('line ', i);
+  ENDFOR;
+  MOVE PTP (10, 20, 30);
+ENDPROGRAM
+"""
+
+
+def _run_and_close(tmp_path: Path, n: int, *options: str) -> tuple[int, str]:
+    """Run ``irlc run`` on a program writing ``n`` lines; read its first line, then close
+    the pipe. Returns the exit status and stderr."""
+    program = tmp_path / "w.irl"
+    program.write_text(LOOP.format(n=n), encoding="utf-8")
+    cmd = [sys.executable, "-c", "from irlc.cli import entry; entry()", "run", str(program)]
+    cmd += options
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=tmp_path)
+    assert proc.stdout is not None and proc.stderr is not None
+    first = proc.stdout.readline()
+    proc.stdout.close()  # the reader goes away, as `head -1` does
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=300) is not None
+    assert first  # something was written before the pipe closed
+    return proc.returncode, err
+
+
+@pytest.mark.parametrize(("n", "status"), [(20_000, 0), (100_000, 2)])
+def test_a_closed_pipe_keeps_the_runs_exit_status(tmp_path: Path, n: int, status: int) -> None:
+    code, err = _run_and_close(tmp_path, n)  # 100,000 lines: the endless-loop guard, exit 2
+    assert code == status, err
+    assert "Traceback" not in err and "internal error" not in err
+    if status == 2:
+        assert "w.irl:6:" in err  # the run's own failure is still reported
