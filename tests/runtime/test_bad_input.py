@@ -59,7 +59,7 @@ def test_broken_override_robot_file_is_a_usage_error(tmp_path, capsys):
     prog = write(tmp_path, "p.irl", PROGRAM.format(robot="planar3"))
     write(tmp_path, "broken.toml", "[robot\n")
     code, _, err = run(capsys, "run", prog, "--robot", "broken.toml")
-    assert code == 3 and "broken.toml: not valid TOML" in err
+    assert code == 3 and "broken.toml:1: not valid TOML" in err  # the file and its line
 
 
 def test_unknown_program_robot_gives_one_diagnostic(tmp_path, capsys):
