@@ -109,19 +109,25 @@ class AcceleratedLoop:
             and np.array_equal(sim.axes, np.arange(sim.n))
         )
 
+    def _start(self, ist, fst, refresh) -> tuple[int, tuple]:
+        """The run's steps and refresh policy into the packed ``ist``/``fst`` (the layout of
+        :mod:`.accel_kernels`, which the PWM kernel shares) and zeroed ``(M, h, M⁻¹)``
+        buffers for the kernel to fill."""
+        k, n = self.k, self.sim.n
+        steps = len(self.sim.t)
+        ist[k.STEPS] = steps
+        ist[k.EVERY] = 0 if refresh.every is None else refresh.every
+        ist[k.MAX_STEPS] = refresh.max_steps
+        fst[k.DQ], fst[k.DV] = refresh.dq, refresh.dv
+        return steps, (np.zeros((n, n)), np.zeros(n), np.zeros((n, n)))
+
     def run(self, q, qd, theta_ref, refresh, rec, rec_i, rec_u, sat_rec, energy, copper):
         """All steps; ``q``, ``qd``, the records and the bank's state are updated in place."""
         if compile_seconds is None:
             warm_up()
         k, sim, bank = self.k, self.sim, self.bank
         ist, fst = self.ist, self.fst
-        steps = len(sim.t)
-        ist[k.STEPS] = steps
-        ist[k.EVERY] = 0 if refresh.every is None else refresh.every
-        ist[k.MAX_STEPS] = refresh.max_steps
-        fst[k.DQ], fst[k.DV] = refresh.dq, refresh.dv
-        n = sim.n
-        mm, hb, m_inv = np.zeros((n, n)), np.zeros(n), np.zeros((n, n))
+        steps, (mm, hb, m_inv) = self._start(ist, fst, refresh)
         xv = np.ascontiguousarray(bank.pi.x, dtype=float).copy()
         xiu = bank.loop.x.copy()
         xi, xu = np.ascontiguousarray(xiu[:, 0]), np.ascontiguousarray(xiu[:, 1])

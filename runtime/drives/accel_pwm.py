@@ -62,15 +62,9 @@ class PwmLoop(accel.AcceleratedLoop):
     def run(self, q, qd, theta_ref, refresh, rec, rec_i, rec_u, sat_rec, energy, copper):
         """All periods; ``q``, ``qd``, the records and the PWM bank's state (PI integral,
         current, controller output) are updated in place."""
-        kp, sim, bank = self.kp, self.sim, self.bank
+        kp, bank = self.kp, self.bank
         ist, fst = self.pwm_ist, self.pwm_fst
-        steps = len(sim.t)
-        ist[kp.STEPS] = steps
-        ist[kp.EVERY] = 0 if refresh.every is None else refresh.every
-        ist[kp.MAX_STEPS] = refresh.max_steps
-        fst[kp.DQ], fst[kp.DV] = refresh.dq, refresh.dv
-        n = sim.n
-        mm, hb, m_inv = np.zeros((n, n)), np.zeros(n), np.zeros((n, n))
+        steps, (mm, hb, m_inv) = self._start(ist, fst, refresh)
         stage = bank.stage
         xv = np.array(bank.pi.x, dtype=float)
         xi, xc = np.array(stage.i, dtype=float), np.array(stage.u_c, dtype=float)
