@@ -194,9 +194,11 @@ class Session:
 
     def _new_machine(self, q0: np.ndarray, obstacles: dict, keep_state: bool = False) -> None:
         from irlc.runtime.interpreter import MachineState
+        from irlc.runtime.run import SPILL_ROWS
 
         self.obstacles = obstacles
         self.controller = _controller_class()(self.model, q0, obstacles=obstacles)
+        self.controller.recorder.spill(SPILL_ROWS)  # a long session: older samples on disk
         if not keep_state:
             self.state = MachineState()
 

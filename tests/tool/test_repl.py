@@ -345,3 +345,27 @@ def test_failing_meta_commands_are_positioned_and_keep_the_session(tmp_path):
         "<stdin>:5:1: error: unknown command"
     )
     assert s.enter("WRITELN(x + 1);", 6).lines == ["42.0"]
+
+
+def test_a_long_session_spills_its_samples_and_traces_the_same(tmp_path, monkeypatch):
+    """A session keeps at most ``SPILL_ROWS`` samples in memory (older ones go to a temporary
+    file, as a streamed run's do): its ``:trace`` is the same bytes as with every sample in
+    memory."""
+    from irlc.repl import Session
+    from irlc.runtime import run as run_mod
+
+    moves = [f"MOVE PTP ({a}, {a / 2}, {-a / 3});" for a in (10, -20, 30, 0, 45, -45)]
+
+    def trace(rows: int, name: str) -> tuple[bytes, int]:
+        monkeypatch.setattr(run_mod, "SPILL_ROWS", rows)
+        s = Session("planar3")
+        for k, line in enumerate(moves, start=1):
+            assert s.enter(line, k).failure == 0
+        target = tmp_path / name
+        assert s.enter(f":trace {target}", len(moves) + 1).failure == 0
+        return target.read_bytes(), s.controller.recorder.spilled
+
+    spilled_bytes, spilled = trace(16, "spilled.csv")
+    whole_bytes, none = trace(10**6, "whole.csv")
+    assert spilled > 100 and none == 0  # the small buffer did spill, the large one not
+    assert spilled_bytes == whole_bytes and spilled_bytes.count(b"\n") > spilled
