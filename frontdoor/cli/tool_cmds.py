@@ -61,7 +61,7 @@ def repl_cmd(
 @cli.command("warmup")
 def warmup_cmd() -> int:
     """Compile the optional kernels of IRLC_ENGINE=compiled|auto now (numba; once per
-    installation, ≈ 25–35 s), so that no later run compiles.
+    installation, ≈ 35–45 s), so that no later run compiles.
 
     Exit status: 0 compiled or already cached, 3 numba missing or IRLC_ENGINE=numpy.
     """
