@@ -173,6 +173,19 @@ def _axis_step(a, d, omega, p, fused, lim5, big, xv, xi, xu, h, out, res):
 
 
 @njit(cache=True)
+def _pivot(work, c, rows, width):
+    """Partial pivoting at column ``c`` of ``work[:rows, :width]``: the row of ``c`` … ``rows
+    − 1`` with the largest ``|work[r, c]|`` swapped into row ``c`` (columns ``c`` on)."""
+    piv = c
+    for r in range(c + 1, rows):
+        if abs(work[r, c]) > abs(work[piv, c]):
+            piv = r
+    if piv != c:
+        for j in range(c, width):
+            work[c, j], work[piv, j] = work[piv, j], work[c, j]
+
+
+@njit(cache=True)
 def _solve_free(mm, free, nf, rhs, qdd, work):
     """``q̈_f = M_ff⁻¹ rhs_f`` (Gaussian elimination, partial pivoting), ``q̈`` 0 elsewhere."""
     n = mm.shape[0]
@@ -183,13 +196,7 @@ def _solve_free(mm, free, nf, rhs, qdd, work):
             work[i, j] = mm[free[i], free[j]]
         work[i, nf] = rhs[free[i]]
     for c in range(nf):
-        piv = c
-        for r in range(c + 1, nf):
-            if abs(work[r, c]) > abs(work[piv, c]):
-                piv = r
-        if piv != c:
-            for j in range(c, nf + 1):
-                work[c, j], work[piv, j] = work[piv, j], work[c, j]
+        _pivot(work, c, nf, nf + 1)
         for r in range(c + 1, nf):
             f = work[r, c] / work[c, c]
             for j in range(c, nf + 1):
@@ -543,13 +550,7 @@ def _invert(a, out, work):
             work[i, j] = a[i, j]
             work[i, n + j] = 1.0 if i == j else 0.0
     for c in range(n):
-        piv = c
-        for r in range(c + 1, n):
-            if abs(work[r, c]) > abs(work[piv, c]):
-                piv = r
-        if piv != c:
-            for j in range(c, 2 * n):
-                work[c, j], work[piv, j] = work[piv, j], work[c, j]
+        _pivot(work, c, n, 2 * n)
         inv_p = 1.0 / work[c, c]
         for j in range(c, 2 * n):
             work[c, j] *= inv_p

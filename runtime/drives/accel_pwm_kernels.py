@@ -55,6 +55,7 @@ from irlc.runtime.drives.accel_kernels import (  # ist, fst: the layout _due rea
     _joint_scratch,
     _joint_step,
     _karnopp,
+    _pivot,
     _sign,
     _solve_free,
     _transmission,
@@ -62,10 +63,10 @@ from irlc.runtime.drives.accel_kernels import (  # ist, fst: the layout _due rea
 from numba import njit
 
 CALLEES = (
-    _sign, _clip, _first_order, _solve_free, _karnopp, _due, _transmission, _joint_scratch,
-    _joint_step,
+    _sign, _clip, _first_order, _pivot, _solve_free, _karnopp, _due, _transmission,
+    _joint_scratch, _joint_step,
 )  # fmt: skip
-SOURCES_DIGEST = "80d27df0701fb101"  # sources_digest() when this file was last updated
+SOURCES_DIGEST = "bfe31ba7ffb9ead8"  # sources_digest() when this file was last updated
 
 # per-axis constants (par columns)
 KZ, KE, KP, KI, ULIM, R, L, KS, U, IMAX, KC, KIWZM, RUN_M, VISC_M, BAND = range(15)
