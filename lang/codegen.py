@@ -28,6 +28,7 @@ from irlc.lang import ast
 from irlc.lang import types as T
 from irlc.lang.checker import Checked, RoutineInfo, Symbol
 from irlc.lang.irdata import Code, Instruction, RecordType, Routine, Slot, Target, Value
+from irlc.lang.irdata_model import VALUE_TYPES
 from irlc.lang.signature import RobotSignature, kind_letters
 
 _BINOP = {
@@ -48,17 +49,7 @@ _BINOP = {
     "<=": "LE",
     ">=": "GE",
 }
-_CONST_TYPES = (
-    "INTEGER",
-    "REAL",
-    "BOOLEAN",
-    "CHAR",
-    "STRING",
-    "POSITION",
-    "ORIENTATION",
-    "POSE",
-    *T.JOINT_TUPLE_TYPES,
-)
+_CONST_TYPES = (*VALUE_TYPES, *T.JOINT_TUPLE_TYPES)
 
 
 @dataclass(eq=False)

@@ -12,19 +12,15 @@ import math
 import re
 
 from irlc.lang.geometry_range import OBSTACLE_KEYS, obstacle_field_problem
-from irlc.lang.irdata_model import JOINT_TUPLE_TYPES, ObstacleDef, Value, shown_word
-
-SCALAR_TYPES = (
-    "INTEGER",
-    "REAL",
-    "BOOLEAN",
-    "CHAR",
-    "STRING",
-    "POSITION",
-    "ORIENTATION",
-    "POSE",
-    "SIGNAL",
+from irlc.lang.irdata_model import (
+    JOINT_TUPLE_TYPES,
+    VALUE_TYPES,
+    ObstacleDef,
+    Value,
+    shown_word,
 )
+
+SCALAR_TYPES = (*VALUE_TYPES, "SIGNAL")
 MAX_CELLS = 1_000_000
 """The most cells one variable of an ``.ird`` file may have (an array's elements, nested
 arrays and records counted through): the compiler's largest array (``MAX_ARRAY``,

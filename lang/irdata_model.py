@@ -11,6 +11,9 @@ from irlc.lang.settings import SYSTEM_VARIABLES as _SYSTEM_VARIABLES
 FORMAT_VERSION = 1
 MAGIC = f"IRDATA {FORMAT_VERSION}"
 
+VALUE_TYPES = ("INTEGER", "REAL", "BOOLEAN", "CHAR", "STRING", "POSITION", "ORIENTATION", "POSE")
+"""The scalar value types a constant or variable of the code may have (besides the joint
+tuples and, for variables, SIGNAL)."""
 JOINT_TUPLE_TYPES = (
     "MAIN_JOINT",
     "MAIN_JOINT_MIN",
