@@ -71,7 +71,8 @@ def run_one(scale: int, folder: Path, engine: str) -> dict:
     program.write_text(program_text(LAPS_PER_SCALE * scale), encoding="utf-8")
     report, trace = folder / f"x{scale}.json", folder / f"x{scale}.csv"
     cmd = [*irlc_command(), "run", str(program), "--datalist-path", str(PROGRAMS), "--quiet",
-           "--report", str(report), "--trace", str(trace)]  # fmt: skip
+           "--report", str(report), "--trace", str(trace),
+           "--max-cycles", str(10**9)]  # fmt: skip  (100× is 3.6× the default cycle budget)
     env = dict(os.environ, IRLC_ENGINE=engine, OPENBLAS_NUM_THREADS="1")
     t0 = time.perf_counter()
     proc = subprocess.Popen(cmd, env=env, stderr=subprocess.PIPE, text=True)

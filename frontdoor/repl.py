@@ -405,6 +405,7 @@ class Session:
             return Entry(messages, 1)
         out: list[str] = []
         t0, q0, motions = self.controller.time, self.controller.q.copy(), self.controller.motions
+        self.controller.restart_cycle_budget()  # each entry has the whole cycle budget
         self.controller.naming = JointNaming.for_model(self.model, code.joint_names)
         result = Interpreter(code, self.controller, state=self.state, output=out.append).run(
             check=False

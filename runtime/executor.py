@@ -67,6 +67,12 @@ from irlc.runtime.reconfiguration import Reconfiguration
 from irlc.runtime.recorder import Recorder
 from irlc.runtime.values import JointTuple, Pose
 
+# The cycle budget: the IPO cycles of motion (MOVE, RECONFIGURATION) a run may simulate,
+# ≈ 17 min of robot time at the default 10 ms. What a run computes grows with its cycles (an
+# IK cycle costs 0.1–1 ms of CPU), not with its simulated time: a small R_IPO or a long,
+# slow motion is bounded here, a long WAIT (not simulated cycle by cycle) by max_time_s.
+DEFAULT_MAX_CYCLES = 100_000
+
 
 @dataclass
 class ExecutionOptions:
@@ -77,6 +83,7 @@ class ExecutionOptions:
     tol_orientation: float = 0.01 * units.DEG  # rad
     reconf_settle_s: float = 10.0  # s after the reference arrived before giving up
     max_time_s: float = 86_400.0  # simulated-time budget of a run (``--max-time``): 24 h
+    max_cycles: int = DEFAULT_MAX_CYCLES  # IPO cycles of motion a run may simulate
     progress_every: int = 200  # cycles between progress callbacks
     manipulability_every: int = 10  # cycles between manipulability samples (an SVD each)
     ik: IKParams | None = None
@@ -117,6 +124,7 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
         self.q = np.array(start_q, dtype=float)
         self.q_prev = self.q.copy()
         self._cycles = 0
+        self._granted_cycles = 0  # IPO cycles of motion granted by the cycle budget
         self._line = 0
         self._manip_every = max(1, self.opts.manipulability_every)
         self._collision_warned: set[str] = set()
@@ -182,7 +190,7 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
         try:
             segments = self.pre.plan(cmd, settings, options, state)
             cycles = sum(seg.cycles for seg in segments)
-            self._within_budget(cycles * state.dt, cmd.line, "the motion")
+            self._within_budget(cycles * state.dt, cmd.line, "the motion", cycles)
             cartesian = [seg for seg in segments if not seg.is_joint]
             if cartesian:  # reachability of the end (and via) points, before anything moves
                 reach = self._reach(cartesian[0].limits[0], options, solver)
@@ -449,20 +457,40 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
         cps = critical_points(solver.kin, frames, tuple(self.obstacles.values()))
         return {cp.name: (cp.distance, cp.link) for cp in cps}
 
-    def _within_budget(self, seconds: float, line: int, what: str) -> None:
+    def _within_budget(self, seconds: float, line: int, what: str, cycles: int = 0) -> None:
         """:class:`RunFailure` (line, time) when ``seconds`` more would take the run past
-        its simulated-time budget (``ExecutionOptions.max_time_s``), checked before any
-        cycle of the statement is simulated (so a WAIT 1e9 SEC fails at once)."""
+        its simulated-time budget (``ExecutionOptions.max_time_s``), or ``cycles`` more IPO
+        cycles of motion past its cycle budget (``max_cycles``); checked before any cycle of
+        the statement is simulated (so a WAIT 1e9 SEC fails at once). Granted cycles
+        count against the budget from then on (:meth:`restart_cycle_budget`)."""
         budget = self.opts.max_time_s
-        if self._t + seconds <= budget:
-            return
-        raise RunFailure(
-            f"{what} would take {units.seconds_text(seconds)} and the run past its"
-            " simulated-time budget "
-            f"of {budget:g} s (at t = {self._t:.3f} s; raise it with --max-time)",
-            line,
-            self._t,
-        )
+        if self._t + seconds > budget:
+            raise RunFailure(
+                f"{what} would take {units.seconds_text(seconds)} and the run past its"
+                " simulated-time budget "
+                f"of {budget:g} s (at t = {self._t:.3f} s; raise it with --max-time)",
+                line,
+                self._t,
+            )
+        self._grant_cycles(cycles, line, what)
+
+    def _grant_cycles(self, cycles: int, line: int, what: str) -> None:
+        """Count ``cycles`` more IPO cycles of motion against the cycle budget
+        (``ExecutionOptions.max_cycles``); :class:`RunFailure` if they would exceed it."""
+        limit = self.opts.max_cycles
+        if self._granted_cycles + cycles > limit:
+            raise RunFailure(
+                f"{what} would take {cycles} IPO cycle{'s' if cycles != 1 else ''} and the run"
+                f" past its budget of {limit} simulated cycles ({self._granted_cycles} so far,"
+                f" at t = {self._t:.3f} s; raise it with --max-cycles)",
+                line,
+                self._t,
+            )
+        self._granted_cycles += cycles
+
+    def restart_cycle_budget(self) -> None:
+        """Count the cycle budget from here (the REPL: each entry has the whole budget)."""
+        self._granted_cycles = 0
 
     def _tick(self) -> None:
         self._cycles += 1

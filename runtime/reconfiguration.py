@@ -25,8 +25,8 @@ from irlc.runtime.values import JointTuple
 class Reconfiguration:
     """The RECONFIGURATION statement of :class:`~irlc.runtime.executor.SimulatedController`
     (it provides ``flush``, ``pre``, ``recorder``, ``_solver``, ``_plan_state``,
-    ``_cycle_options``, ``_within_budget``, ``_ik_cycle``, ``_log_statement``, ``q``,
-    ``q_prev``, ``_t``, ``opts``, ``ik_params``)."""
+    ``_cycle_options``, ``_within_budget``, ``_grant_cycles``, ``_ik_cycle``,
+    ``_log_statement``, ``q``, ``q_prev``, ``_t``, ``opts``, ``ik_params``)."""
 
     def reconfigure(
         self, target: JointTuple, line: int, settings: Settings, options: ModalOptions
@@ -48,7 +48,10 @@ class Reconfiguration:
         cycle_opts = self._cycle_options(hold, options)
         cycle_opts.self_motion = True
         settle = max(1, math.ceil(self.opts.reconf_settle_s / dt))
-        self._within_budget((ref_seg.cycles + settle) * dt, line, "the RECONFIGURATION")
+        # the time budget for the longest it may take; the cycle budget for the reference's
+        # cycles now, each settling cycle when it is simulated (it usually settles at once)
+        what = "the RECONFIGURATION"
+        self._within_budget((ref_seg.cycles + settle) * dt, line, what, ref_seg.cycles)
         t0, stop = self._t, "failed"
         try:
             self._reconf_cycles(ref_seg, k, hold, cycle_opts, solver, dt, settle, line)
@@ -65,6 +68,7 @@ class Reconfiguration:
             if k_cyc <= ref_seg.cycles:
                 _, ref = ref_seg.setpoint(k_cyc, dt)
             else:
+                self._grant_cycles(1, line, "the RECONFIGURATION's settling")
                 ref = k
             cycle_opts.reference = ref
             q_prev2 = self.q_prev  # θ(t − 2Δt) after this cycle: the two-cycle rule

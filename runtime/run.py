@@ -232,6 +232,7 @@ def run_code(
     orientation_tolerance: float | None = None,
     instruction_budget: int | None = None,
     max_time: float | None = None,
+    max_cycles: int | None = None,
     override: float | None = None,
     allow_any_path: bool = False,
     stream: bool = False,
@@ -242,7 +243,9 @@ def run_code(
     with drives, of the actual motion (:mod:`irlc.runtime.verdict`). ``instruction_budget``:
     the endless-loop guard (instructions without motion; default
     :data:`~irlc.runtime.interpreter.DEFAULT_INSTRUCTION_BUDGET`). ``max_time``: the
-    simulated-time budget in s (default ``ExecutionOptions.max_time_s``, 24 h).
+    simulated-time budget in s (default ``ExecutionOptions.max_time_s``, 24 h);
+    ``max_cycles``: the IPO cycles of motion the run may simulate (default
+    ``ExecutionOptions.max_cycles``, 100,000: the bound on what a run computes).
     ``override`` (%): the start value of ``R_OVERRIDE`` (``--override``; lang/settings.py's
     range, 1–100). ``allow_any_path``: the code's robot file may lie outside the program's
     folder and the robot library (``irlc.lang.file_access``). ``stream``: bounded memory
@@ -260,8 +263,8 @@ def run_code(
     from irlc.runtime.results import RunData, assemble
 
     setup = _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolerance,
-                   orientation_tolerance, instruction_budget, max_time, override,
-                   allow_any_path)  # fmt: skip
+                   orientation_tolerance, instruction_budget, max_time, max_cycles,
+                   override, allow_any_path)  # fmt: skip
     controller = SimulatedController(setup.model, setup.q0, obstacles=setup.obstacles,
                                      options=setup.options, progress=progress,
                                      naming=setup.naming)  # fmt: skip
@@ -300,7 +303,7 @@ class RunSetup:
 
 
 def _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolerance,
-           orientation_tolerance, instruction_budget, max_time, override,
+           orientation_tolerance, instruction_budget, max_time, max_cycles, override,
            allow_any_path=False) -> RunSetup:  # fmt: skip
     """:func:`run_code`'s arguments checked (:class:`RunSetup`); a bad one is a
     :class:`RunSetupError`."""
@@ -317,11 +320,15 @@ def _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolera
     q0 = start_configuration(code, model, seed_config)
     if max_time is not None:
         _positive("--max-time", max_time, "seconds")
+    if max_cycles is not None:
+        _whole("--max-cycles", max_cycles)
     opts = options or ExecutionOptions()
     if ipo is not None:
         opts.ipo = float(ipo)
     if max_time is not None:
         opts.max_time_s = float(max_time)
+    if max_cycles is not None:
+        opts.max_cycles = max_cycles
     naming = JointNaming.for_model(model, code.joint_names)
     tol_mm = opts.tol_position / units.MM
     if path_tolerance is not None:
@@ -350,8 +357,8 @@ def check_run_option(key: str, value) -> str | None:
     """``None`` if ``value`` is admissible for :func:`run_code`'s option ``key``, else why
     not, naming ``key`` (a study's ``[run]`` values: :mod:`irlc.study.paths`). The checks
     are run_code's: the drive levels, the settings table's ranges for ``ipo`` and
-    ``override`` (R_IPO, R_OVERRIDE), :func:`_budget`, :func:`_positive`; ``seed_config``
-    is a list of finite numbers (deg | mm; its length is the robot's)."""
+    ``override`` (R_IPO, R_OVERRIDE), :func:`_budget`, :func:`_whole`, :func:`_positive`;
+    ``seed_config`` is a list of finite numbers (deg | mm; its length is the robot's)."""
     if key == "drives":
         ok = isinstance(value, str) and value in DRIVE_LEVELS
         return None if ok else f"expected one of {', '.join(DRIVE_LEVELS)}, got {value!r}"
@@ -367,6 +374,8 @@ def check_run_option(key: str, value) -> str | None:
     try:
         if key == "instruction_budget":
             _budget(value)
+        elif key == "max_cycles":
+            _whole(key, value)
         elif key in units:
             _positive(key, value, units[key])
         else:
@@ -382,9 +391,14 @@ def _budget(budget: int | None) -> int:
 
     if budget is None:
         return DEFAULT_INSTRUCTION_BUDGET
-    if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
-        raise RunSetupError(f"--instruction-budget must be a positive integer, got {budget!r}")
-    return budget
+    return _whole("--instruction-budget", budget)
+
+
+def _whole(option: str, value) -> int:
+    """``value`` if it is a whole number ≥ 1, else :class:`RunSetupError`."""
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise RunSetupError(f"{option} must be a positive integer, got {value!r}")
+    return value
 
 
 def _interpret(code, controller, settings, output: Callable[[str], None] | None, budget: int):

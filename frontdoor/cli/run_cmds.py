@@ -58,12 +58,21 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
     help="Simulated-time budget of the run in seconds (default 86400 = 24 h).",
 )
 @click.option(
+    "--max-cycles",
+    "max_cycles",
+    type=int,
+    default=None,
+    help="Cycle budget: IPO cycles of motion the run may simulate, the bound on what it "
+    "computes (default 100000, about 17 min of robot time at a 10 ms IPO cycle).",
+)
+@click.option(
     "--instruction-budget",
     "instruction_budget",
     type=int,
     default=None,
     help="Endless-loop guard: instructions without motion before the run fails "
-    "(a cycle of waiting counts as 25).  [default: 500000]",
+    "(a cycle of waiting counts as 25, a motion that does not move as 250).  "
+    "[default: 500000]",
 )
 @click.option(
     "--drives",
@@ -151,6 +160,7 @@ def run_cmd(
     datalist_path,
     ipo,
     max_time,
+    max_cycles,
     instruction_budget,
     drives,
     path_tolerance,
@@ -192,6 +202,7 @@ def run_cmd(
             orientation_tolerance=orientation_tolerance,
             instruction_budget=instruction_budget,
             max_time=max_time,
+            max_cycles=max_cycles,
             allow_any_path=allow_any_path,
             stream=True,  # bounded memory: the trace is written piece by piece
         ),

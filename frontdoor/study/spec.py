@@ -15,6 +15,7 @@ Format (docs/studies.md)::
     instruction_budget = 500000
     seed_config = [0, 90, -90]       # deg | mm
     max_time = 60                    # s: the simulated-time budget
+    max_cycles = 100000              # IPO cycles of motion: the cycle budget
     override = 100                   # %: R_OVERRIDE's start value
 
     [grid]                           # every combination of the listed values
@@ -55,6 +56,7 @@ RUN_KEYS = (
     "instruction_budget",
     "seed_config",
     "max_time",
+    "max_cycles",
     "override",
 )
 OUTPUT_KEYS = ("reports", "traces")

@@ -69,11 +69,14 @@ from irlc.runtime.interpreter.state import (
 )
 
 # The endless-loop guard: at most this many instructions without motion (about 0.3 s of
-# CPython); a recorded cycle of waiting counts as WAIT_CYCLE_COST instructions (about its run
-# time), so a loop that only waits is caught as fast, while one long WAIT (at most
+# CPython); a recorded cycle of waiting counts as WAIT_CYCLE_COST instructions and a motion
+# statement that does not move (its target is where the robot is) as STILL_MOTION_COST
+# (about their run times: planning a motion costs what ~250 instructions do), so a loop that
+# only waits or only "moves" in place is caught as fast, while one long WAIT (at most
 # WAIT_SAMPLED_CYCLES recorded cycles) never exhausts it. Users raise it: --instruction-budget.
 DEFAULT_INSTRUCTION_BUDGET = 500_000
 WAIT_CYCLE_COST = 25
+STILL_MOTION_COST = 250
 MAX_CALL_DEPTH = 10_000
 MAX_STACK = 1_000_000
 
@@ -188,11 +191,14 @@ class Interpreter(DataOps, IoOps, MotionOps):
         return B.malformed(f"{what} at instruction {self._cur} ({op})")
 
     def _progress(self) -> None:
-        """Restart the instruction budget if simulated time advanced by motion."""
+        """Restart the instruction budget if simulated time advanced by motion; else charge
+        the motion statement that did not move (STILL_MOTION_COST)."""
         t = self._time()
         if t > self._progress_time:
             self._progress_time = t
             self._progress_at = self._steps
+        else:
+            self._steps += STILL_MOTION_COST
 
     def _waited(self, t_before: float) -> None:
         """Charge the budget for the cycles a WAIT (or a WAIT FOR) stood still; fail at the
@@ -209,7 +215,8 @@ class Interpreter(DataOps, IoOps, MotionOps):
     def _budget_failure(self) -> RunFailure:
         return RunFailure(
             f"more than {self.budget} instructions without motion (a cycle of waiting counts "
-            f"as {WAIT_CYCLE_COST}{self._array_work()}) — endless loop? If not, raise the budget: "
+            f"as {WAIT_CYCLE_COST}, a motion that does not move as {STILL_MOTION_COST}"
+            f"{self._array_work()}) — endless loop? If not, raise the budget: "
             "--instruction-budget N (Python: instruction_budget=N)"
         )
 

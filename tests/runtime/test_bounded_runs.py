@@ -181,3 +181,72 @@ def test_running_out_of_memory_is_an_environment_error(tmp_path, capsys, monkeyp
     assert err.startswith("irlc: error: out of memory: the command needs more memory") and (
         "internal error" not in err
     )
+
+
+# The cycle budget (--max-cycles): what a run computes grows with its IPO cycles of motion;
+# a 600 s LIN on koch11 took 22 s of CPU, `--ipo 0.00001` made the square 1.3 M cycles.
+MOVES = (
+    HEAD + "BEGIN\n  MOVE PTP (10, 20, 30) WITH TIME := 5;\n"
+    "  MOVE PTP (0, 20, 30) WITH TIME := 5;\nENDPROGRAM\n"
+)
+
+
+def test_the_cycle_budget_is_the_motion_cycles_the_run_records(tmp_path, capsys):
+    code, out, err, _ = run(tmp_path, capsys, MOVES, "--json")
+    assert code == 0, err
+    cycles = json.loads(out)["samples"] - 1  # the samples after the start one
+    assert cycles == 1000  # 2 × 5 s of 10 ms
+    code, _, err, _ = run(tmp_path, capsys, MOVES, "--max-cycles", str(cycles))
+    assert code == 0, err
+    code, _, err, _ = run(tmp_path, capsys, MOVES, "--max-cycles", str(cycles - 1))
+    assert code == 2
+    assert (
+        "p.irl:5:1: error: run-time failure at t = 5.000 s: the motion would take 500 IPO"
+        " cycles and the run past its budget of 999 simulated cycles (500 so far, at t ="
+        " 5.000 s; raise it with --max-cycles)"
+    ) in err
+
+
+def test_a_small_ipo_cycle_meets_the_default_cycle_budget_at_once(tmp_path, capsys):
+    from irlc.runtime.executor import DEFAULT_MAX_CYCLES
+
+    code, _, err, cpu = run(tmp_path, capsys, MOVES, "--ipo", "0.00001")
+    assert code == 2, err
+    assert "at t = 0.000 s: the motion would take 500000 IPO cycles" in err
+    assert f"budget of {DEFAULT_MAX_CYCLES} simulated cycles" in err
+    assert cpu < 10  # not 500,000 cycles simulated first
+
+
+def test_the_cycle_budget_takes_whole_positive_numbers(tmp_path, capsys):
+    from irlc.runtime.run import check_run_option
+
+    for bad in ("0", "-5"):
+        code, _, err, _ = run(tmp_path, capsys, MOVES, "--max-cycles", bad)
+        assert code == 3 and f"--max-cycles must be a positive integer, got {bad}" in err
+    assert check_run_option("max_cycles", 10) is None
+    assert check_run_option("max_cycles", 2.5) == ("max_cycles must be a positive integer, got 2.5")
+
+
+def test_motions_that_do_not_move_are_charged_to_the_loop_guard(tmp_path, capsys):
+    # 100,000 MOVE PTP R_ACT_JOINT cost 0.3 ms each to plan: 32 s before the guard fired.
+    code, _, err, cpu = run(
+        tmp_path, capsys,
+        HEAD + "VAR INTEGER: i;\nBEGIN\n  FOR i := 1 TO 100000 DO MOVE PTP R_ACT_JOINT; ENDFOR;\n"
+        "ENDPROGRAM\n",
+    )  # fmt: skip
+    assert code == 2, err
+    assert "more than 500000 instructions without motion" in err
+    assert "a motion that does not move as 250" in err
+    assert cpu < 10
+
+
+def test_a_reconfiguration_charges_its_settling_cycles_as_they_run(tmp_path, capsys):
+    # 10 s of settling at 1 ms would be 10,000 cycles; it settles after a few
+    prog = HEAD + "BEGIN\n  RECONFIGURATION (0, 60, -60);\nENDPROGRAM\n"
+    code, out, err, _ = run(tmp_path, capsys, prog, "--json", "--ipo", "0.001")
+    assert code == 0, err
+    cycles = json.loads(out)["samples"] - 1
+    code, _, err, _ = run(tmp_path, capsys, prog, "--ipo", "0.001", "--max-cycles", str(cycles))
+    assert code == 0, err
+    code, _, err, _ = run(tmp_path, capsys, prog, "--ipo", "0.001", "--max-cycles", str(cycles - 1))
+    assert code == 2 and "the RECONFIGURATION" in err and "--max-cycles" in err, err

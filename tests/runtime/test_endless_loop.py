@@ -97,11 +97,15 @@ def test_golden_options_take_the_budget(tmp_path):
 def test_cli_help_states_the_defaults():
     from click.testing import CliRunner
     from irlc.cli.app import cli
+    from irlc.runtime.executor import DEFAULT_MAX_CYCLES
     from irlc.runtime.interpreter import WAIT_CYCLE_COST
+    from irlc.runtime.interpreter.machine import STILL_MOTION_COST
 
     text = " ".join(CliRunner().invoke(cli, ["run", "--help"]).output.split())
     assert f"[default: {DEFAULT_INSTRUCTION_BUDGET}]" in text
     assert f"a cycle of waiting counts as {WAIT_CYCLE_COST}" in text
+    assert f"a motion that does not move as {STILL_MOTION_COST}" in text
+    assert f"(default {DEFAULT_MAX_CYCLES}, about 17 min" in text
 
 
 def test_one_long_wait_is_not_an_endless_loop(tmp_path):

@@ -352,7 +352,8 @@ def test_pause_logs_an_event_and_a_warning_and_continues():
 def test_endless_loop_hits_the_instruction_budget():
     err = failure(main_program("main: L9 JMP @main"), instruction_budget=1000)
     assert err.message == (
-        "more than 1000 instructions without motion (a cycle of waiting counts as 25) — "
+        "more than 1000 instructions without motion (a cycle of waiting counts as 25, a "
+        "motion that does not move as 250) — "
         "endless loop? If not, raise the budget: --instruction-budget N "
         "(Python: instruction_budget=N)"
     )

@@ -369,3 +369,18 @@ def test_a_long_session_spills_its_samples_and_traces_the_same(tmp_path, monkeyp
     whole_bytes, none = trace(10**6, "whole.csv")
     assert spilled > 100 and none == 0  # the small buffer did spill, the large one not
     assert spilled_bytes == whole_bytes and spilled_bytes.count(b"\n") > spilled
+
+
+def test_each_entry_has_the_whole_cycle_budget():
+    """The cycle budget bounds what one entry computes, not the session: a session may
+    move for longer than the budget in all."""
+    from irlc.repl import Session
+
+    s = Session("planar3")
+    s.controller.opts.max_cycles = 600
+    for k, target in enumerate(("(10, 20, 30)", "(0, 20, 30)", "(10, 20, 30)"), start=1):
+        entry = s.enter(f"MOVE PTP {target} WITH TIME := 5;", k)
+        assert entry.failure == 0, entry.lines  # 500 cycles each, 1500 in the session
+    entry = s.enter("MOVE PTP (0, 20, 30) WITH TIME := 7;", 4)
+    assert entry.failure == 2
+    assert "would take 700 IPO cycles and the run past its budget of 600" in " ".join(entry.lines)
