@@ -62,8 +62,8 @@ def run_program(program: str | Path | Code, **options):
     Options are those of :func:`irlc.runtime.run.run_code` / ``run_file`` (``robot``,
     ``ipo``, ``drives``, ``path_tolerance`` (mm), ``orientation_tolerance`` (deg),
     ``seed_config``, ``datalist_path``, ``instruction_budget`` — the endless-loop guard…,
-    ``override`` (%, the start value of ``R_OVERRIDE``), ``allow_any_path`` (like
-    ``--allow-any-path``)).
+    ``max_time`` (s) and ``max_cycles`` — the run's budgets, ``override`` (%, the start
+    value of ``R_OVERRIDE``), ``allow_any_path`` (like ``--allow-any-path``)).
     Returns a ``RunResult``
     whose ``status`` is ``"ok"`` or ``"failed"`` (with ``error``); raises
     :class:`~irlc.lang.diagnostics.CompileError` if the program does not compile.

@@ -214,6 +214,8 @@ RUN_OPTIONS = (  # docs/golden.md
     "robot",
     "datalist_path",
     "instruction_budget",
+    "max_time",
+    "max_cycles",
     "override",
     "allow_any_path",
 )

@@ -250,3 +250,16 @@ def test_a_reconfiguration_charges_its_settling_cycles_as_they_run(tmp_path, cap
     assert code == 0, err
     code, _, err, _ = run(tmp_path, capsys, prog, "--ipo", "0.001", "--max-cycles", str(cycles - 1))
     assert code == 2 and "the RECONFIGURATION" in err and "--max-cycles" in err, err
+
+
+def test_golden_options_and_the_api_take_the_budgets(tmp_path):
+    from irlc import golden, run_program
+
+    prog = tmp_path / "p.irl"
+    prog.write_text(MOVES, "utf-8")
+    expected = tmp_path / "p.expected.json"
+    expected.write_text(json.dumps({"options": {"max_cycles": 700, "max_time": 100}}))
+    report = golden.default_runner(prog, golden.load_expectation(expected)["options"])
+    assert report["status"] == "failed" and "budget of 700 simulated cycles" in json.dumps(report)
+    run = run_program(prog, max_time=7.5)
+    assert run.status == "failed" and "simulated-time budget of 7.5 s" in run.error.message
