@@ -68,10 +68,10 @@ from irlc.runtime.recorder import Recorder
 from irlc.runtime.values import JointTuple, Pose
 
 # The cycle budget: the IPO cycles of motion (MOVE, RECONFIGURATION) a run may simulate,
-# ≈ 17 min of robot time at the default 10 ms. What a run computes grows with its cycles (an
+# ≈ 8 min of robot time at the default 10 ms. What a run computes grows with its cycles (an
 # IK cycle costs 0.1–1 ms of CPU), not with its simulated time: a small R_IPO or a long,
 # slow motion is bounded here, a long WAIT (not simulated cycle by cycle) by max_time_s.
-DEFAULT_MAX_CYCLES = 100_000
+DEFAULT_MAX_CYCLES = 50_000
 
 
 @dataclass

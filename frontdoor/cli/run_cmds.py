@@ -63,7 +63,7 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
     type=int,
     default=None,
     help="Cycle budget: IPO cycles of motion the run may simulate, the bound on what it "
-    "computes (default 100000, about 17 min of robot time at a 10 ms IPO cycle).",
+    "computes (default 50000, about 8 min of robot time at a 10 ms IPO cycle).",
 )
 @click.option(
     "--instruction-budget",

@@ -15,7 +15,7 @@ Format (docs/studies.md)::
     instruction_budget = 500000
     seed_config = [0, 90, -90]       # deg | mm
     max_time = 60                    # s: the simulated-time budget
-    max_cycles = 100000              # IPO cycles of motion: the cycle budget
+    max_cycles = 50000               # IPO cycles of motion: the cycle budget
     override = 100                   # %: R_OVERRIDE's start value
 
     [grid]                           # every combination of the listed values

@@ -105,7 +105,7 @@ def test_cli_help_states_the_defaults():
     assert f"[default: {DEFAULT_INSTRUCTION_BUDGET}]" in text
     assert f"a cycle of waiting counts as {WAIT_CYCLE_COST}" in text
     assert f"a motion that does not move as {STILL_MOTION_COST}" in text
-    assert f"(default {DEFAULT_MAX_CYCLES}, about 17 min" in text
+    assert f"(default {DEFAULT_MAX_CYCLES}, about 8 min" in text
 
 
 def test_one_long_wait_is_not_an_endless_loop(tmp_path):
