@@ -67,10 +67,12 @@ from irlc.runtime.reconfiguration import Reconfiguration
 from irlc.runtime.recorder import Recorder
 from irlc.runtime.values import JointTuple, Pose
 
-# The cycle budget: the IPO cycles of motion (MOVE, RECONFIGURATION) a run may simulate,
-# ≈ 8 min of robot time at the default 10 ms. What a run computes grows with its cycles (an
-# IK cycle costs 0.1–1 ms of CPU), not with its simulated time: a small R_IPO or a long,
-# slow motion is bounded here, a long WAIT (not simulated cycle by cycle) by max_time_s.
+# The cycle budget: the IPO cycles a run may simulate — those of motion (MOVE, RECONFIGURATION;
+# a motion statement counts at least one, its planning) and those a WAIT records (a long WAIT
+# records its first WAIT_SAMPLED_CYCLES and its last) — ≈ 8 min of robot time at the default
+# 10 ms. What a run computes and records grows with its cycles (an IK cycle costs 0.1–2 ms of
+# CPU), not with its simulated time: a small R_IPO, a long slow motion or a loop of motions
+# or waits is bounded here; a long WAIT's time by max_time_s.
 DEFAULT_MAX_CYCLES = 50_000
 
 
@@ -83,7 +85,7 @@ class ExecutionOptions:
     tol_orientation: float = 0.01 * units.DEG  # rad
     reconf_settle_s: float = 10.0  # s after the reference arrived before giving up
     max_time_s: float = 86_400.0  # simulated-time budget of a run (``--max-time``): 24 h
-    max_cycles: int = DEFAULT_MAX_CYCLES  # IPO cycles of motion a run may simulate
+    max_cycles: int = DEFAULT_MAX_CYCLES  # IPO cycles a run may simulate (``--max-cycles``)
     progress_every: int = 200  # cycles between progress callbacks
     manipulability_every: int = 10  # cycles between manipulability samples (an SVD each)
     ik: IKParams | None = None
@@ -189,8 +191,8 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
         t0, segments, stop = self._t, [], "failed"
         try:
             segments = self.pre.plan(cmd, settings, options, state)
-            cycles = sum(seg.cycles for seg in segments)
-            self._within_budget(cycles * state.dt, cmd.line, "the motion", cycles)
+            cycles = sum(seg.cycles for seg in segments)  # at least one: planning is work
+            self._within_budget(cycles * state.dt, cmd.line, "the motion", max(cycles, 1))
             cartesian = [seg for seg in segments if not seg.is_joint]
             if cartesian:  # reachability of the end (and via) points, before anything moves
                 reach = self._reach(cartesian[0].limits[0], options, solver)
@@ -235,10 +237,12 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
             n = math.ceil(seconds / dt)
         if n == 0:
             return
+        sampled = min(n, WAIT_SAMPLED_CYCLES)
+        self._grant_cycles(sampled + (n > sampled), line, "the WAIT")  # the cycles recorded
         self.q_prev = self.q.copy()  # standing still: q, and so the sample, do not change
         tcp = self._solver(settings).kin.tcp(self.q)
         rec = self.recorder
-        t0, sampled = self._t, min(n, WAIT_SAMPLED_CYCLES)
+        t0 = self._t
         for _ in range(sampled):
             self._t = _advance(self._t, dt)
             rec.add(self._t, line, self.q, tcp, None)
@@ -460,9 +464,10 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
     def _within_budget(self, seconds: float, line: int, what: str, cycles: int = 0) -> None:
         """:class:`RunFailure` (line, time) when ``seconds`` more would take the run past
         its simulated-time budget (``ExecutionOptions.max_time_s``), or ``cycles`` more IPO
-        cycles of motion past its cycle budget (``max_cycles``); checked before any cycle of
-        the statement is simulated (so a WAIT 1e9 SEC fails at once). Granted cycles
-        count against the budget from then on (:meth:`restart_cycle_budget`)."""
+        cycles past its cycle budget (``max_cycles``, :data:`DEFAULT_MAX_CYCLES`); checked
+        before any cycle of the statement is simulated (so a WAIT 1e9 SEC fails at once).
+        Granted cycles count against the budget from then on (until
+        :meth:`restart_cycle_budget`)."""
         budget = self.opts.max_time_s
         if self._t + seconds > budget:
             raise RunFailure(
@@ -475,7 +480,7 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
         self._grant_cycles(cycles, line, what)
 
     def _grant_cycles(self, cycles: int, line: int, what: str) -> None:
-        """Count ``cycles`` more IPO cycles of motion against the cycle budget
+        """Count ``cycles`` more simulated IPO cycles against the cycle budget
         (``ExecutionOptions.max_cycles``); :class:`RunFailure` if they would exceed it."""
         limit = self.opts.max_cycles
         if self._granted_cycles + cycles > limit:

@@ -62,8 +62,9 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
     "max_cycles",
     type=int,
     default=None,
-    help="Cycle budget: IPO cycles of motion the run may simulate, the bound on what it "
-    "computes (default 50000, about 8 min of robot time at a 10 ms IPO cycle).",
+    help="Cycle budget: IPO cycles the run may simulate (of motion, and those a WAIT "
+    "records), the bound on what it computes (default 50000, about 8 min of robot time at "
+    "a 10 ms IPO cycle).",
 )
 @click.option(
     "--instruction-budget",

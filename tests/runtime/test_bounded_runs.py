@@ -189,22 +189,42 @@ MOVES = (
     HEAD + "BEGIN\n  MOVE PTP (10, 20, 30) WITH TIME := 5;\n"
     "  MOVE PTP (0, 20, 30) WITH TIME := 5;\nENDPROGRAM\n"
 )
+WAITS = (
+    HEAD + "BEGIN\n  MOVE PTP (10, 20, 30) WITH TIME := 5;\n  WAIT 0.5 SEC;\n"
+    "  WAIT 30 SEC;\n  MOVE PTP (0, 20, 30) WITH TIME := 5;\nENDPROGRAM\n"
+)
 
 
-def test_the_cycle_budget_is_the_motion_cycles_the_run_records(tmp_path, capsys):
-    code, out, err, _ = run(tmp_path, capsys, MOVES, "--json")
+@pytest.mark.parametrize("program, cycles", [(MOVES, 1000), (WAITS, 1000 + 50 + 1001)])
+def test_the_cycle_budget_is_the_cycles_the_run_records(tmp_path, capsys, program, cycles):
+    # motion cycles, and the cycles a WAIT records (30 s: its first 1,000 and its last)
+    code, out, err, _ = run(tmp_path, capsys, program, "--json")
     assert code == 0, err
-    cycles = json.loads(out)["samples"] - 1  # the samples after the start one
-    assert cycles == 1000  # 2 × 5 s of 10 ms
-    code, _, err, _ = run(tmp_path, capsys, MOVES, "--max-cycles", str(cycles))
+    assert json.loads(out)["samples"] - 1 == cycles  # the samples after the start one
+    code, _, err, _ = run(tmp_path, capsys, program, "--max-cycles", str(cycles))
     assert code == 0, err
-    code, _, err, _ = run(tmp_path, capsys, MOVES, "--max-cycles", str(cycles - 1))
+    code, _, err, _ = run(tmp_path, capsys, program, "--max-cycles", str(cycles - 1))
     assert code == 2
+    t = "5.000" if program is MOVES else "35.500"
     assert (
-        "p.irl:5:1: error: run-time failure at t = 5.000 s: the motion would take 500 IPO"
-        " cycles and the run past its budget of 999 simulated cycles (500 so far, at t ="
-        " 5.000 s; raise it with --max-cycles)"
+        f"error: run-time failure at t = {t} s: the motion would take 500 IPO cycles and the"
+        f" run past its budget of {cycles - 1} simulated cycles ({cycles - 500} so far, at t"
+        f" = {t} s; raise it with --max-cycles)"
     ) in err
+
+
+def test_a_wait_is_charged_the_cycles_it_records(tmp_path, capsys):
+    code, _, err, _ = run(tmp_path, capsys, WAITS, "--max-cycles", "1549")
+    assert code == 2
+    assert "p.irl:6:1: error: run-time failure at t = 5.500 s: the WAIT would take 1001 IPO" in err
+
+
+def test_a_motion_statement_is_charged_at_least_one_cycle(tmp_path, capsys):
+    # planning costs even when nothing moves: 50,000 motions that do not move, each
+    # between two that do, would otherwise each restart the loop guard's count
+    prog = HEAD + "BEGIN\n  MOVE PTP R_ACT_JOINT;\n  MOVE PTP R_ACT_JOINT;\nENDPROGRAM\n"
+    code, _, err, _ = run(tmp_path, capsys, prog, "--max-cycles", "1")
+    assert code == 2 and "p.irl:5:1:" in err and "the motion would take 1 IPO cycle and" in err
 
 
 def test_a_small_ipo_cycle_meets_the_default_cycle_budget_at_once(tmp_path, capsys):
