@@ -8,13 +8,18 @@
   write to a temporary file in the target's folder, ``fsync`` it, give it the usual mode
   (``0o666 & ~umask``, i.e. 0644 with the common umask 022; ``mkstemp`` alone would leave
   0600) and rename it over the target (``os.replace``), so a reader never sees half a
-  file.
+  file. A symbolic link to a file is followed (the file is replaced, the link stays); a
+  target that is no regular file — ``/dev/null``, ``/dev/stdout``, a terminal, a named
+  pipe — is written in place, never replaced by a file (a pipe nobody reads is an error,
+  not a wait). An error names the target, not the temporary file.
 """
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
+import stat
 import tempfile
 from collections.abc import Iterable
 from pathlib import Path
@@ -44,8 +49,48 @@ def atomic_write_bytes(path: str | Path, data: bytes) -> Path:
 def atomic_write_chunks(path: str | Path, chunks: Iterable[bytes]) -> Path:
     """Write the concatenated ``chunks`` atomically to ``path``, one chunk at a time (a
     long output never has to be one string in memory); an exception while producing them
-    leaves the target untouched."""
+    leaves the target untouched. A target that is no regular file is written in place
+    (module doc). An :class:`OSError` names ``path``."""
     path = Path(path)
+    try:
+        target, in_place = _target(path)
+        if in_place:
+            _write_in_place(target, chunks)
+        else:
+            _replace(target, chunks)
+    except OSError as exc:
+        raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from None
+    return path
+
+
+def _target(path: Path) -> tuple[Path, bool]:
+    """``(file to write, in place?)``: a link to a (possibly not yet existing) file
+    resolved, so that the file and not the link is replaced; a device, pipe or socket in
+    place; a folder is :class:`IsADirectoryError`."""
+    try:
+        mode = os.stat(path).st_mode  # follows links
+    except FileNotFoundError:
+        mode = None
+    if mode is not None and stat.S_ISDIR(mode):
+        raise IsADirectoryError(errno.EISDIR, "is a folder", str(path))
+    if mode is not None and not stat.S_ISREG(mode):
+        return path, True
+    return (Path(os.path.realpath(path)) if path.is_symlink() else path), False
+
+
+def _write_in_place(path: Path, chunks: Iterable[bytes]) -> None:
+    """Write to a device, pipe or socket as it is (``/dev/null``, ``/dev/stdout``); opened
+    without blocking, so a pipe with no reader fails at once (ENXIO) instead of waiting."""
+    fd = os.open(path, os.O_WRONLY | getattr(os, "O_NONBLOCK", 0))
+    if hasattr(os, "set_blocking"):
+        os.set_blocking(fd, True)  # the writes themselves may wait for a slow reader
+    with os.fdopen(fd, "wb") as f:
+        for chunk in chunks:
+            f.write(chunk)
+
+
+def _replace(path: Path, chunks: Iterable[bytes]) -> None:
+    """Write a temporary file beside ``path`` and rename it over ``path`` (module doc)."""
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
@@ -60,7 +105,6 @@ def atomic_write_chunks(path: str | Path, chunks: Iterable[bytes]) -> Path:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
         raise
-    return path
 
 
 def atomic_write_text(path: str | Path, text: str) -> Path:

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import errno
 import os
 import stat
+import time
 
 import pytest
 from irlc.cli import main
@@ -104,3 +106,69 @@ def test_every_writer_gives_0644(tmp_path, umask_022, capsys):
     capsys.readouterr()
     for name in ("r.json", "t.csv", "p.ird", "traj.json", "a.html", "p.expected.json"):
         assert _mode(tmp_path / name) == 0o644, name
+
+
+# Writing onto what is not a regular file: as root, `irlc run P --report /dev/null` used to
+# rename its temporary file over /dev/null (and /dev/full, /dev/stdout), replacing the
+# device with a regular file. The tests go through links in tmp_path, so that a regression
+# replaces the link, never a device.
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no named pipes")
+def test_a_named_pipe_is_written_in_place_and_one_nobody_reads_fails_at_once(tmp_path):
+    import threading
+
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    got: list[bytes] = []
+    reader = threading.Thread(target=lambda: got.append(fifo.read_bytes()), daemon=True)
+    reader.start()
+    for _ in range(200):  # wait until the reader has the pipe open
+        try:
+            atomic_write_text(fifo, "through the pipe\n")
+            break
+        except OSError as exc:
+            assert exc.errno == errno.ENXIO and exc.filename == str(fifo)
+            time.sleep(0.01)
+    reader.join(5)
+    assert got == [b"through the pipe\n"] and stat.S_ISFIFO(fifo.lstat().st_mode)
+    with pytest.raises(OSError) as info:  # no reader now: an error, not a hang
+        atomic_write_text(fifo, "nobody reads\n")
+    assert info.value.errno == errno.ENXIO and info.value.filename == str(fifo)
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/null"), reason="no /dev/null")
+def test_a_link_to_a_device_is_written_through_and_stays(tmp_path):
+    link = tmp_path / "null"
+    link.symlink_to("/dev/null")
+    atomic_write_text(link, "discarded\n")
+    assert link.is_symlink() and stat.S_ISCHR(os.stat("/dev/null").st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["null"]  # no temporary file left
+
+
+def test_a_link_to_a_file_replaces_the_file_and_keeps_the_link(tmp_path):
+    real = tmp_path / "data" / "report.json"
+    real.parent.mkdir()
+    real.write_text("old\n")
+    link = tmp_path / "latest.json"
+    link.symlink_to(real)
+    atomic_write_text(link, "new\n")
+    assert link.is_symlink() and real.read_text() == "new\n"
+    dangling = tmp_path / "next.json"
+    dangling.symlink_to(tmp_path / "data" / "next_real.json")
+    atomic_write_text(dangling, "created\n")
+    assert dangling.is_symlink() and (tmp_path / "data" / "next_real.json").read_text() == (
+        "created\n"
+    )
+
+
+def test_a_folder_or_an_unwritable_place_is_an_error_naming_the_target(tmp_path, capsys):
+    with pytest.raises(IsADirectoryError) as info:
+        atomic_write_text(tmp_path, "x")
+    assert info.value.filename == str(tmp_path)
+    prog = tmp_path / "p.irl"
+    prog.write_text(PROGRAM, encoding="utf-8")
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    target = blocker / "r.json"  # a file where a folder should be
+    assert main(["run", str(prog), "-q", "--report", str(target)]) == 3
+    err = capsys.readouterr().err
+    assert f"cannot write {target}:" in " ".join(err.split()) and ".tmp" not in err
