@@ -74,6 +74,10 @@ from irlc.runtime.values import JointTuple, Pose
 # CPU), not with its simulated time: a small R_IPO, a long slow motion or a loop of motions
 # or waits is bounded here; a long WAIT's time by max_time_s.
 DEFAULT_MAX_CYCLES = 50_000
+# With drives (``--drives`` other than ideal) the drive simulation steps through the run's
+# time at its own step h (≤ 1 ms; 125 µs at the pwm level), each step costing about what
+# a tenth of an IK cycle does: DRIVE_STEPS_PER_CYCLE drive steps count as one cycle.
+DRIVE_STEPS_PER_CYCLE = 10
 
 
 @dataclass
@@ -86,6 +90,7 @@ class ExecutionOptions:
     reconf_settle_s: float = 10.0  # s after the reference arrived before giving up
     max_time_s: float = 86_400.0  # simulated-time budget of a run (``--max-time``): 24 h
     max_cycles: int = DEFAULT_MAX_CYCLES  # IPO cycles a run may simulate (``--max-cycles``)
+    drive_step_s: float | None = None  # with drives: their step h (s), for the cycle budget
     progress_every: int = 200  # cycles between progress callbacks
     manipulability_every: int = 10  # cycles between manipulability samples (an SVD each)
     ik: IKParams | None = None
@@ -191,8 +196,10 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
         t0, segments, stop = self._t, [], "failed"
         try:
             segments = self.pre.plan(cmd, settings, options, state)
-            cycles = sum(seg.cycles for seg in segments)  # at least one: planning is work
-            self._within_budget(cycles * state.dt, cmd.line, "the motion", max(cycles, 1))
+            cycles = sum(seg.cycles for seg in segments)
+            self._within_budget(cycles * state.dt, cmd.line, "the motion")
+            # at least one cycle: planning is work even when nothing moves
+            self._grant_cycles(max(cycles, 1), cycles * state.dt, cmd.line, "the motion")
             cartesian = [seg for seg in segments if not seg.is_joint]
             if cartesian:  # reachability of the end (and via) points, before anything moves
                 reach = self._reach(cartesian[0].limits[0], options, solver)
@@ -238,7 +245,7 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
         if n == 0:
             return
         sampled = min(n, WAIT_SAMPLED_CYCLES)
-        self._grant_cycles(sampled + (n > sampled), line, "the WAIT")  # the cycles recorded
+        self._grant_cycles(sampled + (n > sampled), n * dt, line, "the WAIT")  # those recorded
         self.q_prev = self.q.copy()  # standing still: q, and so the sample, do not change
         tcp = self._solver(settings).kin.tcp(self.q)
         rec = self.recorder
@@ -461,13 +468,10 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
         cps = critical_points(solver.kin, frames, tuple(self.obstacles.values()))
         return {cp.name: (cp.distance, cp.link) for cp in cps}
 
-    def _within_budget(self, seconds: float, line: int, what: str, cycles: int = 0) -> None:
+    def _within_budget(self, seconds: float, line: int, what: str) -> None:
         """:class:`RunFailure` (line, time) when ``seconds`` more would take the run past
-        its simulated-time budget (``ExecutionOptions.max_time_s``), or ``cycles`` more IPO
-        cycles past its cycle budget (``max_cycles``, :data:`DEFAULT_MAX_CYCLES`); checked
-        before any cycle of the statement is simulated (so a WAIT 1e9 SEC fails at once).
-        Granted cycles count against the budget from then on (until
-        :meth:`restart_cycle_budget`)."""
+        its simulated-time budget (``ExecutionOptions.max_time_s``); checked before any
+        cycle of the statement is simulated (so a WAIT 1e9 SEC fails at once)."""
         budget = self.opts.max_time_s
         if self._t + seconds > budget:
             raise RunFailure(
@@ -477,21 +481,35 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
                 line,
                 self._t,
             )
-        self._grant_cycles(cycles, line, what)
 
-    def _grant_cycles(self, cycles: int, line: int, what: str) -> None:
-        """Count ``cycles`` more simulated IPO cycles against the cycle budget
-        (``ExecutionOptions.max_cycles``); :class:`RunFailure` if they would exceed it."""
+    def _grant_cycles(self, cycles: int, seconds: float, line: int, what: str) -> None:
+        """Count a statement's ``cycles`` recorded IPO cycles (over ``seconds`` of robot
+        time) against the cycle budget (``ExecutionOptions.max_cycles``,
+        :data:`DEFAULT_MAX_CYCLES`) before they are simulated; :class:`RunFailure` if they
+        would exceed it. With drives (``drive_step_s``) the drive steps of ``seconds``
+        count instead when they are more, DRIVE_STEPS_PER_CYCLE to a cycle: the drives
+        simulate every step of the run's time, a long WAIT's too. Granted cycles count
+        until :meth:`restart_cycle_budget`."""
+        h, charged = self.opts.drive_step_s, cycles
+        if h:
+            charged = max(cycles, math.ceil(seconds / (DRIVE_STEPS_PER_CYCLE * h) - 1e-9))
         limit = self.opts.max_cycles
-        if self._granted_cycles + cycles > limit:
-            raise RunFailure(
-                f"{what} would take {cycles} IPO cycle{'s' if cycles != 1 else ''} and the run"
-                f" past its budget of {limit} simulated cycles ({self._granted_cycles} so far,"
-                f" at t = {self._t:.3f} s; raise it with --max-cycles)",
-                line,
-                self._t,
+        if self._granted_cycles + charged <= limit:
+            self._granted_cycles += charged
+            return
+        cost = f"{cycles} IPO cycle{'s' if cycles != 1 else ''}"
+        if charged > cycles:
+            cost = (
+                f"{charged} cycles of the budget ({math.ceil(seconds / h - 1e-9)} drive steps"
+                f" of {h * 1e3:.3g} ms, {DRIVE_STEPS_PER_CYCLE} to a cycle)"
             )
-        self._granted_cycles += cycles
+        raise RunFailure(
+            f"{what} would take {cost} and the run past its budget of {limit} simulated"
+            f" cycles ({self._granted_cycles} so far, at t = {self._t:.3f} s; raise it with"
+            " --max-cycles)",
+            line,
+            self._t,
+        )
 
     def restart_cycle_budget(self) -> None:
         """Count the cycle budget from here (the REPL: each entry has the whole budget)."""

@@ -51,7 +51,8 @@ class Reconfiguration:
         # the time budget for the longest it may take; the cycle budget for the reference's
         # cycles now, each settling cycle when it is simulated (it usually settles at once)
         what = "the RECONFIGURATION"
-        self._within_budget((ref_seg.cycles + settle) * dt, line, what, ref_seg.cycles)
+        self._within_budget((ref_seg.cycles + settle) * dt, line, what)
+        self._grant_cycles(ref_seg.cycles, ref_seg.cycles * dt, line, what)
         t0, stop = self._t, "failed"
         try:
             self._reconf_cycles(ref_seg, k, hold, cycle_opts, solver, dt, settle, line)
@@ -68,7 +69,7 @@ class Reconfiguration:
             if k_cyc <= ref_seg.cycles:
                 _, ref = ref_seg.setpoint(k_cyc, dt)
             else:
-                self._grant_cycles(1, line, "the RECONFIGURATION's settling")
+                self._grant_cycles(1, dt, line, "the RECONFIGURATION's settling")
                 ref = k
             cycle_opts.reference = ref
             q_prev2 = self.q_prev  # θ(t − 2Δt) after this cycle: the two-cycle rule

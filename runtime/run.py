@@ -37,7 +37,7 @@ from irlc.robots.model import RobotModel
 from irlc.runtime import units
 from irlc.runtime.controller import Settings, setting_error
 from irlc.runtime.drive_levels import LEVELS as DRIVE_LEVELS
-from irlc.runtime.errors import RunFailure
+from irlc.runtime.errors import DriveSetupError, RunFailure
 from irlc.runtime.executor import ExecutionOptions, SimulatedController
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.obstacles import Obstacle
@@ -329,6 +329,8 @@ def _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolera
         opts.max_time_s = float(max_time)
     if max_cycles is not None:
         opts.max_cycles = max_cycles
+    if drives != "ideal":
+        opts.drive_step_s = _drive_step(model, drives, q0)
     naming = JointNaming.for_model(model, code.joint_names)
     tol_mm = opts.tol_position / units.MM
     if path_tolerance is not None:
@@ -343,6 +345,24 @@ def _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolera
     if override is not None:
         settings.override = float(override)  # R_OVERRIDE's start value
     return RunSetup(model, obstacles, q0, opts, settings, naming, budget, base)
+
+
+def _drive_step(model: RobotModel, level: str, q0: np.ndarray) -> float:
+    """The drive simulation's step for the run's cycle budget (ExecutionOptions.drive_step_s):
+    the drive data is checked here, before the run (:class:`DriveSetupError`, exit 3)."""
+    import warnings
+
+    from irlc.runtime.drive_stage import drive_data
+    from irlc.runtime.drives.simulate import drive_step
+    from irlc.runtime.drives.stepsize import StepSizeWarning
+
+    params = drive_data(model)
+    try:
+        with warnings.catch_warnings():  # the drive stage warns, once
+            warnings.simplefilter("ignore", StepSizeWarning)
+            return drive_step(model, params, level, q0)
+    except ValueError as exc:
+        raise DriveSetupError(f"drive simulation: {exc}") from None
 
 
 def _positive(option: str, value, unit: str) -> float:

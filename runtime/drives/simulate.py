@@ -141,10 +141,32 @@ def _ideal(model, times, q_cmd, tol, level) -> DriveRun:
     return run
 
 
+def drive_step(model: RobotModel, params: DriveParams, level: str, q0: np.ndarray) -> float:
+    """The step (s) :func:`simulate_drives` takes by default for a run that starts at ``q0``
+    (it depends on the drives and, coupled, on the inertia at the start): for a run's
+    cycle budget before the run (:mod:`irlc.runtime.executor`)."""
+    if level == "ideal":
+        raise DriveInputError("the ideal level has no drive step")
+    sim = _Simulation.__new__(_Simulation)
+    sim._start_at(model, params, level, np.asarray(q0, dtype=float), None)
+    return sim.h
+
+
 class _Simulation:
     def __init__(
         self, model, params: DriveParams, level, times, q_cmd, step, interpolation, hold, every
     ):
+        self._start_at(model, params, level, q_cmd[0], step)
+        self.refresh = self._refresh_interval(every)
+        self.t = times[0] + self.h * np.arange(
+            int(np.ceil((times[-1] + hold - times[0]) / self.h)) + 1
+        )
+        self._setpoints(times, q_cmd, interpolation)
+        self.band = fr.band(self.h, params.friction.static, self.motor_inertia)
+
+    def _start_at(self, model, params: DriveParams, level, q0, step) -> None:
+        """The axes, transmission and mechanics at the start configuration ``q0``, their
+        time constants and the step ``h`` (all the time grid needs)."""
         self.model, self.p, self.level = model, params, level
         self.n = model.n
         self.notes: list[str] = []
@@ -153,7 +175,7 @@ class _Simulation:
         self.driven[self.axes] = True
         self.trans = Transmission(model, params)
         self.notes += self.trans.notes
-        self.ratio = self.trans.local_ratio(q_cmd[0])  # local ratio at the start
+        self.ratio = self.trans.local_ratio(q0)  # local ratio at the start
         chain = params.chain
         self.is_dc = isinstance(chain, DcDrives)
         self.pwm = level == "pwm" and self.is_dc
@@ -167,29 +189,23 @@ class _Simulation:
             rotor, extra = self.trans.reflected(chain.J_m, self.n), None
         else:
             rotor = np.zeros(self.n)
-            fixed = self.trans.rotor_matrix(chain.J_m, q_cmd[0])
+            fixed = self.trans.rotor_matrix(chain.J_m, q0)
             extra = (
                 (lambda q: fixed)
                 if self.trans.matrix is not None
                 else (lambda q: self.trans.rotor_matrix(chain.J_m, q))
             )
-        kmat = None if self.trans.diagonal else self.trans.jacobian(q_cmd[0])
-        self.mech = Mechanics(model, level, rotor, q_cmd[0], load, extra, kmat)
-        motor_inertia = self.mech.diag[self.axes] / self.ratio**2
-        self.tau = stepsize.fastest_time_constant(chain, motor_inertia)
+        kmat = None if self.trans.diagonal else self.trans.jacobian(q0)
+        self.mech = Mechanics(model, level, rotor, q0, load, extra, kmat)
+        self.motor_inertia = self.mech.diag[self.axes] / self.ratio**2
+        self.tau = stepsize.fastest_time_constant(chain, self.motor_inertia)
         names = [model.joints[j].name for j in self.axes]
         if self.mech.coupled and self.is_dc:
-            mass = self.mech.mass_matrix(q_cmd[0])
-            tau_c = stepsize.coupled_time_constant(chain, mass, self.trans.jacobian(q_cmd[0]))
+            mass = self.mech.mass_matrix(q0)
+            tau_c = stepsize.coupled_time_constant(chain, mass, self.trans.jacobian(q0))
             self.tau = np.append(self.tau, tau_c)
             names.append("coupled velocity loops")
         self.h = self._choose_step(step, chain, names)
-        self.refresh = self._refresh_interval(every)
-        self.t = times[0] + self.h * np.arange(
-            int(np.ceil((times[-1] + hold - times[0]) / self.h)) + 1
-        )
-        self._setpoints(times, q_cmd, interpolation)
-        self.band = fr.band(self.h, params.friction.static, motor_inertia)
 
     # ------------------------------------------------------------------ set-up
     def _choose_step(self, step, chain, names) -> float:

@@ -283,3 +283,30 @@ def test_golden_options_and_the_api_take_the_budgets(tmp_path):
     assert report["status"] == "failed" and "budget of 700 simulated cycles" in json.dumps(report)
     run = run_program(prog, max_time=7.5)
     assert run.status == "failed" and "simulated-time budget of 7.5 s" in run.error.message
+
+
+def test_with_drives_the_cycle_budget_counts_their_steps(tmp_path, capsys):
+    """The drives step through all of the run's time (a long WAIT's too) at their own
+    step, 10 steps to a cycle of the budget; the run fails before either stage simulates."""
+    import math
+
+    from irlc.runtime.executor import DRIVE_STEPS_PER_CYCLE
+
+    head = "PROGRAM p;\nROBOT r := irb6;\nBEGIN\n"
+    code, out, err, _ = run(tmp_path, capsys, head + "  WAIT 2 SEC;\nENDPROGRAM\n", "--json",
+                            "--drives", "decoupled")  # fmt: skip
+    assert code == 0, err
+    h = json.loads(out)["drives_summary"]["step_s"]  # the step the drive stage took
+    wait = head + "  WAIT 30 SEC;\nENDPROGRAM\n"  # 1001 recorded cycles
+    code, _, err, _ = run(tmp_path, capsys, wait, "--max-cycles", "2000")
+    assert code == 0, err
+    code, _, err, cpu = run(tmp_path, capsys, wait, "--max-cycles", "2000", "--drives", "decoupled")
+    assert code == 2
+    steps = math.ceil(30 / h - 1e-3)  # step_s is rounded to 9 digits in the report
+    charged = math.ceil(steps / DRIVE_STEPS_PER_CYCLE)
+    assert (
+        f"p.irl:4:1: error: run-time failure at t = 0.000 s: the WAIT would take {charged}"
+        f" cycles of the budget ({steps} drive steps of {h * 1e3:.3g} ms, 10 to a cycle) and"
+        " the run past its budget of 2000 simulated cycles"
+    ) in err
+    assert cpu < 20  # not 90,000 drive steps first
