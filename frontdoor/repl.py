@@ -460,6 +460,9 @@ class Session:
             return Entry([self._located(f"unknown command :{name}; known: {known}")], 1)
         try:
             return handler(arg)
+        except OSError as e:  # a file it could not write or read: named, without the errno
+            what = f"{e.filename}: {e.strerror}" if e.filename and e.strerror else str(e)
+            return Entry([self._located(f"cannot use {what}")], 3)
         except Exception as e:  # a meta-command must not end the session
             return Entry([self._located(str(e))], 3)
 
@@ -607,7 +610,12 @@ class Session:
 
         if not arg:
             return Entry([self._located("usage: :plot DIR")], 3)
-        paths = write_plots(self.run_result(), Path(arg).expanduser())
+        target = self.cwd / Path(arg).expanduser()  # relative to the session's folder
+        if target.exists() and not target.is_dir():
+            return Entry(
+                [self._located(f"{target} is not a folder; :plot takes a folder (DIR)")], 3
+            )
+        paths = write_plots(self.run_result(), target)
         return Entry([f"{len(paths)} figures → {Path(arg)}"])
 
     def _meta_teach(self, arg: str) -> Entry:

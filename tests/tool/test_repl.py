@@ -345,6 +345,20 @@ def test_failing_meta_commands_are_positioned_and_keep_the_session(tmp_path):
         "<stdin>:5:1: error: unknown command"
     )
     assert s.enter("WRITELN(x + 1);", 6).lines == ["42.0"]
+    # ':plot FILE' said "[Errno 17] File exists: '/dev/null'"; a file it cannot write
+    # gave the errno too
+    (tmp_path / "a_file").write_text("")
+    plot = s.enter(":plot a_file", 7)
+    assert plot.failure == 3
+    assert plot.lines == [
+        f"<stdin>:7:1: error: {tmp_path / 'a_file'} is not a folder; :plot takes a folder (DIR)"
+    ]
+    nowhere = tmp_path / "a_file" / "t.csv"  # a file where a folder should be
+    trace = s.enter(f":trace {nowhere}", 8)
+    assert trace.failure == 3 and trace.lines[0].startswith(
+        f"<stdin>:8:1: error: cannot use {nowhere}: "
+    )
+    assert "Errno" not in trace.lines[0]
 
 
 def test_a_long_session_spills_its_samples_and_traces_the_same(tmp_path, monkeypatch):
