@@ -77,6 +77,10 @@ from irlc.runtime.interpreter.state import (
 DEFAULT_INSTRUCTION_BUDGET = 500_000
 WAIT_CYCLE_COST = 25
 STILL_MOTION_COST = 250
+# A run executes at most RUN_BUDGETS instruction budgets in all (20 M instructions by default,
+# ≈ 10–25 s of CPython): motion restarts the guard's count, so without this a loop with a
+# short motion and 400,000 instructions per pass would run for hours within the cycle budget.
+RUN_BUDGETS = 40
 MAX_CALL_DEPTH = 10_000
 MAX_STACK = 1_000_000
 
@@ -196,7 +200,8 @@ class Interpreter(DataOps, IoOps, MotionOps):
         t = self._time()
         if t > self._progress_time:
             self._progress_time = t
-            self._progress_at = self._steps
+            # the count restarts, never past the run's limit (RUN_BUDGETS budgets in all)
+            self._progress_at = min(self._steps, (RUN_BUDGETS - 1) * self.budget)
         else:
             self._steps += STILL_MOTION_COST
 
@@ -213,6 +218,13 @@ class Interpreter(DataOps, IoOps, MotionOps):
                 raise self._budget_failure()
 
     def _budget_failure(self) -> RunFailure:
+        if self._steps > RUN_BUDGETS * self.budget:
+            return RunFailure(
+                f"more than {RUN_BUDGETS * self.budget} instructions in the run ({RUN_BUDGETS}"
+                f" times the endless-loop guard's {self.budget}{self._array_work()}) — an"
+                " endless loop with motion? If not, raise the guard: --instruction-budget N"
+                " (Python: instruction_budget=N)"
+            )
         return RunFailure(
             f"more than {self.budget} instructions without motion (a cycle of waiting counts "
             f"as {WAIT_CYCLE_COST}, a motion that does not move as {STILL_MOTION_COST}"

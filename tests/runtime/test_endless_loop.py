@@ -116,3 +116,29 @@ def test_one_long_wait_is_not_an_endless_loop(tmp_path):
     run = run_file(prog)
     assert run.ok, run.error
     assert run.report["duration_s"] == pytest.approx(1200.0)
+
+
+def _loop_with_motion(tmp_path: Path, passes: int) -> Path:
+    """Per pass two motions, each followed by ≈ 60 × 10 instructions without motion."""
+    inner = "    FOR i := 1 TO 60 DO j := j + 1; ENDFOR;"
+    prog = tmp_path / "loop.irl"
+    prog.write_text(
+        "PROGRAM loop;\nROBOT r := planar3;\nVAR INTEGER: i, j, k;\nBEGIN\n  j := 0;\n"
+        f"  FOR k := 1 TO {passes} DO\n    MOVE PTP (10, 20, 30);\n{inner}\n"
+        f"    MOVE PTP (0, 20, 30);\n{inner}\n  ENDFOR;\nENDPROGRAM\n"
+    )
+    return prog
+
+
+def test_a_run_executes_at_most_run_budgets_guards_in_all(tmp_path, capsys):
+    """Motion restarts the guard's count; a loop with a short motion in each pass was
+    bounded only by the cycle budget (≈ 400,000 instructions a pass: hours)."""
+    from irlc.runtime.interpreter.machine import RUN_BUDGETS
+
+    for passes, code in ((2, 0), (40, 2)):
+        prog = _loop_with_motion(tmp_path, passes)
+        status = main(["run", "-q", "--instruction-budget", "1000", str(prog)])
+        err = " ".join(capsys.readouterr().err.split())
+        assert status == code, err
+    assert f"more than {RUN_BUDGETS * 1000} instructions in the run ({RUN_BUDGETS} times" in err
+    assert "the endless-loop guard's 1000) — an endless loop with motion?" in err
