@@ -84,7 +84,7 @@ class InverseTransformation:
             self.coupled.naming = naming
         self._g = np.zeros(n)
         self._H = np.zeros((n, n))
-        self._J6 = np.empty((6, n))
+        self._J6 = kinematics.jacobian_out()  # (fills without a copy)
         self._tcp = np.empty((4, 4))
         self._bounds = np.empty((2, n))
         self._lower, self._upper = self._bounds
