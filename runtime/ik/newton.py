@@ -175,7 +175,6 @@ class InverseTransformation:
 
         p = self.params
         kin = self.kin
-        theta = np.array(q_start, dtype=float)
         if p.warm_start and not opts.self_motion:
             # first iterate: repeat the previous displacement (kept inside this box)
             d = box.displacement  # q_start − q_prev (prepare's own array, fresh per cycle)
@@ -183,7 +182,9 @@ class InverseTransformation:
             np.minimum(d, box.upper_d, out=d)
             if frozen:
                 d[frozen.frozen] = 0.0
-            theta += d
+            theta = np.add(q_start, d)
+        else:
+            theta = np.array(q_start, dtype=float)
         state = self._state
         state.theta, state.start = theta, q_start
         sigma = state.sigma
@@ -245,7 +246,7 @@ class InverseTransformation:
             np.dot(frames[-1], end, out=tcp)
         converged = pe < tol_p and oe < tol_o
         clearances = self._clearances(frames, opts) if opts.obstacles else {}
-        codes = active_codes(theta - q_start, box.lower_d, box.upper_d, box.cand)
+        codes = active_codes(theta - q_start, box.bounds, box.cand)
         qp_active = None if outcome is None else outcome.active
         # the box (for ``binding``) and J (for manipulability) are copied only when a
         # report can ask for them: otherwise ``binding`` is "" and nobody reads σ
