@@ -211,9 +211,7 @@ def active_codes(delta: np.ndarray, bounds: np.ndarray, cand: np.ndarray) -> np.
     (the common cycle: the least distance to a bound, ``min(δ − lower, upper − δ)``,
     exceeds twice the largest tolerance, a margin far above rounding; else the per-joint
     comparisons decide)."""
-    d = delta.tolist()
-    above, below = np.subtract(delta, bounds).tolist()  # δ − lower, δ − upper
-    if min(min(above), -max(below)) > 2e-10 + 2e-9 * max(max(d), -min(d)):
+    if all_inside(delta, bounds):
         return None
     lower, upper = bounds
     tol = 1e-10 + 1e-9 * np.abs(delta)
@@ -226,6 +224,14 @@ def active_codes(delta: np.ndarray, bounds: np.ndarray, cand: np.ndarray) -> np.
     codes[lo] = 1 + 2 * src[0][lo]
     codes[hi] = 2 + 2 * src[1][hi]
     return codes
+
+
+def all_inside(delta: np.ndarray, bounds: np.ndarray) -> bool:
+    """True when every ``δ_j`` is farther than twice the largest tolerance of
+    :func:`active_codes` from both bounds (then no joint is at a bound)."""
+    d = delta.tolist()
+    above, below = np.subtract(delta, bounds).tolist()  # δ − lower, δ − upper
+    return min(min(above), -max(below)) > 2e-10 + 2e-9 * max(max(d), -min(d))
 
 
 def active_label(code: int) -> str:
@@ -356,6 +362,13 @@ class JointBox:
         brake += 1.0
         np.divide(room, brake, out=brake)
         brake += brake
+
+    def active_codes(self, delta: np.ndarray) -> np.ndarray | None:
+        """:func:`active_codes` of this cycle's box; the candidates (:attr:`cand`) are read
+        only when some joint is near a bound."""
+        if all_inside(delta, self.bounds):
+            return None
+        return active_codes(delta, self.bounds, self.cand)
 
     def constants(self, position, speed, accel, dt) -> _BoxConstants:
         """The per-limits constants, rebuilt only when the limit arrays or Δt change

@@ -37,7 +37,7 @@ from irlc.runtime.ik.compact import CompactBasis
 from irlc.runtime.ik.coupled import CoupledRows
 from irlc.runtime.ik.cyclic import CyclicReference
 from irlc.runtime.ik.freeze import FreezeError, FrozenJoints
-from irlc.runtime.ik.limits import JointBox, active_codes
+from irlc.runtime.ik.limits import JointBox
 from irlc.runtime.ik.newton_step import NewtonStep, StepOutcome
 from irlc.runtime.ik.obstacle import obstacle_terms
 from irlc.runtime.ik.params import CycleOptions, IKParams
@@ -246,7 +246,7 @@ class InverseTransformation:
             np.dot(frames[-1], end, out=tcp)
         converged = pe < tol_p and oe < tol_o
         clearances = self._clearances(frames, opts) if opts.obstacles else {}
-        codes = active_codes(theta - q_start, box.bounds, box.cand)
+        codes = box.active_codes(theta - q_start)
         qp_active = None if outcome is None else outcome.active
         # the box (for ``binding``) and J (for manipulability) are copied only when a
         # report can ask for them: otherwise ``binding`` is "" and nobody reads σ
