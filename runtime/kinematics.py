@@ -194,63 +194,103 @@ class Kinematics:
         return z, frames[1:, :3, 3]
 
     def _jac_indices(self) -> None:
-        """Flat indices into the ``(n+1, 4, 4)`` frames for the TCP Jacobian in one
-        ``take`` each: ``[z_next; z_prev]`` and ``[o_prev; o_next]`` (rows x, y, z
-        rotated by one), so ``z × (p − o)`` is one product and one difference."""
-        self._zz_idx = self._oo_idx = None
+        """Flat indices for the TCP Jacobian in two ``take`` calls from the gather source
+        ``[frames (n+1)·16 | point (3) | 0.0 | 1.0]``: with ``s`` the axis sign, ``a``/``b``
+        the rows rotated forward/back (x → y → z → x), the factors ``Z = [z; z_a; z_b]``
+        and ``R = P − O = [s; s(p − o)_b; s(p − o)_a]`` (9×n each; ``s < 0`` swaps ``P``
+        and ``O``, so no sign products), then ``[ang; A; B] = Z∘R`` and ``lin = A − B``:
+        ``lin = s·z × (p − o)``, ``ang = s·z``. A prismatic column takes ``[0; z; 0]`` and
+        ``[0; s; 0]``: ``lin = s·z``, ``ang = 0``."""
+        self._z_idx = self._po_idx = None
         if self._axis_cols is None:
             return
-        link = self._links[None, :]
-        col = self._axis_cols[None, :]
-        rot = np.concatenate((_NEXT, _PREV))[:, None]
-        pos = np.concatenate((_PREV, _NEXT))[:, None]
-        self._zz_idx = (link * 16 + rot * 4 + col).ravel()
-        self._oo_idx = (link * 16 + pos * 4 + 3).ravel()
-        self._z_idx = (link * 16 + np.arange(3)[:, None] * 4 + col).ravel()
-        self._pp_idx = np.concatenate((_PREV, _NEXT))
-        self._zz_sign = np.tile(self._axis_signs[:, 0], 6).reshape(6, self.n)
-        self._z_sign = self._zz_sign[:3]
-        self._signed_axes = bool(np.any(self._axis_signs < 0.0))  # else skip the products
-        self._prod = np.empty((6, self.n))
-        self._rr = np.empty((6, self.n))
-        # views made once for tcp_jacobian (a reshape or slice costs ~0.2 µs a call)
-        self._prod_flat, self._rr_flat = self._prod.reshape(-1), self._rr.reshape(-1)
-        self._prod_top, self._prod_bottom = self._prod[:3], self._prod[3:]
-        self._pp = np.empty((6, 1))
-        self._pp_flat = self._pp.reshape(-1)
-        self._frames_flat = self._frames.reshape(-1)
-        self._jac_out: tuple = (None,)  # (out, lin, ang flattened) of the last call
-        self._rev_pri = (self._rev_f[:, 0], self._pri_f[:, 0])
+        n = self.n
+        size = (n + 1) * 16
+        point, zero, one = size + np.arange(3), size + 3, size + 4
+        link = self._links[None, :] * 16
+        col, rev = self._axis_cols[None, :], self._revolute[None, :]
+        rows = np.arange(3)[:, None]
+        pos = self._axis_signs[:, 0][None, :] > 0.0
+        z = link + rows * 4 + col
+        z_a, z_b = link + _NEXT[:, None] * 4 + col, link + _PREV[:, None] * 4 + col
+        o_b, o_a = link + _PREV[:, None] * 4 + 3, link + _NEXT[:, None] * 4 + 3
+        p_b, p_a = point[_PREV][:, None] + 0 * link, point[_NEXT][:, None] + 0 * link
+        z_rows = (np.where(rev, z, zero), np.where(rev, z_a, z), np.where(rev, z_b, zero))
+        self._z_idx = np.concatenate(np.broadcast_arrays(*z_rows)).ravel()
+        sign_p, sign_o = np.where(pos, one, zero), np.where(pos, zero, one)
+        p_rows = (
+            np.where(rev, sign_p, zero),
+            np.where(rev, np.where(pos, p_b, o_b), sign_p),
+            np.where(rev, np.where(pos, p_a, o_a), zero),
+        )
+        o_rows = (
+            np.where(rev, sign_o, zero),
+            np.where(rev, np.where(pos, o_b, p_b), sign_o),
+            np.where(rev, np.where(pos, o_a, p_a), zero),
+        )
+        self._po_idx = np.concatenate(np.broadcast_arrays(*p_rows, *o_rows)).ravel()
+        self._signed_axes = bool(np.any(self._axis_signs < 0.0))
+        # the gather source around the chain buffer (frames are a view of it)
+        self._source = np.empty(size + 5)
+        self._source[:size] = self._frames.reshape(-1)
+        self._source[size + 3 :] = (0.0, 1.0)
+        self._frames = self._source[:size].reshape(n + 1, 4, 4)
+        self._views = [self._frames[i] for i in range(n + 1)]
+        self._point = self._source[size : size + 3]
+        self._zr = np.empty((27, n))  # [Z; P; O], then R = P − O in the P rows
+        self._z, self._p, self._o = self._zr[:9], self._zr[9:18], self._zr[18:]
+        self._z_flat, self._po_flat = self._z.reshape(-1), self._zr[9:].reshape(-1)
+        self._own_out: np.ndarray | None = None
+        self._jac_out: tuple = (None,)  # (out, [ang; A; B], lin, A, B) of the last call
+
+    def jacobian_out(self) -> np.ndarray:
+        """A 6×n array for :meth:`tcp_jacobian`'s ``out`` that it fills without a copy
+        (the first rows of a 12×n buffer: ``[lin; ang; A; B]``)."""
+        return np.empty((12, self.n))[:6]
 
     def tcp_jacobian(self, frames: np.ndarray, point: np.ndarray, out: np.ndarray) -> np.ndarray:
-        """``jacobian_at(frames, point)`` written into ``out`` — the IK hot path.
-        ``frames`` (``(n+1, 4, 4)``) and ``out`` (6×n) must be C-contiguous."""
-        if self._zz_idx is None:
+        """``jacobian_at(frames, point)`` written into ``out`` — the IK hot path: the
+        same numbers (products and differences of the same factors; see
+        :meth:`_jac_indices`) from two ``take`` calls. ``frames`` (``(n+1, 4, 4)``) must
+        be C-contiguous; ``out`` from :meth:`jacobian_out` saves a copy."""
+        if self._z_idx is None:
             out[:] = self.jacobian_at(frames, point)
             return out
-        flat = self._frames_flat if frames is self._frames else frames.reshape(-1)
+        if frames is self._frames:
+            np.copyto(self._point, point)
+            src = self._source
+        else:
+            src = np.concatenate((frames.reshape(-1), point, (0.0, 1.0)))
         views = self._jac_out
         if views[0] is not out:
-            views = self._jac_out = (out, out[:3], out[3:], out[3:].reshape(-1))
-        _, lin, ang, ang_flat = views
-        zz, rr = self._prod, self._rr
-        flat.take(self._zz_idx, out=self._prod_flat)
-        if self._signed_axes:
-            zz *= self._zz_sign
-        flat.take(self._oo_idx, out=self._rr_flat)
-        point.take(self._pp_idx, out=self._pp_flat)
-        np.subtract(self._pp, rr, out=rr)
-        zz *= rr
-        np.subtract(self._prod_top, self._prod_bottom, out=lin)
-        flat.take(self._z_idx, out=ang_flat)
-        if self._signed_axes:
-            ang *= self._z_sign
-        if not self._all_revolute:  # prismatic columns: [z; 0]
-            rev, pri = self._rev_pri
-            lin *= rev
-            lin += ang * pri
-            ang *= rev
+            views = self._jac_out = self._jacobian_views(out)
+        _, prod, lin, a, b = views
+        src.take(self._z_idx, out=self._z_flat)
+        src.take(self._po_idx, out=self._po_flat)
+        np.subtract(self._p, self._o, out=self._p)
+        np.multiply(self._z, self._p, out=prod)
+        np.subtract(a, b, out=lin)
+        if prod.base is not out.base:
+            out[3:] = prod[:3]
         return out
+
+    def _jacobian_views(self, out: np.ndarray) -> tuple:
+        """``(out, [ang; A; B], lin, A, B)``: in ``out``'s own 12×n buffer when it comes
+        from :meth:`jacobian_out`, else in an internal one (``ang`` copied at the end)."""
+        base = out.base
+        n = self.n
+        own = (
+            base is not None
+            and base.shape == (12, n)
+            and base.flags.c_contiguous
+            and out.ctypes.data == base.ctypes.data
+        )
+        if not own:
+            if self._own_out is None:
+                self._own_out = self.jacobian_out()
+            base = self._own_out.base
+        prod = base[3:]
+        return (out, prod, out[:3], prod[3:6], prod[6:])
 
     def jacobian_at(self, frames: np.ndarray, point: np.ndarray, upto: int | None = None):
         """6×n Jacobian of a world ``point`` rigidly attached to link ``upto`` (default:

@@ -38,6 +38,7 @@ limits exclude the current state: :meth:`JointBox.prepare` raises
 
 from __future__ import annotations
 
+import operator
 from dataclasses import dataclass
 
 import numpy as np
@@ -171,6 +172,13 @@ class _BoxConstants:
         # no finite acceleration limit: the acceleration and braking candidates never bind
         # (braking = the position bound), so they are not computed per cycle
         self.accel_bounded = bool(np.any(np.abs(acc) < _BIG))
+        # room R from which the braking bound is ≥ the speed bound V (so never the least
+        # candidate): the largest δ braked in time solves δ²/2ε + δ = R, so R ≥ V + V²/2ε
+        # (a relative margin of 1e-9 covers rounding; V ≤ 0: any R; V "no bound": none)
+        speed_v = self.signed_speed
+        with np.errstate(over="ignore", invalid="ignore"):  # (V = 1e30: replaced below)
+            free = (speed_v + speed_v * speed_v * self.two_over_eps / 4.0) * (1.0 + 1e-9)
+        self.brake_free = np.where(speed_v <= 0.0, -np.inf, np.where(speed_v < _BIG, free, np.inf))
         # displacement slack of the speed check (same as _check_state's, in δ units)
         self.dtol = TOLERANCE + 1e-9 * float(np.max(np.abs(spd))) * dt
         signed = np.stack((self.signed_pos, self.signed_speed, self.signed_accel,
@@ -195,13 +203,17 @@ class BoxSnapshot:
         return int(np.argmin(self._cand[:, int(upper_side), joint]))
 
 
-def active_codes(
-    delta: np.ndarray, lower: np.ndarray, upper: np.ndarray, cand: np.ndarray
-) -> np.ndarray | None:
-    """Which box bound each joint's cycle displacement ``δ`` touches, as one small int
-    per joint: 0 inside, else ``1 + 2·source + side`` (source POSITION…BRAKING, side 0 =
-    min, 1 = max; a joint at both bounds counts as max). ``None`` when no joint is at a
-    bound (the common cycle: two vectorised comparisons, no allocation of labels)."""
+def active_codes(delta: np.ndarray, bounds: np.ndarray, cand: np.ndarray) -> np.ndarray | None:
+    """Which box bound (``bounds = [lower; upper]``, 2×n) each joint's cycle displacement
+    ``δ`` touches, as one small int per joint: 0 inside, else ``1 + 2·source + side``
+    (source POSITION…BRAKING, side 0 = min, 1 = max; a joint at both bounds counts as
+    max), with the tolerance ``1e-10 + 1e-9·|δ_j|``. ``None`` when no joint is at a bound
+    (the common cycle: the least distance to a bound, ``min(δ − lower, upper − δ)``,
+    exceeds twice the largest tolerance, a margin far above rounding; else the per-joint
+    comparisons decide)."""
+    if all_inside(delta, bounds):
+        return None
+    lower, upper = bounds
     tol = 1e-10 + 1e-9 * np.abs(delta)
     lo = delta <= lower + tol
     hi = delta >= upper - tol
@@ -212,6 +224,14 @@ def active_codes(
     codes[lo] = 1 + 2 * src[0][lo]
     codes[hi] = 2 + 2 * src[1][hi]
     return codes
+
+
+def all_inside(delta: np.ndarray, bounds: np.ndarray) -> bool:
+    """True when every ``δ_j`` is farther than twice the largest tolerance of
+    :func:`active_codes` from both bounds (then no joint is at a bound)."""
+    d = delta.tolist()
+    above, below = np.subtract(delta, bounds).tolist()  # δ − lower, δ − upper
+    return min(min(above), -max(below)) > 2e-10 + 2e-9 * max(max(d), -min(d))
 
 
 def active_label(code: int) -> str:
@@ -252,18 +272,21 @@ class JointBox:
 
     def __init__(self, n: int):
         self.n = n
-        self.cand = np.empty((4, 2, n))  # signed candidates: [−lower; upper] per source
+        self._cand = np.empty((4, 2, n))  # signed candidates: [−lower; upper] per source
         self.bounds = np.zeros((2, n))  # [lower; upper] bounds on the cycle displacement δ
         self.lower_d, self.upper_d = self.bounds
         self.displacement = np.zeros(n)  # d = θ_s − θ_prev of the last prepare (callers may
         # overwrite it: it is a fresh array every cycle)
         self._signed_d = np.empty((2, n))
         self._room = np.empty((2, n))
+        self._near = np.empty((2, n), dtype=bool)
+        self._brake_unbounded = False  # cand[BRAKING] holds "no bound" (see _braking)
+        self._brake_pending = False  # … and its values are still to be computed
         self._excess = np.empty((2, n))  # d·sign − speed candidate (the speed check)
         # views made once (indexing costs ~0.2 µs a time): the four candidates, flat
         # position candidates and excess for the builtin reductions
-        self._cands = tuple(self.cand)
-        self._pos_flat = self.cand[POSITION].reshape(-1)
+        self._cands = tuple(self._cand)
+        self._pos_flat = self._cand[POSITION].reshape(-1)
         self._excess_flat = self._excess.reshape(-1)
         self._limits: tuple = ()
         self._cache: _BoxConstants | None = None
@@ -282,7 +305,7 @@ class JointBox:
         """Bounds on ``δ`` for this cycle; raises :class:`LimitViolationError`.
         Infinite limits are allowed (they never bind)."""
         c = self.constants(position, speed, accel, dt)
-        cand, sd = self.cand, self._signed_d
+        cand, sd = self._cand, self._signed_d
         c_pos, c_speed, c_accel, brake = self._cands
         np.multiply(_SIGN, q_start, out=sd)
         np.subtract(c.signed_pos, sd, out=c_pos)  # [θ_s − θmin; θmax − θ_s]
@@ -294,23 +317,58 @@ class JointBox:
             self._check_state(model, q_start, d, dt, c.limits[0], c.limits[1])
         if c.accel_bounded:  # (otherwise both candidates stay at "no bound", set once)
             np.add(c.signed_accel, sd, out=c_accel)
-            room = self._room
-            np.maximum(c_pos, 0.0, out=room)  # braking: R = room to the limit ≥ 0
-            np.multiply(room, c.two_over_eps, out=brake)
-            brake += 1.0
-            np.sqrt(brake, out=brake)
-            brake += 1.0
-            np.divide(room, brake, out=brake)
-            brake += brake
+            self._braking(c, c_pos, brake)
         # [−lower; upper] (over all four candidates one reduction: min is exact, any order)
         bound = np.minimum.reduce(cand, axis=0) if c.accel_bounded else np.minimum(c_pos, c_speed)
+        neg_lower, upper_list = bound.tolist()
         lower, upper = bound
         np.negative(lower, out=lower)
         self.bounds = bound  # [lower; upper], a fresh array every cycle
         self.lower_d, self.upper_d = lower, upper
         self._limits = c.limits
-        if min((upper - lower).tolist()) < 0.0:
+        if min(map(operator.add, upper_list, neg_lower)) < 0.0:  # upper − lower, exactly
             self._check_nonempty(model, q_start, d, dt)
+
+    @property
+    def cand(self) -> np.ndarray:
+        """This cycle's signed candidates ``(4, 2, n)``, ``[−lower; upper]`` per source
+        (the braking ones computed here if :meth:`_braking` could skip them)."""
+        if self._brake_pending:
+            self._brake_pending = False
+            self._brake_values(self._cache, self._cand[POSITION], self._cand[BRAKING])
+        return self._cand
+
+    def _braking(self, c: _BoxConstants, c_pos: np.ndarray, brake: np.ndarray) -> None:
+        """The braking candidates. When every room ``R`` reaches
+        :attr:`_BoxConstants.brake_free` the braking bound is at least the speed bound and
+        never the least candidate: the box's minimum then reads "no bound" there (the
+        same box), and the values are computed only if :attr:`cand` is read."""
+        if not np.count_nonzero(np.less(c_pos, c.brake_free, out=self._near)):
+            if not self._brake_unbounded:
+                brake.fill(_BIG)
+                self._brake_unbounded = True
+            self._brake_pending = True
+            return
+        self._brake_values(c, c_pos, brake)
+
+    def _brake_values(self, c: _BoxConstants, c_pos: np.ndarray, brake: np.ndarray) -> None:
+        """``brake = 2R/(1 + √(1 + 2R/ε))``, ``R = max(c_pos, 0)`` (no cancellation)."""
+        self._brake_unbounded = self._brake_pending = False
+        room = self._room
+        np.maximum(c_pos, 0.0, out=room)  # braking: R = room to the limit ≥ 0
+        np.multiply(room, c.two_over_eps, out=brake)
+        brake += 1.0
+        np.sqrt(brake, out=brake)
+        brake += 1.0
+        np.divide(room, brake, out=brake)
+        brake += brake
+
+    def active_codes(self, delta: np.ndarray) -> np.ndarray | None:
+        """:func:`active_codes` of this cycle's box; the candidates (:attr:`cand`) are read
+        only when some joint is near a bound."""
+        if all_inside(delta, self.bounds):
+            return None
+        return active_codes(delta, self.bounds, self.cand)
 
     def constants(self, position, speed, accel, dt) -> _BoxConstants:
         """The per-limits constants, rebuilt only when the limit arrays or Δt change
@@ -325,10 +383,12 @@ class JointBox:
         ):
             return c
         c = self._cache = _BoxConstants(position, speed, accel, dt)
-        self.cand[SPEED] = c.signed_speed
+        self._cand[SPEED] = c.signed_speed
+        self._brake_unbounded = not c.accel_bounded  # (set just below)
+        self._brake_pending = False
         if not c.accel_bounded:
-            self.cand[ACCEL] = _BIG
-            self.cand[BRAKING] = _BIG
+            self._cand[ACCEL] = _BIG
+            self._cand[BRAKING] = _BIG
         return c
 
     def at(self, sigma: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> None:

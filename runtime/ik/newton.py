@@ -37,7 +37,7 @@ from irlc.runtime.ik.compact import CompactBasis
 from irlc.runtime.ik.coupled import CoupledRows
 from irlc.runtime.ik.cyclic import CyclicReference
 from irlc.runtime.ik.freeze import FreezeError, FrozenJoints
-from irlc.runtime.ik.limits import JointBox, active_codes
+from irlc.runtime.ik.limits import JointBox
 from irlc.runtime.ik.newton_step import NewtonStep, StepOutcome
 from irlc.runtime.ik.obstacle import obstacle_terms
 from irlc.runtime.ik.params import CycleOptions, IKParams
@@ -84,7 +84,7 @@ class InverseTransformation:
             self.coupled.naming = naming
         self._g = np.zeros(n)
         self._H = np.zeros((n, n))
-        self._J6 = np.empty((6, n))
+        self._J6 = kinematics.jacobian_out()  # (fills without a copy)
         self._tcp = np.empty((4, 4))
         self._bounds = np.empty((2, n))
         self._lower, self._upper = self._bounds
@@ -175,7 +175,6 @@ class InverseTransformation:
 
         p = self.params
         kin = self.kin
-        theta = np.array(q_start, dtype=float)
         if p.warm_start and not opts.self_motion:
             # first iterate: repeat the previous displacement (kept inside this box)
             d = box.displacement  # q_start − q_prev (prepare's own array, fresh per cycle)
@@ -183,7 +182,9 @@ class InverseTransformation:
             np.minimum(d, box.upper_d, out=d)
             if frozen:
                 d[frozen.frozen] = 0.0
-            theta += d
+            theta = np.add(q_start, d)
+        else:
+            theta = np.array(q_start, dtype=float)
         state = self._state
         state.theta, state.start = theta, q_start
         sigma = state.sigma
@@ -245,7 +246,7 @@ class InverseTransformation:
             np.dot(frames[-1], end, out=tcp)
         converged = pe < tol_p and oe < tol_o
         clearances = self._clearances(frames, opts) if opts.obstacles else {}
-        codes = active_codes(theta - q_start, box.lower_d, box.upper_d, box.cand)
+        codes = box.active_codes(theta - q_start)
         qp_active = None if outcome is None else outcome.active
         # the box (for ``binding``) and J (for manipulability) are copied only when a
         # report can ask for them: otherwise ``binding`` is "" and nobody reads σ

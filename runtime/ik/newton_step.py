@@ -20,10 +20,13 @@ rows are ``[I; −I]`` in both forms, so an active row index ``r`` means joint `
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import quadprog
 from irlc.runtime.ik.compact import CompactBasis, compact_box_qp
 from irlc.runtime.ik.qp import QPResult
+from scipy.linalg.lapack import dposv as _dposv
 
 _BOX_TOL = 1e-12
 
@@ -99,23 +102,60 @@ class NewtonStep:
             if out is not False:
                 return out
         if w is not self._w:  # (the criterion's weights: the same array cycle after cycle)
-            self._w, self._w_basic, self._w_free = w, w.take(self._basic), w.take(self._free)
-        v = w * dp
-        v += g
-        gt = v.take(self._free) + v.take(self._basic) @ X
-        Ht = (X.T * self._w_basic) @ X
-        Ht.reshape(-1)[:: nz + 1] += self._w_free  # (Ht is fresh and contiguous)
+            self._w, self._w_col, self._neg_w = w, w[:, None], np.negative(w)
+        ht, a = self._diagonal_data(N, dp, g)
+        if ineq is None:
+            dtheta = self._box_minimiser(ht, a, N, dp, bounds)
+            if dtheta is not None:
+                return StepOutcome(dtheta, False, False, _EMPTY_INT, _EMPTY)
         ct_lo, ct_hi, bt_lo, bt_hi = self._halves
         np.copyto(ct_lo, self._N_T)
         np.negative(ct_lo, out=ct_hi)
         np.subtract(bounds[0], dp, out=bt_lo)
         np.subtract(dp, bounds[1], out=bt_hi)
-        return self._solve_reduced(Ht, gt, self._ct, self._bt, dp, N, ineq)
+        gt = np.negative(a)
+        return self._solve_reduced(ht, gt, self._ct, self._bt, dp, N, ineq, ineq is not None)
 
-    def _solve_reduced(self, Ht, gt, Ct, bt, dp, N, ineq) -> StepOutcome | None:
-        """Solve the compact QP in ``z`` (plus any coupled rows); ``Δθ = Δθ_p + N z``."""
+    def _diagonal_data(self, N, dp, g) -> tuple[np.ndarray, np.ndarray]:
+        """``(H̃, −g̃)`` of the compact QP for ``H = diag(w)``: one product
+        ``Nᵀ[WN | −(WΔθ_p + g)]`` (the identity rows of ``N`` give ``W_f``; views of a
+        per-basis buffer, valid until the next call)."""
+        np.multiply(self._w_col, N, out=self._wn)
+        v = self._v
+        np.multiply(self._neg_w, dp, out=v)
+        np.subtract(v, g, out=v)
+        np.matmul(self._N_T, self._wnv, out=self._hta)
+        return self._ht, self._a
+
+    def _box_minimiser(self, ht, a, N, dp, bounds) -> np.ndarray | None:
+        """``Δθ = Δθ_p + Nz``, ``z = H̃⁻¹(−g̃)`` (Cholesky), the compact QP's solution when
+        it satisfies every box row ``±(Δθ_p + Nz) ≥ ±bound`` with a slack above
+        ``μ = 1e-12·(1 + max|Nz|)/(1 − 1e-12)``. That implies the compiled kernel's
+        margin ``1e-12·(1 + |b̃_i|)`` on ``[N; −N]z ≥ b̃ = [l − Δθ_p; Δθ_p − u]``
+        (``|b̃_i| ≤ slack_i + |Nz_i|``): Goldfarb–Idnani starts from this point and stops
+        at once when nothing is violated, so the solver would return it with no active
+        row. ``None`` (the solver decides) when some slack is within ``μ``, when ``H̃``
+        is not positive definite, or when a number is not finite."""
+        _, z, info = _dposv(ht, a)
+        if info != 0:
+            return None
+        step = N @ z
+        nzl = step.tolist()
+        step += dp  # Δθ
+        above, below = np.subtract(step, bounds).tolist()  # Δθ − l, Δθ − u
+        mu = 1e-12 * (1.0 + max(max(nzl), -min(nzl))) / (1.0 - 1e-12)
+        if min(above) > mu and max(below) < -mu and math.isfinite(sum(nzl) + sum(above)):
+            return step
+        return None
+
+    def _solve_reduced(self, Ht, gt, Ct, bt, dp, N, ineq, free: bool = True) -> StepOutcome | None:
+        """Solve the compact QP in ``z`` (plus any coupled rows); ``Δθ = Δθ_p + N z``.
+        ``free``: first try the unconstrained minimiser (:func:`_free_minimiser`)."""
         if ineq is not None:
             Ct, bt = _with_rows(Ct, bt, ineq[0], ineq[1], dp, N)
+        z = _free_minimiser(Ht, gt, Ct, bt) if free else None
+        if z is not None:
+            return StepOutcome(dp + N @ z, False, False, _EMPTY_INT, _EMPTY)
         res: QPResult = self.solver.solve_ct(Ht, gt, Ct, bt)
         if not res.ok:
             return None
@@ -138,7 +178,12 @@ class NewtonStep:
         self._zb = np.empty((2, n))
         self._zlo = np.empty(n)
         self._zhi = np.empty(n)
-        self._w = None  # w.take(basic), w.take(free) are cached per basis and weights
+        # H̃ and −g̃ from one product Nᵀ[WN | v] (see _diagonal_data)
+        self._wnv = np.empty((n, nz + 1))
+        self._wn, self._v = self._wnv[:, :nz], self._wnv[:, nz]
+        self._hta = np.empty((nz, nz + 1))
+        self._ht, self._a = self._hta[:, :nz], self._hta[:, nz]
+        self._w = None  # w as a column and −w are cached per basis and weights
 
     def _scalar_qp(self, dp, col, w, g, bounds):
         """One null-space dimension, ``Δθ = Δθ_p + col·z``: ``min ½hz² + g̃z`` with
@@ -227,6 +272,19 @@ class NewtonStep:
 _EMPTY_INT = np.zeros(0, dtype=int)
 _EMPTY = np.zeros(0)
 _SIGNS = np.array([[1.0], [-1.0]])
+
+
+def _free_minimiser(Ht, gt, Ct, bt) -> np.ndarray | None:
+    """``z = −H̃⁻¹g̃`` (Cholesky) if it satisfies every column ``Ãᵀ`` of the compact QP,
+    ``Ãz ≥ b̃``, with the margin ``1e-12·(1 + |b̃_i|)`` (as
+    :meth:`NewtonStep._box_minimiser`); else ``None`` (the solver decides)."""
+    _, z, info = _dposv(Ht, np.negative(gt))
+    if info != 0:
+        return None
+    slack = z @ Ct
+    slack -= bt
+    slack -= 1e-12 * np.abs(bt)
+    return z if np.count_nonzero(slack > 1e-12) == slack.size else None
 
 
 def _with_rows(Ct, bt, A, b, dp, N):

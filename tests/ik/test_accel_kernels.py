@@ -450,7 +450,7 @@ def test_active_codes_against_limits():
         q_start = rng.normal(size=n)
         codes = np.zeros(n, dtype=np.int64)
         found = K._active_codes(q_start + delta, q_start, bounds, cand, codes)
-        ref = active_codes((q_start + delta) - q_start, bounds[0], bounds[1], cand)
+        ref = active_codes((q_start + delta) - q_start, bounds, cand)
         assert found == (ref is not None)
         if ref is not None:
             assert np.array_equal(codes, ref)
