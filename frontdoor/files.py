@@ -4,6 +4,9 @@
   expectation) as UTF-8, raising the caller's error type; it is owned by
   :mod:`irlc.lang.textfile` (the robot loader and the runtime read files too, and must
   not import the front door) and re-exported here.
+* :func:`parse_user_json` parses the JSON text of such a file (an expectation, a report
+  read back), raising the caller's error type for anything :mod:`json` cannot turn into
+  finite numbers and bounded nesting.
 * :func:`atomic_write_bytes` / :func:`atomic_write_text` / :func:`atomic_write_chunks`
   write to a temporary file in the target's folder, ``fsync`` it, give it the usual mode
   (``0o666 & ~umask``, i.e. 0644 with the common umask 022; ``mkstemp`` alone would leave
@@ -18,12 +21,17 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import json
+import math
 import os
 import stat
 import tempfile
 from collections.abc import Iterable
 from pathlib import Path
+from typing import Any
 
+from irlc.lang.errors import IrlcError
+from irlc.lang.file_access import describe, shown_key
 from irlc.lang.textfile import ErrorFactory, read_user_text
 
 __all__ = [
@@ -31,8 +39,49 @@ __all__ = [
     "atomic_write_bytes",
     "atomic_write_chunks",
     "atomic_write_text",
+    "parse_user_json",
     "read_user_text",
 ]
+
+JSON_INT_DIGITS = 4000  # below Python's int-from-text limit (4,300 digits): a clear error
+
+
+class _BadNumber(IrlcError, ValueError):
+    """A number of a JSON text that irlc does not take (raised inside the parser)."""
+
+
+def _json_float(word: str) -> float:
+    value = float(word)
+    if not math.isfinite(value):
+        raise _BadNumber(f"the number {shown_key(word)} is beyond a float's range")
+    return value
+
+
+def _json_int(word: str) -> int:
+    if len(word.lstrip("-")) > JSON_INT_DIGITS:
+        raise _BadNumber(f"an integer of {len(word)} digits (at most {JSON_INT_DIGITS})")
+    return int(word)
+
+
+def _json_constant(word: str) -> float:
+    raise _BadNumber(f"a number that is not finite ({describe(float(word))})")
+
+
+def parse_user_json(text: str, path: str | Path, error: ErrorFactory) -> Any:
+    """The value of the JSON ``text`` of the user's file ``path``; raises ``error(file,
+    reason)`` for a syntax error (``file`` is then ``PATH:LINE:COL``), nesting deeper than
+    the parser can follow, a non-finite number (``NaN``, ``Infinity``, ``1e400``: described
+    as ``not-a-number`` or ``infinity``, never echoed) or an integer too long to convert."""
+    try:
+        return json.loads(
+            text, parse_float=_json_float, parse_int=_json_int, parse_constant=_json_constant
+        )
+    except json.JSONDecodeError as e:
+        raise error(f"{path}:{e.lineno}:{e.colno}", f"not valid JSON: {e.msg}") from None
+    except RecursionError:
+        raise error(str(path), "not valid JSON: nested too deeply") from None
+    except _BadNumber as e:
+        raise error(str(path), f"not valid JSON: {e}") from None
 
 
 def _umask() -> int:

@@ -17,8 +17,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from irlc.files import atomic_write_text, read_user_text
+from irlc.files import atomic_write_text, parse_user_json, read_user_text
 from irlc.lang.errors import IrlcError
+from irlc.lang.file_access import shown_key
 
 GOLDEN_FORMAT = "irlc-golden 1"
 USER_KEYS = ("options", "tolerances")  # kept as written by the user on --update
@@ -224,11 +225,11 @@ RUN_OPTIONS = (  # docs/golden.md
 def load_expectation(path: Path) -> dict:
     """Read and validate ``NAME.expected.json``: an object whose ``options`` is an object of
     run options and whose ``tolerances`` maps keys to non-negative numbers."""
-    text = read_user_text(path, lambda file, reason: ExpectationError(f"{file}: {reason}"))
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise ExpectationError(f"{path}:{e.lineno}:{e.colno}: not valid JSON: {e.msg}") from None
+
+    def error(file: str, reason: str) -> ExpectationError:
+        return ExpectationError(f"{file}: {reason}")
+
+    doc = parse_user_json(read_user_text(path, error), path, error)
     if not isinstance(doc, dict):
         raise ExpectationError(f"{path}: expected a JSON object, got {_json_type(doc)}")
     options = doc.get("options", {})
@@ -239,7 +240,8 @@ def load_expectation(path: Path) -> dict:
     for key in options:
         if key not in RUN_OPTIONS:
             raise ExpectationError(
-                f"{path}: key 'options.{key}': unknown run option (known: {', '.join(RUN_OPTIONS)})"
+                f"{path}: key 'options.{shown_key(key)}': unknown run option"
+                f" (known: {', '.join(RUN_OPTIONS)})"
             )
     tolerances = doc.get("tolerances", {})
     if not isinstance(tolerances, dict):
@@ -249,9 +251,16 @@ def load_expectation(path: Path) -> dict:
     for key, tol in tolerances.items():
         if not _is_num(tol) or not math.isfinite(tol) or tol < 0:
             raise ExpectationError(
-                f"{path}: key 'tolerances.{key}': expected a number ≥ 0, got {json.dumps(tol)}"
+                f"{path}: key 'tolerances.{shown_key(key)}': expected a number ≥ 0,"
+                f" got {_json_value(tol)}"
             )
     return doc
+
+
+def _json_value(value: Any) -> str:
+    """``value`` as JSON when short, else its type (a file's long text is not echoed)."""
+    text = json.dumps(value)
+    return text if len(text) <= 32 else _json_type(value)
 
 
 def _json_type(value: Any) -> str:

@@ -26,7 +26,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from irlc.files import atomic_write_chunks, atomic_write_text, read_user_text
+from irlc.files import atomic_write_chunks, atomic_write_text, parse_user_json, read_user_text
 from irlc.lang.errors import IrlcError
 
 FLOAT_FORMAT = "%.10g"
@@ -161,17 +161,40 @@ class LoadedRun:
 def load_run(path: str | Path) -> LoadedRun:
     """Read a report (``.json``) or a trace (``.csv``); raises :class:`RunFileError`."""
     path = Path(path)
-    text = read_user_text(path, lambda file, reason: RunFileError(f"{file}: {reason}"))
+
+    def error(file: str, reason: str) -> RunFileError:
+        return RunFileError(f"{file}: {reason}")
+
+    text = read_user_text(path, error)
     if path.suffix.lower() == ".json" or text.lstrip().startswith("{"):
-        try:
-            report = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise RunFileError(f"{path}:{exc.lineno}:{exc.colno}: not JSON: {exc.msg}") from None
-        if not isinstance(report, dict) or "status" not in report:
-            raise RunFileError(f"{path}: not an irlc report (no 'status' key)")
-        return LoadedRun(path, report)
+        return LoadedRun(path, _checked_report(parse_user_json(text, path, error), path))
     columns, table = _read_csv(path, text)
     return LoadedRun(path, {}, columns, table)
+
+
+def _checked_report(report: Any, path: Path) -> dict:
+    """``report`` when it has the shape the readers use (``status``; the numbers
+    ``--compare`` shows: ``duration_s``, ``max_path_error_mm``, per joint ``name``,
+    ``min``, ``max``, ``max_abs_speed``), else :class:`RunFileError` naming the key."""
+    if not isinstance(report, dict) or "status" not in report:
+        raise RunFileError(f"{path}: not an irlc report (no 'status' key)")
+    for key in ("duration_s", "max_path_error_mm"):
+        _number_or_null(report, key, path, key)
+    joints = report.get("joints", [])
+    if not isinstance(joints, list):
+        raise RunFileError(f"{path}: key 'joints': expected a list of joints")
+    for i, joint in enumerate(joints):
+        if not isinstance(joint, dict) or not isinstance(joint.get("name"), str):
+            raise RunFileError(f"{path}: key 'joints[{i}]': expected an object with a 'name'")
+        for key in ("min", "max", "max_abs_speed"):
+            _number_or_null(joint, key, path, f"joints[{i}].{key}")
+    return report
+
+
+def _number_or_null(obj: dict, key: str, path: Path, where: str) -> None:
+    value = obj.get(key)
+    if value is not None and (isinstance(value, bool) or not isinstance(value, int | float)):
+        raise RunFileError(f"{path}: key '{where}': expected a number or null")
 
 
 def _read_csv(path: Path, text: str) -> tuple[list[str], np.ndarray]:
@@ -186,8 +209,11 @@ def _read_csv(path: Path, text: str) -> tuple[list[str], np.ndarray]:
         if len(row) != len(columns):
             raise RunFileError(f"{path}:{i}: {len(row)} values for {len(columns)} columns")
         try:
-            data.append([float(v) for v in row])
+            values = [float(v) for v in row]
         except ValueError:
-            raise RunFileError(f"{path}:{i}: not a number in {row!r}") from None
+            values = []
+        if not values or not all(math.isfinite(v) for v in values):
+            raise RunFileError(f"{path}:{i}: a value that is not a finite number")
+        data.append(values)
     table = np.array(data, dtype=float) if data else np.zeros((0, len(columns)))
     return columns, table

@@ -20,8 +20,11 @@ ErrorFactory = Callable[[str, str], Exception]  # (file, reason) → the caller'
 
 def read_user_text(path: str | Path, error: ErrorFactory) -> str:
     """The UTF-8 text of ``path`` (a leading byte-order mark dropped); raises
-    ``error(str(path), reason)`` when it cannot be read."""
+    ``error(str(path), reason)`` when it cannot be read (a folder, device or pipe is no
+    text file: ``/dev/zero`` or a FIFO would be read without end)."""
     file = str(path)
+    if Path(path).exists() and not Path(path).is_file():  # a device or pipe reads forever
+        raise error(file, "not a regular file")
     try:
         data = Path(path).read_bytes()
     except OSError as e:

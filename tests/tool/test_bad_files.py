@@ -38,6 +38,11 @@ def _no_run(program, options):
         (b'{"tolerances": [1]}', "key 'tolerances': expected an object, got an array"),
         (b'{"options": "fast"}', "key 'options': expected an object, got a string"),
         (b'{"options": {"speed": 2}}', "key 'options.speed': unknown run option"),
+        (b"[" * 100_000 + b"]" * 100_000, "p.expected.json: not valid JSON: nested too deeply"),
+        (b'{"x": 1' + b"0" * 5000 + b"}", "not valid JSON: an integer of 5001 digits"),
+        (b'{"duration_s": NaN}', "not valid JSON: a number that is not finite (not-a-number)"),
+        (b'{"tolerances": {"x": 1e400}}', "not valid JSON: the number 1e400 is beyond"),
+        (b'{"tolerances": {"x": "' + b"v" * 5000 + b'"}}', "expected a number ≥ 0, got a string"),
     ],
 )
 def test_bad_expectation_is_an_error_case_naming_file_and_key(tmp_path, content, message):
@@ -172,3 +177,37 @@ def test_a_folder_or_an_unwritable_place_is_an_error_naming_the_target(tmp_path,
     assert main(["run", str(prog), "-q", "--report", str(target)]) == 3
     err = capsys.readouterr().err
     assert f"cannot write {target}:" in " ".join(err.split()) and ".tmp" not in err
+
+
+def _compare(tmp_path, capsys, name: str, content: bytes | None) -> str:
+    prog = tmp_path / "p.irl"
+    prog.write_text(PROGRAM, encoding="utf-8")
+    other = tmp_path / name
+    if content is None:
+        os.mkfifo(other)  # read without end if it were read
+    else:
+        other.write_bytes(content)
+    assert main(["run", str(prog), "-q", "--compare", str(other)]) == 3
+    err = capsys.readouterr().err
+    assert "internal error" not in err and "nan" not in err.lower()
+    return " ".join(err.split())
+
+
+@pytest.mark.parametrize(
+    ("name", "content", "message"),
+    [
+        ("r.json", b'{"status": "ok", "duration_s": -Infinity}', "not finite (-infinity)"),
+        ("r.json", b'{"status": "ok", "duration_s": 1e999}', "the number 1e999 is beyond"),
+        ("r.json", b'{"status": "ok", "duration_s": "x"}', "key 'duration_s': expected a number"),
+        ("r.json", b'{"status": "ok", "joints": "abc"}', "key 'joints': expected a list"),
+        ("r.json", b'{"status": "ok", "joints": [{"name": [1]}]}', "key 'joints[0]': expected"),
+        ("r.json", b'{"status": "ok", "joints": [{"name": "a1", "min": {}}]}', "'joints[0].min'"),
+        ("r.json", b"[" * 100_000, "not valid JSON: nested too deeply"),
+        ("t.csv", b"t_s,a1_deg\n0,nan\n", "t.csv:2: a value that is not a finite number"),
+        ("t.csv", b"t_s,a1_deg\n0,1e400\n", "t.csv:2: a value that is not a finite number"),
+        ("fifo.csv", None, "fifo.csv: not a regular file"),
+    ],
+)
+def test_compare_with_a_bad_report_or_trace_is_a_usage_error(tmp_path, capsys, name, content,
+                                                              message):  # fmt: skip
+    assert message in _compare(tmp_path, capsys, name, content)
