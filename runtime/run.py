@@ -30,6 +30,7 @@ from typing import Any
 
 import numpy as np
 from irlc.lang.errors import IrlcError
+from irlc.lang.file_access import describe
 from irlc.lang.irdata import Code
 from irlc.lang.joint_kinds import kind_letters
 from irlc.lang.textfile import read_user_text
@@ -389,7 +390,9 @@ def check_run_option(key: str, value) -> str | None:
             isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
             for v in value
         )
-        return None if ok else f"expected a list of finite numbers (deg | mm), got {value!r}"
+        if not ok:
+            return f"expected a list of finite numbers (deg | mm), got {describe(value)}"
+        return None
     units = {"path_tolerance": "mm", "orientation_tolerance": "deg", "max_time": "seconds"}
     try:
         if key == "instruction_budget":

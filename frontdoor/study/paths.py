@@ -26,6 +26,7 @@ import re
 from typing import Any
 
 from irlc.lang.errors import IrlcError
+from irlc.lang.file_access import describe
 
 TARGETS = ("run", "robot", "datalist")
 POSE = ("x", "y", "z", "a", "b", "c")  # a pose's components, in order
@@ -142,6 +143,6 @@ def _same_kind(old: Any, new: Any, where: str) -> None:
         return "a table"
 
     if kind(old) != kind(new):
-        raise PathError(f"'{where}' is {kind(old)} in the file, got {new!r}")
+        raise PathError(f"'{where}' is {kind(old)} in the file, got {describe(new)}")
     if isinstance(old, list) and len(old) != len(new):
         raise PathError(f"'{where}' has {len(old)} values in the file, got {len(new)}")

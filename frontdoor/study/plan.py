@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from irlc.lang.errors import IrlcError
+from irlc.lang.file_access import describe
 from irlc.lang.irdata import Code
 from irlc.lang.joint_kinds import kind_letters
 from irlc.study import paths
@@ -112,7 +113,7 @@ def build_plan(
         for value in values[axis.key]:
             problem = check_value(plan, axis.key, value)
             if problem:
-                raise study.error(axis.key, f"value {value!r}: {problem}", axis.section)
+                raise study.error(axis.key, f"value {describe(value)}: {problem}", axis.section)
     if "seed_config" in study.run:
         problem = check_value(plan, "run.seed_config", study.run["seed_config"])
         if problem:

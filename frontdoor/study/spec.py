@@ -61,6 +61,7 @@ RUN_KEYS = (
 )
 OUTPUT_KEYS = ("reports", "traces")
 DISTRIBUTIONS = ("uniform", "normal")
+NORMAL_REACH = 40  # sigmas: farther than any sample numpy's normal() draws in float64
 MAX_VARIANTS = 10_000_000  # a guard against a typo such as n = 1e9
 
 
@@ -319,4 +320,7 @@ def _distribution(study: Study, key: str, spec: Any) -> Axis:
         raise study.error(key, f"uniform = [a, b] needs a < b, got [{a:g}, {b:g}]", "random")
     if dist == "normal" and not b > 0:
         raise study.error(key, f"normal = [mu, sigma] needs sigma > 0, got {b:g}", "random")
+    if not math.isfinite(b - a if dist == "uniform" else abs(a) + NORMAL_REACH * b):
+        raise study.error(key, f"{dist} = [{a:g}, {b:g}]: samples beyond a float's range",
+                          "random")  # fmt: skip
     return Axis(key, "random", distribution=dist, params=(a, b))

@@ -22,9 +22,9 @@ def _value(v: Any) -> str:
     if isinstance(v, int):
         return str(v)
     if isinstance(v, float):
-        if not math.isfinite(v):
-            raise ValueError(f"cannot write the non-finite number {v}")
-        return repr(v + 0.0)
+        if math.isnan(v):  # TOML's own words: the document's loader refuses them
+            return "nan"
+        return repr(v + 0.0) if math.isfinite(v) else ("inf" if v > 0 else "-inf")
     if isinstance(v, str):
         return json.dumps(v, ensure_ascii=False)  # a JSON string is a TOML basic string
     if isinstance(v, list):

@@ -139,6 +139,21 @@ BAD = [
     ('[grid]\n"run.override" = [50, 150]\n', '"run.override"', "[1, 100] %"),
     ('[run]\nmax_time = 0\n[grid]\n"run.ipo" = [0.01]\n', "max_time", "positive"),
     ('[grid]\n"run.seed_config" = [[0, 90, -90], [1, 2]]\n', "seed_config", "has 3 joints"),
+    # non-finite values are the owner's to refuse, described (never "nan" in a message)
+    ('[grid]\n"datalist.cell3.poses.sq_1.x" = [nan]\n', "sq_1.x", "value not-a-number"),
+    ('[grid]\n"datalist.cell3.poses.sq_1.x" = [-inf]\n', "sq_1.x", "numbers must be finite"),
+    ('[grid]\n"run.seed_config" = [[nan, 0, 0]]\n', "seed_config", "[not-a-number, 0, 0]"),
+    # samples a float cannot hold: numpy's OverflowError (uniform) or infinite draws (normal)
+    (
+        '[random]\nn = 3\nseed = 1\n"run.ipo" = { uniform = [-1e308, 1e308] }\n',
+        '"run.ipo"',
+        "samples beyond a float's range",
+    ),
+    (
+        '[random]\nn = 3\nseed = 1\n"run.ipo" = { normal = [0, 1e307] }\n',
+        '"run.ipo"',
+        "samples beyond a float's range",
+    ),
 ]
 
 
@@ -149,7 +164,7 @@ def test_bad_study_files_name_the_line_before_anything_runs(cell, capsys, body, 
     assert main(["study", str(path), "--out", str(cell / "out"), "-q"]) == 3
     err = capsys.readouterr().err
     assert f"s.toml:{line}:" in err and words in err, err
-    assert "Traceback" not in err
+    assert "Traceback" not in err and "nan" not in err
     assert not (cell / "out" / "results.csv").exists()  # nothing ran
 
 
