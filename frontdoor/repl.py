@@ -245,9 +245,22 @@ class Session:
         diags = list(result.diagnostics)
         errors = [d for d in diags if d.is_error]
         messages = [self._render(d, chunk, chunk_line) for d in diags]
+        session = str(self.cwd / "repl.irl")
+        if errors and all(d.file != session for d in errors):  # all in a data list's file
+            messages.append(self._named_file(errors[0].file, chunk))
         if errors or result.code is None:
             return None, messages or [self._located("the entry does not compile")]
         return result.code, messages
+
+    def _named_file(self, file: str, chunk: str) -> str:
+        """The entry's own error when its errors lie in another file (a data list it
+        imports, positioned there): at the entry's first mention of the file's name."""
+        name = Path(file).stem
+        for line, text in enumerate(chunk.split("\n"), 1):
+            column = text.lower().find(name.lower()) + 1
+            if column:
+                return self._located(f"data list '{name}' has errors (above)", line, column)
+        return self._located(f"data list '{name}' has errors (above)")
 
     def _render(self, diag, chunk: str, chunk_line: int) -> str:
         """``diag`` (a position in the session program) as a position in the entry."""

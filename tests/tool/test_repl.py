@@ -361,6 +361,22 @@ def test_failing_meta_commands_are_positioned_and_keep_the_session(tmp_path):
     assert "Errno" not in trace.lines[0]
 
 
+@needs_runtime
+def test_an_import_whose_errors_lie_in_the_data_list_is_positioned_in_the_entry(tmp_path):
+    # the data list's own diagnostic (its file and line) was the entry's only error line
+    from irlc.repl import Session
+
+    (tmp_path / "cell.toml").write_text("[joints]\nhome = [0, 90, -90]\n")
+    (tmp_path / "broken.toml").write_text("[poses]\np = [1, 2\n")
+    s = Session("koch11", cwd=tmp_path)
+    wrong = s.enter("  IMPORT DATALIST cell;", 7)
+    assert wrong.failure == 1 and "cell.toml:2:1: error: key 'joints.home'" in wrong.lines[0]
+    assert wrong.lines[-1] == "<stdin>:7:19: error: data list 'cell' has errors (above)"
+    broken = s.enter("IMPORT DATALIST broken;", 8)
+    assert broken.lines[-1] == "<stdin>:8:17: error: data list 'broken' has errors (above)"
+    assert s.enter("WRITELN(1);", 9).lines == ["1"]
+
+
 def test_a_long_session_spills_its_samples_and_traces_the_same(tmp_path, monkeypatch):
     """A session keeps at most ``SPILL_ROWS`` samples in memory (older ones go to a temporary
     file, as a streamed run's do): its ``:trace`` is the same bytes as with every sample in
