@@ -292,9 +292,13 @@ def run_case(
     actual = reduce_report(report)
     text = _output_text(report)
     if update:
-        atomic_write_text(json_path, _dump({**actual, **user}))
-        if text or txt_path.is_file():
-            atomic_write_text(txt_path, text)
+        try:
+            atomic_write_text(json_path, _dump({**actual, **user}))
+            if text or txt_path.is_file():
+                atomic_write_text(txt_path, text)
+        except OSError as e:  # a folder of that name, a read-only folder, a full disk
+            reason = f"cannot write {e.filename or json_path}: {e.strerror or e}"
+            return CaseResult(program, "error", message=reason)
         return CaseResult(program, "updated")
     if expected is None:
         return CaseResult(program, "missing", message=f"no {json_path.name}; run with --update")

@@ -211,3 +211,14 @@ def _compare(tmp_path, capsys, name: str, content: bytes | None) -> str:
 def test_compare_with_a_bad_report_or_trace_is_a_usage_error(tmp_path, capsys, name, content,
                                                               message):  # fmt: skip
     assert message in _compare(tmp_path, capsys, name, content)
+
+
+def test_update_over_a_folder_of_the_expectation_name_is_an_error_case(tmp_path, capsys):
+    # os.replace onto the folder: IsADirectoryError escaped as exit 4, naming the temp file
+    prog = tmp_path / "p.irl"
+    prog.write_text(PROGRAM, encoding="utf-8")
+    (tmp_path / "p.expected.json").mkdir()
+    assert main(["test", str(tmp_path), "--update"]) == 1
+    text = " ".join(capsys.readouterr().out.split())
+    assert f"ERROR p.irl cannot write {tmp_path}/p.expected.json: is a folder" in text
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.expected.json", "p.irl"]
