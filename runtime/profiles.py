@@ -149,8 +149,9 @@ def shared_bounds(
     common bound of each order is ``min_i bound_o,i / L_i`` (module doc). The *slowest*
     axis is the one whose own normalised bounds give the longest ``time_of(*bounds)``
     (:func:`minimum_time` of the trapezoid or of the S-curve); the first on a tie.
-    Axes with zero distance impose nothing; if every distance is zero the result is
-    ``((inf, …), −1)``.
+    Axes with zero distance impose nothing, nor do axes whose distance is so small
+    (``1e-320``) that a normalised bound overflows: they move by less than a float
+    resolves; if every distance is such, the result is ``((inf, …), −1)``.
     """
     low = [math.inf] * len(bounds)
     slowest, worst = -1, 0.0
@@ -161,6 +162,8 @@ def shared_bounds(
             listed = ", ".join(names[:-1]) + f" and {names[-1]}"
             raise ProfileError(f"axis {i}: {listed} bounds must be positive")
         ratios = [b / d for b in own]
+        if any(math.isinf(r) and math.isfinite(b) for r, b in zip(ratios, own, strict=True)):
+            continue  # overflowed: a distance below what a float resolves at these bounds
         low = [min(x, r) for x, r in zip(low, ratios, strict=True)]
         t = time_of(*ratios)
         if t > worst:

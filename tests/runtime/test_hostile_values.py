@@ -59,3 +59,18 @@ def test_an_overflowing_duration_is_never_shown_as_inf(tmp_path, capsys) -> None
     assert code == 2
     assert "p.irl:5:1: error: run-time failure at t = 0.000 s: the motion would take longer" in err
     assert "inf" not in err and "inf" not in json.dumps(report)
+
+
+def test_a_subnormal_joint_move_under_the_s_curve_runs(tmp_path, capsys) -> None:
+    # a 1e-320 deg PTP delta: bound / distance overflowed to inf, and the S-curve's own
+    # check raised ProfileError (exit 4; found by the REPL fuzz on planar4)
+    code, report, err = run(
+        tmp_path, capsys,
+        "  R_PROFILE := 'SCURVE';\n"
+        "  MOVE PTP (0, 90, -90);\n"
+        "  MOVE PTP (1e-320, 90, -90);\n"
+        "  MOVE_INC PTP (4.9e-324, 4.9e-324, 0);\n"
+        "  MOVE_INC PTP (1e-320, 0, 0) WITH TIME := 1;",
+    )  # fmt: skip
+    assert code == 0, err
+    assert report["end_joints"] == [0, 90, -90]
