@@ -23,7 +23,7 @@ import os
 import time
 from pathlib import Path
 
-from irlc.files import atomic_write_bytes, atomic_write_text
+from irlc.files import atomic_write_bytes, atomic_write_text, parse_user_json, read_user_text
 from irlc.study.spec import StudyError
 
 RESULTS = "results.csv"
@@ -61,27 +61,29 @@ class ResultsFile:
 
     def _load(self) -> None:
         meta_path = self.folder / META
-        try:
-            meta = json.loads(meta_path.read_text(encoding="utf-8"))
-        except (OSError, ValueError):
-            raise StudyError(
-                str(meta_path), None, "", "missing or unreadable: cannot resume"
-            ) from None
-        if meta.get("token") != self.token or meta.get("columns") != self.columns:
+
+        def unreadable(file: str, reason: str) -> StudyError:
+            return StudyError(str(meta_path), None, "", "missing or unreadable: cannot resume")
+
+        meta = parse_user_json(read_user_text(meta_path, unreadable), meta_path, unreadable)
+        if (
+            not isinstance(meta, dict)
+            or meta.get("token") != self.token
+            or meta.get("columns") != self.columns
+        ):
             raise StudyError(
                 str(self.path), None, "",
                 "written by another study (or the study file or program changed): "
                 "cannot resume; choose another --out",
             )  # fmt: skip
-        text = self.path.read_text(encoding="utf-8")
+        text = read_user_text(self.path, lambda f, r: StudyError(f, None, "", r))
         if not text.endswith("\n"):  # a row cut short by a crash: dropped
             text = text[: text.rfind("\n") + 1]
             atomic_write_text(self.path, text)
         for body in text.split("\n")[1:-1]:
-            line = body + "\n"
-            first = next(csv.reader([line]), [""])[0]
-            if first.isdigit():
-                self.done[int(first)] = line
+            variant = _variant(body)
+            if variant is not None:
+                self.done[variant] = body + "\n"
 
     def append(self, row: dict[str, str]) -> None:
         line = _line(self.columns, row)
@@ -107,6 +109,16 @@ class ResultsFile:
         """All rows done, in variant order, as dicts of text."""
         reader = csv.reader(self.done[i] for i in sorted(self.done))
         return [dict(zip(self.columns, r, strict=False)) for r in reader]
+
+
+def _variant(line: str) -> int | None:
+    """The variant number a row of results.csv starts with, or None (a header, a line
+    that is no row irlc wrote: a stray edit, a NUL byte, a field beyond the csv limit)."""
+    try:
+        first = next(csv.reader([line]), [""])[0]
+    except csv.Error:
+        return None
+    return int(first) if first.isascii() and first.isdigit() else None
 
 
 def write_parquet(csv_path: Path) -> Path | None:

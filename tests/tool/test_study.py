@@ -252,6 +252,26 @@ def test_resume_after_an_interruption_runs_only_the_missing_variants(cell):
 
 
 @pytest.mark.scenario
+def test_resume_from_a_damaged_folder_is_refused_or_skips_the_damage(cell):
+    # a study.json nested too deeply (RecursionError) or not an object (AttributeError)
+    # ended --resume in exit 4; so did rows of results.csv that csv or int() refuse
+    path = write_study(cell, '[grid]\n"run.ipo" = [0.01, 0.02]\n')
+    run_study(path, out=cell / "out", workers=1)
+    expected = (cell / "out/results.csv").read_bytes()
+    meta = cell / "out/study.json"
+    good = meta.read_text()
+    for damage in ("[" * 100_000, "[1, 2]"):
+        meta.write_text(damage)
+        with pytest.raises(StudyError, match=r"missing or unreadable|another study"):
+            run_study(path, out=cell / "out", resume=True)
+    meta.write_text(good)
+    with (cell / "out/results.csv").open("a") as f:
+        f.write("²,x\n1\x00,a\n7," + "x" * 200_000 + "\n")
+    assert run_study(path, out=cell / "out", resume=True).ran == 0
+    assert (cell / "out/results.csv").read_bytes() == expected
+
+
+@pytest.mark.scenario
 def test_a_failing_variant_is_a_row_with_its_error(cell, capsys):
     body = '[grid]\n"datalist.cell3.poses.sq_1.1" = [1500, 9000]\n"run.ipo" = [0.01]\n'
     path = write_study(cell, "[output]\nreports = true\ntraces = true\n\n" + body)
