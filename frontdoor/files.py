@@ -129,11 +129,13 @@ def _target(path: Path) -> tuple[Path, bool]:
 
 def _write_in_place(path: Path, chunks: Iterable[bytes]) -> None:
     """Write to a device, pipe or socket as it is (``/dev/null``, ``/dev/stdout``); opened
-    without blocking, so a pipe with no reader fails at once (ENXIO) instead of waiting."""
+    without blocking, so a pipe with no reader fails at once (ENXIO) instead of waiting. A
+    reader that stops reading (``--trace /dev/stdout | head``) drops the rest, as standard
+    output does (docs/interfaces.md, Exit codes)."""
     fd = os.open(path, os.O_WRONLY | getattr(os, "O_NONBLOCK", 0))
     if hasattr(os, "set_blocking"):
         os.set_blocking(fd, True)  # the writes themselves may wait for a slow reader
-    with os.fdopen(fd, "wb") as f:
+    with contextlib.suppress(BrokenPipeError), os.fdopen(fd, "wb") as f:
         for chunk in chunks:
             f.write(chunk)
 

@@ -9,7 +9,7 @@ import time
 
 import pytest
 from irlc.cli import main
-from irlc.files import atomic_write_text, read_user_text
+from irlc.files import atomic_write_bytes, atomic_write_text, read_user_text
 from irlc.golden import ExpectationError, load_expectation, run_case
 
 PROGRAM = "PROGRAM p;\nROBOT r := planar3;\nBEGIN\nENDPROGRAM\n"
@@ -222,3 +222,27 @@ def test_update_over_a_folder_of_the_expectation_name_is_an_error_case(tmp_path,
     text = " ".join(capsys.readouterr().out.split())
     assert f"ERROR p.irl cannot write {tmp_path}/p.expected.json: is a folder" in text
     assert sorted(p.name for p in tmp_path.iterdir()) == ["p.expected.json", "p.irl"]
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no named pipes")
+def test_a_pipe_whose_reader_stops_drops_the_rest_of_the_file(tmp_path):
+    # `irlc run P --trace /dev/stdout | head`: BrokenPipeError was 'cannot write', exit 3
+    import threading
+
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    fd = os.open(fifo, os.O_RDWR)  # the reader, open before the writer comes
+    got: list[bytes] = []
+
+    def read_ten_and_stop() -> None:
+        data = b""
+        while len(data) < 10:
+            data += os.read(fd, 10 - len(data))
+        got.append(data)
+        os.close(fd)
+
+    reader = threading.Thread(target=read_ten_and_stop, daemon=True)
+    reader.start()
+    atomic_write_bytes(fifo, b"x" * (64 * 65536))
+    reader.join(10)
+    assert got == [b"x" * 10] and stat.S_ISFIFO(fifo.lstat().st_mode)
