@@ -306,7 +306,8 @@ def test_with_drives_the_cycle_budget_counts_their_steps(tmp_path, capsys):
     charged = math.ceil(steps / DRIVE_STEPS_PER_CYCLE)
     assert (
         f"p.irl:4:1: error: run-time failure at t = 0.000 s: the WAIT would take {charged}"
-        f" cycles of the budget ({steps} drive steps of {h * 1e3:.3g} ms, 10 to a cycle) and"
+        f" cycles of the budget ({steps} drive steps of {h * 1e3:.3g} ms,"
+        f" {DRIVE_STEPS_PER_CYCLE} to a cycle) and"
         " the run past its budget of 2000 simulated cycles"
     ) in err
     assert cpu < 20  # not 90,000 drive steps first
