@@ -237,12 +237,15 @@ def load_expectation(path: Path) -> dict:
         raise ExpectationError(
             f"{path}: key 'options': expected an object, got {_json_type(options)}"
         )
-    for key in options:
+    for key, value in options.items():
         if key not in RUN_OPTIONS:
             raise ExpectationError(
                 f"{path}: key 'options.{shown_key(key)}': unknown run option"
                 f" (known: {', '.join(RUN_OPTIONS)})"
             )
+        problem = _option_problem(key, value)
+        if problem is not None:
+            raise ExpectationError(f"{path}: key 'options.{key}': {problem}")
     tolerances = doc.get("tolerances", {})
     if not isinstance(tolerances, dict):
         raise ExpectationError(
@@ -255,6 +258,29 @@ def load_expectation(path: Path) -> dict:
                 f" got {_json_value(tol)}"
             )
     return doc
+
+
+def _option_problem(key: str, value: Any) -> str | None:
+    """Why ``value`` cannot be the run option ``key``, else ``None``: the run's own checks
+    (:func:`irlc.runtime.run.check_run_option`) and the types of the file options; a long
+    value is named by its type, not echoed."""
+    from irlc.runtime.run import check_run_option
+
+    shown = _json_value(value)
+    if key == "robot":
+        ok = isinstance(value, str) and value != ""
+        return None if ok else f"expected a robot name or file, got {shown}"
+    if key == "datalist_path":
+        ok = isinstance(value, str) or (
+            isinstance(value, list) and all(isinstance(v, str) for v in value)
+        )
+        return None if ok else f"expected a folder or a list of folders, got {shown}"
+    if key == "allow_any_path":
+        return None if isinstance(value, bool) else f"expected true or false, got {shown}"
+    problem = check_run_option(key, value)
+    if problem is None:
+        return None
+    return problem.replace(f"{key} ", "", 1).replace(f"got {value!r}", f"got {shown}")
 
 
 def _json_value(value: Any) -> str:

@@ -43,6 +43,19 @@ def _no_run(program, options):
         (b'{"duration_s": NaN}', "not valid JSON: a number that is not finite (not-a-number)"),
         (b'{"tolerances": {"x": 1e400}}', "not valid JSON: the number 1e400 is beyond"),
         (b'{"tolerances": {"x": "' + b"v" * 5000 + b'"}}', "expected a number ≥ 0, got a string"),
+        # options of the wrong type ran and failed with a bare "TypeError: 'int' object is
+        # not iterable", naming neither the file nor the key
+        (b'{"options": {"datalist_path": 5}}', "key 'options.datalist_path': expected a folder"),
+        (b'{"options": {"seed_config": "xyz"}}', "key 'options.seed_config': expected a list of"),
+        (b'{"options": {"robot": [1]}}', "key 'options.robot': expected a robot name or file"),
+        (b'{"options": {"allow_any_path": 1}}', "key 'options.allow_any_path': expected true"),
+        (b'{"options": {"ipo": -1}}', "key 'options.ipo': the value must be in [1e-05, 1] s"),
+        (b'{"options": {"max_cycles": 2.5}}', "key 'options.max_cycles': must be a positive int"),
+        (b'{"options": {"drives": "fast"}}', "key 'options.drives': expected one of ideal,"),
+        (
+            b'{"options": {"seed_config": "' + b"x" * 5000 + b'"}}',
+            "key 'options.seed_config': expected a list of finite numbers (deg | mm), got a str",
+        ),
     ],
 )
 def test_bad_expectation_is_an_error_case_naming_file_and_key(tmp_path, content, message):
