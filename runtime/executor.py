@@ -133,7 +133,7 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
         self.q = np.array(start_q, dtype=float)
         self.q_prev = self.q.copy()
         self._cycles = 0
-        self._granted_cycles = 0  # IPO cycles of motion granted by the cycle budget
+        self._granted_cycles = 0  # cycles the cycle budget granted so far (_grant_cycles)
         self._line = 0
         self._manip_every = max(1, self.opts.manipulability_every)
         self._collision_warned: set[str] = set()

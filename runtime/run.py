@@ -245,8 +245,9 @@ def run_code(
     the endless-loop guard (instructions without motion; default
     :data:`~irlc.runtime.interpreter.DEFAULT_INSTRUCTION_BUDGET`). ``max_time``: the
     simulated-time budget in s (default ``ExecutionOptions.max_time_s``, 24 h);
-    ``max_cycles``: the IPO cycles of motion the run may simulate (default
-    ``ExecutionOptions.max_cycles``, 50,000: the bound on what a run computes).
+    ``max_cycles``: the cycle budget, the IPO cycles the run may simulate (default
+    ``ExecutionOptions.max_cycles``, 50,000: the bound on what a run computes; with drives
+    their steps count, :meth:`SimulatedController._grant_cycles`).
     ``override`` (%): the start value of ``R_OVERRIDE`` (``--override``; lang/settings.py's
     range, 1–100). ``allow_any_path``: the code's robot file may lie outside the program's
     folder and the robot library (``irlc.lang.file_access``). ``stream``: bounded memory
