@@ -68,12 +68,17 @@ from irlc.runtime.recorder import Recorder
 from irlc.runtime.values import JointTuple, Pose
 
 # The cycle budget: the IPO cycles a run may simulate — those of motion (MOVE, RECONFIGURATION;
-# a motion statement counts at least one, its planning) and those a WAIT records (a long WAIT
+# a motion statement counts at least MOTION_MIN_CYCLES) and those a WAIT records (a long WAIT
 # records its first WAIT_SAMPLED_CYCLES and its last) — ≈ 8 min of robot time at the default
 # 10 ms. What a run computes and records grows with its cycles (an IK cycle costs 0.1–2 ms of
 # CPU), not with its simulated time: a small R_IPO, a long slow motion or a loop of motions
 # or waits is bounded here; a long WAIT's time by max_time_s.
 DEFAULT_MAX_CYCLES = 50_000
+# Planning a motion statement and checking that its target is reachable cost about four IK
+# cycles (a loop of one-cycle LINs on koch11: ≈ 2 ms of CPU a statement against ≈ 0.4 ms an
+# IK cycle), so a statement counts at least five: such a loop meets the default budget
+# after 10,000 statements, not 50,000 (24 s of CPU instead of 100 on a slow, loaded machine).
+MOTION_MIN_CYCLES = 5
 # With drives (``--drives`` other than ideal) the drive simulation steps through the run's
 # time at its own step h (≤ 1 ms; 125 µs at the pwm level), each step costing about a fifth
 # of a koch11 IK cycle (70–140 µs of CPU against 350 µs) and keeping ≈ 2 kB until the run
@@ -200,8 +205,7 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
             segments = self.pre.plan(cmd, settings, options, state)
             cycles = sum(seg.cycles for seg in segments)
             self._within_budget(cycles * state.dt, cmd.line, "the motion")
-            # at least one cycle: planning is work even when nothing moves
-            self._grant_cycles(max(cycles, 1), cycles * state.dt, cmd.line, "the motion")
+            self._grant_cycles(cycles, cycles * state.dt, cmd.line, "the motion", MOTION_MIN_CYCLES)
             cartesian = [seg for seg in segments if not seg.is_joint]
             if cartesian:  # reachability of the end (and via) points, before anything moves
                 reach = self._reach(cartesian[0].limits[0], options, solver)
@@ -484,26 +488,33 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
                 self._t,
             )
 
-    def _grant_cycles(self, cycles: int, seconds: float, line: int, what: str) -> None:
+    def _grant_cycles(
+        self, cycles: int, seconds: float, line: int, what: str, minimum: int = 0
+    ) -> None:
         """Count a statement's ``cycles`` recorded IPO cycles (over ``seconds`` of robot
-        time) against the cycle budget (``ExecutionOptions.max_cycles``,
+        time), at least ``minimum``, against the cycle budget (``ExecutionOptions.max_cycles``,
         :data:`DEFAULT_MAX_CYCLES`) before they are simulated; :class:`RunFailure` if they
         would exceed it. With drives (``drive_step_s``) the drive steps of ``seconds``
         count instead when they are more, DRIVE_STEPS_PER_CYCLE to a cycle: the drives
         simulate every step of the run's time, a long WAIT's too. Granted cycles count
         until :meth:`restart_cycle_budget`."""
-        h, charged = self.opts.drive_step_s, cycles
+        h, charged = self.opts.drive_step_s, max(cycles, minimum)
         if h:
-            charged = max(cycles, math.ceil(seconds / (DRIVE_STEPS_PER_CYCLE * h) - 1e-9))
+            charged = max(charged, math.ceil(seconds / (DRIVE_STEPS_PER_CYCLE * h) - 1e-9))
         limit = self.opts.max_cycles
         if self._granted_cycles + charged <= limit:
             self._granted_cycles += charged
             return
         cost = f"{cycles} IPO cycle{'s' if cycles != 1 else ''}"
-        if charged > cycles:
+        if charged > max(cycles, minimum):
             cost = (
                 f"{charged} cycles of the budget ({math.ceil(seconds / h - 1e-9)} drive steps"
                 f" of {h * 1e3:.3g} ms, {DRIVE_STEPS_PER_CYCLE} to a cycle)"
+            )
+        elif charged > cycles:
+            cost = (
+                f"{charged} cycles of the budget ({cost}; a motion statement counts at least"
+                f" {minimum})"
             )
         raise RunFailure(
             f"{what} would take {cost} and the run past its budget of {limit} simulated"

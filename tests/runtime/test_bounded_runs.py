@@ -219,12 +219,37 @@ def test_a_wait_is_charged_the_cycles_it_records(tmp_path, capsys):
     assert "p.irl:6:1: error: run-time failure at t = 5.500 s: the WAIT would take 1001 IPO" in err
 
 
-def test_a_motion_statement_is_charged_at_least_one_cycle(tmp_path, capsys):
-    # planning costs even when nothing moves: 50,000 motions that do not move, each
-    # between two that do, would otherwise each restart the loop guard's count
+def test_a_motion_statement_is_charged_at_least_five_cycles(tmp_path, capsys):
+    # planning and the target's reachability check cost even when nothing moves: 50,000
+    # motions that do not move, each between two that do, would otherwise each restart the
+    # loop guard's count
+    from irlc.runtime.executor import MOTION_MIN_CYCLES
+
+    assert MOTION_MIN_CYCLES == 5
     prog = HEAD + "BEGIN\n  MOVE PTP R_ACT_JOINT;\n  MOVE PTP R_ACT_JOINT;\nENDPROGRAM\n"
-    code, _, err, _ = run(tmp_path, capsys, prog, "--max-cycles", "1")
-    assert code == 2 and "p.irl:5:1:" in err and "the motion would take 1 IPO cycle and" in err
+    code, _, err, _ = run(tmp_path, capsys, prog, "--max-cycles", "9")
+    assert code == 2 and "p.irl:5:1:" in err, err
+    assert (
+        "the motion would take 5 cycles of the budget (0 IPO cycles; a motion statement counts"
+        " at least 5) and the run past its budget of 9 simulated cycles (5 so far"
+    ) in " ".join(err.split())
+    code, _, err, _ = run(tmp_path, capsys, prog, "--max-cycles", "10")
+    assert code == 0, err
+
+
+def test_a_loop_of_one_cycle_motions_meets_the_budget_five_times_sooner(tmp_path, capsys):
+    # one-cycle LINs (10 ms each): the 21st of them is the first past 100 cycles
+    prog = (
+        "PROGRAM p;\nROBOT r := koch11;\nBEGIN\n  WHILE TRUE DO\n"
+        "    MOVE_INC LIN (0.001, 0, 0, 0, 0, 0); MOVE_INC LIN (-0.001, 0, 0, 0, 0, 0);\n"
+        "  ENDWHILE;\nENDPROGRAM\n"
+    )
+    code, _, err, _ = run(tmp_path, capsys, prog, "--max-cycles", "100")
+    assert code == 2, err
+    text = " ".join(err.split())
+    assert "p.irl:5:1: error: run-time failure at t = 0.200 s: the motion would take 5" in text
+    assert "(1 IPO cycle; a motion statement counts at least 5)" in text
+    assert "(100 so far, at t = 0.200 s;" in text
 
 
 def test_a_small_ipo_cycle_meets_the_default_cycle_budget_at_once(tmp_path, capsys):
