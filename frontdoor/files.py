@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from irlc.lang.errors import IrlcError
-from irlc.lang.file_access import describe, shown_key
+from irlc.lang.file_access import describe, is_finite_number, shown_key
 from irlc.lang.textfile import ErrorFactory, read_user_text
 
 __all__ = [
@@ -60,7 +60,10 @@ def _json_float(word: str) -> float:
 def _json_int(word: str) -> int:
     if len(word.lstrip("-")) > JSON_INT_DIGITS:
         raise _BadNumber(f"an integer of {len(word)} digits (at most {JSON_INT_DIGITS})")
-    return int(word)
+    value = int(word)
+    if not is_finite_number(value):  # every number irlc reads is a float's
+        raise _BadNumber(f"the number {shown_key(word)} is beyond a float's range")
+    return value
 
 
 def _json_constant(word: str) -> float:
@@ -71,7 +74,8 @@ def parse_user_json(text: str, path: str | Path, error: ErrorFactory) -> Any:
     """The value of the JSON ``text`` of the user's file ``path``; raises ``error(file,
     reason)`` for a syntax error (``file`` is then ``PATH:LINE:COL``), nesting deeper than
     the parser can follow, a non-finite number (``NaN``, ``Infinity``, ``1e400``: described
-    as ``not-a-number`` or ``infinity``, never echoed) or an integer too long to convert."""
+    as ``not-a-number`` or ``infinity``, never echoed) or an integer too long to convert or
+    beyond a float's range."""
     try:
         return json.loads(
             text, parse_float=_json_float, parse_int=_json_int, parse_constant=_json_constant

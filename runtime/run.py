@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 from irlc.lang.errors import IrlcError
-from irlc.lang.file_access import describe
+from irlc.lang.file_access import describe, is_finite_number
 from irlc.lang.irdata import Code
 from irlc.lang.joint_kinds import kind_letters
 from irlc.lang.textfile import read_user_text
@@ -368,10 +368,10 @@ def _drive_step(model: RobotModel, level: str, q0: np.ndarray) -> float:
 
 
 def _positive(option: str, value, unit: str) -> float:
-    """``value`` as a float if it is a finite number > 0, else :class:`RunSetupError`."""
-    ok = isinstance(value, int | float) and not isinstance(value, bool)
-    if not ok or not (math.isfinite(value) and value > 0.0):
-        raise RunSetupError(f"{option} must be a positive number of {unit}, got {value!r}")
+    """``value`` as a float if it is a finite number > 0, else :class:`RunSetupError` (an
+    integer beyond a float's range too)."""
+    if not (_finite_number(value) and value > 0):
+        raise RunSetupError(f"{option} must be a positive number of {unit}, got {describe(value)}")
     return float(value)
 
 
@@ -383,15 +383,11 @@ def check_run_option(key: str, value) -> str | None:
     ``seed_config`` is a list of finite numbers (deg | mm; its length is the robot's)."""
     if key == "drives":
         ok = isinstance(value, str) and value in DRIVE_LEVELS
-        return None if ok else f"expected one of {', '.join(DRIVE_LEVELS)}, got {value!r}"
+        return None if ok else f"expected one of {', '.join(DRIVE_LEVELS)}, got {describe(value)}"
     if key in ("ipo", "override"):
         return setting_error(key, value)
     if key == "seed_config":
-        ok = isinstance(value, list) and all(
-            isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
-            for v in value
-        )
-        if not ok:
+        if not (isinstance(value, list) and all(_finite_number(v) for v in value)):
             return f"expected a list of finite numbers (deg | mm), got {describe(value)}"
         return None
     units = {"path_tolerance": "mm", "orientation_tolerance": "deg", "max_time": "seconds"}
@@ -409,6 +405,12 @@ def check_run_option(key: str, value) -> str | None:
     return None
 
 
+def _finite_number(value) -> bool:
+    """A number (not a boolean) that is a finite float (an integer within a float's range)."""
+    ok = isinstance(value, int | float) and not isinstance(value, bool)
+    return ok and is_finite_number(value)
+
+
 def _budget(budget: int | None) -> int:
     """The endless-loop budget: ``None`` → the default; else a positive whole number."""
     from irlc.runtime.interpreter import DEFAULT_INSTRUCTION_BUDGET
@@ -421,7 +423,7 @@ def _budget(budget: int | None) -> int:
 def _whole(option: str, value) -> int:
     """``value`` if it is a whole number ≥ 1, else :class:`RunSetupError`."""
     if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-        raise RunSetupError(f"{option} must be a positive integer, got {value!r}")
+        raise RunSetupError(f"{option} must be a positive integer, got {describe(value)}")
     return value
 
 

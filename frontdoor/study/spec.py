@@ -45,6 +45,7 @@ from typing import Any
 
 from irlc.errors import UsageError
 from irlc.files import read_user_text
+from irlc.lang.file_access import describe, is_finite_number
 from irlc.lang.toml_keys import TomlError, parse_toml
 
 TOP_KEYS = ("program", "robot", "datalist_path", "name", "run", "grid", "random", "output")
@@ -183,7 +184,7 @@ def read_study(path: str | Path) -> Study:
         raise study.error(dup, "varied both in [grid] and in [random]", "random")
     count = count_variants(study)
     if count > MAX_VARIANTS:
-        raise study.error("", f"{count} variants; at most {MAX_VARIANTS}")
+        raise study.error("", f"{describe(count)} variants; at most {MAX_VARIANTS:,}")
     return study
 
 
@@ -288,10 +289,12 @@ def _read_random(study: Study, table: dict) -> None:
         v = table.get(k)
         if isinstance(v, bool) or not isinstance(v, int):
             raise study.error(k, f"required: a whole number, got {_show(v)}", "random")
-    if table["n"] < 1:
-        raise study.error("n", f"must be at least 1, got {table['n']}", "random")
+    if not 1 <= table["n"] <= MAX_VARIANTS:
+        raise study.error(
+            "n", f"must be 1 to {MAX_VARIANTS:,}, got {describe(table['n'])}", "random"
+        )
     if table["seed"] < 0:
-        raise study.error("seed", f"must be 0 or more, got {table['seed']}", "random")
+        raise study.error("seed", f"must be 0 or more, got {describe(table['seed'])}", "random")
     study.n, study.seed = table["n"], table["seed"]
     rest = {k: v for k, v in table.items() if k not in ("n", "seed")}
     for key, spec in flatten(rest):
@@ -309,7 +312,7 @@ def _distribution(study: Study, key: str, spec: Any) -> Axis:
         isinstance(params, list)
         and len(params) == 2
         and all(isinstance(p, int | float) and not isinstance(p, bool) for p in params)
-        and all(math.isfinite(p) for p in params)
+        and all(is_finite_number(p) for p in params)
     )
     if not ok:
         raise study.error(

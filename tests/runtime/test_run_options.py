@@ -39,3 +39,17 @@ def test_messages_name_the_option():
     assert check_run_option("seed_config", [0, "x"]).startswith("expected a list of finite")
     assert check_run_option("seed_config", [0.0, 90, -90]) is None
     assert check_run_option("colour", 1) == "unknown run option 'colour'"
+
+
+@pytest.mark.parametrize("key", ["max_time", "path_tolerance", "orientation_tolerance"])
+@pytest.mark.parametrize("value", [10**400, -(10**400)], ids=["huge", "minus_huge"])
+def test_an_integer_beyond_a_float_is_refused_not_an_overflow(key, value):
+    # a golden expectation's or a study's options hold integers of any size (JSON, TOML):
+    # an OverflowError, exit 4, before; the number is described, never echoed
+    message = check_run_option(key, value)
+    assert message.startswith(f"{key} must be a positive number of"), message
+    assert message.endswith("got an integer of about 401 digits")
+    assert check_run_option("seed_config", [value, 0.0]) == (
+        "expected a list of finite numbers (deg | mm), got [an integer of about 401 digits, 0.0]"
+    )
+    assert "401 digits" in check_run_option("max_cycles", -abs(value))

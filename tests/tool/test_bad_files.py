@@ -52,6 +52,9 @@ def _no_run(program, options):
         (b'{"options": {"ipo": -1}}', "key 'options.ipo': the value must be in [1e-05, 1] s"),
         (b'{"options": {"max_cycles": 2.5}}', "key 'options.max_cycles': must be a positive int"),
         (b'{"options": {"drives": "fast"}}', "key 'options.drives': expected one of ideal,"),
+        # an integer a float cannot hold: an OverflowError (exit 4) before
+        (b'{"options": {"max_time": 1' + b"0" * 400 + b"}}", "0000… (401 characters) is beyond"),
+        (b'{"tolerances": {"x": -1' + b"0" * 400 + b"}}", "not valid JSON: the number -1000"),
         (
             b'{"options": {"seed_config": "' + b"x" * 5000 + b'"}}',
             "key 'options.seed_config': expected a list of finite numbers (deg | mm), got a str",

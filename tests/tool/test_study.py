@@ -108,6 +108,7 @@ def test_dotted_and_quoted_keys_name_the_same_path(cell):
 
 # --------------------------------------------------------------------------- checks
 
+HUGE = "1" + "0" * 400
 BAD = [
     # (body, the text of the offending line, words of the message)
     ('[grid]\n"robot.joints.2.weight" = [1.0, -4.0]\n', '"robot.joints.2.weight"', "positive"),
@@ -122,7 +123,11 @@ BAD = [
     ('[grid]\n"run.path_tolrance" = [1]\n', "path_tolrance", "unknown run option"),
     ("[grid]\nfoo.bar = [1]\n", "foo.bar", "unknown key"),
     ('[grid]\n"run.ipo" = []\n', '"run.ipo"', "non-empty list"),
-    ('[random]\nn = 0\nseed = 1\n"run.ipo" = { uniform = [0.01, 0.02] }\n', "n = 0", "at least 1"),
+    (
+        '[random]\nn = 0\nseed = 1\n"run.ipo" = { uniform = [0.01, 0.02] }\n',
+        "n = 0",
+        "1 to 10,000,000",
+    ),
     ('[random]\nn = 3\nseed = 1\n"run.ipo" = { uniform = [0.02, 0.01] }\n', '"run.ipo"', "a < b"),
     ('[random]\nn = 3\nseed = 1\n"run.ipo" = { gauss = [1, 2] }\n', '"run.ipo"', "uniform"),
     # a random key is checked at its extreme samples: weights around 0.1 ± 1 go negative
@@ -154,6 +159,25 @@ BAD = [
         '"run.ipo"',
         "samples beyond a float's range",
     ),
+    # integers a float cannot hold (TOML's have any size): named, never echoed (exit 4 before)
+    (
+        f'[random]\nn = 3\nseed = 1\n"run.ipo" = {{ uniform = [0, {HUGE}] }}\n',
+        '"run.ipo"',
+        "uniform: expected two finite numbers",
+    ),
+    (
+        f'[random]\nn = 3\nseed = 1\n"run.ipo" = {{ normal = [{HUGE}, 1] }}\n',
+        '"run.ipo"',
+        "normal: expected two finite numbers",
+    ),
+    (
+        f'[random]\nn = {HUGE}\nseed = 1\n"run.ipo" = {{ uniform = [0.01, 0.02] }}\n',
+        "n = ",
+        "random.n: must be 1 to 10,000,000, got an integer of about 401 digits",
+    ),
+    (f'[run]\nmax_time = {HUGE}\n[grid]\n"run.ipo" = [0.01]\n', "max_time", "401 digits"),
+    (f'[grid]\n"run.seed_config" = [[{HUGE}, 0, 0]]\n', "seed_config", "401 digits, 0, 0]"),
+    (f'[grid]\n"run.path_tolerance" = [-{HUGE}]\n', "path_tolerance", "positive number"),
 ]
 
 
