@@ -312,9 +312,11 @@ def _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolera
     if drives not in DRIVE_LEVELS:
         raise RunSetupError(f"unknown drive level {drives!r} (known: {', '.join(DRIVE_LEVELS)})")
     if ipo is not None and setting_error("ipo", ipo):
-        raise RunSetupError(f"--ipo {ipo!r}: {setting_error('ipo', ipo)}")
+        raise RunSetupError(f"--ipo {describe(ipo)}: {setting_error('ipo', ipo)}")
     if override is not None and setting_error("override", override):
-        raise RunSetupError(f"--override {override!r}: {setting_error('override', override)}")
+        raise RunSetupError(
+            f"--override {describe(override)}: {setting_error('override', override)}"
+        )
     budget = _budget(instruction_budget)
     base = Path(base_dir) if base_dir is not None else None
     model = resolve_model(code, robot, base, allow_any_path)

@@ -3,6 +3,8 @@ the option (a study's [run] values use it: frontdoor/study/paths.py)."""
 
 from __future__ import annotations
 
+import math
+
 import pytest
 from irlc.runtime.run import RunSetupError, check_run_option, run_code
 
@@ -53,3 +55,14 @@ def test_an_integer_beyond_a_float_is_refused_not_an_overflow(key, value):
         "expected a list of finite numbers (deg | mm), got [an integer of about 401 digits, 0.0]"
     )
     assert "401 digits" in check_run_option("max_cycles", -abs(value))
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "shown"),
+    [("ipo", math.nan, "not-a-number"), ("override", math.inf, "infinity"), ("ipo", -1.0, "-1.0")],
+)
+def test_a_bad_ipo_or_override_is_described_never_nan_or_inf(planar3, key, value, shown):
+    code = Ird("planar3", "RRR").op(1, "END").code_object()
+    with pytest.raises(RunSetupError) as err:
+        run_code(code, robot=planar3, **{key: value})
+    assert str(err.value).startswith(f"--{key} {shown}: the value must be in")
