@@ -644,6 +644,9 @@ class Session:
             return Entry([self._located("usage: :teach NAME [FILE.toml]")], 3)
         name = parts[0]
         path = self.cwd / Path(parts[1] if len(parts) == 2 else "taught.toml").expanduser()
+        if not path.name or path.is_dir():
+            message = f"{parts[1]} is a folder; :teach takes a file (FILE.toml)"
+            return Entry([self._located(message)], 3)
         path = path if path.suffix else path.with_suffix(".toml")
         taken = {n.lower() for n in (*self.names, *keywords(), *SYSTEM_VARIABLES)}
         clash = [n for n in (name, name + JOINTS_SUFFIX) if n.lower() in taken]

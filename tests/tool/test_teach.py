@@ -92,6 +92,19 @@ def test_bad_names(tmp_path):
     assert not (tmp_path / "taught.toml").exists()
 
 
+@pytest.mark.parametrize("where", ["/", ".", "..", "sub", "sub/"])
+def test_a_folder_is_not_a_teach_file(tmp_path, where):
+    # ':teach a /' printed Python's "PosixPath('/') has an empty name"; '.' wrote '../NAME.toml'
+    (tmp_path / "sub").mkdir()
+    session = Session("planar3", cwd=tmp_path)
+    out = session.meta(f":teach a {where}")
+    assert out.failure == 3
+    assert out.lines == [
+        f"<input>:1:1: error: {where} is a folder; :teach takes a file (FILE.toml)"
+    ]
+    assert list(tmp_path.parent.glob("*.toml")) == list(tmp_path.glob("**/*.toml")) == []
+
+
 def test_taught_pose_round_trips(tmp_path):
     (tmp_path / "cell.toml").write_text(CELL, encoding="utf-8")
     session = Session("planar3", cwd=tmp_path)
