@@ -46,6 +46,8 @@ class ResultsFile:
         self.done: dict[int, str] = {}  # variant → its line
         self._fd: int | None = None
         self._synced = time.monotonic()
+        if self.folder.exists() and not self.folder.is_dir():
+            raise StudyError(str(self.folder), None, "", "not a folder (--out takes a folder)")
         if resume and self.path.exists():
             self._load()
         elif self.path.exists() and not resume:

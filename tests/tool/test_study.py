@@ -210,6 +210,20 @@ def test_missing_program_and_invalid_toml(cell, capsys):
     assert "s.toml:2: invalid TOML" in capsys.readouterr().err
 
 
+def test_an_out_that_cannot_be_a_folder_is_a_usage_error(cell, capsys):
+    # --out /dev/null was an internal error (FileExistsError from mkdir)
+    path = write_study(cell, '[grid]\n"run.ipo" = [0.01]\n')
+    (cell / "plain").write_text("x")
+    for out, words in ((cell / "plain", "not a folder (--out takes a folder)"),
+                       (cell / "plain" / "sub", "Not a directory")):  # fmt: skip
+        assert main(["study", str(path), "--out", str(out), "-q"]) == 3
+        err = capsys.readouterr().err
+        flat = "".join(err.split())  # however the console wrapped a long path
+        assert "".join(f"irlc: error: {out}: {words}".split()) in flat, err
+        assert "internal error" not in err
+    assert (cell / "plain").read_text() == "x"
+
+
 # --------------------------------------------------------------------------- running
 
 STUDY = (
