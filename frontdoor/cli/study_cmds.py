@@ -22,7 +22,7 @@ from irlc.study.summary import DEFAULT_SORT
 @click.option("--resume", is_flag=True, help="Run only the variants not yet in DIR/results.csv.")
 @click.option("--sort", "sort", default=DEFAULT_SORT, show_default=True,
               help="Best/worst by this metric (smallest first; -METRIC: largest).")  # fmt: skip
-@click.option("--plot", "plot", type=click.Path(path_type=Path), default=None,
+@click.option("--plot", "plot", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Draw the --sort metric against the varied keys into FILE.png.")  # fmt: skip
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar, no summary.")
 @allow_any_path_option
@@ -87,7 +87,11 @@ def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet, allo
         )
     if plot is not None:
         grid = {axis.key for axis in outcome.study.grid}
-        path = draw(outcome.rows, keys, split_sort(sort)[0], plot, grid)
+        try:
+            path = draw(outcome.rows, keys, split_sort(sort)[0], plot, grid)
+        except OSError as exc:  # the rows are in results.csv: only the figure is missing
+            where = exc.filename or plot
+            raise UsageError(f"--plot: cannot write {where}: {exc.strerror or exc}") from None
         if not quiet:
             console.print(f"plot: {path}")
     return EXIT_OK

@@ -503,6 +503,24 @@ def test_plot_draws_a_line_or_a_heat_map(tmp_path):
     assert len({p.read_bytes() for p in (line, heat, dots, cats)}) == 4
 
 
+def test_a_plot_target_that_cannot_be_written_is_a_usage_error(cell, capsys):
+    # --plot DIR was an internal error (IsADirectoryError) after the whole study had run
+    pytest.importorskip("matplotlib")
+    path = write_study(cell, '[grid]\n"run.ipo" = [0.01]\n')
+    (cell / "figs").mkdir()
+    assert (
+        main(["study", str(path), "--out", str(cell / "o1"), "-q", "--plot", str(cell / "figs")])
+        == 3
+    )
+    assert "is a directory" in capsys.readouterr().err
+    assert not (cell / "o1").exists()  # refused before anything ran
+    bad = cell / "s.toml" / "x.png"
+    assert main(["study", str(path), "--out", str(cell / "o2"), "-q", "--plot", str(bad)]) == 3
+    err = capsys.readouterr().err
+    assert "".join(f"--plot: cannot write {bad}: Not a directory".split()) in "".join(err.split())
+    assert (cell / "o2" / "results.csv").exists()  # the rows are kept
+
+
 def test_a_long_lived_worker_keeps_the_caches_of_the_last_two_studies(monkeypatch):
     from types import SimpleNamespace
 
