@@ -46,7 +46,7 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
     "--datalist-path",
     "datalist_path",
     multiple=True,
-    type=click.Path(path_type=Path, file_okay=False),
+    type=click.Path(path_type=Path, file_okay=False, exists=True),
     help="Folder searched for IMPORT DATALIST files (repeatable).",
 )
 @click.option("--ipo", type=float, default=None, help="IPO cycle in seconds (overrides R_IPO).")

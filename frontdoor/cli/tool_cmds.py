@@ -42,7 +42,8 @@ def test_cmd(directory: Path, update: bool, jobs: int, allow_any_path: bool) -> 
 @cli.command("repl")
 @click.option("--robot", "robot", default=None, help="Robot name or description file.")
 @click.option(
-    "--datalist-path", "datalist_path", multiple=True, type=click.Path(path_type=Path),
+    "--datalist-path", "datalist_path", multiple=True,
+    type=click.Path(path_type=Path, file_okay=False, exists=True),
     help="Folder searched for IMPORT DATALIST files (repeatable).",
 )  # fmt: skip
 @click.option("--plain", is_flag=True, help="Plain line input even on a terminal.")

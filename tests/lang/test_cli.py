@@ -78,6 +78,10 @@ def test_datalist_path_option(tmp_path: Path, capsys) -> None:
     )
     assert _run(capsys, "check", str(prog))[0] == 1
     assert _run(capsys, "check", str(prog), "--datalist-path", str(tmp_path / "lists"))[0] == 0
+    # a folder that does not exist is a typo, for every command (run and repl ignored it)
+    for command in (["check", str(prog)], ["run", str(prog), "-q"], ["repl"]):
+        code, _, err = _run(capsys, *command, "--datalist-path", str(tmp_path / "lsts"))
+        assert code == 3 and "lsts" in err and ("does not exist" in err or "no such" in err), err
 
 
 def test_compile_default_output_and_disasm(tmp_path: Path, capsys) -> None:
