@@ -304,7 +304,8 @@ def run_case(
     runner = runner or default_runner
     json_path, txt_path = expected_paths(program)
     try:
-        expected = load_expectation(json_path) if json_path.is_file() else None
+        # anything there but a regular file (a folder, a FIFO) is read and refused
+        expected = load_expectation(json_path) if json_path.exists() else None
     except ExpectationError as e:
         return CaseResult(program, "error", message=str(e))
     user = {k: expected[k] for k in USER_KEYS if expected and k in expected}
@@ -330,7 +331,7 @@ def run_case(
         return CaseResult(program, "missing", message=f"no {json_path.name}; run with --update")
     mismatches = compare(expected, actual, user.get("tolerances"))
     diff: list[str] = []
-    if txt_path.is_file():
+    if txt_path.exists():
         try:
             want = read_user_text(txt_path, lambda f, r: ExpectationError(f"{f}: {r}"))
         except ExpectationError as e:

@@ -66,6 +66,19 @@ def test_bad_expectation_is_an_error_case_naming_file_and_key(tmp_path, content,
     assert result.status == "error" and message in result.message
 
 
+@pytest.mark.parametrize("kind", ["fifo", "folder"])
+@pytest.mark.parametrize("suffix", ["json", "txt"])
+def test_an_expectation_that_is_not_a_file_is_an_error_case(tmp_path, kind, suffix):
+    # a FIFO or a folder named NAME.expected.json was reported as MISSING ("no
+    # p.expected.json; run with --update"), and the .txt one was ignored
+    prog = _case(tmp_path, b"{}")
+    target = tmp_path / f"p.expected.{suffix}"
+    target.unlink(missing_ok=True)
+    os.mkfifo(target) if kind == "fifo" else target.mkdir()
+    result = run_case(prog, runner=lambda program, options: {"output": []})
+    assert result.status == "error" and result.message == f"{target}: not a regular file"
+
+
 def test_valid_user_keys_load(tmp_path):
     path = tmp_path / "e.json"
     path.write_text('{"options": {"ipo": 0.01}, "tolerances": {"duration_s": 0.5}}')
