@@ -249,7 +249,7 @@ def test_update_over_a_folder_of_the_expectation_name_is_an_error_case(tmp_path,
     (tmp_path / "p.expected.json").mkdir()
     assert main(["test", str(tmp_path), "--update"]) == 1
     text = " ".join(capsys.readouterr().out.split())
-    assert f"ERROR p.irl cannot write {tmp_path}/p.expected.json: is a folder" in text
+    assert f"ERROR p.irl {tmp_path}/p.expected.json: not a regular file" in text
     assert sorted(p.name for p in tmp_path.iterdir()) == ["p.expected.json", "p.irl"]
 
 
