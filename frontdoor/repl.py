@@ -760,6 +760,9 @@ def numbered_entries(lines: Iterator[str]) -> Iterator[tuple[int, str]]:
     buf: list[str] = []
     first = 1
     for number, line in enumerate(lines, start=1):
+        if buf and _is_meta_line(line) and not _unterminated_comment("\n".join(buf)):
+            yield number, line.rstrip("\n")  # a meta-command inside an open block runs now
+            continue
         if not buf:
             first = number
         buf.append(line.rstrip("\n"))
@@ -769,6 +772,13 @@ def numbered_entries(lines: Iterator[str]) -> Iterator[tuple[int, str]]:
             buf = []
     if buf and "\n".join(buf).strip():
         yield first, "\n".join(buf)
+
+
+def _is_meta_line(line: str) -> bool:
+    """A line that is a meta-command (``:where``): IRL has no statement that starts with a
+    colon, so inside an open block it cannot be the block's text."""
+    stripped = line.strip()
+    return stripped.startswith(":") and not stripped.startswith(":=")
 
 
 def read_entries(lines: Iterator[str]) -> Iterator[str]:
@@ -888,10 +898,12 @@ def run_terminal(session: Session, echo: Callable[[str], None]) -> int:  # pragm
             continue
         except EOFError:
             return 0
-        if text.strip().lower() in (":quit", ":q", ":exit"):
-            return 0
-        for line in session.enter(text).lines:
-            echo(line)
+        # a meta-command typed inside a block runs first (numbered_entries), then the block
+        for _, entry in numbered_entries(iter(text.split("\n"))):
+            if entry.strip().lower() in (":quit", ":q", ":exit"):
+                return 0
+            for line in session.enter(entry).lines:
+                echo(line)
 
 
 def main(

@@ -73,6 +73,26 @@ def test_entries_from_lines():
     ]
 
 
+def test_a_meta_command_inside_an_open_block_runs_at_once():
+    # it was kept as a line of the block: 'IF TRUE THEN' + ':where' compiled as the label
+    # 'THEN:' ("'THEN' is a reserved word and cannot be a label"); inside a comment it is text
+    import io
+
+    from irlc.repl import Session, run_plain
+
+    text = "IF TRUE THEN\n:where\n  WRITELN(7);\nENDIF;\n{ open\n:where\n} WRITELN(8);\n"
+    assert list(numbered_entries(iter(text.splitlines()))) == [
+        (2, ":where"),
+        (1, "IF TRUE THEN\n  WRITELN(7);\nENDIF;"),
+        (5, "{ open\n:where\n} WRITELN(8);"),
+    ]
+    printed: list[str] = []
+    script = text + "WHILE TRUE DO\n:quit\nENDWHILE;\n"  # :quit ends the session there
+    assert run_plain(Session("planar3"), io.StringIO(script), printed.append) == 0
+    assert printed[0].startswith("t = 0.000 s  pose (2000, 1000, 0, 0, 0, 0)")
+    assert printed[-2:] == ["7", "8"], printed
+
+
 def test_highlighting_covers_the_line():
     line = "MOVE LIN p WITH SPEED := 200 { fast } 'x'"
     frags = token_styles(line, frozenset({"MOVE", "LIN", "WITH"}))
