@@ -23,6 +23,7 @@ from irlc.lang.irdata import Code
 from irlc.lang.nesting import nesting_error
 from irlc.lang.parser import parse
 from irlc.lang.signature import RobotResolver, RobotSignature, kind_letters
+from irlc.lang.textfile import read_user_bytes
 
 
 @dataclass
@@ -120,17 +121,18 @@ def _compile(
     return result
 
 
+class _Unreadable(Exception):
+    """Why the program file cannot be read (:func:`compile_file`)."""
+
+
 def compile_file(path: str | Path, **options) -> CompileResult:
     """Read ``path`` (UTF-8; a leading byte-order mark is dropped) and compile it; a read
     failure is a diagnostic, a byte that is not UTF-8 one at its line and column."""
     name = str(path)
     try:
-        data = Path(path).read_bytes()
-    except OSError as e:
-        msg = e.strerror or str(e)
-        return CompileResult(
-            None, [Diagnostic("error", f"cannot read the program: {msg}", name)], "", name
-        )
+        data = read_user_bytes(path, lambda file, reason: _Unreadable(reason))
+    except _Unreadable as e:  # "not a regular file", "cannot read the file (…)"
+        return CompileResult(None, [Diagnostic("error", str(e), name)], "", name)
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as e:

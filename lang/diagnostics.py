@@ -60,7 +60,8 @@ def render(diag: Diagnostic, source: str | None = None) -> str:
     a robot file's or data list's error names file, line and key, never its text
     (``irlc.lang.file_access``)."""
     out = [diag.header()]
-    if source is None and diag.span is not None and diag.file.lower().endswith(".irl"):
+    readable = diag.file.lower().endswith(".irl") and Path(diag.file).is_file()  # no FIFO
+    if source is None and diag.span is not None and readable:
         try:
             source = Path(diag.file).read_text(encoding="utf-8", errors="replace")
         except OSError:

@@ -18,17 +18,25 @@ from pathlib import Path
 ErrorFactory = Callable[[str, str], Exception]  # (file, reason) → the caller's error
 
 
-def read_user_text(path: str | Path, error: ErrorFactory) -> str:
-    """The UTF-8 text of ``path`` (a leading byte-order mark dropped); raises
-    ``error(str(path), reason)`` when it cannot be read (a folder, device or pipe is no
-    text file: ``/dev/zero`` or a FIFO would be read without end)."""
+def read_user_bytes(path: str | Path, error: ErrorFactory) -> bytes:
+    """The bytes of ``path``; raises ``error(str(path), reason)`` when it cannot be read (a
+    folder, device or pipe is no file to read: ``/dev/zero`` or a FIFO would be read
+    without end)."""
     file = str(path)
     if Path(path).exists() and not Path(path).is_file():  # a device or pipe reads forever
         raise error(file, "not a regular file")
     try:
-        data = Path(path).read_bytes()
+        return Path(path).read_bytes()
     except OSError as e:
         raise error(file, f"cannot read the file ({e.strerror or e})") from None
+
+
+def read_user_text(path: str | Path, error: ErrorFactory) -> str:
+    """The UTF-8 text of ``path`` (a leading byte-order mark dropped); raises
+    ``error(str(path), reason)`` when it cannot be read (:func:`read_user_bytes`) or is not
+    UTF-8."""
+    file = str(path)
+    data = read_user_bytes(path, error)
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as e:

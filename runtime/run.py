@@ -456,7 +456,7 @@ def run_file(
     from irlc.lang.diagnostics import CompileError
 
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():  # anything else is read and refused (a folder, a FIFO)
         raise RunSetupError(f"{path}: no such file")
     override = None if robot is None or isinstance(robot, RobotModel) else str(robot)
     if override is not None:

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
+from irlc.errors import UsageError
 
 
 class IrlcGroup(click.Group):
@@ -28,3 +31,14 @@ def cli() -> None:
     from irlc.runtime.accel_support import engine
 
     engine()  # a bad IRLC_ENGINE is an environment error (exit 3) before any work
+
+
+def require_file(path: Path) -> None:
+    """A :class:`UsageError` unless ``path`` names a regular file: no such file, a folder,
+    or a device or pipe (read, a FIFO blocks and ``/dev/zero`` never ends)."""
+    if path.is_dir():
+        raise UsageError(f"{path}: a folder, not a file")
+    if not path.exists():
+        raise UsageError(f"{path}: no such file")
+    if not path.is_file():
+        raise UsageError(f"{path}: not a regular file")

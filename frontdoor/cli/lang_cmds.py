@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import click
-from irlc.cli.app import cli
+from irlc.cli.app import cli, require_file
 from irlc.errors import EXIT_COMPILE, EXIT_OK, UsageError
 
 
@@ -26,8 +26,7 @@ def _compile(
     from irlc.lang import compile_file
     from irlc.robots import RobotFileError, resolve_robot, resolver
 
-    if not program.is_file():
-        raise UsageError(f"{program}: no such file")
+    require_file(program)
     for d in datalist_path:
         if not d.is_dir():
             raise UsageError(f"--datalist-path {d}: no such folder")
@@ -148,8 +147,7 @@ def disasm_cmd(code_file: Path) -> int:
     from irlc.lang.disasm import disassemble, find_source
     from irlc.lang.textfile import read_user_text
 
-    if not code_file.is_file():
-        raise UsageError(f"{code_file}: no such file")
+    require_file(code_file)
     text = read_user_text(code_file, lambda file, reason: UsageError(f"{file}: {reason}"))
     try:
         code = read_code(text, str(code_file))

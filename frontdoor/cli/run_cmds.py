@@ -17,7 +17,7 @@ import time
 from pathlib import Path
 
 import click
-from irlc.cli.app import cli
+from irlc.cli.app import cli, require_file
 from irlc.cli.lang_cmds import allow_any_path_option
 from irlc.errors import EXIT_COMPILE, EXIT_OK, EXIT_RUN, UsageError
 from irlc.runtime.drive_levels import LEVELS as DRIVE_LEVELS
@@ -183,8 +183,7 @@ def run_cmd(
     from irlc.cli.console import Console, echo
 
     seed = parse_seed_config(seed_config)
-    if not program.is_file():
-        raise UsageError(f"{program}: no such file")
+    require_file(program)
     if trace_every_step and drives == "ideal":
         raise UsageError("--trace-every-step needs --drives other than ideal")
     compare = _load_compare(compare_path) if compare_path is not None else None

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import click
-from irlc.cli.app import cli
+from irlc.cli.app import cli, require_file
 from irlc.cli.lang_cmds import allow_any_path_option
 from irlc.errors import EXIT_COMPILE, EXIT_INTERRUPTED, EXIT_OK, UsageError
 from irlc.study.summary import DEFAULT_SORT
@@ -42,8 +42,7 @@ def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet, allo
     from irlc.study.summary import check_metric, split_sort, summary_table
     from irlc.study.summary import plot as draw
 
-    if not study_file.is_file():
-        raise UsageError(f"{study_file}: no such file")
+    require_file(study_file)
     from irlc.summary import MAX_WIDTH
 
     console = Console(highlight=False)

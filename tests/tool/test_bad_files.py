@@ -275,3 +275,20 @@ def test_a_pipe_whose_reader_stops_drops_the_rest_of_the_file(tmp_path):
     atomic_write_bytes(fifo, b"x" * (64 * 65536))
     reader.join(10)
     assert got == [b"x" * 10] and stat.S_ISFIFO(fifo.lstat().st_mode)
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no named pipes")
+@pytest.mark.parametrize("command", [["check"], ["compile"], ["run", "-q"], ["disasm"]])
+def test_a_program_that_is_a_pipe_or_a_folder_is_refused_not_read(tmp_path, capsys, command):
+    # the commands checked is_file() and called a FIFO "no such file"; read, it blocks
+    # without a writer (compile_file read it with read_bytes)
+    fifo, folder = tmp_path / "p.irl", tmp_path / "d.irl"
+    os.mkfifo(fifo)
+    folder.mkdir()
+    code = main([command[0], str(fifo), *command[1:]])
+    err = "".join(capsys.readouterr().err.split())  # however the console wrapped the path
+    assert code == 3 and "".join(f"{fifo}: not a regular file".split()) in err, err
+    code = main([command[0], str(folder), *command[1:]])
+    out = capsys.readouterr()
+    assert code == 3 and "Traceback" not in out.err
+    assert "a folder, not a file" in out.err or "is a directory" in out.err, out
