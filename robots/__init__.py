@@ -95,7 +95,7 @@ def robot_file(
                 return candidate
         if is_file(given):
             return given
-        raise RobotFileError(text, "", "file not found")
+        raise RobotFileError(text, "", _not_found(given))
     path = ROBOTS_DIR / f"{text.lower()}.toml"
     if not text or not is_file(path):
         raise UnknownRobotError(text)
@@ -117,8 +117,15 @@ def _program_robot_file(text: str, base_dir: Path) -> Path:
             return library
         raise RobotFileError(shown(candidate), "", f"{refusal(roots)}; {ALLOW_HINT}")
     if not is_file(candidate):
-        raise RobotFileError(text, "", "file not found (looked in the program's folder)")
+        raise RobotFileError(text, "", _not_found(candidate, " (looked in the program's folder)"))
     return candidate
+
+
+def _not_found(path: Path, where: str = "") -> str:
+    """Why ``path`` is no robot file: a folder, a device or pipe (never read), or nothing."""
+    if path.is_dir():
+        return "a folder, not a file"
+    return "not a regular file" if path.exists() else f"file not found{where}"
 
 
 def _library_copy(path: Path) -> Path | None:

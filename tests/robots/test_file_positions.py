@@ -4,6 +4,7 @@ file's text; now a ``RobotFileError`` / diagnostic names the file, the line and 
 
 from __future__ import annotations
 
+import os
 import time
 
 import pytest
@@ -204,3 +205,17 @@ def test_a_study_file_tomllib_cannot_take_is_a_positioned_error(tmp_path, capsys
     assert main(["study", str(study)]) == 3
     err = capsys.readouterr().err
     assert "s.toml:2" in err and "too many digits" in err and "0" * 50 not in err
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no named pipes")
+def test_a_robot_path_that_is_a_pipe_or_a_folder_says_so(tmp_path):
+    # both were "file not found"
+    from irlc.robots import RobotFileError, robot_file
+
+    os.mkfifo(tmp_path / "pipe.toml")
+    (tmp_path / "dir.toml").mkdir()
+    for name, reason in (("pipe.toml", "not a regular file"), ("dir.toml", "a folder, not a file"),
+                         ("none.toml", "file not found")):  # fmt: skip
+        with pytest.raises(RobotFileError) as err:
+            robot_file(str(tmp_path / name), None)
+        assert str(err.value).endswith(reason), err.value
