@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import os
 import sys
 import warnings
 
@@ -25,6 +26,7 @@ __all__ = ["cli", "main"]
 
 
 def main(argv: list[str] | None = None) -> int:
+    _usable_streams()
     try:
         with _quiet_libraries():
             rv = cli.main(args=argv, prog_name="irlc", standalone_mode=False)
@@ -41,6 +43,13 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_USAGE
     except KeyboardInterrupt:
         return EXIT_INTERRUPTED
+    except OSError as e:  # the environment: a full standard output or disk, a lost device
+        if e.filename is None:  # a stream: the standard output (what is left goes nowhere)
+            _discard_stdout()
+        where = e.filename or "the standard output"
+        with contextlib.suppress(OSError):
+            click.echo(f"irlc: error: cannot write {where}: {e.strerror or e}", err=True)
+        return EXIT_USAGE
     except MemoryError:  # the environment: the machine's (or the limit's) memory is too small
         click.echo(
             "irlc: error: out of memory: the command needs more memory than this process may"
@@ -60,6 +69,26 @@ def main(argv: list[str] | None = None) -> int:
             traceback.print_exc()
         return EXIT_INTERNAL
     return rv if isinstance(rv, int) else 0
+
+
+def _usable_streams() -> None:
+    """Standard output and error that can take any text: a closed one (``>&-``: Python's
+    ``None``) writes to the null device, and a character the stream's encoding lacks
+    (``PYTHONIOENCODING=ascii``, the ``²`` of a unit) is escaped instead of failing."""
+    for name in ("stdout", "stderr"):
+        if getattr(sys, name) is None:
+            setattr(sys, name, open(os.devnull, "w", encoding="utf-8"))  # noqa: SIM115
+        with contextlib.suppress(AttributeError, ValueError, OSError):
+            getattr(sys, name).reconfigure(errors="backslashreplace")
+
+
+def _discard_stdout() -> None:
+    """Point the standard output at the null device, so that the text still buffered for
+    it is dropped at exit instead of failing again."""
+    with contextlib.suppress(OSError, ValueError, AttributeError):
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, sys.stdout.fileno())
+        os.close(null)
 
 
 @contextlib.contextmanager

@@ -46,3 +46,42 @@ def test_a_closed_pipe_keeps_the_runs_exit_status(tmp_path: Path, n: int, status
     assert "Traceback" not in err and "internal error" not in err
     if status == 2:
         assert "w.irl:6:" in err  # the run's own failure is still reported
+
+
+def _irlc(tmp_path: Path, args: list[str], stdout, env: dict | None = None):
+    import os
+
+    program = tmp_path / "w.irl"
+    program.write_text(LOOP.format(n=3), encoding="utf-8")
+    cmd = [sys.executable, "-c", "from irlc.cli import entry; entry()", *args]
+    return subprocess.run(
+        cmd, stdout=stdout, stderr=subprocess.PIPE, cwd=tmp_path, timeout=300,
+        env={**os.environ, **(env or {})},
+    )  # fmt: skip
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="no /dev/full")
+@pytest.mark.parametrize("args", [["run", "w.irl"], ["fk", "planar3", "0", "0", "0"], ["robots"]])
+def test_a_full_standard_output_is_exit_3_naming_it(tmp_path, args):
+    # an internal error before: OSError [Errno 28] escaped from click.echo / rich
+    with open("/dev/full", "w") as full:
+        done = _irlc(tmp_path, args, full)
+    err = done.stderr.decode()
+    assert done.returncode == 3, err
+    assert err == "irlc: error: cannot write the standard output: No space left on device\n"
+
+
+def test_a_closed_standard_output_or_an_ascii_one_does_not_stop_the_run(tmp_path):
+    # closed (>&-: Python's sys.stdout is None): "AttributeError: 'NoneType' object has no
+    # attribute 'isatty'", exit 4; PYTHONIOENCODING=ascii: UnicodeEncodeError on "²", exit 4
+    import os
+
+    (tmp_path / "w.irl").write_text(LOOP.format(n=3), encoding="utf-8")
+    closed = subprocess.run(
+        [sys.executable, "-c", "from irlc.cli import entry; entry()", "run", "w.irl"],
+        stderr=subprocess.PIPE, cwd=tmp_path, timeout=300, preexec_fn=lambda: os.close(1),
+    )  # fmt: skip
+    assert closed.returncode == 0, closed.stderr.decode()
+    ascii_run = _irlc(tmp_path, ["robot", "koch11"], subprocess.PIPE, {"PYTHONIOENCODING": "ascii"})
+    assert ascii_run.returncode == 0, ascii_run.stderr.decode()
+    assert b"\\u2014" in ascii_run.stdout  # the dash escaped, not a failure
