@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from irlc.lang.errors import IrlcError
+from irlc.lang.file_access import split_source_lines
 
 
 @dataclass(frozen=True, order=True)
@@ -67,7 +68,7 @@ def render(diag: Diagnostic, source: str | None = None) -> str:
         except OSError:
             source = None
     if source is not None and diag.span is not None:
-        lines = source.splitlines()
+        lines = split_source_lines(source)
         if 1 <= diag.span.line <= len(lines):
             text = lines[diag.span.line - 1].expandtabs(1)
             col = max(1, diag.span.column)

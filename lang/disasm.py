@@ -9,19 +9,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from irlc.lang.file_access import read_source_text
+from irlc.lang.file_access import program_source_lines
 from irlc.lang.irdata import Code, write_code
 
 
 def find_source(code: Code, ird_path: str | Path | None = None) -> list[str] | None:
-    """The source lines: the SOURCE path as written, else the same name next to the .ird."""
-    candidates = [Path(code.source)]
-    if ird_path is not None:
-        candidates.append(Path(ird_path).parent / Path(code.source).name)
-    for p in candidates:  # a regular file of bounded size only (irlc.lang.file_access)
-        if (text := read_source_text(p)) is not None:
-            return text.splitlines()
-    return None
+    """The source lines (:func:`~irlc.lang.file_access.program_source_lines`): the ``.irl``
+    file the SOURCE record names, next to the ``.ird`` first."""
+    base = None if ird_path is None else Path(ird_path).parent
+    return program_source_lines(code.source, base)
 
 
 def disassemble(code: Code, source_lines: list[str] | None = None) -> str:

@@ -167,6 +167,29 @@ def read_source_text(path: str | Path, limit: int = MAX_SOURCE_BYTES) -> str | N
         return None
 
 
+def split_source_lines(text: str) -> list[str]:
+    """A program's lines as the lexer counts them: split at ``\n`` only (a ``\r`` before
+    it dropped), not at every Unicode line break ``str.splitlines`` knows (U+2028 in a
+    comment would shift every line after it)."""
+    lines = [line.removesuffix("\r") for line in text.split("\n")]
+    return lines[:-1] if lines and lines[-1] == "" else lines
+
+
+def program_source_lines(source: str, base_dir: str | Path | None) -> list[str] | None:
+    """The lines of the program source an ``.ird`` file names (its SOURCE record): an
+    ``.irl`` file only — a code file naming any other file shows none of it — looked up
+    next to the code (``base_dir``) first, then as written; ``None`` when none is read."""
+    if not source or Path(source).suffix.lower() != ".irl":
+        return None
+    candidates = [Path(source)]
+    if base_dir is not None:
+        candidates.insert(0, Path(base_dir) / Path(source).name)
+    for path in candidates:  # a regular file of bounded size only
+        if (text := read_source_text(path)) is not None:
+            return split_source_lines(text)
+    return None
+
+
 def _nonblocking(path: str, flags: int) -> int:
     """Open without blocking on a FIFO (the file type is checked after opening)."""
     return os.open(path, flags | getattr(os, "O_NONBLOCK", 0))

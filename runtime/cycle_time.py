@@ -22,7 +22,7 @@ from pathlib import Path
 
 # How a motion statement is written, for runs without the source text: owned by the
 # language's settings table, re-exported here for the executor.
-from irlc.lang.file_access import read_source_text
+from irlc.lang.file_access import program_source_lines
 from irlc.lang.settings import KIND_WORDS as KIND_WORDS
 
 
@@ -53,16 +53,9 @@ def motion_limit(limits: Sequence[str], fixed_time: bool) -> str:
 
 def source_lines(source: str, base_dir: str | Path | None) -> list[str]:
     """The lines of the program's source file (``code.source``, an ``.irl`` file looked up
-    next to the program, else as given), or ``[]`` when it cannot be read."""
-    if not source or Path(source).suffix.lower() != ".irl":
-        return []
-    candidates = [Path(source)]
-    if base_dir is not None:
-        candidates.insert(0, Path(base_dir) / Path(source).name)
-    for path in candidates:  # a regular file of bounded size only (irlc.lang.file_access)
-        if (text := read_source_text(path)) is not None:
-            return text.splitlines()
-    return []
+    next to the program, else as given), or ``[]`` when it cannot be read
+    (:func:`~irlc.lang.file_access.program_source_lines`)."""
+    return program_source_lines(source, base_dir) or []
 
 
 _TRAILING_COMMENT = re.compile(r"\s*(?:\{[^{}']*\}|\(\*(?:(?!\*\)).)*\*\)|//[^']*)\s*\Z")

@@ -195,6 +195,30 @@ def test_a_source_that_is_a_fifo_is_not_read(tmp_path) -> None:
     assert time.monotonic() - start < 2.0
 
 
+def test_disasm_shows_only_an_irl_source_with_its_lines_as_the_compiler_counts_them(
+    tmp_path, capsys
+) -> None:
+    # SOURCE '/etc/passwd' interleaved that file's lines; U+2028 or a form feed in a
+    # comment shifted every shown line after it by one (str.splitlines)
+    src = tmp_path / "p.irl"
+    src.write_text(
+        "PROGRAM p;\r\nROBOT r := planar3;\r\n{ a\u2028b \x0c c }\r\nBEGIN\r\n"
+        "  WRITELN('x');\r\nENDPROGRAM\r\n",
+        encoding="utf-8",
+    )
+    assert main(["compile", str(src), "-o", str(tmp_path / "p.ird")]) == 0
+    capsys.readouterr()
+    assert main(["disasm", str(tmp_path / "p.ird")]) == 0
+    assert ";    5 |   WRITELN('x');" in capsys.readouterr().out.splitlines()
+    other = tmp_path / "notes.txt"
+    other.write_text("SECRET_LINE\n" * 9, encoding="utf-8")
+    ird = (tmp_path / "p.ird").read_text(encoding="utf-8")
+    (tmp_path / "q.ird").write_text(re.sub(r"SOURCE '[^']*'", f"SOURCE '{other}'", ird))
+    assert main(["disasm", str(tmp_path / "q.ird")]) == 0
+    out = capsys.readouterr().out
+    assert "SECRET_LINE" not in out and "(source file not found" in out
+
+
 @pytest.mark.parametrize(
     ("instruction", "message"),
     [
