@@ -191,10 +191,17 @@ def _checked_report(report: Any, path: Path) -> dict:
     return report
 
 
+# The largest magnitude a value of a report or trace read back (--compare) may have, in
+# its unit (mm, deg, s, …): no run produces more, and figures cannot scale beyond it.
+COMPARE_LIMIT = 1e12
+
+
 def _number_or_null(obj: dict, key: str, path: Path, where: str) -> None:
     value = obj.get(key)
     if value is not None and (isinstance(value, bool) or not isinstance(value, int | float)):
         raise RunFileError(f"{path}: key '{where}': expected a number or null")
+    if value is not None and not abs(value) <= COMPARE_LIMIT:
+        raise RunFileError(f"{path}: key '{where}': a number beyond ±{COMPARE_LIMIT:g}")
 
 
 def _read_csv(path: Path, text: str) -> tuple[list[str], np.ndarray]:
@@ -214,6 +221,8 @@ def _read_csv(path: Path, text: str) -> tuple[list[str], np.ndarray]:
             values = []
         if not values or not all(math.isfinite(v) for v in values):
             raise RunFileError(f"{path}:{i}: a value that is not a finite number")
+        if not all(abs(v) <= COMPARE_LIMIT for v in values):
+            raise RunFileError(f"{path}:{i}: a value beyond ±{COMPARE_LIMIT:g}")
         data.append(values)
     table = np.array(data, dtype=float) if data else np.zeros((0, len(columns)))
     return columns, table
