@@ -88,6 +88,13 @@ def measure(
 
 WINDOW_BACK_S = 2.0  # how far back along the path the nearest point is searched
 WINDOW_AHEAD_S = 0.5  # and how far ahead (overshoot)
+# ... but over at most this many segments (4/5 back, 1/5 ahead): the search costs the
+# window's samples for each measured one, so a small IPO cycle made the measurement
+# quadratic in the run's length (--ipo 0.0001: minutes). Every window of an IPO cycle
+# ≥ 1 ms is whole; below, it is shorter in time (0.2 s back at 0.1 ms) — a drive
+# lagging more than that would be measured against a later point, an error larger than
+# the true one (a run may fail, never pass, because of it).
+WINDOW_MAX_SEGMENTS = 2500
 RAD_AS_M = 0.3  # nearest point: 1 rad of orientation weighs like 0.3 m of position
 
 
@@ -122,6 +129,10 @@ class _CommandedPath:
         """(position, orientation) error of ``tcp`` against the nearest commanded point."""
         lo = int(np.searchsorted(self.times, t - WINDOW_BACK_S, side="left"))
         hi = int(np.searchsorted(self.times, t + WINDOW_AHEAD_S, side="right"))
+        if hi - lo - 1 > WINDOW_MAX_SEGMENTS:  # segments join consecutive samples
+            now = int(np.searchsorted(self.times, t, side="right"))
+            lo = max(lo, now - WINDOW_MAX_SEGMENTS * 4 // 5)
+            hi = min(hi, now + WINDOW_MAX_SEGMENTS // 5 + 1)
         seg = lo + np.flatnonzero(self.joined[lo : max(hi - 1, lo)])
         if seg.size:
             best, s = self._nearest(seg, tcp, pos_rows, len(ori_rows) > 0)

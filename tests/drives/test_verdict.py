@@ -326,3 +326,30 @@ def test_a_turn_on_the_spot_is_matched_by_orientation(tmp_path):
 
 def units_of(kind: str) -> str:
     return "mm" if kind == "prismatic" else "deg"
+
+
+@pytest.mark.parametrize("ipo", [0.01, 0.001, 0.0001])
+def test_the_nearest_point_search_covers_the_window_in_at_most_its_sample_cap(ipo):
+    # a straight commanded line at `ipo`: the search looks 2 s back and 0.5 s ahead, over
+    # at most WINDOW_MAX_SEGMENTS segments (it was every sample of the window: quadratic in
+    # a run's length at a small IPO cycle, 3 minutes of CPU for 2.5 s at 0.1 ms), and the
+    # nearest point it finds is exact (a point beside the line: its distance)
+    from types import SimpleNamespace
+
+    from irlc.runtime import actual_motion as am
+
+    times = np.arange(0.0, 3.0 + ipo / 2, ipo)
+    desired = np.tile(np.eye(4), (len(times), 1, 1))
+    desired[:, 0, 3] = times  # along x at 1 m/s
+    path = am._CommandedPath(
+        SimpleNamespace(times=times, desired=desired, on_path=np.ones(len(times), bool))
+    )
+    searched: list[int] = []
+    nearest = path._nearest
+    path._nearest = lambda seg, *a: searched.append(seg.size) or nearest(seg, *a)
+    tcp = np.eye(4)
+    tcp[:3, 3] = (2.0 - 0.1, 0.003, 0.0)  # 0.1 s behind t = 2 s, 3 mm beside the line
+    pos, _ = path.contour_error(2.0, tcp, np.arange(3), np.array([], int))
+    assert pos == pytest.approx(0.003, abs=1e-12)
+    assert 0 < searched[0] <= am.WINDOW_MAX_SEGMENTS
+    assert searched[0] == min(round(2.5 / ipo), am.WINDOW_MAX_SEGMENTS)
