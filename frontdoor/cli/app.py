@@ -42,3 +42,21 @@ def require_file(path: Path) -> None:
         raise UsageError(f"{path}: no such file")
     if not path.is_file():
         raise UsageError(f"{path}: not a regular file")
+
+
+def distinct_outputs(inputs: dict[str, Path], outputs: dict[str, Path | None]) -> None:
+    """A :class:`UsageError` when an output (option → path) would overwrite an input (what
+    → path) or another output: ``irlc compile p.irl -o p.irl`` replaced the program."""
+    seen = {_same_file_key(path): what for what, path in inputs.items()}
+    for option, path in outputs.items():
+        if path is None:
+            continue
+        key = _same_file_key(path)
+        if key in seen:
+            raise UsageError(f"{option} {path}: that is {seen[key]}; choose another file")
+        seen[key] = f"the file of {option}"
+
+
+def _same_file_key(path: Path) -> str:
+    """A path's identity, links and ``..`` resolved (an output need not exist yet)."""
+    return str(Path(path).expanduser().resolve())

@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import click
-from irlc.cli.app import cli, require_file
+from irlc.cli.app import cli, distinct_outputs, require_file
 from irlc.errors import EXIT_COMPILE, EXIT_OK, UsageError
 
 
@@ -125,10 +125,11 @@ def compile_cmd(
     from irlc.files import atomic_write_text
     from irlc.lang import write_code
 
+    out = output if output is not None else program.with_suffix(".ird")
+    distinct_outputs({"the program": program}, {"-o": out})
     result = _compile(program, robot, datalist_path, allow_any_path)
     if not _reported(program, result):
         return EXIT_COMPILE
-    out = output if output is not None else program.with_suffix(".ird")
     if not out.parent.is_dir() and str(out.parent):
         raise UsageError(f"-o {out}: folder {out.parent} does not exist")
     try:

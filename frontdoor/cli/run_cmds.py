@@ -17,7 +17,7 @@ import time
 from pathlib import Path
 
 import click
-from irlc.cli.app import cli, require_file
+from irlc.cli.app import cli, distinct_outputs, require_file
 from irlc.cli.lang_cmds import allow_any_path_option
 from irlc.errors import EXIT_COMPILE, EXIT_OK, EXIT_RUN, UsageError
 from irlc.runtime.drive_levels import LEVELS as DRIVE_LEVELS
@@ -184,6 +184,11 @@ def run_cmd(
 
     seed = parse_seed_config(seed_config)
     require_file(program)
+    distinct_outputs(  # (the --compare file is read first: a report may replace it)
+        {"the program": program},
+        {"--report": report_path, "--trace": trace_path, "--animate": animate_path,
+         "--export-trajectory": export_path},
+    )  # fmt: skip
     if trace_every_step and drives == "ideal":
         raise UsageError("--trace-every-step needs --drives other than ideal")
     compare = _load_compare(compare_path) if compare_path is not None else None

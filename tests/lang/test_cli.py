@@ -126,3 +126,22 @@ def test_disasm_malformed_code(tmp_path: Path, capsys, text: str) -> None:
 
 def test_disasm_missing_file(tmp_path: Path, capsys) -> None:
     assert _run(capsys, "disasm", str(tmp_path / "none.ird"))[0] == 3
+
+
+def test_an_output_never_overwrites_the_program_or_another_output(tmp_path: Path, capsys) -> None:
+    # `irlc compile p.irl -o p.irl` replaced the source with IRDATA ("wrote p.irl"), and
+    # `--report same.json --export-trajectory same.json` let one silently win
+    prog = tmp_path / "p.irl"
+    prog.write_text("PROGRAM p;\nROBOT r := planar3;\nBEGIN\nENDPROGRAM\n", encoding="utf-8")
+    text = prog.read_text()
+    same = tmp_path / "sub" / ".." / "p.irl"
+    (tmp_path / "sub").mkdir()
+    for args, words in (
+        (["compile", str(prog), "-o", str(same)], "that is the program"),
+        (["run", str(prog), "-q", "--trace", str(prog)], "that is the program"),
+        (["run", str(prog), "-q", "--report", str(tmp_path / "r.json"),
+          "--export-trajectory", str(tmp_path / "r.json")], "that is the file of --report"),
+    ):  # fmt: skip
+        code, _, err = _run(capsys, *args)
+        assert code == 3 and words in " ".join(err.split()), err
+    assert prog.read_text() == text and not (tmp_path / "r.json").exists()
