@@ -71,10 +71,18 @@ def main(argv: list[str] | None = None) -> int:
     return rv if isinstance(rv, int) else 0
 
 
+MIN_COLUMNS = 40  # a narrower COLUMNS is taken as this: at 0 the tables printed nothing
+
+
 def _usable_streams() -> None:
     """Standard output and error that can take any text: a closed one (``>&-``: Python's
     ``None``) writes to the null device, and a character the stream's encoding lacks
-    (``PYTHONIOENCODING=ascii``, the ``²`` of a unit) is escaped instead of failing."""
+    (``PYTHONIOENCODING=ascii``, the ``²`` of a unit) is escaped instead of failing; a
+    ``COLUMNS`` below :data:`MIN_COLUMNS` is raised to it (rich's tables drew nothing at
+    0 and one character a line at 5)."""
+    columns = os.environ.get("COLUMNS", "").strip()
+    if columns.isdigit() and int(columns) < MIN_COLUMNS:
+        os.environ["COLUMNS"] = str(MIN_COLUMNS)
     for name in ("stdout", "stderr"):
         if getattr(sys, name) is None:
             setattr(sys, name, open(os.devnull, "w", encoding="utf-8"))  # noqa: SIM115

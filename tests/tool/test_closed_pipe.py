@@ -85,3 +85,12 @@ def test_a_closed_standard_output_or_an_ascii_one_does_not_stop_the_run(tmp_path
     ascii_run = _irlc(tmp_path, ["robot", "koch11"], subprocess.PIPE, {"PYTHONIOENCODING": "ascii"})
     assert ascii_run.returncode == 0, ascii_run.stderr.decode()
     assert b"\\u2014" in ascii_run.stdout  # the dash escaped, not a failure
+
+
+@pytest.mark.parametrize("columns", ["0", "5"])
+def test_a_tiny_columns_is_raised_to_a_readable_width(tmp_path, columns):
+    # COLUMNS=0: `irlc robots` printed nothing (exit 0); COLUMNS=5: a character a line
+    done = _irlc(tmp_path, ["robots"], subprocess.PIPE, {"COLUMNS": columns})
+    out = done.stdout.decode()
+    assert done.returncode == 0 and "planar3" in out, out
+    assert max(len(line) for line in out.splitlines()) == 40  # MIN_COLUMNS
