@@ -295,3 +295,17 @@ def test_a_program_that_is_a_pipe_or_a_folder_is_refused_not_read(tmp_path, caps
     out = capsys.readouterr()
     assert code == 3 and "Traceback" not in out.err
     assert "a folder, not a file" in out.err or "is a directory" in out.err, out
+
+
+def test_a_replaced_file_keeps_its_permissions(tmp_path):
+    # a report kept private (chmod 600) came back 644; an expectation 400 became 644
+    private = tmp_path / "r.json"
+    private.write_text("{}")
+    private.chmod(0o600)
+    atomic_write_text(private, '{"new": 1}\n')
+    assert stat.S_IMODE(private.stat().st_mode) == 0o600
+    assert private.read_text() == '{"new": 1}\n'
+    fresh = atomic_write_text(tmp_path / "n.json", "{}\n")
+    umask = os.umask(0)
+    os.umask(umask)
+    assert stat.S_IMODE(fresh.stat().st_mode) == 0o666 & ~umask
