@@ -120,9 +120,11 @@ def test_atomic_writer_mode_follows_umask_and_leaves_no_temp(tmp_path, umask_022
     atomic_write_text(target, "é\n")
     assert target.read_bytes() == "é\n".encode() and _mode(target) == 0o644
     os.umask(0o077)
-    atomic_write_text(target, "second\n")
-    assert target.read_text() == "second\n" and _mode(target) == 0o600
-    assert sorted(p.name for p in target.parent.iterdir()) == ["out.json"]
+    atomic_write_text(target, "second\n")  # a replaced file keeps its permissions
+    assert target.read_text() == "second\n" and _mode(target) == 0o644
+    other = atomic_write_text(target.parent / "new.json", "{}\n")  # a new one: the umask's
+    assert _mode(other) == 0o600
+    assert sorted(p.name for p in target.parent.iterdir()) == ["new.json", "out.json"]
 
 
 def test_every_writer_gives_0644(tmp_path, umask_022, capsys):
