@@ -19,7 +19,7 @@ from typing import Any
 
 from irlc.files import atomic_write_text, parse_user_json, read_user_text
 from irlc.lang.errors import IrlcError
-from irlc.lang.file_access import shown_key
+from irlc.lang.file_access import path_kind, shown_key
 
 GOLDEN_FORMAT = "irlc-golden 1"
 USER_KEYS = ("options", "tolerances")  # kept as written by the user on --update
@@ -305,7 +305,7 @@ def run_case(
     json_path, txt_path = expected_paths(program)
     try:
         # anything there but a regular file (a folder, a FIFO) is read and refused
-        expected = load_expectation(json_path) if json_path.exists() else None
+        expected = None if path_kind(json_path) == "missing" else load_expectation(json_path)
     except ExpectationError as e:
         return CaseResult(program, "error", message=str(e))
     user = {k: expected[k] for k in USER_KEYS if expected and k in expected}
@@ -331,7 +331,7 @@ def run_case(
         return CaseResult(program, "missing", message=f"no {json_path.name}; run with --update")
     mismatches = compare(expected, actual, user.get("tolerances"))
     diff: list[str] = []
-    if txt_path.exists():
+    if path_kind(txt_path) != "missing":
         try:
             want = read_user_text(txt_path, lambda f, r: ExpectationError(f"{f}: {r}"))
         except ExpectationError as e:

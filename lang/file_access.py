@@ -48,6 +48,20 @@ def is_file(path: Path) -> bool:
         return False
 
 
+def path_kind(path: Path) -> str:
+    """What ``path`` names: ``"file"`` (a regular file), ``"folder"``, ``"other"`` (a
+    device, pipe or socket: never read) or ``"missing"`` — also for a name the system
+    refuses (too long, a NUL byte), as :func:`is_file` treats it."""
+    try:
+        if Path(path).is_file():
+            return "file"
+        if Path(path).is_dir():
+            return "folder"
+        return "other" if Path(path).exists() else "missing"
+    except (OSError, ValueError):
+        return "missing"
+
+
 def shown(path: Path) -> str:
     """``path`` as a message shows it: resolved where it can be (where ``..`` and links lead)."""
     return str(_real(path) or path)

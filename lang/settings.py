@@ -132,7 +132,9 @@ SETTINGS: tuple[Setting, ...] = (
             "fixed motion time (overrides the speeds)"),
     Setting("ipo", "R_IPO", None, SettingRange(1e-5, 1.0, "s", closed=True), (),
             "interpolation (IPO) cycle", 0.01),
-    Setting("path_tol", "R_PATH_TOL", None, _positive("mm", math.inf), (),
+    # at least 10 × the IK's convergence tolerance (1e-9 m, runtime/ik/params.py): below
+    # it a deviation of round-off size failed the run, blamed on the speed
+    Setting("path_tol", "R_PATH_TOL", None, SettingRange(1e-5, math.inf, "mm", closed=True), (),
             "path tolerance (start value: --path-tolerance)", 0.05),
     Setting("profile", "R_PROFILE", None, SettingChoices(("TRAPEZOID", "SCURVE")), (),
             "velocity profile: trapezoid, or jerk-limited S-curve", "TRAPEZOID"),

@@ -23,12 +23,14 @@ def read_user_bytes(path: str | Path, error: ErrorFactory) -> bytes:
     folder, device or pipe is no file to read: ``/dev/zero`` or a FIFO would be read
     without end)."""
     file = str(path)
-    if Path(path).exists() and not Path(path).is_file():  # a device or pipe reads forever
-        raise error(file, "not a regular file")
     try:
-        return Path(path).read_bytes()
-    except OSError as e:
-        raise error(file, f"cannot read the file ({e.strerror or e})") from None
+        if Path(path).exists() and not Path(path).is_file():  # a device or pipe: endless
+            reason = "not a regular file"
+        else:
+            return Path(path).read_bytes()
+    except OSError as e:  # missing, a folder, a name too long, no permission
+        reason = f"cannot read the file ({e.strerror or e})"
+    raise error(file, reason)
 
 
 def read_user_text(path: str | Path, error: ErrorFactory) -> str:

@@ -24,6 +24,7 @@ from irlc.lang.file_access import (
     ALLOW_HINT,
     inside_roots,
     is_file,
+    path_kind,
     read_regular_bytes,
     refusal,
     shown,
@@ -123,9 +124,10 @@ def _program_robot_file(text: str, base_dir: Path) -> Path:
 
 def _not_found(path: Path, where: str = "") -> str:
     """Why ``path`` is no robot file: a folder, a device or pipe (never read), or nothing."""
-    if path.is_dir():
+    kind = path_kind(path)
+    if kind == "folder":
         return "a folder, not a file"
-    return "not a regular file" if path.exists() else f"file not found{where}"
+    return "not a regular file" if kind == "other" else f"file not found{where}"
 
 
 def _library_copy(path: Path) -> Path | None:

@@ -338,7 +338,7 @@ def _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolera
     naming = JointNaming.for_model(model, code.joint_names)
     tol_mm = opts.tol_position / units.MM
     if path_tolerance is not None:
-        tol_mm = _positive("--path-tolerance", path_tolerance, "mm")
+        tol_mm = _path_tolerance("--path-tolerance", path_tolerance)
         opts.tol_position = tol_mm * units.MM
     if orientation_tolerance is not None:
         deg = _positive("--orientation-tolerance", orientation_tolerance, "deg")
@@ -367,6 +367,15 @@ def _drive_step(model: RobotModel, level: str, q0: np.ndarray) -> float:
             return drive_step(model, params, level, q0)
     except ValueError as exc:
         raise DriveSetupError(f"drive simulation: {exc}") from None
+
+
+def _path_tolerance(option: str, value) -> float:
+    """A path tolerance in mm: a positive number in R_PATH_TOL's range (lang/settings.py),
+    else :class:`RunSetupError`."""
+    tol_mm = _positive(option, value, "mm")
+    if error := setting_error("path_tol", tol_mm):
+        raise RunSetupError(f"{option} {describe(value)}: {error}")
+    return tol_mm
 
 
 def _positive(option: str, value, unit: str) -> float:
@@ -398,6 +407,8 @@ def check_run_option(key: str, value) -> str | None:
             _budget(value)
         elif key == "max_cycles":
             _whole(key, value)
+        elif key == "path_tolerance":
+            _path_tolerance(key, value)
         elif key in units:
             _positive(key, value, units[key])
         else:

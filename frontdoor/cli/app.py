@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 from irlc.errors import UsageError
+from irlc.lang.file_access import path_kind
 
 
 class IrlcGroup(click.Group):
@@ -36,12 +37,10 @@ def cli() -> None:
 def require_file(path: Path) -> None:
     """A :class:`UsageError` unless ``path`` names a regular file: no such file, a folder,
     or a device or pipe (read, a FIFO blocks and ``/dev/zero`` never ends)."""
-    if path.is_dir():
-        raise UsageError(f"{path}: a folder, not a file")
-    if not path.exists():
-        raise UsageError(f"{path}: no such file")
-    if not path.is_file():
-        raise UsageError(f"{path}: not a regular file")
+    reason = {"folder": "a folder, not a file", "missing": "no such file",
+              "other": "not a regular file"}.get(path_kind(path))  # fmt: skip
+    if reason is not None:
+        raise UsageError(f"{path}: {reason}")
 
 
 def distinct_outputs(inputs: dict[str, Path], outputs: dict[str, Path | None]) -> None:

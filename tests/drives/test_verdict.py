@@ -205,13 +205,18 @@ def test_r_path_tol_must_be_positive(tmp_path):
     program = write(tmp_path, "zero", tol="R_PATH_TOL := R_SPEED - R_SPEED;")
     run = run_file(program)
     assert not run.ok and run.error.line == 9
-    assert "R_PATH_TOL := 0.0: the value must be positive" in run.error.message
+    assert "R_PATH_TOL := 0.0: the value must be in [1e-05, ∞) mm" in run.error.message
 
 
 def test_bad_tolerance_option_is_a_usage_error(tmp_path, capsys):
     program = write(tmp_path)
     assert main(["run", str(program), "--path-tolerance", "0", "-q"]) == 3
     assert "--path-tolerance must be a positive number" in capsys.readouterr().err
+    # below round-off: a deviation of 2e-13 mm failed the run, blamed on the speed, and the
+    # advice (a lower R_SPEED) never fixed it
+    assert main(["run", str(program), "--path-tolerance", "1e-13", "-q"]) == 3
+    err = " ".join(capsys.readouterr().err.split())
+    assert "--path-tolerance 1e-13: the value must be in [1e-05, ∞) mm" in err
 
 
 # ----------------------------------------------------------------- the criteria, in isolation
