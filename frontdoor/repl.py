@@ -38,6 +38,7 @@ from pathlib import Path
 
 import numpy as np
 from irlc.lang import types as T
+from irlc.lang.file_access import path_kind
 from irlc.runtime import units
 from irlc.runtime.naming import JointNaming
 
@@ -644,7 +645,7 @@ class Session:
             return Entry([self._located("usage: :teach NAME [FILE.toml]")], 3)
         name = parts[0]
         path = self.cwd / Path(parts[1] if len(parts) == 2 else "taught.toml").expanduser()
-        if not path.name or path.is_dir():
+        if not path.name or path_kind(path) == "folder":
             message = f"{parts[1]} is a folder; :teach takes a file (FILE.toml)"
             return Entry([self._located(message)], 3)
         path = path if path.suffix else path.with_suffix(".toml")

@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 from irlc.lang.errors import IrlcError
-from irlc.lang.file_access import describe, is_finite_number
+from irlc.lang.file_access import describe, is_finite_number, path_kind
 from irlc.lang.irdata import Code
 from irlc.lang.joint_kinds import kind_letters
 from irlc.lang.textfile import read_user_text
@@ -467,7 +467,7 @@ def run_file(
     from irlc.lang.diagnostics import CompileError
 
     path = Path(path)
-    if not path.exists():  # anything else is read and refused (a folder, a FIFO)
+    if path_kind(path) == "missing":  # anything else is read and refused (a folder, a FIFO)
         raise RunSetupError(f"{path}: no such file")
     override = None if robot is None or isinstance(robot, RobotModel) else str(robot)
     if override is not None:

@@ -24,6 +24,7 @@ import time
 from pathlib import Path
 
 from irlc.files import atomic_write_bytes, atomic_write_text, parse_user_json, read_user_text
+from irlc.lang.file_access import path_kind
 from irlc.study.spec import StudyError
 
 RESULTS = "results.csv"
@@ -46,7 +47,7 @@ class ResultsFile:
         self.done: dict[int, str] = {}  # variant → its line
         self._fd: int | None = None
         self._synced = time.monotonic()
-        if self.folder.exists() and not self.folder.is_dir():
+        if path_kind(self.folder) in ("file", "other"):
             raise StudyError(str(self.folder), None, "", "not a folder (--out takes a folder)")
         if resume and self.path.exists():
             self._load()
