@@ -18,6 +18,7 @@ from irlc.lang import datalist as dlmod
 from irlc.lang.checker import Checker
 from irlc.lang.codegen import generate
 from irlc.lang.diagnostics import Diagnostic, Span
+from irlc.lang.errors import IrlcError
 from irlc.lang.file_access import ALLOW_HINT, inside_roots, refusal
 from irlc.lang.irdata import Code
 from irlc.lang.nesting import nesting_error
@@ -121,7 +122,7 @@ def _compile(
     return result
 
 
-class _Unreadable(Exception):
+class _Unreadable(IrlcError):
     """Why the program file cannot be read (:func:`compile_file`)."""
 
 
