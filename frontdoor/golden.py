@@ -277,10 +277,8 @@ def _option_problem(key: str, value: Any) -> str | None:
         return None if ok else f"expected a folder or a list of folders, got {shown}"
     if key == "allow_any_path":
         return None if isinstance(value, bool) else f"expected true or false, got {shown}"
-    problem = check_run_option(key, value)
-    if problem is None:
-        return None
-    return problem.replace(f"{key} ", "", 1).replace(f"got {value!r}", f"got {shown}")
+    problem = check_run_option(key, value)  # it describes the value, never echoes it
+    return None if problem is None else problem.replace(f"{key} ", "", 1)
 
 
 def _json_value(value: Any) -> str:

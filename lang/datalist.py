@@ -22,7 +22,7 @@ from importlib import resources
 from pathlib import Path
 
 from irlc.lang.diagnostics import Diagnostic, Span
-from irlc.lang.file_access import describe, is_file, is_finite_number, shown_key
+from irlc.lang.file_access import describe, is_file, is_finite_number, is_finite_real, shown_key
 from irlc.lang.irdata import (
     JOINT_TUPLE_TYPES,
     OBSTACLE_KEYS,
@@ -252,7 +252,7 @@ def _obstacle_fields(ld: _Loader, key: str, kind: str, table: dict, spec) -> lis
             continue
         raw = table[k]
         if size == 1:
-            if not _is_number(raw) or not is_finite_number(raw) or raw <= 0:
+            if not is_finite_real(raw) or raw <= 0:
                 ld.error(f"{key}.{k}", f"expected a positive number (mm), got {_show(raw)}")
                 ok = False
                 continue

@@ -93,6 +93,13 @@ def is_finite_number(value: int | float) -> bool:
     return math.isfinite(value)
 
 
+def is_finite_real(value: object) -> bool:
+    """A number of a user's file (an int or a float, not a boolean) that a float holds
+    finitely (:func:`is_finite_number`)."""
+    number = isinstance(value, int | float) and not isinstance(value, bool)
+    return number and is_finite_number(value)
+
+
 def shown_key(key: str, limit: int = 48) -> str:
     """A key of a user's file for an error message (``joints[3].axis``): as written, or
     its start and its length when longer than ``limit`` characters (a key is named, never

@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 from irlc.lang.errors import IrlcError
-from irlc.lang.file_access import describe, is_finite_number, path_kind
+from irlc.lang.file_access import describe, is_finite_real, path_kind
 from irlc.lang.irdata import Code
 from irlc.lang.joint_kinds import kind_letters
 from irlc.lang.textfile import read_user_text
@@ -381,7 +381,7 @@ def _path_tolerance(option: str, value) -> float:
 def _positive(option: str, value, unit: str) -> float:
     """``value`` as a float if it is a finite number > 0, else :class:`RunSetupError` (an
     integer beyond a float's range too)."""
-    if not (_finite_number(value) and value > 0):
+    if not (is_finite_real(value) and value > 0):
         raise RunSetupError(f"{option} must be a positive number of {unit}, got {describe(value)}")
     return float(value)
 
@@ -398,7 +398,7 @@ def check_run_option(key: str, value) -> str | None:
     if key in ("ipo", "override"):
         return setting_error(key, value)
     if key == "seed_config":
-        if not (isinstance(value, list) and all(_finite_number(v) for v in value)):
+        if not (isinstance(value, list) and all(is_finite_real(v) for v in value)):
             return f"expected a list of finite numbers (deg | mm), got {describe(value)}"
         return None
     units = {"path_tolerance": "mm", "orientation_tolerance": "deg", "max_time": "seconds"}
@@ -416,12 +416,6 @@ def check_run_option(key: str, value) -> str | None:
     except RunSetupError as e:
         return str(e).replace("--instruction-budget", key)
     return None
-
-
-def _finite_number(value) -> bool:
-    """A number (not a boolean) that is a finite float (an integer within a float's range)."""
-    ok = isinstance(value, int | float) and not isinstance(value, bool)
-    return ok and is_finite_number(value)
 
 
 def _budget(budget: int | None) -> int:

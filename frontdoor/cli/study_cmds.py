@@ -65,9 +65,6 @@ def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet, allo
         return EXIT_COMPILE
     except (RunSetupError, RobotFileError, ClusterError) as exc:
         raise UsageError(str(exc)) from None
-    except OSError as exc:  # the results folder: no permission, a file on its path, disk full
-        where = exc.filename or out or study_file
-        raise UsageError(f"{where}: {exc.strerror or exc}") from None
     except KeyboardInterrupt:
         bar.stop()
         err.print(

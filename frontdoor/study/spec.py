@@ -45,7 +45,7 @@ from typing import Any
 
 from irlc.errors import UsageError
 from irlc.files import read_user_text
-from irlc.lang.file_access import describe, is_finite_number
+from irlc.lang.file_access import describe, is_finite_real
 from irlc.lang.toml_keys import TomlError, parse_toml
 
 TOP_KEYS = ("program", "robot", "datalist_path", "name", "run", "grid", "random", "output")
@@ -308,12 +308,7 @@ def _distribution(study: Study, key: str, spec: Any) -> Axis:
     if not isinstance(spec, dict) or len(spec) != 1 or next(iter(spec)) not in DISTRIBUTIONS:
         raise study.error(key, f"expected {expected}, got {_show(spec)}", "random")
     dist, params = next(iter(spec.items()))
-    ok = (
-        isinstance(params, list)
-        and len(params) == 2
-        and all(isinstance(p, int | float) and not isinstance(p, bool) for p in params)
-        and all(is_finite_number(p) for p in params)
-    )
+    ok = isinstance(params, list) and len(params) == 2 and all(is_finite_real(p) for p in params)
     if not ok:
         raise study.error(
             key, f"{dist}: expected two finite numbers, got {_show(params)}", "random"

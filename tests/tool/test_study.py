@@ -219,7 +219,7 @@ def test_an_out_that_cannot_be_a_folder_is_a_usage_error(cell, capsys):
         assert main(["study", str(path), "--out", str(out), "-q"]) == 3
         err = capsys.readouterr().err
         flat = "".join(err.split())  # however the console wrapped a long path
-        assert "".join(f"irlc: error: {out}: {words}".split()) in flat, err
+        assert "".join(f"{out}: {words}".split()) in flat, err  # (main's OSError: exit 3)
         assert "internal error" not in err
     assert (cell / "plain").read_text() == "x"
 
