@@ -331,14 +331,16 @@ def _metrics(report: dict | None, loaded) -> dict:
 
 
 def render_comparison(report: dict, other, console: Console) -> None:
-    """This run against a loaded report / trace (``--compare``)."""
+    """This run against a loaded report / trace (``--compare``): the file's name on a line
+    of its own (never folded into a narrow table), notes on what does not match, the table."""
+    theirs = getattr(other, "report", None)
     a = _metrics(report, None)
-    b = _metrics(getattr(other, "report", None), other)
-    table = Table(
-        title=f"compared with {getattr(other, 'path', 'previous run')}",
-        title_justify="left",
-        show_edge=False,
-    )
+    b = _metrics(theirs, other)
+    lines = [f"compared with {getattr(other, 'path', 'previous run')}"]
+    lines += [f"note: {note}" for note in comparison_notes(report, theirs or {}, a, b)]
+    for line in lines:  # (a file name is text, never rich markup)
+        console.print(line, soft_wrap=True, markup=False)
+    table = Table(show_edge=False)
     for name in ("quantity", "this run", "other", "difference"):
         table.add_column(name, justify="left" if name == "quantity" else "right")
 
@@ -354,3 +356,27 @@ def render_comparison(report: dict, other, console: Console) -> None:
         row(f"{name} max", hi, ohi)
         row(f"{name} |speed| max", sp, osp)
     console.print(table)
+
+
+def comparison_notes(report: dict, theirs: dict, mine: dict, other: dict) -> list[str]:
+    """What makes a ``--compare`` row not like for like: another robot, a run that did not
+    finish, joints on one side only (matched by name; ``mine``/``other`` from
+    :func:`_metrics`)."""
+    notes = []
+    robot, their_robot = report.get("robot"), theirs.get("robot")
+    if isinstance(their_robot, str) and robot and their_robot != robot:
+        notes.append(
+            f"that run is of robot {their_robot!r}, this one of {robot!r}: "
+            "joints are matched by name"
+        )
+    status = theirs.get("status")
+    if status is not None and status != "ok":
+        notes.append(f"that run's status is {status!r}: its numbers stop where it stopped")
+    if other["joints"]:
+        missing = [j for j in mine["joints"] if j not in other["joints"]]
+        extra = [j for j in other["joints"] if j not in mine["joints"]]
+        if missing:
+            notes.append(f"not in that run (shown as —): {', '.join(missing)}")
+        if extra:
+            notes.append(f"only in that run (not shown): {', '.join(extra)}")
+    return notes
