@@ -190,7 +190,17 @@ def expected_paths(program: Path) -> tuple[Path, Path]:
 
 
 def find_programs(directory: Path) -> list[Path]:
-    return sorted(p for p in Path(directory).glob("*.irl") if p.is_file())
+    """Every ``*.irl`` name of ``directory``, sorted — also one that is not a regular file
+    (a broken link, a folder, a FIFO): :func:`run_case` reports it as an error case
+    rather than passing it over."""
+    return sorted(Path(directory).glob("*.irl"))
+
+
+_NOT_A_PROGRAM = {
+    "folder": "a folder, not a program file",
+    "other": "not a regular file (a pipe or device): never read",
+    "missing": "a broken link or a name the system refuses",
+}
 
 
 def _output_text(report: dict) -> str:
@@ -300,6 +310,9 @@ def run_case(
     """Run one program and check (or, with ``update``, rewrite) its expectations;
     ``allow_any_path`` (``irlc test --allow-any-path``) is that run option for every case."""
     runner = runner or default_runner
+    kind = path_kind(program)
+    if kind != "file":
+        return CaseResult(program, "error", message=f"{program.name}: {_NOT_A_PROGRAM[kind]}")
     json_path, txt_path = expected_paths(program)
     try:
         # anything there but a regular file (a folder, a FIFO) is read and refused

@@ -79,6 +79,19 @@ def test_an_expectation_that_is_not_a_file_is_an_error_case(tmp_path, kind, suff
     assert result.status == "error" and result.message == f"{target}: not a regular file"
 
 
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no named pipes")
+def test_a_program_name_that_is_no_file_is_an_error_case_not_skipped(tmp_path, capsys):
+    """Regression: ``irlc test`` passed over a NAME.irl that was a broken link, a folder or
+    a FIFO without a word (and "0 passed" for a folder of only such names)."""
+    (tmp_path / "broken.irl").symlink_to(tmp_path / "nowhere.irl")
+    (tmp_path / "dir.irl").mkdir()
+    os.mkfifo(tmp_path / "pipe.irl")  # never opened: a read would block
+    assert main(["test", str(tmp_path)]) == 1
+    out = " ".join(capsys.readouterr().out.split())
+    assert "broken.irl: a broken link" in out and "dir.irl: a folder, not a program" in out
+    assert "pipe.irl: not a regular file" in out and "0 passed, 3 failed" in out
+
+
 def test_valid_user_keys_load(tmp_path):
     path = tmp_path / "e.json"
     path.write_text('{"options": {"ipo": 0.01}, "tolerances": {"duration_s": 0.5}}')
