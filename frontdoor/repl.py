@@ -38,6 +38,7 @@ from pathlib import Path
 
 import numpy as np
 from irlc.lang import types as T
+from irlc.lang.diagnostics import line_span
 from irlc.lang.file_access import path_kind
 from irlc.runtime import units
 from irlc.runtime.naming import JointNaming
@@ -428,7 +429,7 @@ class Session:
         _drop_temporaries(self.state)
         lines = messages + list(out)
         if result.error is not None:
-            lines.append(self._run_error(result.error, first, body))
+            lines.append(self._run_error(result.error, first, shown or body))
             return Entry(lines, 2)
         self.history.append(body.strip())
         if self.controller.time > t0 or not np.array_equal(self.controller.q, q0):
@@ -438,17 +439,17 @@ class Session:
         return Entry(lines)
 
     def _run_error(self, error, first: int, body: str) -> str:
-        """``FILE:LINE:1: error: run-time failure at t = … s: message`` (as ``irlc run``);
-        a failure in a routine declared earlier is placed at the entry's first line."""
+        """``FILE:LINE:COL: error: run-time failure at t = … s: message`` (as ``irlc run``:
+        the column of the line's statement text); a failure in a routine declared earlier
+        is placed at the entry's first line."""
         line = getattr(error, "line", None)
         local = 1
         if line is not None and first <= line < first + body.count("\n") + 1:
             local = line - first + 1
         t = getattr(error, "time_s", None)
         at = f" at t = {t:.3f} s" if t is not None else ""
-        return self._located(
-            f"run-time failure{at}: {getattr(error, 'message', str(error))}", local
-        )
+        message = f"run-time failure{at}: {getattr(error, 'message', str(error))}"
+        return self._located(message, local, line_span(body, local).column)
 
     # ------------------------------------------------------------------ meta-commands
 

@@ -61,12 +61,8 @@ def render(diag: Diagnostic, source: str | None = None) -> str:
     a robot file's or data list's error names file, line and key, never its text
     (``irlc.lang.file_access``)."""
     out = [diag.header()]
-    readable = diag.file.lower().endswith(".irl") and Path(diag.file).is_file()  # no FIFO
-    if source is None and diag.span is not None and readable:
-        try:
-            source = Path(diag.file).read_text(encoding="utf-8", errors="replace")
-        except OSError:
-            source = None
+    if source is None and diag.span is not None:
+        source = program_text(diag.file)
     if source is not None and diag.span is not None:
         lines = split_source_lines(source)
         if 1 <= diag.span.line <= len(lines):
@@ -81,6 +77,29 @@ def render(diag: Diagnostic, source: str | None = None) -> str:
         out.append(f"  hint: {diag.hint}")
     out.extend(f"  note: {n}" for n in diag.notes)
     return "\n".join(out)
+
+
+def program_text(file: str) -> str | None:
+    """The text of a program file (``.irl``, a regular file: never a FIFO), else ``None``."""
+    if not (file.lower().endswith(".irl") and Path(file).is_file()):
+        return None
+    try:
+        return Path(file).read_text(encoding="utf-8", errors="replace")
+    except OSError:
+        return None
+
+
+def line_span(source: str | None, line: int) -> Span:
+    """The non-blank text of ``line`` of ``source``, as a :class:`Span` — where a run-time
+    failure points: the code records the line of the statement, not its column. Without
+    the text (or on a blank line) column 1."""
+    lines = split_source_lines(source) if source is not None else []
+    text = lines[line - 1].expandtabs(1) if 1 <= line <= len(lines) else ""
+    stripped = text.strip()
+    if not stripped:
+        return Span(line, 1)
+    start = len(text) - len(text.lstrip()) + 1
+    return Span(line, start, line, start + len(stripped))
 
 
 class CompileError(IrlcError):

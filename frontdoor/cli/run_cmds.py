@@ -277,14 +277,15 @@ def _render_diag(d) -> str:
 
 
 def _render_failure(program: Path, code, error) -> str:
-    """``FILE:LINE:1: error: run-time failure at t = … s: message`` with the source line."""
-    from irlc.lang.diagnostics import Diagnostic, Span, render
+    """``FILE:LINE:COL: error: run-time failure at t = … s: message`` with the source line,
+    its statement text underlined (:func:`~irlc.lang.diagnostics.line_span`)."""
+    from irlc.lang.diagnostics import Diagnostic, line_span, program_text, render
 
     when = f" at t = {error.time_s:.3f} s" if error.time_s is not None else ""
     if not error.line:
         when += " (the code records no source line for it)"
-    span = Span(error.line, 1) if error.line else None
     source = _source_file(program, code)
+    span = line_span(program_text(str(source)), error.line) if error.line else None
     hint = f"binding constraint: {error.constraint}" if error.constraint else None
     diag = Diagnostic("error", f"run-time failure{when}: {error.message}", str(source), span, hint)
     return render(diag)

@@ -114,7 +114,7 @@ def test_ird_failure_names_the_source_without_reading_the_code_again(tmp_path, c
     monkeypatch.setattr(irdata, "read_code", lambda *a: calls.append(1) or real(*a))
     code, _, err = run(capsys, "run", prog.with_suffix(".ird"), "--quiet")
     assert code == 2 and len(calls) == 1
-    assert " ".join(err.split()).startswith(f"{prog}:4:1: error: run-time failure")
+    assert " ".join(err.split()).startswith(f"{prog}:4:3: error: run-time failure")
 
 
 @pytest.mark.parametrize("robot", ["PLANAR3", "planar3"])

@@ -42,7 +42,7 @@ def test_a_recursion_with_large_locals_fails_before_it_fills_the_memory(tmp_path
         "  q(n + 1);\nENDPROC;\nBEGIN\n  q(0);\nENDPROGRAM\n",
     )  # fmt: skip
     assert code == 2, err
-    assert "p.irl:6:1: error: run-time failure at t = 0.000 s: the call of 'q' would hold" in err
+    assert "p.irl:6:3: error: run-time failure at t = 0.000 s: the call of 'q' would hold" in err
     assert f"(at most {MAX_LIVE_ELEMENTS}) — endless recursion?" in err
     assert cpu < 20
 
@@ -56,7 +56,7 @@ def test_storing_into_a_large_array_is_charged_to_the_loop_guard(tmp_path, capsy
         "--instruction-budget", "100000",
     )  # fmt: skip
     assert code == 2, err
-    assert "p.irl:5:1: error: run-time failure at t = 0.000 s: more than 100000 instructions" in err
+    assert "p.irl:5:3: error: run-time failure at t = 0.000 s: more than 100000 instructions" in err
     assert "work on an array as its elements / 128" in err
     assert cpu < 20
 
@@ -100,7 +100,7 @@ def test_the_output_of_a_run_is_bounded(tmp_path, capsys):
     )  # fmt: skip
     assert code == 2, err
     assert (
-        "p.irl:7:1: error: run-time failure at t = 0.000 s: the program's output would exceed"
+        "p.irl:7:3: error: run-time failure at t = 0.000 s: the program's output would exceed"
         f" {MAX_OUTPUT_CHARS} characters — endless loop?"
     ) in err
     assert cpu < 20
@@ -117,7 +117,7 @@ def test_a_huge_value_is_refused_before_its_text_is_built(tmp_path, capsys):
         "  FOR i := 1 TO 1000 DO a[i] := row; ENDFOR;\n  WRITELN(a);\nENDPROGRAM\n",
     )  # fmt: skip
     assert code == 2, err
-    assert "p.irl:10:1: error: run-time failure" in err and "output would exceed" in err
+    assert "p.irl:10:3: error: run-time failure" in err and "output would exceed" in err
     assert cpu < 20
 
 
@@ -134,7 +134,7 @@ def test_events_of_a_run_are_bounded(tmp_path, capsys, monkeypatch, body):
         HEAD + f"VAR SIGNAL: g;\nBEGIN\n  WHILE TRUE DO {body} ENDWHILE;\nENDPROGRAM\n",
     )  # fmt: skip
     assert code == 2, err
-    assert "p.irl:5:1: error: run-time failure at t = 0.000 s: more than 2000 events" in err
+    assert "p.irl:5:3: error: run-time failure at t = 0.000 s: more than 2000 events" in err
 
 
 def test_text_bound_is_an_upper_bound_of_the_text() -> None:
@@ -216,7 +216,7 @@ def test_the_cycle_budget_is_the_cycles_the_run_records(tmp_path, capsys, progra
 def test_a_wait_is_charged_the_cycles_it_records(tmp_path, capsys):
     code, _, err, _ = run(tmp_path, capsys, WAITS, "--max-cycles", "1549")
     assert code == 2
-    assert "p.irl:6:1: error: run-time failure at t = 5.500 s: the WAIT would take 1001 IPO" in err
+    assert "p.irl:6:3: error: run-time failure at t = 5.500 s: the WAIT would take 1001 IPO" in err
 
 
 def test_a_motion_statement_is_charged_at_least_five_cycles(tmp_path, capsys):
@@ -228,7 +228,7 @@ def test_a_motion_statement_is_charged_at_least_five_cycles(tmp_path, capsys):
     assert MOTION_MIN_CYCLES == 5
     prog = HEAD + "BEGIN\n  MOVE PTP R_ACT_JOINT;\n  MOVE PTP R_ACT_JOINT;\nENDPROGRAM\n"
     code, _, err, _ = run(tmp_path, capsys, prog, "--max-cycles", "9")
-    assert code == 2 and "p.irl:5:1:" in err, err
+    assert code == 2 and "p.irl:5:3:" in err, err
     assert (
         "the motion would take 5 cycles of the budget (0 IPO cycles; a motion statement counts"
         " at least 5) and the run past its budget of 9 simulated cycles (5 so far"
@@ -247,7 +247,7 @@ def test_a_loop_of_one_cycle_motions_meets_the_budget_five_times_sooner(tmp_path
     code, _, err, _ = run(tmp_path, capsys, prog, "--max-cycles", "100")
     assert code == 2, err
     text = " ".join(err.split())
-    assert "p.irl:5:1: error: run-time failure at t = 0.200 s: the motion would take 5" in text
+    assert "p.irl:5:5: error: run-time failure at t = 0.200 s: the motion would take 5" in text
     assert "(1 IPO cycle; a motion statement counts at least 5)" in text
     assert "(100 so far, at t = 0.200 s;" in text
 
@@ -330,7 +330,7 @@ def test_with_drives_the_cycle_budget_counts_their_steps(tmp_path, capsys):
     steps = math.ceil(30 / h - 1e-3)  # step_s is rounded to 9 digits in the report
     charged = math.ceil(steps / DRIVE_STEPS_PER_CYCLE)
     assert (
-        f"p.irl:4:1: error: run-time failure at t = 0.000 s: the WAIT would take {charged}"
+        f"p.irl:4:3: error: run-time failure at t = 0.000 s: the WAIT would take {charged}"
         f" cycles of the budget ({steps} drive steps of {h * 1e3:.3g} ms,"
         f" {DRIVE_STEPS_PER_CYCLE} to a cycle) and"
         " the run past its budget of 2000 simulated cycles"

@@ -43,9 +43,11 @@ def test_cli_reports_an_endless_loop_at_its_line(tmp_path, capsys, name):
     err = " ".join(capsys.readouterr().err.split())
     assert code == 2, err
     assert "Traceback" not in err
-    m = re.search(r"loop\.irl:(\d+):1: error: run-time failure at t = [\d.]+ s: more than "
+    m = re.search(r"loop\.irl:(\d+):(\d+): error: run-time failure at t = [\d.]+ s: more than "
                   r"500000 instructions without motion", err)  # fmt: skip
     assert m and first <= int(m.group(1)) <= last, err
+    text = prog.read_text().splitlines()[int(m.group(1)) - 1]  # the column: its statement's
+    assert int(m.group(2)) == len(text) - len(text.lstrip()) + 1, err
     assert "endless loop?" in err and "--instruction-budget N" in err
     assert elapsed < 30  # was ~40 s at 50 M instructions; ~1-2 s now (shared machine: loose)
 

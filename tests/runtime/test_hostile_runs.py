@@ -44,7 +44,7 @@ def test_string_doubling_stops_at_the_maximum_length(tmp_path, capsys) -> None:
     err = " ".join(capsys.readouterr().err.split())
     assert code == 2, err
     # 2·2^15 = 65,536 characters is the first length beyond 65,535, at line 7
-    assert f"{prog}:7:1: error: run-time failure at t = 0.000 s" in err
+    assert f"{prog}:7:5: error: run-time failure at t = 0.000 s" in err
     assert (
         f"string concatenation: a STRING of 65536 characters is too long (at most {MAX_STRING})"
         in err

@@ -32,7 +32,7 @@ def test_dist_of_huge_coordinates_is_exact_or_a_failure(tmp_path, capsys) -> Non
     )  # fmt: skip
     assert code == 2
     assert report["output"] == ["2e+300", "0.0"]  # 5e-300 is 0 to 6 decimals
-    assert "p.irl:7:1: error: run-time failure at t = 0.000 s: DIST: the result is not a" in err
+    assert "p.irl:7:3: error: run-time failure at t = 0.000 s: DIST: the result is not a" in err
 
 
 def test_orientations_from_huge_quaternions_and_axes(tmp_path, capsys) -> None:
@@ -57,7 +57,7 @@ def test_an_overflowing_duration_is_never_shown_as_inf(tmp_path, capsys) -> None
         tmp_path, capsys, "  MOVE LIN POSE(1500, 500, 0, 0, 0, 0) WITH SPEED := 1e-320;"
     )
     assert code == 2
-    assert "p.irl:5:1: error: run-time failure at t = 0.000 s: the motion would take longer" in err
+    assert "p.irl:5:3: error: run-time failure at t = 0.000 s: the motion would take longer" in err
     assert "inf" not in err and "inf" not in json.dumps(report)
 
 

@@ -273,6 +273,9 @@ def test_terminal_entries_keep_positions_within_the_entry():
     assert entry.failure == 1
     assert entry.lines[0].splitlines()[0] == "<input>:1:3: error: unknown name 'x'"
     assert s.enter("JOINTLIMITEND").lines[0].startswith("<input>:1:1: error: run-time failure")
+    # a run-time failure's column: where its line's text begins (the code records lines)
+    entry = s.enter("REAL: w := -1;\nIF TRUE THEN\n    WAIT w SEC;\nENDIF;")
+    assert entry.lines[-1].startswith("<input>:3:5: error: run-time failure"), entry.lines
 
 
 @needs_runtime
