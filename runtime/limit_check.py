@@ -15,7 +15,7 @@ its rounding, is inside; anything further out is excluded at every layer alike.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -46,18 +46,24 @@ def program_tolerances(kinds: Sequence[str]) -> np.ndarray:
     return TOLERANCE / units.joint_scale(kinds)
 
 
-def first_outside(
+def each_outside(
     q: Sequence[float], lower: Sequence[float], upper: Sequence[float], tolerance=TOLERANCE
-) -> Outside | None:
-    """The first joint with ``q_j < lo_j − tol_j`` or ``q_j > hi_j + tol_j``, or ``None``.
+) -> Iterator[Outside]:
+    """Every joint with ``q_j < lo_j − tol_j`` or ``q_j > hi_j + tol_j``, in joint order.
     ``tolerance`` is one number or one per joint, in the units of ``q`` (default: SI)."""
     tol = np.broadcast_to(np.asarray(tolerance, dtype=float), (len(q),))
     for j, (v, lo, hi) in enumerate(zip(q, lower, upper, strict=True)):
         if v < lo - tol[j]:
-            return Outside(j, float(v), float(lo), True)
-        if v > hi + tol[j]:
-            return Outside(j, float(v), float(hi), False)
-    return None
+            yield Outside(j, float(v), float(lo), True)
+        elif v > hi + tol[j]:
+            yield Outside(j, float(v), float(hi), False)
+
+
+def first_outside(
+    q: Sequence[float], lower: Sequence[float], upper: Sequence[float], tolerance=TOLERANCE
+) -> Outside | None:
+    """The first of :func:`each_outside`, or ``None``."""
+    return next(each_outside(q, lower, upper, tolerance), None)
 
 
 def limit_failure(

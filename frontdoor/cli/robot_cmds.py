@@ -259,6 +259,9 @@ def fk_cmd(robot: str, q: tuple[str, ...], as_json: bool, motors: bool, euler: s
     pose = units.pose_from_si(t)
     joints = units.joints_from_si(q_si, model.joint_kinds)
     extra = _extras(model, q_si, t, motors, euler.lower())
+    outside, warnings = _outside_limits(model, q_si)
+    for warning in warnings:
+        click.echo(f"irlc: warning: {warning}", err=True)
     if as_json:
         _print_json(
             {
@@ -268,11 +271,37 @@ def fk_cmd(robot: str, q: tuple[str, ...], as_json: bool, motors: bool, euler: s
                 "joints": _fmt(joints),
                 "pose": _fmt(pose),
                 "matrix": _matrix_mm(t),
+                "outside_limits": outside,
                 **extra,
             }
         )
         return
     _pose_table(model, joints, pose, "forward kinematics", extra)
+
+
+def _outside_limits(model: RobotModel, q_si) -> tuple[list[dict], list[str]]:
+    """The joints beyond the robot's position limits (runtime/limit_check.py): the JSON key
+    ``outside_limits`` (program name, value, bound in deg | mm, side ``min``/``max``, unit)
+    and one warning each."""
+    from irlc.runtime.limit_check import each_outside
+
+    limits = model.position_limits
+    naming = JointNaming.for_model(model)
+    found, warnings = [], []
+    for o in each_outside(q_si, limits[:, 0], limits[:, 1]):
+        kind = model.joint_kinds[o.joint]
+        unit = units.joint_unit(kind)
+        value, bound = _fmt(units.joints_from_si([o.value, o.bound], [kind, kind]))
+        found.append(
+            {"joint": naming.program[o.joint], "value": value, "bound": bound,
+             "side": o.side, "unit": unit}
+        )  # fmt: skip
+        where = "below the lower" if o.below else "above the upper"
+        warnings.append(
+            f"joint {naming.label(o.joint)} is at {value:g} {unit}, {where} bound {bound:g} "
+            f"{unit} of the robot's position limits (the pose is computed all the same)"
+        )
+    return found, warnings
 
 
 def _extras(model: RobotModel, q_si, t, motors: bool, euler: str) -> dict:

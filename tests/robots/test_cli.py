@@ -46,7 +46,9 @@ def test_fk_json(capsys):
         "joints",
         "pose",
         "matrix",
+        "outside_limits",
     }
+    assert data["outside_limits"] == []  # konf_0 is inside every position limit
     assert data["units"] == {"length": "mm", "angle": "deg"}
     assert data["robot"] == "koch11" and data["joints"] == [float(v) for v in KONF0]
     assert data["joint_names"] == [f"a{i}" for i in range(1, 12)]
@@ -96,6 +98,25 @@ def test_fk_planar3_values(capsys):
     code, out, _ = run(capsys, "fk", "planar3", "90", "-90", "0", "--json")
     data = json.loads(out)
     assert code == 0 and np.allclose(data["pose"], [2000, 1000, 0, 0, 0, 0], atol=1e-9)
+
+
+def test_fk_beyond_the_position_limits_warns_and_lists_the_joints(capsys):
+    """Regression: fk computed joint values beyond the robot's limits without a word."""
+    from irlc.robots import load_robot
+
+    lim = np.degrees(load_robot("planar3").position_limits)  # ±180° each, from the file
+    q = (10.0, lim[1, 1] + 20.0, lim[2, 0] - 120.0)
+    code, out, err = run(capsys, "fk", "planar3", *map(str, q), "--json")
+    assert code == 0
+    assert json.loads(out)["outside_limits"] == [
+        {"joint": "a2", "value": q[1], "bound": lim[1, 1], "side": "max", "unit": "deg"},
+        {"joint": "a3", "value": q[2], "bound": lim[2, 0], "side": "min", "unit": "deg"},
+    ]
+    warnings = [line for line in err.splitlines() if line.startswith("irlc: warning: ")]
+    assert len(warnings) == 2
+    assert f"joint a2 (J2) is at {q[1]:g} deg, above the upper bound {lim[1, 1]:g} deg" in err
+    on_the_bound = run(capsys, "fk", "planar3", "0", str(lim[1, 1]), str(lim[2, 0]))
+    assert on_the_bound[0] == 0 and "warning" not in on_the_bound[2]  # a bound is inside
 
 
 def test_fk_table(capsys):
