@@ -35,8 +35,8 @@ def main(argv: list[str] | None = None) -> int:
     except click.Abort:
         click.echo("aborted", err=True)
         return EXIT_INTERRUPTED
-    except click.ClickException as e:  # usage errors: exit 3, not click's 2
-        e.show()
+    except click.ClickException as e:  # usage errors: exit 3, not click's 2; one line
+        click.echo(f"irlc: error: {click_message(e)}", err=True)
         return EXIT_USAGE
     except (UsageError, EngineChoiceError) as e:
         click.echo(f"irlc: error: {e}", err=True)
@@ -69,6 +69,21 @@ def main(argv: list[str] | None = None) -> int:
             traceback.print_exc()
         return EXIT_INTERNAL
     return rv if isinstance(rv, int) else 0
+
+
+def click_message(error: click.ClickException) -> str:
+    """click's error as irlc's one line: its message (a leading capital lowered), then for a
+    usage error the command's usage and where its help is — instead of click's four lines
+    ``Usage: … / Try '… --help' for help. / (blank) / Error: …``."""
+    text = error.format_message()
+    if text[:1].isupper() and text[1:2].islower():
+        text = text[0].lower() + text[1:]
+    ctx = getattr(error, "ctx", None)
+    if isinstance(error, click.UsageError) and ctx is not None:
+        text = text.removesuffix(".")
+        usage = ctx.get_usage().removeprefix("Usage: ")
+        text += f" — usage: {' '.join(usage.split())} (see {ctx.command_path} --help)"
+    return text
 
 
 MIN_COLUMNS = 40  # a narrower COLUMNS is taken as this: at 0 the tables printed nothing
