@@ -60,6 +60,11 @@ def _irlc(tmp_path: Path, args: list[str], stdout, env: dict | None = None):
     )  # fmt: skip
 
 
+NEGATIVE_WAIT = (
+    "PROGRAM p;\nROBOT r := planar3;\nVAR REAL: x;\nBEGIN\n  x := -1;\n  WAIT x SEC;\nENDPROGRAM\n"
+)
+
+
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="no /dev/full")
 @pytest.mark.parametrize("args", [["run", "w.irl"], ["fk", "planar3", "0", "0", "0"], ["robots"]])
 def test_a_full_standard_output_is_exit_3_naming_it(tmp_path, args):
@@ -94,3 +99,30 @@ def test_a_tiny_columns_is_raised_to_a_readable_width(tmp_path, columns):
     out = done.stdout.decode()
     assert done.returncode == 0 and "planar3" in out, out
     assert max(len(line) for line in out.splitlines()) == 40  # MIN_COLUMNS
+
+
+NEGATIVE_WAIT = (
+    "PROGRAM p;\nROBOT r := planar3;\nVAR REAL: x;\nBEGIN\n  x := -1;\n  WAIT x SEC;\nENDPROGRAM\n"
+)
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="no /dev/full")
+@pytest.mark.parametrize(
+    ("program", "args", "status"),
+    [
+        ("PROGRAM p;\nBEGIN\n  x := ;\nENDPROGRAM\n", ["check"], 1),  # a compile error
+        (NEGATIVE_WAIT, ["run", "-q"], 2),  # a run-time failure
+        (None, ["run"], 3),  # no such file
+        (None, ["run", "--frob"], 3),  # click's usage error
+    ],
+)
+def test_a_full_standard_error_keeps_the_exit_status(tmp_path: Path, program, args, status):
+    """Regression: with ``2>/dev/full`` the message could not be written, and the failed
+    write turned exit 1 and 2 into 3, and 3 into 1."""
+    path = tmp_path / "p.irl"
+    if program is not None:
+        path.write_text(program, encoding="utf-8")
+    cmd = [sys.executable, "-c", "from irlc.cli import entry; entry()", *args, str(path)]
+    with open("/dev/full", "w") as full:
+        done = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=full, cwd=tmp_path, timeout=300)
+    assert done.returncode == status
