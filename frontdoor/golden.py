@@ -337,7 +337,7 @@ def run_case(
         except OSError as e:  # a folder of that name, a read-only folder, a full disk
             reason = f"cannot write {e.filename or json_path}: {e.strerror or e}"
             return CaseResult(program, "error", message=reason)
-        return CaseResult(program, "updated")
+        return CaseResult(program, "updated", message=_status_note(report, "recorded"))
     if expected is None:
         return CaseResult(program, "missing", message=f"no {json_path.name}; run with --update")
     mismatches = compare(expected, actual, user.get("tolerances"))
@@ -357,8 +357,23 @@ def run_case(
                     lineterm="",
                 )
             )
-    status = "pass" if not mismatches and not diff else "fail"
-    return CaseResult(program, status, mismatches, diff)
+    if not mismatches and not diff:
+        return CaseResult(program, "pass", message=_status_note(report, "expected"))
+    return CaseResult(program, "fail", mismatches, diff)
+
+
+def _status_note(report: dict, how: str) -> str:
+    """For a case whose result is not a run that went well: what was recorded or is
+    expected — a program that does not compile (a data list left behind?) or a failing
+    run passes as such, and says so."""
+    status = report.get("status")
+    if status == "compile_error":
+        first = next(iter(report.get("diagnostics") or []), "")
+        return f"{how}: it does not compile — {first}" if first else f"{how}: it does not compile"
+    if status != "ok":
+        message = (report.get("error") or {}).get("message")
+        return f"{how}: the run fails — {message}" if message else f"{how}: the run fails"
+    return ""
 
 
 def run_golden(
@@ -432,8 +447,8 @@ def render_results(results: list[CaseResult], console) -> None:
              "error": "red"}  # fmt: skip
     for r in results:
         console.print(Text.assemble((f"{r.status.upper():8}", style[r.status]), r.program.name))
-        if r.message:
-            console.print(f"  {r.message}")
+        if r.message:  # (a program's name or message is text, never rich markup)
+            console.print(f"  {r.message}", markup=False, soft_wrap=True)
         if r.mismatches:
             table = Table(show_header=True, header_style="bold", box=None, padding=(0, 2))
             # the key is what the user looks for: never cut it; values wrap instead

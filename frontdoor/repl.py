@@ -117,6 +117,20 @@ def is_complete(text: str) -> bool:
     return block_depth(text) <= 0 and not _unterminated_comment(text)
 
 
+def _teach_path(cwd: Path, raw: str) -> Path | None:
+    """The data-list file of ``:teach NAME FILE``: relative to ``cwd``, ``.toml`` added to
+    a name without a suffix (``cell`` is ``cell.toml``, even beside a folder ``cell``);
+    ``None`` when ``raw`` can only mean a folder (``dir/``, ``.``, ``..``, ``~``)."""
+    if (
+        raw.endswith(("/", os.sep))
+        or Path(raw).name in ("", ".", "..")
+        or (raw.startswith("~") and os.sep not in raw)
+    ):
+        return None
+    path = cwd / Path(raw).expanduser()
+    return path if path.suffix else path.with_suffix(".toml")
+
+
 def _terminated(text: str) -> str:
     body = text.rstrip()
     return body if body.endswith(";") else body + ";"
@@ -644,12 +658,12 @@ class Session:
         parts = arg.split()
         if len(parts) not in (1, 2):
             return Entry([self._located("usage: :teach NAME [FILE.toml]")], 3)
-        name = parts[0]
-        path = self.cwd / Path(parts[1] if len(parts) == 2 else "taught.toml").expanduser()
-        if not path.name or path_kind(path) == "folder":
-            message = f"{parts[1]} is a folder; :teach takes a file (FILE.toml)"
+        name, raw = parts[0], parts[1] if len(parts) == 2 else "taught.toml"
+        path = _teach_path(self.cwd, raw)
+        if path is None or path_kind(path) == "folder":
+            where = raw if path is None else str(path)
+            message = f"{where} is a folder; :teach takes a file (FILE.toml)"
             return Entry([self._located(message)], 3)
-        path = path if path.suffix else path.with_suffix(".toml")
         taken = {n.lower() for n in (*self.names, *keywords(), *SYSTEM_VARIABLES)}
         clash = [n for n in (name, name + JOINTS_SUFFIX) if n.lower() in taken]
         if clash:

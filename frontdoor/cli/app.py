@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import difflib
+import os
 from pathlib import Path
 
 import click
@@ -14,8 +16,19 @@ class IrlcGroup(click.Group):
 
     def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
         if args and not args[0].startswith("-") and args[0] not in self.commands:
+            self._refuse_misspelt_command(args[0])
             args = ["run", *args]
         return super().parse_args(ctx, args)
+
+    def _refuse_misspelt_command(self, word: str) -> None:
+        """A :class:`UsageError` for a first word that is no file and looks like a command
+        (no suffix, no folder): ``irlc chek p.irl`` ran ``chek`` as the program."""
+        if "." in word or "/" in word or os.sep in word or path_kind(Path(word)) != "missing":
+            return
+        names = sorted(self.commands)
+        close = difflib.get_close_matches(word, names, n=1, cutoff=0.6)
+        hint = f"did you mean '{close[0]}'?" if close else f"commands: {', '.join(names)}"
+        raise UsageError(f"no such command or program file '{word}' ({hint})")
 
 
 @click.group(

@@ -193,7 +193,7 @@ def run_cmd(
         raise UsageError("--trace-every-step needs --drives other than ideal")
     compare = _load_compare(compare_path) if compare_path is not None else None
     out = Console(highlight=False, soft_wrap=False)
-    err = Console(stderr=True, highlight=False)
+    err = Console(stderr=True, highlight=False, soft_wrap=True)  # one line a message, as check's
     live = not (quiet or as_json)
     run = _run(
         program,

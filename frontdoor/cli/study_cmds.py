@@ -48,7 +48,7 @@ def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet, allo
     console = Console(highlight=False)
     if not console.is_terminal:  # a file or pipe: the width irlc run's summary uses there
         console = Console(highlight=False, width=MAX_WIDTH)
-    err = Console(stderr=True, highlight=False)
+    err = Console(stderr=True, highlight=False, soft_wrap=True)
     bar = _Bar(err, quiet)
     try:
         outcome = run_study(

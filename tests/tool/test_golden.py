@@ -153,3 +153,25 @@ def test_reduced_report_names_its_units_and_older_expectations_still_pass():
     assert compare(older, red) == []
     wrong = {**red, "units": {"length": "m", "angle": "rad", "time": "s"}}
     assert [m.path for m in compare(wrong, red)] == ["units.length", "units.angle"]
+
+
+def test_a_case_that_does_not_compile_or_fails_says_so_when_recorded_and_passing(tmp_path):
+    """Regression (new-user walk): the tutorial copied square.irl without its data list;
+    `--update` recorded a compile error and every later run said PASS, without a word."""
+    prog = _program(tmp_path)
+    head = "tiny.irl:5:17: error: data list 'cell.toml' not found"
+    broken = {"status": "compile_error", "diagnostics": [head]}
+    up = run_case(prog, update=True, runner=lambda p, o: broken)
+    assert (up.status, up.message) == ("updated", f"recorded: it does not compile — {head}")
+    again = run_case(prog, runner=lambda p, o: broken)
+    assert (again.status, again.message) == ("pass", f"expected: it does not compile — {head}")
+    failing = _report(status="failed", error={"message": "joint a2 beyond", "line": 3})
+    assert run_case(prog, update=True, runner=lambda p, o: failing).message == (
+        "recorded: the run fails — joint a2 beyond"
+    )
+    assert run_case(prog, runner=lambda p, o: failing).message == (
+        "expected: the run fails — joint a2 beyond"
+    )
+    fine = _report()
+    assert run_case(prog, update=True, runner=lambda p, o: fine).message == ""
+    assert run_case(prog, runner=lambda p, o: fine).message == ""

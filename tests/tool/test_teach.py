@@ -92,7 +92,7 @@ def test_bad_names(tmp_path):
     assert not (tmp_path / "taught.toml").exists()
 
 
-@pytest.mark.parametrize("where", ["/", ".", "..", "sub", "sub/"])
+@pytest.mark.parametrize("where", ["/", ".", "..", "sub/", "~"])
 def test_a_folder_is_not_a_teach_file(tmp_path, where):
     # ':teach a /' printed Python's "PosixPath('/') has an empty name"; '.' wrote '../NAME.toml'
     (tmp_path / "sub").mkdir()
@@ -103,6 +103,21 @@ def test_a_folder_is_not_a_teach_file(tmp_path, where):
         f"<input>:1:1: error: {where} is a folder; :teach takes a file (FILE.toml)"
     ]
     assert list(tmp_path.parent.glob("*.toml")) == list(tmp_path.glob("**/*.toml")) == []
+
+
+def test_a_name_beside_a_folder_of_that_name_is_its_toml_file(tmp_path):
+    """Regression: after the README's `mkdir -p cell`, the tutorial's `:teach corner cell`
+    said "cell is a folder" — but the file is cell.toml (`.toml` added to a bare name)."""
+    (tmp_path / "cell").mkdir()
+    (tmp_path / "box.toml").mkdir()
+    session = Session("planar3", cwd=tmp_path)
+    assert session.meta(":teach corner cell").failure == 0
+    assert "corner" in (tmp_path / "cell.toml").read_text(encoding="utf-8")
+    out = session.meta(":teach corner box")
+    assert out.failure == 3
+    assert out.lines == [
+        f"<input>:1:1: error: {tmp_path / 'box.toml'} is a folder; :teach takes a file (FILE.toml)"
+    ]
 
 
 def test_taught_pose_round_trips(tmp_path):

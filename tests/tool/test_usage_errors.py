@@ -35,3 +35,20 @@ def test_a_usage_error_is_one_line_with_the_usage(capsys, args, line):
     assert main(args) == 3
     out = capsys.readouterr()
     assert out.out == "" and out.err == line + "\n"
+
+
+@pytest.mark.parametrize(
+    ("word", "hint"),
+    [("chek", "did you mean 'check'?"), ("robtos", "did you mean 'robots'?"),
+     ("xyzzy", "commands: check, compile, disasm, fk, ik, repl, robot, robots, run, study, "
+               "test, warmup")],
+)  # fmt: skip
+def test_a_misspelt_command_is_not_taken_for_a_program(tmp_path, monkeypatch, capsys, word, hint):
+    """Regression (new-user walk): `irlc chek p.irl` said "got unexpected extra argument
+    (p.irl)" — `chek` was taken for the program of the bare form `irlc PROGRAM`."""
+    monkeypatch.chdir(tmp_path)
+    assert main([word, "p.irl"]) == 3
+    err = capsys.readouterr().err
+    assert err == f"irlc: error: no such command or program file '{word}' ({hint})\n"
+    (tmp_path / word).write_text("PROGRAM p;\nBEGIN\nENDPROGRAM\n", encoding="utf-8")
+    assert main([word, "--robot", "planar3", "-q"]) == 0  # a file of that name still runs
