@@ -375,6 +375,11 @@ def comparison_notes(report: dict, theirs: dict, mine: dict, other: dict) -> lis
     if other["joints"]:
         missing = [j for j in mine["joints"] if j not in other["joints"]]
         extra = [j for j in other["joints"] if j not in mine["joints"]]
+        if not theirs and (missing or extra):  # a trace: its columns are all there is
+            notes.append(
+                "a trace names no robot, and this one's joints differ from this run's: it "
+                "may be another robot's; joints are matched by name"
+            )
         if missing:
             notes.append(f"not in that run (shown as —): {', '.join(missing)}")
         if extra:

@@ -130,8 +130,6 @@ def compile_cmd(
     result = _compile(program, robot, datalist_path, allow_any_path)
     if not _reported(program, result):
         return EXIT_COMPILE
-    if not out.parent.is_dir() and str(out.parent):
-        raise UsageError(f"-o {out}: folder {out.parent} does not exist")
     try:
         atomic_write_text(out, write_code(result.code))
     except OSError as e:

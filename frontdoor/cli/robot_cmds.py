@@ -279,6 +279,13 @@ def fk_cmd(robot: str, q: tuple[str, ...], as_json: bool, motors: bool, euler: s
     _pose_table(model, joints, pose, "forward kinematics", extra)
 
 
+def _reached_pose(model: RobotModel, q_si) -> list[float]:
+    """The TCP pose (mm, deg ZYX) the joints ``q_si`` reach."""
+    from irlc.runtime.kinematics import Kinematics
+
+    return list(units.pose_from_si(Kinematics(model).tcp(q_si)))
+
+
 def _outside_limits(model: RobotModel, q_si) -> tuple[list[dict], list[str]]:
     """The joints beyond the robot's position limits (runtime/limit_check.py): the JSON key
     ``outside_limits`` (program name, value, bound in deg | mm, side ``min``/``max``, unit)
@@ -323,7 +330,19 @@ def _extras(model: RobotModel, q_si, t, motors: bool, euler: str) -> dict:
     return out
 
 
-def _pose_table(model: RobotModel, joints, pose, title: str, extra: dict | None = None) -> None:
+POSE_LABELS = ("x [mm]", "y [mm]", "z [mm]", "a [deg]", "b [deg]", "c [deg]")
+
+
+def _pose_table(
+    model: RobotModel,
+    joints,
+    pose,
+    title: str,
+    extra: dict | None = None,
+    reached=None,
+) -> None:
+    """Joints and pose; with ``reached`` (an IK that did not converge) the pose rows are
+    the target's and the pose the joints reach follows."""
     table = Table(title=f"{model.name}: {title}")
     table.add_column("quantity")
     table.add_column("value")
@@ -331,10 +350,10 @@ def _pose_table(model: RobotModel, joints, pose, title: str, extra: dict | None 
     for j, (kind, v) in enumerate(zip(model.joint_kinds, joints, strict=True)):
         label = f"{naming.label(j)} [{units.joint_unit(kind)}]"
         table.add_row(escape(label), units.fixed(v, 4))
-    for label, v in zip(
-        ("x [mm]", "y [mm]", "z [mm]", "a [deg]", "b [deg]", "c [deg]"), pose, strict=True
-    ):
-        table.add_row(escape(label), units.fixed(v, 4))
+    for label, v in zip(POSE_LABELS, pose, strict=True):
+        table.add_row(escape(label if reached is None else f"target {label}"), units.fixed(v, 4))
+    for label, v in zip(POSE_LABELS, reached if reached is not None else (), strict=False):
+        table.add_row(escape(f"reached {label}"), units.fixed(v, 4))
     extra = extra or {}
     if "pose_zyz" in extra:
         for label, v in zip(ZYZ_LABELS, extra["pose_zyz"][3:], strict=True):
@@ -444,6 +463,7 @@ def ik_cmd(
                 "robot": model.name,
                 "units": JSON_UNITS,
                 "pose": _fmt(pose_zyx),
+                "reached_pose": _fmt(_reached_pose(model, sol.q)),
                 **extra,
                 **_joints_json(model),
                 "joints": _fmt(joints),
@@ -460,7 +480,8 @@ def ik_cmd(
             }
         )
     else:
-        _pose_table(model, joints, pose_zyx, "inverse kinematics", extra)
+        reached = None if sol.converged else _reached_pose(model, sol.q)
+        _pose_table(model, joints, pose_zyx, "inverse kinematics", extra, reached)
         state = "converged" if sol.converged else "NOT converged"
         detail = "" if sol.converged else f" {message}"  # the solver's diagnosis
         click.echo(

@@ -9,6 +9,7 @@ import click
 from irlc.cli.app import cli
 from irlc.cli.lang_cmds import allow_any_path_option
 from irlc.errors import EXIT_OK, UsageError
+from irlc.lang.file_access import path_kind
 
 EXIT_TEST_FAILED = 1  # some golden test failed (like pytest); 3 for usage errors
 
@@ -30,8 +31,9 @@ def test_cmd(directory: Path, update: bool, jobs: int, allow_any_path: bool) -> 
     from irlc.cli.console import Console
     from irlc.golden import find_programs, render_results, run_golden
 
-    if not directory.is_dir():
-        raise UsageError(f"{directory}: no such directory")
+    kind = path_kind(directory)
+    if kind != "folder":
+        raise UsageError(f"{directory}: {'no such' if kind == 'missing' else 'not a'} directory")
     if not find_programs(directory):
         raise UsageError(f"{directory}: no *.irl programs")
     results = run_golden(directory, update=update, jobs=jobs, allow_any_path=allow_any_path)

@@ -198,7 +198,20 @@ def test_ik_json_converges_to_an_fk_pose(capsys):
 def test_ik_unreachable_exits_2(capsys):
     code, out, _ = run(capsys, "ik", "planar3", "5000", "0", "0", "0", "0", "0", "--json")
     assert code == 2
-    assert json.loads(out)["converged"] is False
+    data = json.loads(out)
+    assert data["converged"] is False and data["pose"] == [5000, 0, 0, 0, 0, 0]
+    model = load_robot("planar3")  # reached_pose: the FK of the joints found, not the target
+    q = units.joints_to_si(data["joints"], model.joint_kinds)
+    reached = units.pose_from_si(Kinematics(model).tcp(q))
+    np.testing.assert_allclose(data["reached_pose"], reached, atol=1e-6)
+    assert np.hypot(*(np.array(data["pose"][:2]) - reached[:2])) == pytest.approx(
+        data["position_error_mm"], rel=1e-3
+    )
+    code, out, _ = run(capsys, "ik", "planar3", "5000", "0", "0", "0", "0", "0")
+    rows = {line.split("│")[1].strip(): line.split("│")[2].strip() for line in out.splitlines()
+            if line.count("│") == 3}  # fmt: skip
+    assert code == 2 and rows["target x [mm]"] == "5000.0000" and "x [mm]" not in rows
+    assert float(rows["reached x [mm]"]) == pytest.approx(reached[0], abs=1e-4)
 
 
 @needs_ik

@@ -55,7 +55,11 @@ def test_a_trace_with_more_joints_and_a_failed_report_are_noted(tmp_path, capsys
     code, out = _run(tmp_path, capsys, "planar3", "(10, 80, -80)", "--compare",
                      str(trace))  # fmt: skip
     assert code == 0
-    assert _notes(out) == ["note: only in that run (not shown): a4"]  # a trace names no robot
+    assert _notes(out) == [
+        "note: a trace names no robot, and this one's joints differ from this run's: it may "
+        "be another robot's; joints are matched by name",
+        "note: only in that run (not shown): a4",
+    ]
     failed = {"status": "failed", "robot": "planar3", "duration_s": 1.0, "joints": []}
     report.write_text(json.dumps(failed), encoding="utf-8")
     code, out = _run(tmp_path, capsys, "planar3", "(10, 80, -80)", "--compare",
