@@ -172,6 +172,12 @@ def _model_of(run: Any, report: dict) -> Any:
         return None
 
 
+def _file_name(run: Any) -> str:
+    """The name of the file a loaded run was read from (a trace names no program), or ''."""
+    path = _get(run, "path", default=None)
+    return Path(path).name if path else ""
+
+
 def run_data(run: Any, label: str = "") -> RunData:
     """Normalise a run (RunResult, loaded run, report/trace path, or RunData)."""
     if isinstance(run, RunData):
@@ -219,7 +225,7 @@ def run_data(run: Any, label: str = "") -> RunData:
         report=report,
         model=model,
         obstacles=tuple(_get(run, "obstacles", default=()) or ()),
-        label=label or str(report.get("program", "")),
+        label=label or str(report.get("program", "")) or _file_name(run),
         robot_joint_names=_robot_joint_names(report, model, len(names)),
     )
 

@@ -60,6 +60,10 @@ def test_a_trace_with_more_joints_and_a_failed_report_are_noted(tmp_path, capsys
         "be another robot's; joints are matched by name",
         "note: only in that run (not shown): a4",
     ]
+    from irlc.export import run_data
+    from irlc.report import load_run
+
+    assert run_data(load_run(trace)).label == "four.csv"  # the figures' legend names it
     failed = {"status": "failed", "robot": "planar3", "duration_s": 1.0, "joints": []}
     report.write_text(json.dumps(failed), encoding="utf-8")
     code, out = _run(tmp_path, capsys, "planar3", "(10, 80, -80)", "--compare",
