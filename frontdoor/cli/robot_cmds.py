@@ -34,6 +34,7 @@ from rich.table import Table
 
 RAW = {"ignore_unknown_options": True}
 MAX_POSITION_MM = 1e9  # 1000 km: beyond it a target is a typo, and squares overflow
+MAX_JOINT_VALUE = 1e9  # deg | mm: beyond it a joint value is a typo
 
 
 def _robot(name: str) -> RobotModel:
@@ -64,6 +65,14 @@ def _joint_values(model: RobotModel, values: list[str], what: str = "joint value
             f"({JointNaming.for_model(model).labels(range(model.n))}); "
             f"got {len(numbers)} {what}s"
         )
+    naming = JointNaming.for_model(model)
+    for j, (v, kind) in enumerate(zip(numbers, model.joint_kinds, strict=True)):
+        if abs(v) > MAX_JOINT_VALUE:  # (a typo: the tables printed 300 digits for 1e308)
+            unit = units.joint_unit(kind)
+            raise UsageError(
+                f"{what} {j + 1} ({naming.program[j]}) = {v:g} {unit} is out of range "
+                f"(|value| ≤ 1e9 {unit})"
+            )
     return units.joints_to_si(numbers, model.joint_kinds)
 
 

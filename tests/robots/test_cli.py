@@ -119,6 +119,17 @@ def test_fk_beyond_the_position_limits_warns_and_lists_the_joints(capsys):
     assert on_the_bound[0] == 0 and "warning" not in on_the_bound[2]  # a bound is inside
 
 
+def test_fk_and_ik_seed_refuse_joint_values_beyond_1e9(capsys):
+    """Regression: `fk planar3 1e308 0 0` printed the joint as a 300-digit number."""
+    code, out, err = run(capsys, "fk", "planar3", "1e308", "0", "0")
+    assert (code, out) == (3, "")
+    assert "joint value 1 (a1) = 1e+308 deg is out of range (|value| ≤ 1e9 deg)" in err
+    code, _, err = run(capsys, "ik", "planar3", "1000", "0", "0", "0", "0", "0", "--seed", "0",
+                       "0", "-2e9")  # fmt: skip
+    assert code == 3 and "seed value 3 (a3) = -2e+09 deg is out of range" in err
+    assert run(capsys, "fk", "planar3", "1e9", "0", "0")[0] == 0  # the bound itself is fine
+
+
 def test_fk_table(capsys):
     code, out, _ = run(capsys, "fk", "planar3", "0", "0", "0")
     assert code == 0 and "x [mm]" in out and "3000.0000" in out
