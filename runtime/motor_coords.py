@@ -18,6 +18,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from irlc.lang import trace_columns as tc
 from irlc.robots.model import RobotModel
 from irlc.runtime.motor_limits import motor_limits
 from irlc.runtime.motor_maps import MotorMap
@@ -39,7 +40,7 @@ def motor_angles(model: RobotModel, q: np.ndarray) -> np.ndarray:
 
 def trace_columns(names) -> list[str]:
     """``NAME_motor_rad`` per joint (the program's names)."""
-    return [f"{n}_motor_rad" for n in names]
+    return [tc.motor(n) for n in names]
 
 
 def motor_report(model: RobotModel, names, times: np.ndarray, q: np.ndarray) -> dict[str, Any]:

@@ -37,6 +37,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from irlc.lang import trace_columns as tc
 from irlc.runtime import motor_coords, units
 from irlc.runtime.cycle_time import source_lines, statement_rows
 from irlc.runtime.digital_io import io_columns, signal_timelines
@@ -508,16 +509,18 @@ def _clean(obj):
 
 
 def trace_header(names, kinds, drives: bool, obstacles) -> list[str]:
+    """The trace's columns before the motors' and the I/O's (names: ``irlc.lang.trace_columns``)."""
+    joints = list(zip(names, kinds, strict=True))
     cols = ["t_s", "line"]
-    cols += [f"{n}_{units.joint_unit(k)}" for n, k in zip(names, kinds, strict=True)]
-    cols += [f"{n}_speed_{units.joint_unit(k, 1)}" for n, k in zip(names, kinds, strict=True)]
-    cols += [f"{n}_accel_{units.joint_unit(k, 2)}" for n, k in zip(names, kinds, strict=True)]
-    cols += ["x_mm", "y_mm", "z_mm", "a_deg", "b_deg", "c_deg", "path_error_mm"]
+    cols += [tc.position(n, k) for n, k in joints]
+    cols += [tc.speed(n, k) for n, k in joints]
+    cols += [tc.accel(n, k) for n, k in joints]
+    cols += [*tc.POSE, "path_error_mm"]
     if drives:
-        cols += [f"{n}_cmd_{units.joint_unit(k)}" for n, k in zip(names, kinds, strict=True)]
-        cols += [f"{n}_current_A" for n in names]
+        cols += [tc.command(n, k) for n, k in joints]
+        cols += [tc.current(n) for n in names]
     cols += ["orientation_error_deg"]
-    cols += [f"clearance_{name}_mm" for name in sorted(obstacles)]
+    cols += [tc.clearance(name) for name in sorted(obstacles)]
     return cols
 
 

@@ -100,6 +100,7 @@ class Checker:
         decls = self.decls
         decls.find_joint_record(p.decls)
         decls.add_datalists(self.datalists)
+        decls.check_trace_columns()
         decls.declare_all(p.decls, is_global=True)
         for r in p.routines:
             decls.declare_routine(r)

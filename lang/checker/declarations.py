@@ -10,7 +10,7 @@ declaration of the program.
 
 from __future__ import annotations
 
-from irlc.lang import ast
+from irlc.lang import ast, trace_columns
 from irlc.lang import types as T
 from irlc.lang.builtins import BUILTINS
 from irlc.lang.checker import constants
@@ -35,6 +35,7 @@ class Declarations:
         self.global_elements = 0  # of the global variables (T.elements)
         self.routines: list[RoutineInfo] = []
         self.inputs: dict[int, list[tuple[float, bool]]] = {}
+        self.joint_spans: list[Span] = []  # of the MAIN_JOINT record's field names
 
     def find_joint_record(self, decls: ast.Decls) -> None:
         for td in decls.types:
@@ -62,6 +63,23 @@ class Declarations:
             self.scope.joint_field_names[td.name.upper()] = tuple(names)
             if td.name.upper() == "MAIN_JOINT":
                 self.scope.joint_names = tuple(names)
+                self.joint_spans = [s for _, fl in td.type.fields for _, s in fl]
+
+    def check_trace_columns(self) -> None:
+        """MAIN_JOINT names whose trace columns would coincide with another column (a joint
+        ``a``: ``a_deg`` is also the TCP's angle a): :mod:`irlc.lang.trace_columns`."""
+        robot, names = self.scope.robot, self.scope.joint_names
+        if robot is None or not self.joint_spans or len(names) != self.scope.n:
+            return
+        obstacles = [o.name for o in self.scope.obstacles.values()]
+        clash = trace_columns.first_clash(names, robot.joint_kinds, obstacles)
+        if clash is not None:
+            j, column, other = clash
+            self.report.error(
+                self.joint_spans[j],
+                f"joint name '{names[j]}' gives the trace column {column}, which is also {other}",
+                "choose another name for this joint",
+            )
 
     def add_datalists(self, datalists: list[Datalist]) -> None:
         for dl in datalists:

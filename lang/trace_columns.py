@@ -1,0 +1,95 @@
+"""The trace's column names: the one owner.
+
+``runtime/results.py`` builds the trace header from these templates, and the checker
+refuses joint names whose columns would coincide with another column of the trace (a
+joint called ``a`` gave ``a_deg`` twice: its angle and the TCP's ``a`` angle, and irlc
+then misread its own trace). Per joint ``NAME`` of unit ``U`` (``deg`` | ``mm``)::
+
+    NAME_U  NAME_speed_U_s  NAME_accel_U_s2  NAME_cmd_U  NAME_current_A  NAME_motor_rad
+
+besides the fixed ``t_s``, ``line``, the pose ``x_mm … c_deg``, ``path_error_mm``,
+``orientation_error_deg``, ``partial`` and ``clearance_OBSTACLE_mm`` per obstacle.
+Names are compared without regard to case (IRL names are case-insensitive).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+
+from irlc.lang.joint_kinds import kind_letter
+
+_UNIT = {"R": "deg", "P": "mm"}
+_DERIVATIVE = ("", "_s", "_s2")
+
+POSE = ("x_mm", "y_mm", "z_mm", "a_deg", "b_deg", "c_deg")
+FIXED = {
+    "t_s": "the time",
+    "line": "the program line",
+    **{c: f"the TCP's {c[0]}" for c in POSE},
+    "path_error_mm": "the path error",
+    "orientation_error_deg": "the orientation error",
+    "partial": "the mark of a failed run",
+}
+"""The columns every trace has (``partial`` only a failed run's), with what they hold."""
+
+
+def unit(kind: str, derivative: int = 0) -> str:
+    """``deg``, ``deg_s``, ``deg_s2`` / ``mm``, … for a joint ``kind`` (word or letter)."""
+    return _UNIT[kind_letter(kind)] + _DERIVATIVE[derivative]
+
+
+def position(name: str, kind: str) -> str:
+    return f"{name}_{unit(kind)}"
+
+
+def speed(name: str, kind: str) -> str:
+    return f"{name}_speed_{unit(kind, 1)}"
+
+
+def accel(name: str, kind: str) -> str:
+    return f"{name}_accel_{unit(kind, 2)}"
+
+
+def command(name: str, kind: str) -> str:
+    """The commanded value beside a drive run's actual one."""
+    return f"{name}_cmd_{unit(kind)}"
+
+
+def current(name: str) -> str:
+    return f"{name}_current_A"
+
+
+def motor(name: str) -> str:
+    return f"{name}_motor_rad"
+
+
+def clearance(obstacle: str) -> str:
+    return f"clearance_{obstacle}_mm"
+
+
+def joint_columns(name: str, kind: str) -> tuple[str, ...]:
+    """Every column a joint can have (drives and motor maps included)."""
+    return (
+        position(name, kind),
+        speed(name, kind),
+        accel(name, kind),
+        command(name, kind),
+        current(name),
+        motor(name),
+    )
+
+
+def first_clash(
+    names: Sequence[str], kinds: Sequence[str], obstacles: Iterable[str] = ()
+) -> tuple[int, str, str] | None:
+    """``(joint, column, what else is called so)`` for the first joint (0-based) one of
+    whose columns another column shares, or ``None`` when all are distinct."""
+    owner = {c.lower(): meaning for c, meaning in FIXED.items()}
+    owner.update({clearance(o).lower(): f"obstacle {o}'s clearance" for o in obstacles})
+    for j, (name, kind) in enumerate(zip(names, kinds, strict=True)):
+        for column in joint_columns(name, kind):
+            other = owner.get(column.lower())
+            if other is not None:
+                return j, column, other
+        owner.update({c.lower(): f"a column of joint '{name}'" for c in joint_columns(name, kind)})
+    return None
