@@ -15,7 +15,6 @@ source line where the program's source file is at hand.
 
 from __future__ import annotations
 
-import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -58,12 +57,34 @@ def source_lines(source: str, base_dir: str | Path | None) -> list[str]:
     return program_source_lines(source, base_dir) or []
 
 
-_TRAILING_COMMENT = re.compile(r"\s*(?:\{[^{}']*\}|\(\*(?:(?!\*\)).)*\*\)|//[^']*)\s*\Z")
-
-
 def code_text(line: str) -> str:
-    """A source line without its trailing comment (``{ … }``, ``(* … *)``, ``// …``)."""
-    return _TRAILING_COMMENT.sub("", line).strip()
+    """A source line without its trailing comment (``{ … }``, ``(* … *)``, ``// …``), in
+    linear time (a regular expression with ``\\s*`` took quadratic time on a line of
+    40,000 blanks: 18 s)."""
+    text = line.rstrip()
+    start = _comment_start(text)
+    return (text if start is None else text[:start]).strip()
+
+
+def _comment_start(text: str) -> int | None:
+    """The leftmost start of a comment that ends ``text`` (no trailing blanks): ``{…}``
+    with no ``{``, ``}`` or quote inside, ``(*…*)`` with no ``*)`` inside, or ``//…`` with
+    no quote after it; ``None`` when the line ends in code."""
+    starts = []
+    slash = text.find("//", text.rfind("'") + 1)
+    if slash >= 0:
+        starts.append(slash)
+    if text.endswith("}"):
+        brace = text.rfind("{")
+        if brace >= 0 and not any(c in text[brace + 1 : -1] for c in "{}'"):
+            starts.append(brace)
+    end = len(text) - 2  # where a closing *) begins
+    if end >= 2 and text.endswith("*)"):
+        inner = text.rfind("*)", 0, end + 1)  # the last *) before it (may overlap a "(*)")
+        opening = text.find("(*", max(inner - 1, 0) if inner >= 0 else 0, end)
+        if opening >= 0:
+            starts.append(opening)
+    return min(starts) if starts else None
 
 
 def statement_rows(spans: Sequence[StatementSpan], lines: Sequence[str], rnd) -> list[dict]:
