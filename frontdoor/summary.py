@@ -179,8 +179,13 @@ def _path_error(report: dict) -> str:
     )
     tol = report.get("tolerances") or {}
     if tol:
-        text += f", tolerance {_num(tol.get('path_mm'), 'g')} mm, "
-        text += f"{_num(tol.get('orientation_deg'), 'g')} deg"
+        path, loosest = tol.get("path_mm"), tol.get("path_mm_loosest")
+        span = (
+            _num(path, "g")
+            if loosest in (None, path)
+            else f"{_num(path, 'g')}–{_num(loosest, 'g')}"
+        )
+        text += f", tolerance {span} mm, {_num(tol.get('orientation_deg'), 'g')} deg"
     return text
 
 

@@ -258,6 +258,7 @@ def build_report(run: RunData) -> dict:
     for samples in run.pieces():
         tally.add(samples)
     k = tally.k
+    strictest, loosest = tally.path_tolerances(opts.tol_position)  # R_PATH_TOL may change
     activity = controller.recorder.active_time  # (joint, label) → s, built once here
     active_time = _active_time(activity, model.n)
     following = _following(drive, model)
@@ -308,7 +309,8 @@ def build_report(run: RunData) -> dict:
         "events": [_clean(e) for e in sorted(execution.events, key=lambda e: e["time_s"])],
         "approximations": list(getattr(controller, "blends", ())),
         "tolerances": {
-            "path_mm": rnd(opts.tol_position / units.MM),
+            "path_mm": rnd(strictest / units.MM),
+            "path_mm_loosest": rnd(loosest / units.MM),
             "orientation_deg": rnd(opts.tol_orientation / units.DEG),
         },
         "joint_names": list(names),
@@ -390,6 +392,7 @@ class _Tally:
         self.q_min = self.q_max = self.q_first = self.q_last = None
         self.top_speed = self.top_accel = self.top_jerk = None
         self.end_time = 0.0
+        self.path_tol = (math.inf, -math.inf)  # m: the strictest, loosest R_PATH_TOL on path
         self._carry: tuple | None = None  # (time, acceleration) of the last sample
         self.shown = _Extrema(obstacles)
         self.ideal = _Extrema(obstacles) if drives else None
@@ -421,8 +424,18 @@ class _Tally:
         if self.ideal is not None:
             self.ideal.add(rec.times, rec.pos_error, rec.ori_error, rec.clearance)
         self._add_ik(rec)
+        tol = None if rec.tol_position is None else rec.tol_position[rec.on_path]
+        if tol is not None and tol.size:  # (on a Cartesian path: a PTP has no path to keep)
+            lo, hi = self.path_tol
+            self.path_tol = (min(lo, tol.min()), max(hi, tol.max()))
         if self.motors is not None:
             self.motors.add(rec.times, shown.q)
+
+    def path_tolerances(self, start: float) -> tuple[float, float]:
+        """The strictest and loosest R_PATH_TOL in effect on the commanded path (m): the
+        samples of Cartesian motions; ``start`` (the option's value) when there were none."""
+        lo, hi = self.path_tol
+        return (float(lo), float(hi)) if lo <= hi else (start, start)
 
     def _add_ik(self, rec) -> None:
         """The inverse transformation's cycles (iterations > 0): count, iterations (sum,

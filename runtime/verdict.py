@@ -68,7 +68,7 @@ def judge(model, names, rec, drive, actual, opts, params) -> Verdict:
         "torque_rating": _per_joint(naming, torque_max, kinds),
     }
     found = [
-        _path(rec, actual),
+        _path(rec, actual, opts.tol_position),
         _orientation(rec, actual, opts.tol_orientation),
         _following(naming, rec, drive, bound),
         _limits(model, naming, rec, actual),
@@ -156,23 +156,26 @@ def _violation(criterion, rec, k: int, value: float, limit: float, unit: str, me
     return row, RunFailure(message, line, round(t, 9), criterion.replace("_", " "))
 
 
-HINT = (
-    "loosen it with --path-tolerance MM or R_PATH_TOL := MM in the program, or slow down "
-    "(R_SPEED): the drives' following error grows with the speed"
-)
+SLOW_DOWN = "or slow down (R_SPEED): the drives' following error grows with the speed"
 
 
-def _path(rec, actual):
+def _path(rec, actual, start: float):
+    """The first sample beyond the R_PATH_TOL in effect; ``start`` (m) is its start value
+    (``--path-tolerance``): the option is advised only where that value was in effect."""
     tol = rec.tol_position
     k = _first_over_tolerance(rec, actual)
     if k is None:
         return None
     err, lim = actual.pos_error[k] / units.MM, tol[k] / units.MM
     worst = float(actual.pos_error.max() / units.MM)
+    if tol[k] == start:
+        loosen = "loosen it with --path-tolerance MM or R_PATH_TOL := MM in the program"
+    else:  # the program set it: the option's start value does not reach this statement
+        loosen = f"loosen R_PATH_TOL, which the program set to {lim:g} mm"
     msg = (
         f"the actual TCP (simulated drives) leaves the commanded path: {err:.4g} mm at "
         f"t = {rec.times[k]:.3f} s, tolerance {lim:g} mm (R_PATH_TOL); up to {worst:.4g} mm "
-        f"in the run; {HINT}"
+        f"in the run; {loosen}, {SLOW_DOWN}"
     )
     return _violation("path_tolerance", rec, k, err, lim, "mm", msg)
 

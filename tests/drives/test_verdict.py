@@ -94,16 +94,24 @@ def test_the_same_run_passes_with_a_loose_path_tolerance(tmp_path):
     assert 1.0 < report["max_path_error_mm"] <= 20.0
 
 
-def test_r_path_tol_is_modal_in_the_program(tmp_path):
+def test_r_path_tol_is_modal_in_the_program(tmp_path, capsys):
     loose = write(tmp_path, "modal", tol="R_PATH_TOL := 20;")
     code, report, _, _ = cli(tmp_path, loose, "--orientation-tolerance", "1")
     assert code == 0, report["error"]
+    # the tolerance the program set on the path, not the option's unused start value
+    assert report["tolerances"]["path_mm"] == report["tolerances"]["path_mm_loosest"] == 20
     # tightened again before the second line: that line fails, at its own statement
     tight = write(tmp_path, "modal2", tol="R_PATH_TOL := 20;", tol2="R_PATH_TOL := 0.5;")
-    code, report, _, _ = cli(tmp_path, tight, "--orientation-tolerance", "1")
+    code, report, _, err = cli(tmp_path, tight, "--orientation-tolerance", "1", "--path-tolerance",
+                               "30", capsys=capsys)  # fmt: skip
     assert code == 2
     assert report["error"]["line"] == LIN_LINE + 2
     assert report["verdict"]["criteria"]["path_tolerance_mm"] == 0.5
+    assert (report["tolerances"]["path_mm"], report["tolerances"]["path_mm_loosest"]) == (0.5, 20)
+    # the option cannot reach a statement whose R_PATH_TOL the program set: not advised
+    flat = " ".join(err.split())
+    assert "loosen R_PATH_TOL, which the program set to 0.5 mm" in flat
+    assert "--path-tolerance" not in flat
 
 
 @pytest.mark.parametrize("tool_mm", [0.0, 100.0])
