@@ -70,7 +70,7 @@ def judge(model, names, rec, drive, actual, opts, params) -> Verdict:
     found = [
         _path(rec, actual, opts.tol_position),
         _orientation(rec, actual, opts.tol_orientation),
-        _following(naming, rec, drive, bound),
+        *_following(naming, rec, drive, bound),
         _limits(model, naming, rec, actual),
         _collision(rec, actual),
     ]
@@ -199,43 +199,47 @@ def _sample_at(rec, t: float) -> int:
     return int(np.clip(k, 0, len(rec.times) - 1))
 
 
-def _following(naming, rec, drive, bound):
-    """The first recorded row beyond a joint's bound; else (the bound was exceeded between
-    recorded rows, or steps were lost) the worst axis the drive summary marks, at its
-    largest recorded error."""
+def _following(naming, rec, drive, bound) -> list[tuple[dict, RunFailure]]:
+    """One violation per joint whose drive could not follow: at its first recorded row
+    beyond its bound; else (the bound was exceeded between recorded rows, or steps were
+    lost) at its largest recorded error. Each message names the other joints too."""
     err = np.abs(drive.following_error)
     over = err > bound[None, :]
-    bad = [a for a in drive.axes if not a.could_follow]
-    if not over.any() and not bad:
-        return None
-    if over.any():
-        i = int(np.flatnonzero(over.any(axis=1))[0])
-        j = int(np.argmax(err[i] / bound))
-        value = float(err[i, j])
-    else:
-        worst = max(bad, key=lambda a: a.max_following_error / bound[a.joint])
-        j = worst.joint
-        i = int(np.argmax(err[:, j]))
-        value = worst.max_following_error
-    axis = drive.axes[j]
-    sc, unit = units.joint_scale([axis.kind])[0], units.joint_unit(axis.kind)
-    limit = float(bound[j] / sc)
-    what = f"following error {value / sc:.4g} {unit} > bound {limit:g} {unit}"
-    if axis.lost_steps:
-        what = f"{axis.lost_steps} lost steps"
-    t = float(drive.t[i])
-    others = naming.labels(sorted({a.joint for a in bad} - {j}))
-    msg = (
-        f"the drive of joint {naming.label(j)} could not follow its setpoint ({what} at "
-        f"t = {t:.3f} s)"
-        + (f"; also {others}" if others else "")
-        + "; slow down or check the drive data"
-    )
-    k = _sample_at(rec, t)
-    row, failure = _violation("following_error", rec, k, value / sc, limit, unit, msg)
-    row["time_s"], failure.time_s = t, round(t, 9)
-    row.update(_joint(naming, j))
-    return row, failure
+    bad = {a.joint for a in drive.axes if not a.could_follow}
+    joints = sorted(bad | {int(j) for j in np.flatnonzero(over.any(axis=0))})
+    found = []
+    for j in joints:
+        axis = drive.axes[j]
+        rows = np.flatnonzero(over[:, j])
+        if rows.size:
+            i = int(rows[0])
+            value = float(err[i, j])
+        else:
+            i = int(np.argmax(err[:, j]))
+            value = axis.max_following_error
+        found.append((float(drive.t[i]), -value / bound[j], j, value))
+    found.sort()  # the first in time first; at one time the farthest beyond its bound
+    out = []
+    for t, _, j, value in found:
+        axis = drive.axes[j]
+        sc, unit = units.joint_scale([axis.kind])[0], units.joint_unit(axis.kind)
+        limit = float(bound[j] / sc)
+        what = f"following error {value / sc:.4g} {unit} > bound {limit:g} {unit}"
+        if axis.lost_steps:
+            what = f"{axis.lost_steps} lost steps"
+        others = naming.labels([o for *_, o, _v in found if o != j])
+        msg = (
+            f"the drive of joint {naming.label(j)} could not follow its setpoint ({what} at "
+            f"t = {t:.3f} s)"
+            + (f"; also {others}" if others else "")
+            + "; slow down or check the drive data"
+        )
+        k = _sample_at(rec, t)
+        row, failure = _violation("following_error", rec, k, value / sc, limit, unit, msg)
+        row["time_s"], failure.time_s = t, round(t, 9)
+        row.update(_joint(naming, j))
+        out.append((row, failure))
+    return out
 
 
 def _limits(model, naming, rec, actual):

@@ -207,6 +207,13 @@ def test_following_error_bound_from_the_drive_data(tmp_path):
     assert bounds[0]["unit"] == "mm" and bounds[0]["bound"] == pytest.approx(0.1)
     assert bounds[1]["unit"] == "deg" and bounds[1]["bound"] == pytest.approx(np.degrees(1e-4))
     assert report["verdict"]["violations"][0]["criterion"] == "following_error"
+    # one violation per joint that could not follow (only the first was listed before)
+    following = [v for v in report["verdict"]["violations"] if v["criterion"] == "following_error"]
+    unable = {a["joint"] for a in report["drives_summary"]["axes"] if not a["could_follow"]}
+    assert len(unable) > 1 and sorted(v["joint"] for v in following) == sorted(unable)
+    assert all(v["value"] > v["limit"] for v in following)
+    times = [v["time_s"] for v in report["verdict"]["violations"]]
+    assert times == sorted(times)
 
 
 def test_r_path_tol_must_be_positive(tmp_path):
