@@ -311,11 +311,18 @@ def trajectory_document(run: Any) -> dict:
         }
         for i in range(d.k)
     ]
+    status, drives = d.report.get("status"), d.report.get("drives", "ideal")
     return {
         "format": TRAJECTORY_FORMAT,
         "header": {"frame_id": "world", "stamp": {"sec": 0, "nanosec": 0}},
         "robot": d.report.get("robot", getattr(d.model, "name", "")),
         "program": d.report.get("program", ""),
+        # a failed run's points stop where it stopped; with drives they are the simulated
+        # actual motion, not the setpoints
+        "status": status,
+        "partial": status == "failed",
+        "motion": "commanded" if drives == "ideal" else "actual",
+        "drives": drives,
         "joint_names": list(d.robot_joint_names or d.joint_names),
         "program_joint_names": list(d.joint_names),
         "joint_kinds": list(d.joint_kinds),

@@ -31,6 +31,29 @@ def test_document_structure(tmp_path, demo_run):
     assert last["sec"] + last["nanosec"] * 1e-9 == 3.0
 
 
+def test_the_document_says_whether_it_is_finished_and_what_it_holds(tmp_path, capsys):
+    """Regression (adversarial probe): a failed run's export ended mid-motion with nothing
+    to say so, and a drive run's was the simulated actual motion, unlabelled."""
+    from irlc.cli import main
+
+    assert _load(write_trajectory(make_run(), tmp_path / "a.json"))["motion"] == "commanded"
+    lagging = _load(write_trajectory(make_run(drives=True), tmp_path / "b.json"))
+    assert (lagging["motion"], lagging["drives"]) == ("actual", "decoupled")
+    program = tmp_path / "p.irl"
+    program.write_text(
+        "PROGRAM p;\nROBOT r := planar3;\nVAR REAL: x;\nBEGIN\n  MOVE PTP (10, 80, -80);\n"
+        "  x := -1;\n  WAIT x SEC;\nENDPROGRAM\n",
+        encoding="utf-8",
+    )
+    out = tmp_path / "e.json"
+    assert main(["run", str(program), "-q", "--export-trajectory", str(out)]) == 2
+    doc = _load(out)
+    assert (doc["status"], doc["partial"], doc["motion"]) == ("failed", True, "commanded")
+    program.write_text(program.read_text().replace("x := -1", "x := 0.1"), encoding="utf-8")
+    assert main(["run", str(program), "-q", "--export-trajectory", str(out)]) == 0
+    assert (_load(out)["status"], _load(out)["partial"]) == ("ok", False)
+
+
 def test_positions_are_si_from_the_trace_in_program_units(tmp_path, demo_run):
     """Convert the trace columns (deg, mm) independently and compare."""
     doc = _load(write_trajectory(demo_run, tmp_path / "t.json"))
