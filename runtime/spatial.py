@@ -77,8 +77,19 @@ def zyx_to_matrix(a: float, b: float, c: float) -> Mat:
     return rot_z(a) @ rot_y(b) @ rot_x(c)
 
 
+HALF_TURN_SNAP = 1e-12  # rad: an angle this close above −π is taken as +π
+
+
+def half_open(angle: float) -> float:
+    """``angle`` (from ``atan2``, in [−π, π]) in (−π, π]: a half turn is +π, also when
+    round-off puts it just above −π — the sign of a 1e-17 matrix entry made a constant
+    c = 180° flip between +180° and −180° from one sample to the next."""
+    return math.pi if angle <= -math.pi + HALF_TURN_SNAP else angle
+
+
 def matrix_to_zyx(r: Mat) -> tuple[float, float, float]:
-    """Inverse of :func:`zyx_to_matrix`; at the singularity ``b = ±90°`` it sets ``c = 0``."""
+    """Inverse of :func:`zyx_to_matrix` (``a``, ``c`` in (−π, π], :func:`half_open`); at the
+    singularity ``b = ±90°`` it sets ``c = 0``."""
     sb = -r[2, 0]
     sb = max(-1.0, min(1.0, sb))
     b = math.asin(sb)
@@ -88,7 +99,7 @@ def matrix_to_zyx(r: Mat) -> tuple[float, float, float]:
     else:  # gimbal lock: only a - c (or a + c) is defined
         c = 0.0
         a = math.atan2(-r[0, 1], r[1, 1])
-    return a, b, c
+    return half_open(a), b, half_open(c)
 
 
 def xyz_to_matrix(a: float, b: float, c: float) -> Mat:
@@ -111,10 +122,14 @@ def matrix_to_zyz(r: Mat) -> tuple[float, float, float]:
     sin_b = math.hypot(r[0, 2], r[1, 2])
     b = math.atan2(sin_b, r[2, 2])
     if sin_b > 1e-12:
-        return math.atan2(r[1, 2], r[0, 2]), b, math.atan2(r[2, 1], -r[2, 0])
+        return (
+            half_open(math.atan2(r[1, 2], r[0, 2])),
+            b,
+            half_open(math.atan2(r[2, 1], -r[2, 0])),
+        )
     if r[2, 2] > 0.0:
-        return math.atan2(r[1, 0], r[0, 0]), 0.0, 0.0
-    return math.atan2(-r[1, 0], -r[0, 0]), math.pi, 0.0
+        return half_open(math.atan2(r[1, 0], r[0, 0])), 0.0, 0.0
+    return half_open(math.atan2(-r[1, 0], -r[0, 0])), math.pi, 0.0
 
 
 # convention name → (angles → matrix, matrix → angles), radians

@@ -105,3 +105,19 @@ def test_units_round_trip_pose_and_joints():
     si = units.joints_to_si((90.0, 18.11), kinds)
     assert np.allclose(si, (math.pi / 2, 0.01811))
     assert np.allclose(units.joints_from_si(si, kinds), (90.0, 18.11))
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+@pytest.mark.parametrize("noise", [0.0, 1e-17, 3e-16])
+def test_a_half_turn_is_plus_180_whatever_the_round_off(sign, noise):
+    """Regression (adversarial probe): a constant c = 180° flipped between +180° and −180°
+    in the trace with the sign of a round-off entry of R (``atan2(±0, −1)``)."""
+    r = spatial.zyx_to_matrix(math.radians(30.0), math.radians(10.0), math.pi)
+    r[2, 1] = math.copysign(noise, sign)  # ±round-off (or ±0) where sin(c) is zero
+    a, b, c = spatial.matrix_to_zyx(r)
+    assert c == math.pi
+    assert (a, b) == pytest.approx((math.radians(30.0), math.radians(10.0)), abs=1e-12)
+    zyz = spatial.matrix_to_zyz(spatial.zyz_to_matrix(-math.pi, 0.5, -math.pi))
+    assert zyz[0] == zyz[2] == math.pi  # the same convention for Φ and Ψ: (−180°, 180°]
+    # beyond round-off an angle keeps its sign
+    assert spatial.matrix_to_zyx(spatial.zyx_to_matrix(0, 0, -math.pi + 1e-9))[2] < 0
