@@ -40,6 +40,7 @@ from irlc.runtime.controller import Settings, setting_error
 from irlc.runtime.drive_levels import LEVELS as DRIVE_LEVELS
 from irlc.runtime.errors import DriveSetupError, RunFailure
 from irlc.runtime.executor import ExecutionOptions, SimulatedController
+from irlc.runtime.limit_check import first_outside
 from irlc.runtime.naming import JointNaming
 from irlc.runtime.obstacles import Obstacle
 from irlc.runtime.recorder import RecordedRun
@@ -182,7 +183,19 @@ def start_configuration(code: Code, model: RobotModel, seed_config) -> np.ndarra
             )
         if not all(math.isfinite(v) for v in vals):
             raise RunSetupError("--seed-config values must be finite numbers")
-        return units.joints_to_si(vals, model.joint_kinds)
+        q = units.joints_to_si(vals, model.joint_kinds)
+        limits = model.position_limits
+        out = first_outside(q, limits[:, 0], limits[:, 1])
+        if out is not None:  # (it failed the program's first statement, exit 2)
+            unit = units.joint_unit(model.joint_kinds[out.joint])
+            bound = units.joints_from_si([out.bound], [model.joint_kinds[out.joint]])[0]
+            where = "below the lower" if out.below else "above the upper"
+            name = JointNaming.for_model(model, code.joint_names).label(out.joint)
+            raise RunSetupError(
+                f"--seed-config: joint {name} = {vals[out.joint]:g} {unit} is {where} bound "
+                f"{bound:g} {unit} of the robot's position limits"
+            )
+        return q
     if model.home is not None:
         return np.array(model.home, dtype=float)
     first = _first_ptp_target(code)

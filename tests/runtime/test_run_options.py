@@ -66,3 +66,17 @@ def test_a_bad_ipo_or_override_is_described_never_nan_or_inf(planar3, key, value
     with pytest.raises(RunSetupError) as err:
         run_code(code, robot=planar3, **{key: value})
     assert str(err.value).startswith(f"--{key} {shown}: the value must be in")
+
+
+def test_a_seed_configuration_beyond_the_limits_is_a_setup_error(planar3):
+    """Regression (adversarial probe): `--seed-config "1e5 0 0"` failed the program's first
+    statement at run time (exit 2), not the option (exit 3)."""
+    code = Ird("planar3", "RRR").op(1, "END").code_object()
+    upper = math.degrees(planar3.position_limits[0, 1])
+    with pytest.raises(RunSetupError) as info:
+        run_code(code, robot=planar3, seed_config=[upper + 1.0, 0.0, 0.0])
+    assert str(info.value) == (
+        f"--seed-config: joint a1 (J1) = {upper + 1.0:g} deg is above the upper bound "
+        f"{upper:g} deg of the robot's position limits"
+    )
+    run_code(code, robot=planar3, seed_config=[upper, 0.0, 0.0])  # on the bound: inside
