@@ -221,8 +221,8 @@ def run_cmd(
         return run
     for d in run.diagnostics:
         err.print(_render_diag(d), markup=False)
-    _write_outputs(run, report_path, trace_path)
-    code = _tool_outputs(run, plot_dir, animate_path, export_path, compare, err)
+    written = _write_outputs(run, report_path, trace_path)
+    written += _tool_outputs(run, plot_dir, animate_path, export_path, compare, err)
     if as_json:
         from irlc.report import report_json
 
@@ -233,10 +233,12 @@ def run_cmd(
         render_summary(run.report, out)
         if compare is not None:
             render_comparison(run.report, compare, out)
+        if written:  # (a file name is text, never rich markup)
+            out.print(f"wrote {', '.join(written)}", markup=False, soft_wrap=True)
     if run.error is not None:
         err.print(_render_failure(program, run.code, run.error), markup=False)
         return EXIT_RUN
-    return code
+    return EXIT_OK
 
 
 def _run(program, robot, datalist_path, options, seed, every_step, show_progress, echo, err):
@@ -299,25 +301,32 @@ def _source_file(program: Path, code) -> Path:
     return cand if cand.is_file() else program
 
 
-def _write_outputs(run, report_path, trace_path) -> None:
+def _write_outputs(run, report_path, trace_path) -> list[str]:
+    """Write the report and the trace; returns what was written (``report r.json``, …)."""
     from irlc.report import write_report, write_trace
 
+    written = []
     try:
         if report_path is not None:
             write_report(run.report, report_path)
+            written.append(f"report {report_path}")
         if trace_path is not None:
             partial = run.error is not None
             write_trace(run.trace_columns, run.trace_tables(), trace_path, partial)
+            written.append(f"trace {trace_path}" + (" (up to the failure)" if partial else ""))
     except OSError as exc:
         raise UsageError(f"cannot write {exc.filename}: {exc.strerror}") from None
+    return written
 
 
-def _tool_outputs(run, plot_dir, animate_path, export_path, compare, err) -> int:
+def _tool_outputs(run, plot_dir, animate_path, export_path, compare, err) -> list[str]:
+    """Figures, animation, trajectory export; returns what was written."""
     jobs = [
         (plot_dir, "irlc.plots", "write_plots", "--plot"),
         (animate_path, "irlc.animate", "write_animation", "--animate"),
         (export_path, "irlc.export", "write_trajectory", "--export-trajectory"),
     ]
+    written = []
     for target, module, func, option in jobs:
         if target is None:
             continue
@@ -335,14 +344,17 @@ def _tool_outputs(run, plot_dir, animate_path, export_path, compare, err) -> int
                         "plots; give a trace CSV (--trace) for that",
                         markup=False,
                     )
-                fn(run, target, compare=overlay)
+                figures = fn(run, target, compare=overlay)
+                written.append(f"{len(figures)} figures in {target}")
             else:
                 fn(run, target)
+                what = "animation" if func == "write_animation" else "trajectory"
+                written.append(f"{what} {target}")
         except ImportError as exc:  # e.g. matplotlib not installed
             raise UsageError(f"{option} needs an optional package: {exc}") from None
         except OSError as exc:
             raise UsageError(f"{option}: cannot write {exc.filename}: {exc.strerror}") from None
-    return EXIT_OK
+    return written
 
 
 def _load_compare(path: Path):

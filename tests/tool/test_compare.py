@@ -80,3 +80,15 @@ def test_alike_runs_get_no_note(tmp_path, capsys):
     assert code == 0 and _notes(out) == []
     rows = [line.split("│") for line in out.splitlines() if line.lstrip().startswith("a2 max")]
     assert len(rows) == 1 and float(rows[0][1]) == float(rows[0][2])  # the same run
+
+
+def test_the_summary_ends_with_the_files_written(tmp_path, capsys):
+    """Regression (new-user walk): `compile` said `wrote FILE`, `run` wrote its report,
+    trace and export without a word."""
+    report, trace, export = (tmp_path / n for n in ("r.json", "t.csv", "e.json"))
+    args = ("--report", str(report), "--trace", str(trace), "--export-trajectory", str(export))
+    code, out = _run(tmp_path, capsys, "planar3", "(10, 80, -80)", *args)
+    assert code == 0 and all(p.is_file() for p in (report, trace, export))
+    assert out.splitlines()[-1] == f"wrote report {report}, trace {trace}, trajectory {export}"
+    code, out = _run(tmp_path, capsys, "planar3", "(10, 80, -80)", "-q", *args)
+    assert code == 0 and out == ""  # quiet: nothing
