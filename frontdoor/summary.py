@@ -22,6 +22,7 @@ def _num(v, fmt: str = ".4g") -> str:
 
 
 MAX_WIDTH = 120  # columns of the summary written to a file or pipe
+JOINT_COLUMN_MAX = 32  # the joint column's least width at most: longer names fold
 _SHORT = {"position": "pos", "speed": "speed", "accel": "acc", "braking": "brake"}
 
 
@@ -45,7 +46,9 @@ def joints_table(report: dict) -> Table:
         f"{joint_label(j['name'], j.get('robot_name'))} [{j['unit']}]" for j in report["joints"]
     ]
     longest = max((len(w) for label in labels for w in label.split()), default=5)
-    table.add_column("joint", min_width=longest)  # a narrow terminal wraps names, cuts none
+    # a narrow terminal wraps names, cuts none; a very long name folds instead of pushing
+    # the numbers out of the table
+    table.add_column("joint", min_width=min(longest, JOINT_COLUMN_MAX), overflow="fold")
     for name in ("min", "max", "end", "|v|max", "|a|max"):
         table.add_column(name, justify="right", no_wrap=True)
     table.add_column("limit active")

@@ -130,3 +130,23 @@ def test_repl_options_show_the_composed_tool_and_frozen_joints_by_name(tmp_path)
     col = rows[0].index("x_mm")
     # the start sample already has the program's tool: a 10 mm platform move, no 150 mm jump
     assert abs(float(rows[2][col]) - float(rows[1][col])) < 10.0
+
+
+def test_a_very_long_joint_name_folds_and_keeps_the_numbers(tmp_path, capsys):
+    """Regression (adversarial probe): a joint name of ~100 characters pushed min, max, end
+    … out of the summary's joints table."""
+    name = "s" + "x" * 110
+    program = tmp_path / "ln.irl"
+    program.write_text(
+        f"PROGRAM ln;\nROBOT r := planar3;\nTYPE RECORD REAL: {name}, b2, c3; ENDRECORD = "
+        "MAIN_JOINT;\nBEGIN\n  MOVE PTP (10, 80, -80);\nENDPROGRAM\n",
+        encoding="utf-8",
+    )
+    assert main(["run", str(program)]) == 0
+    out = capsys.readouterr().out
+    rows = [line for line in out.splitlines() if line.count("│") >= 7 and "0.00" in line]
+    first = next(line for line in rows if name[:30] in line)  # the name's first piece
+    cells = [c.strip() for c in first.split("│")]
+    assert cells[2:5] == ["0.00", "10.00", "10.00"]  # min, max, end of a1: 0 → 10 deg
+    assert "".join(line.split("│")[1].strip() for line in out.splitlines()
+                   if line.count("│") >= 7).count(name) == 1  # fmt: skip
