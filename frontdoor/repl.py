@@ -131,6 +131,9 @@ def _teach_path(cwd: Path, raw: str) -> Path | None:
     return path if path.suffix else path.with_suffix(".toml")
 
 
+_ADDED_END = "unexpected ';'"  # a parse error at the ';' that _terminated adds
+
+
 def _terminated(text: str) -> str:
     body = text.rstrip()
     return body if body.endswith(";") else body + ";"
@@ -294,6 +297,11 @@ class Session:
             header = self._located(diag.message, local_line, severity=diag.severity)
             return f"{header}\n{rest}" if rest else header
         local = _shifted(span, 1 - chunk_line)  # line 1 = the entry's first line
+        typed = chunk.split("\n")[local.line - 1].rstrip()
+        if local.column > len(typed) and diag.message.startswith(_ADDED_END):
+            # at the ';' the session adds to a statement: the user's entry ends there
+            rest = diag.message[len(_ADDED_END) :]
+            diag = dataclasses.replace(diag, message=f"unexpected end of the entry{rest}")
         _, _, shown = render(dataclasses.replace(diag, span=local), chunk).partition("\n")
         file, where = self._entry_file(), local
         if self.origin is not None:
@@ -357,7 +365,7 @@ class Session:
             return self._declare(imports=[], decls=[_terminated(text)])
         if kind == "typed":
             return self._typed(text)
-        return self._statement(_terminated(text))
+        return self._statement(_terminated(text), shown=text)  # (the ';' is not shown)
 
     def _typed(self, text: str) -> Entry:
         """``POSE: p, q;`` and ``POSE: p := expr;``: declare (``VAR`` on a line of its own

@@ -278,6 +278,18 @@ def test_terminal_entries_keep_positions_within_the_entry():
     assert entry.lines[-1].startswith("<input>:3:5: error: run-time failure"), entry.lines
 
 
+def test_an_unfinished_statement_is_not_shown_with_the_added_semicolon():
+    """Regression (new-user walk): `MOVE LIN (1,2` was shown as `MOVE LIN (1,2;` with
+    "unexpected ';'" — a ';' the session adds, the user never typed."""
+    from irlc.repl import Session
+
+    lines = Session("planar3").enter("MOVE LIN (1,2").lines[0].splitlines()
+    assert lines[0] == "<input>:1:14: error: unexpected end of the entry; expected ')'"
+    assert lines[1:] == ["  MOVE LIN (1,2", "  " + " " * 13 + "^"]
+    typed = Session("planar3").enter("x := ;").lines[0]  # a ';' the user typed is named
+    assert typed.startswith("<input>:1:6: error: unexpected ';'")
+
+
 @needs_runtime
 def test_a_move_that_goes_nowhere_says_so():
     from irlc.repl import Session
