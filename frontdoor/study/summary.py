@@ -37,14 +37,15 @@ def check_metric(sort: str, columns: list[str], keys: list[str]) -> None:
 
 
 def ranked(rows: list[dict[str, str]], sort: str) -> list[dict[str, str]]:
-    """Rows with a number in the metric, best first: smallest, or largest for ``-METRIC``
-    (ties: variant order)."""
+    """The rows of runs that went well (``status`` ok) with a number in the metric, best
+    first: smallest, or largest for ``-METRIC`` (ties: variant order). A failed run's
+    numbers stop where it stopped (a path error of 0 at t = 0 is no best)."""
     metric, descending = split_sort(sort)
     sign = -1.0 if descending else 1.0
     scored = [
         (sign * v, int(r["variant"]), r)
         for r in rows
-        if (v := _number(r.get(metric, ""))) is not None
+        if r.get("status", "ok") == "ok" and (v := _number(r.get(metric, ""))) is not None
     ]
     return [r for _, _, r in sorted(scored, key=lambda t: (t[0], t[1]))]
 
@@ -64,7 +65,8 @@ def summary_table(
         title=(f"{name}: " if name else "")
         + f"{len(rows)} variants ({status}); by {metric}, "
         + ("largest" if descending else "smallest")
-        + " first",
+        + " first"
+        + ("" if counts.get("ok", 0) == len(rows) else " (of the runs that went well)"),
         title_justify="left",
         show_edge=False,
         pad_edge=False,

@@ -549,6 +549,10 @@ def test_ranking_smallest_or_largest_first_ties_in_variant_order():
     ]
     assert [r["variant"] for r in ranked(table, "m")] == ["2", "0", "3"]
     assert [r["variant"] for r in ranked(table, "-m")] == ["0", "3", "2"]
+    # a failed run's numbers stop where it stopped: never ranked, even with a number
+    # (regression: failed variants with a path error of 0 at t = 0 headed the table, "best")
+    failed = [{**r, "status": "failed"} if r["variant"] == "2" else r for r in table]
+    assert [r["variant"] for r in ranked(failed, "m")] == ["0", "3"]
 
 
 def test_the_example_study_in_programs_is_valid():
