@@ -121,8 +121,12 @@ class _Loader:
         return Span(*position) if position else None
 
     def numbers(self, value, key: str, size: int | None, what: str) -> tuple[float, ...] | None:
-        if not isinstance(value, list) or not all(_is_number(v) for v in value):
+        if not isinstance(value, list):
             self.error(key, f"expected {what}, got {_show(value)}")
+            return None
+        bad = next((i for i, v in enumerate(value) if not _is_number(v)), None)
+        if bad is not None:  # (a list of numbers but one: "got a list of 3 values" read odd)
+            self.error(key, f"value {bad + 1} is not a number: {_show(value[bad])} ({what})")
             return None
         if size is not None and len(value) != size:
             self.error(key, f"expected {size} numbers ({what}), got {len(value)}")

@@ -187,9 +187,22 @@ def setting_error(field_name: str, value: object) -> str | None:
     allowed = SETTING_RANGES[field_name]
     if isinstance(allowed, SettingChoices):
         return None if value in allowed else f"the value must be {allowed}"
-    if isinstance(value, float | int) and not isinstance(value, bool) and value in allowed:
+    number = isinstance(value, float | int) and not isinstance(value, bool)
+    if number and value in allowed:
         return None
+    if not number:  # a study's or an expectation's "fast" or true: not a range question
+        return f"expected a number, got {_kind(value)}; the value must be {allowed}"
     return f"the value must be {allowed}"
+
+
+def _kind(value: object) -> str:
+    """What a value that is no number is, for a message (``true``, ``"fast"``, a list)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        text = value if len(value) <= 40 else value[:37] + "..."
+        return f'"{text}"'
+    return {list: "a list", dict: "a table"}.get(type(value), type(value).__name__)
 
 
 def shown_value(value: object) -> str:

@@ -181,7 +181,12 @@ def read_study(path: str | Path) -> Study:
         raise study.error("", "nothing varies: add a [grid] or a [random] table")
     dup = _duplicate([a.key for a in study.axes])
     if dup:
-        raise study.error(dup, "varied both in [grid] and in [random]", "random")
+        sections = [a.section for a in study.axes if a.key == dup]
+        if len(set(sections)) > 1:
+            where = "both in [grid] and in [random]"
+        else:  # one table: two spellings of one key ("run.override" and run.override)
+            where = f"twice in [{sections[0]}] (two spellings of one key)"
+        raise study.error(dup, f"varied {where}", sections[-1])
     count = count_variants(study)
     if count > MAX_VARIANTS:
         raise study.error("", f"{describe(count)} variants; at most {MAX_VARIANTS:,}")

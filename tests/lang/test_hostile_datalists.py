@@ -111,3 +111,19 @@ def test_a_300_character_robot_name_is_an_error_at_the_robot_clause(robot: str) 
     (err,) = result.errors
     assert (err.line, err.column) == (2, 12)
     assert err.message.startswith("cannot use robot 'ddd")
+
+
+@pytest.mark.parametrize(
+    ("entry", "message"),
+    [
+        ('k1 = [0, 90, "x", 0, 0, 0]', "key 'joints.k1': value 3 is not a number: 'x' (one value "
+                                       "per joint)"),
+        ("k1 = [0, 90, true, 0, 0, 0]", "key 'joints.k1': value 3 is not a number: true (one "
+                                        "value per joint)"),
+        ('k1 = "home"', "key 'joints.k1': expected one value per joint, got 'home'"),
+    ],
+)  # fmt: skip
+def test_a_value_that_is_no_number_is_named_by_its_place(tmp_path, entry, message):
+    """Regression (probe): `[0, 90, "x"]` read "expected one value per joint, got a list of
+    3 values" — for a list of one value per joint."""
+    assert _errors(tmp_path, f"[joints]\n{entry}\n") == [message]

@@ -137,7 +137,17 @@ BAD = [
         "positive",
     ),
     ("[grid.robot.joints.2]\nspeed = [1, 0]\n", "speed = [1, 0]", "positive"),
-    ('[run]\nipo = "fast"\n\n[grid]\n"run.drives" = ["ideal"]\n', 'ipo = "fast"', "must be"),
+    (
+        '[run]\nipo = "fast"\n\n[grid]\n"run.drives" = ["ideal"]\n',
+        'ipo = "fast"',
+        'run.ipo: expected a number, got "fast"; the value must be in',
+    ),
+    # one key twice in [grid] (two spellings): not "varied both in [grid] and in [random]"
+    (
+        '[grid]\n"run.override" = [50]\nrun.override = [60]\n',
+        '"run.override"',
+        "grid.run.override: varied twice in [grid] (two spellings of one key)",
+    ),
     ('colour = 1\n[grid]\n"run.ipo" = [0.01]\n', "colour", "unknown key"),
     ('robot = "nosuch"\n[grid]\n"run.ipo" = [0.01]\n', "nosuch", "unknown robot"),
     ('[grid]\n"run.drives" = ["ideal", "decoupled"]\n', '"run.drives"', "no drive data"),
