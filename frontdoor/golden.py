@@ -267,7 +267,41 @@ def load_expectation(path: Path) -> dict:
                 f"{path}: key 'tolerances.{shown_key(key)}': expected a number ≥ 0,"
                 f" got {_json_value(tol)}"
             )
+        problem = _tolerance_key_problem(key, doc)
+        if problem is not None:
+            raise ExpectationError(f"{path}: key 'tolerances.{shown_key(key)}': {problem}")
     return doc
+
+
+# The numbers a tolerance can widen (the bounds ``…_below`` have none): top-level keys and,
+# under joints.NAME / obstacles.NAME, their fields.
+TOLERANCE_ROOTS = ("duration_s", "samples", "error_line", "ik_relaxed_cycles", "joints",
+                   "obstacles")  # fmt: skip
+TOLERANCE_FIELDS = {
+    "joints": ("min", "max", "end", "max_following_error"),
+    "obstacles": ("min_distance_mm",),
+}
+
+
+def _tolerance_key_problem(key: str, doc: dict) -> str | None:
+    """Why ``key`` names no number of the expectation ``doc`` (a typo such as
+    ``duraton_s`` was ignored and the default quantum applied), else ``None``."""
+    root, *rest = key.split(".")
+    if root not in TOLERANCE_ROOTS:
+        return (
+            "no number of the expectation has this key (keys: "
+            f"{', '.join(TOLERANCE_ROOTS)}, joints.NAME[.FIELD], obstacles.NAME[.FIELD])"
+        )
+    fields = TOLERANCE_FIELDS.get(root)
+    if fields is None:
+        return f"'{root}' is one number: it has no parts" if rest else None
+    if len(rest) > 2 or (len(rest) == 2 and rest[1] not in fields):
+        return f"{root}.NAME has the fields {', '.join(fields)}"
+    names = doc.get(root)
+    if rest and isinstance(names, dict) and rest[0] not in names:
+        known = ", ".join(map(str, names)) or "none"
+        return f"no {root[:-1]} '{rest[0]}' in the expectation ({root}: {known})"
+    return None
 
 
 def _option_problem(key: str, value: Any) -> str | None:

@@ -36,6 +36,15 @@ def _no_run(program, options):
         (b'{"tolerances": {"x": "abc"}}', "key 'tolerances.x': expected a number ≥ 0, got \"abc\""),
         (b'{"tolerances": {"x": -1}}', "key 'tolerances.x': expected a number ≥ 0, got -1"),
         (b'{"tolerances": [1]}', "key 'tolerances': expected an object, got an array"),
+        # a typo in a tolerance's key was ignored, the default quantum applied (probe)
+        (b'{"tolerances": {"duraton_s": 0.5}}', "key 'tolerances.duraton_s': no number of the"),
+        (b'{"tolerances": {"output": 1}}', "key 'tolerances.output': no number of the"),
+        (b'{"tolerances": {"samples.x": 1}}', "'samples' is one number: it has no parts"),
+        (b'{"tolerances": {"joints.a1.mx": 1}}', "joints.NAME has the fields min, max, end"),
+        (
+            b'{"joints": {"a1": {}}, "tolerances": {"joints.a9": 1}}',
+            "no joint 'a9' in the expectation (joints: a1)",
+        ),
         (b'{"options": "fast"}', "key 'options': expected an object, got a string"),
         (b'{"options": {"speed": 2}}', "key 'options.speed': unknown run option"),
         (b"[" * 100_000 + b"]" * 100_000, "p.expected.json: not valid JSON: nested too deeply"),
