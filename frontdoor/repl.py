@@ -452,6 +452,14 @@ class Session:
         lines = messages + list(out)
         if result.error is not None:
             lines.append(self._run_error(result.error, first, shown or body))
+            # left out of :program (it would stop there), but not without a word: what it
+            # did before failing (motion, assignments) stays in the session
+            t = getattr(result.error, "time_s", None)
+            when = f" at t = {t:.3f} s" if t is not None else ""
+            self.history.append(
+                f"{{ left out: an entry that failed{when}; what it did before failing (motion, "
+                "assignments) stays in the session, so this program may not reproduce it }"
+            )
             return Entry(lines, 2)
         self.history.append(body.strip())
         if self.controller.time > t0 or not np.array_equal(self.controller.q, q0):

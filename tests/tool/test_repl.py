@@ -449,3 +449,21 @@ def test_each_entry_has_the_whole_cycle_budget():
     entry = s.enter("MOVE PTP (0, 20, 30) WITH TIME := 7;", 4)
     assert entry.failure == 2
     assert "would take 700 IPO cycles and the run past its budget of 600" in " ".join(entry.lines)
+
+
+@needs_runtime
+def test_program_names_an_entry_that_failed_part_way():
+    """Regression (probe): `:program` dropped a FOR that failed in its second pass without
+    a word, though its first pass had moved the robot; the program did not reproduce it."""
+    from irlc.repl import Session
+
+    s = Session("planar3")
+    assert (
+        s.enter("MOVE LIN (1500, 600, 0, 0, 0, 0);\nMOVE LIN (9000, 0, 0, 0, 0, 0);").failure == 2
+    )
+    assert s.enter("MOVE LIN (1500, 900, 0, 0, 0, 0)").failure == 0
+    program = s.meta(":program").lines
+    left = [line for line in program if line.startswith("{ left out:")]
+    assert len(left) == 1 and "failed at t = " in left[0] and left[0].endswith("}")
+    assert program.index(left[0]) < program.index("MOVE LIN (1500, 900, 0, 0, 0, 0);")
+    assert not any("9000" in line for line in program)
