@@ -472,6 +472,13 @@ def _show(v: Any) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
+def _lines(value: Any) -> str:
+    """``"12 lines"`` for the printed output (a list of lines), else :func:`_show`."""
+    if isinstance(value, list):
+        return f"{len(value)} line" + ("" if len(value) == 1 else "s")
+    return _show(value)
+
+
 def render_results(results: list[CaseResult], console) -> None:
     """Print one line per case and, for failures, a table of what changed (rich)."""
     from rich.table import Table
@@ -492,6 +499,10 @@ def render_results(results: list[CaseResult], console) -> None:
             table.add_column("actual", overflow="fold")
             table.add_column("note", no_wrap=True)
             for m in r.mismatches:
+                if m.path == "output" and r.output_diff:  # lines: the diff below shows them
+                    exp, act = (_lines(v) for v in (m.expected, m.actual))
+                    table.add_row(m.path, exp, act, "the diff below")
+                    continue
                 table.add_row(m.path, _show(m.expected), _show(m.actual), m.note)
             console.print(table)
         for line in r.output_diff:

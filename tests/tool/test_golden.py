@@ -175,3 +175,22 @@ def test_a_case_that_does_not_compile_or_fails_says_so_when_recorded_and_passing
     fine = _report()
     assert run_case(prog, update=True, runner=lambda p, o: fine).message == ""
     assert run_case(prog, runner=lambda p, o: fine).message == ""
+
+
+def test_a_changed_output_is_counted_in_the_table_and_shown_by_the_diff():
+    """Regression (probe): the table's output row showed raw JSON lists, wrapped and cut."""
+    import io
+    from pathlib import Path
+
+    from irlc.golden import CaseResult, Mismatch, render_results
+    from rich.console import Console
+
+    want, got = [f"lap {i}: joints 0.0 90.0 -90.0" for i in range(4)], ["round 1"]
+    case = CaseResult(
+        Path("p.irl"), "fail", [Mismatch("output", want, got)], ["-lap 0", "+round 1"]
+    )
+    buf = io.StringIO()
+    render_results([case], Console(file=buf, width=80, highlight=False, color_system=None))
+    row = next(line for line in buf.getvalue().splitlines() if line.strip().startswith("output"))
+    assert row.split() == ["output", "4", "lines", "1", "line", "the", "diff", "below"]
+    assert "-lap 0" in buf.getvalue() and "+round 1" in buf.getvalue()
