@@ -30,6 +30,7 @@ from typing import Any
 from irlc.study.plan import Plan
 
 STATUS_COLUMNS = ("status", "exit_code", "error", "error_line", "error_time_s")
+TEXT_COLUMNS = ("status", "error", "active_bounds", "drives_could_follow")  # no metric
 RUN_COLUMNS = (
     "duration_s",
     "samples",

@@ -30,9 +30,12 @@ def split_sort(sort: str) -> tuple[str, bool]:
 
 
 def check_metric(sort: str, columns: list[str], keys: list[str]) -> None:
+    """A :class:`UsageError` unless ``sort`` names a numeric metric column."""
+    from irlc.study.metrics import TEXT_COLUMNS
+
     metric, _ = split_sort(sort)
-    if metric not in columns or metric in keys or metric == "variant":
-        numeric = [c for c in columns if c not in keys and c not in ("variant", "status", "error")]
+    numeric = [c for c in columns if c not in keys and c != "variant" and c not in TEXT_COLUMNS]
+    if metric not in numeric:
         raise UsageError(f"--sort {metric}: not a metric column (columns: {', '.join(numeric)})")
 
 

@@ -352,6 +352,13 @@ def test_sort_must_name_a_metric(cell, capsys):
     assert main(["study", str(path), "--out", str(cell / "o"), "-j", "1", "--sort", "x"]) == 3
     assert "--sort x: not a metric column" in capsys.readouterr().err
     assert not (cell / "o").exists()  # checked before anything ran
+    for text in ("active_bounds", "status", "error"):  # text columns: no ranking (probe)
+        assert main(["study", str(path), "--out", str(cell / "o"), "--sort", text]) == 3
+        err = " ".join(capsys.readouterr().err.split())
+        assert (
+            f"--sort {text}: not a metric column" in err
+            and "active_bounds" not in err.split("(columns:")[1]
+        )
 
 
 @pytest.mark.scenario
