@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 from irlc.lang import types as T
-from irlc.lang.diagnostics import line_span
+from irlc.lang.diagnostics import Diagnostic, line_span, render
 from irlc.lang.file_access import path_kind
 from irlc.runtime import units
 from irlc.runtime.naming import JointNaming
@@ -283,7 +283,6 @@ class Session:
 
     def _render(self, diag, chunk: str, chunk_line: int) -> str:
         """``diag`` (a position in the session program) as a position in the entry."""
-        from irlc.lang.diagnostics import render
 
         span = diag.span
         n_lines = chunk.count("\n") + 1
@@ -479,7 +478,11 @@ class Session:
         t = getattr(error, "time_s", None)
         at = f" at t = {t:.3f} s" if t is not None else ""
         message = f"run-time failure{at}: {getattr(error, 'message', str(error))}"
-        return self._located(message, local, line_span(body, local).column)
+        span = line_span(body, local)
+        header = self._located(message, local, span.column)
+        # the line and its underline, as a compile error shows them
+        _, _, shown = render(Diagnostic("error", message, "", span), body).partition("\n")
+        return f"{header}\n{shown}" if shown else header
 
     # ------------------------------------------------------------------ meta-commands
 

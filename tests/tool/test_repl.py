@@ -252,6 +252,9 @@ def test_script_diagnostics_point_at_script_lines_and_columns():
         "<stdin>:7:15: error: cannot assign to 'q': expected POSE, got INTEGER": "3",
         "<stdin>:8:18: error: MAIN_JOINT needs 3 values, got 2": "(",
         "<stdin>:13:8: error: cannot assign to 'y': expected REAL, got STRING": "'",
+        # a run-time failure shows its line and caret too (at the statement's text)
+        "<stdin>:9:1: error: run-time failure at t = 0.000 s: JOINTLIMIT is switched off "
+        "but it is not on": "J",
     }
     shown = _diagnostics(printed)
     assert set(shown) == set(where), printed
