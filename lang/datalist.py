@@ -56,6 +56,9 @@ class Datalist:
     items: list[Item] = field(default_factory=list)
     obstacles: list[tuple[ObstacleDef, Item]] = field(default_factory=list)
     inputs: dict[int, list[tuple[float, bool]]] = field(default_factory=dict)
+    # names of entries that failed their check (reported here): the checker declares them
+    # as errors, so that a program's use is not a second "unknown name" error
+    rejected: list[str] = field(default_factory=list)
 
 
 def library_folder() -> Path | None:
@@ -183,6 +186,8 @@ def _read_poses(ld: _Loader, dl: Datalist, body: dict) -> None:
         nums = ld.numbers(value, key, 6, "x, y, z in mm and a, b, c in degrees")
         if nums is not None:
             _item(ld, dl, key, name, Value("POSE", nums))
+        else:
+            dl.rejected.append(name)
 
 
 def _read_joints(ld: _Loader, dl: Datalist, body: dict) -> None:
@@ -191,6 +196,8 @@ def _read_joints(ld: _Loader, dl: Datalist, body: dict) -> None:
         nums = ld.numbers(value, key, ld.n, "one value per joint")
         if nums is not None:
             _item(ld, dl, key, name, Value("MAIN_JOINT", nums))
+        else:
+            dl.rejected.append(name)
 
 
 def _read_limits(ld: _Loader, dl: Datalist, body: dict) -> None:

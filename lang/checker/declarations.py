@@ -83,6 +83,10 @@ class Declarations:
 
     def add_datalists(self, datalists: list[Datalist]) -> None:
         for dl in datalists:
+            for name in dl.rejected:  # reported by the data list: its uses say nothing more
+                if name.lower() not in self.scope.globals:
+                    where = f"data list {dl.path} (an entry that failed its check)"
+                    self.scope.globals[name.lower()] = Symbol("const", name, T.ERROR, where)
             for item in dl.items:
                 sym = Symbol(
                     "const",

@@ -127,3 +127,14 @@ def test_a_value_that_is_no_number_is_named_by_its_place(tmp_path, entry, messag
     """Regression (probe): `[0, 90, "x"]` read "expected one value per joint, got a list of
     3 values" — for a list of one value per joint."""
     assert _errors(tmp_path, f"[joints]\n{entry}\n") == [message]
+
+
+def test_a_rejected_entry_is_one_error_not_also_an_unknown_name(tmp_path):
+    """Regression (probe): a data-list entry that failed its check was a second error,
+    "unknown name 'k1'", wherever the program used it."""
+    (tmp_path / "cell.toml").write_text('[joints]\nk1 = [0, 90, "x", 0, 0, 0]\n', encoding="utf-8")
+    source = SOURCE.replace("BEGIN\n", "BEGIN\n  MOVE PTP k1;\n")
+    result = compile_text(source, str(tmp_path / "t.irl"))
+    assert [d.message for d in result.errors] == [
+        "key 'joints.k1': value 3 is not a number: 'x' (one value per joint)"
+    ]
