@@ -287,6 +287,11 @@ def _tolerance_key_problem(key: str, doc: dict) -> str | None:
     """Why ``key`` names no number of the expectation ``doc`` (a typo such as
     ``duraton_s`` was ignored and the default quantum applied), else ``None``."""
     root, *rest = key.split(".")
+    if root.endswith(BOUND_SUFFIX):
+        return (
+            "a bound (it passes while the actual value is at most the expected one) "
+            "takes no tolerance"
+        )
     if root not in TOLERANCE_ROOTS:
         return (
             "no number of the expectation has this key (keys: "

@@ -39,6 +39,7 @@ def _no_run(program, options):
         # a typo in a tolerance's key was ignored, the default quantum applied (probe)
         (b'{"tolerances": {"duraton_s": 0.5}}', "key 'tolerances.duraton_s': no number of the"),
         (b'{"tolerances": {"output": 1}}', "key 'tolerances.output': no number of the"),
+        (b'{"tolerances": {"max_path_error_mm_below": 1}}', "a bound (it passes while"),
         (b'{"tolerances": {"samples.x": 1}}', "'samples' is one number: it has no parts"),
         (b'{"tolerances": {"joints.a1.mx": 1}}', "joints.NAME has the fields min, max, end"),
         (
