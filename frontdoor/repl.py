@@ -283,7 +283,6 @@ class Session:
 
     def _render(self, diag, chunk: str, chunk_line: int) -> str:
         """``diag`` (a position in the session program) as a position in the entry."""
-
         span = diag.span
         n_lines = chunk.count("\n") + 1
         session = str(self.cwd / "repl.irl")
