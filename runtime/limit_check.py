@@ -36,6 +36,12 @@ class Outside:
     below: bool
 
     @property
+    def where(self) -> str:
+        """``"below the lower"`` or ``"above the upper"`` (bound): where a message says the
+        value lies."""
+        return "below the lower" if self.below else "above the upper"
+
+    @property
     def side(self) -> str:
         """``"min"`` or ``"max"``: the bound's side as a constraint names it."""
         return "min" if self.below else "max"
@@ -80,9 +86,8 @@ def limit_failure(
     constraint ``"joint a3 position max 25.0 deg"``. ``subject`` says what is checked
     (``"<option> excludes the current state"``, ``"PTP target"``); ``name`` is the joint's
     label (runtime/naming.py), ``value`` and ``bound`` are formatted with their unit."""
-    where = "below the lower" if outside.below else "above the upper"
     return RunFailure(
-        f"{subject}: joint {name} is at {value}, {where} bound {bound}",
+        f"{subject}: joint {name} is at {value}, {outside.where} bound {bound}",
         line,
         constraint=f"joint {name} position {outside.side} {bound}",
         cause=cause,

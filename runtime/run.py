@@ -189,10 +189,9 @@ def start_configuration(code: Code, model: RobotModel, seed_config) -> np.ndarra
         if out is not None:  # (it failed the program's first statement, exit 2)
             unit = units.joint_unit(model.joint_kinds[out.joint])
             bound = units.joints_from_si([out.bound], [model.joint_kinds[out.joint]])[0]
-            where = "below the lower" if out.below else "above the upper"
             name = JointNaming.for_model(model, code.joint_names).label(out.joint)
             raise RunSetupError(
-                f"--seed-config: joint {name} = {vals[out.joint]:g} {unit} is {where} bound "
+                f"--seed-config: joint {name} = {vals[out.joint]:g} {unit} is {out.where} bound "
                 f"{bound:g} {unit} of the robot's position limits"
             )
         return q

@@ -312,9 +312,8 @@ def _outside_limits(model: RobotModel, q_si) -> tuple[list[dict], list[str]]:
             {"joint": naming.program[o.joint], "value": value, "bound": bound,
              "side": o.side, "unit": unit}
         )  # fmt: skip
-        where = "below the lower" if o.below else "above the upper"
         warnings.append(
-            f"joint {naming.label(o.joint)} is at {value:g} {unit}, {where} bound {bound:g} "
+            f"joint {naming.label(o.joint)} is at {value:g} {unit}, {o.where} bound {bound:g} "
             f"{unit} of the robot's position limits (the pose is computed all the same)"
         )
     return found, warnings

@@ -322,12 +322,12 @@ def _write_outputs(run, report_path, trace_path) -> list[str]:
 def _tool_outputs(run, plot_dir, animate_path, export_path, compare, err) -> list[str]:
     """Figures, animation, trajectory export; returns what was written."""
     jobs = [
-        (plot_dir, "irlc.plots", "write_plots", "--plot"),
-        (animate_path, "irlc.animate", "write_animation", "--animate"),
-        (export_path, "irlc.export", "write_trajectory", "--export-trajectory"),
+        (plot_dir, "irlc.plots", "write_plots", "--plot", "figures"),
+        (animate_path, "irlc.animate", "write_animation", "--animate", "animation"),
+        (export_path, "irlc.export", "write_trajectory", "--export-trajectory", "trajectory"),
     ]
     written = []
-    for target, module, func, option in jobs:
+    for target, module, func, option, what in jobs:
         if target is None:
             continue
         try:
@@ -344,11 +344,9 @@ def _tool_outputs(run, plot_dir, animate_path, export_path, compare, err) -> lis
                         "plots; give a trace CSV (--trace) for that",
                         markup=False,
                     )
-                figures = fn(run, target, compare=overlay)
-                written.append(f"{len(figures)} figures in {target}")
+                written.append(f"{len(fn(run, target, compare=overlay))} {what} in {target}")
             else:
                 fn(run, target)
-                what = "animation" if func == "write_animation" else "trajectory"
                 written.append(f"{what} {target}")
         except ImportError as exc:  # e.g. matplotlib not installed
             raise UsageError(f"{option} needs an optional package: {exc}") from None
