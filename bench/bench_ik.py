@@ -20,11 +20,11 @@ import time
 
 import numpy as np
 from irlc.robots import load_robot
-from irlc.runtime.distance import robot_parts
 from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation, accel
 from irlc.runtime.ik.qp import daqp_available
-from irlc.runtime.kinematics import Kinematics
-from irlc.runtime.obstacles import PointObstacle
+from irlc.runtime.model.distance import robot_parts
+from irlc.runtime.model.kinematics import Kinematics
+from irlc.runtime.model.obstacles import PointObstacle
 
 
 def line_targets(kin, q0, cycles):

@@ -15,8 +15,8 @@ import time
 import numpy as np
 from irlc.robots import load_robot
 from irlc.robots.model import RobotModel
-from irlc.runtime import spatial
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model import spatial
+from irlc.runtime.model.kinematics import Kinematics
 
 
 def baseline_tcp_and_jacobian(model: RobotModel, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -40,9 +40,9 @@ from pathlib import Path
 
 import numpy as np
 from irlc.robots import load_robot
-from irlc.runtime import spatial
 from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation, accel
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model import spatial
+from irlc.runtime.model.kinematics import Kinematics
 
 ROOT = Path(__file__).resolve().parents[1]
 URDF = ROOT / "robots" / "urdf" / "panda.urdf"

@@ -27,7 +27,7 @@ import time
 from pathlib import Path
 
 from irlc.lang.compiler import compile_file
-from irlc.runtime.executor import ExecutionOptions
+from irlc.runtime.control.executor import ExecutionOptions
 from irlc.runtime.ik import accel
 from irlc.runtime.ik.params import IKParams
 from irlc.runtime.run import _robot_resolver, resolve_model, run_code

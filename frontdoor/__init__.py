@@ -7,6 +7,9 @@ Public API (imported lazily so that ``import irlc.lang`` stays light)::
 
 from __future__ import annotations
 
+if __name__ != "irlc":  # this folder imported by its own name (from the repository root)
+    raise ImportError(f"import irlc, not {__name__}: this folder is irlc")
+
 __version__ = "0.1.0"
 
 __all__ = ["compile_program", "load_robot", "run_program"]

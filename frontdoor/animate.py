@@ -2,7 +2,7 @@
 
 One file, no network: the frame data is embedded as JSON and drawn by a small inline
 canvas-2D renderer (no WebGL, no libraries). Per frame the link frames ``T_0..T_n`` come
-from :class:`~irlc.runtime.kinematics.Kinematics` at ``q(t)``; the page draws
+from :class:`~irlc.runtime.model.kinematics.Kinematics` at ``q(t)``; the page draws
 
 * the kinematic skeleton through the joint origins ``o_0 … o_n`` and the TCP,
 * the robot's collision capsules / spheres (link geometry) as thick round-capped lines
@@ -31,7 +31,7 @@ import numpy as np
 from irlc.export import RunData, run_data
 from irlc.files import atomic_write_text
 from irlc.runtime import units
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model.kinematics import Kinematics
 
 MAX_FRAMES = 2000
 STATUS_ID = "irlc-status"  # the page writes "ok" or "error: …" here (used by tests)

@@ -30,7 +30,7 @@ import numpy as np
 from irlc.errors import UsageError
 from irlc.files import atomic_write_bytes, atomic_write_text  # noqa: F401 (plots imports it here)
 from irlc.runtime import units
-from irlc.runtime.naming import default_names, joint_label
+from irlc.runtime.model.naming import default_names, joint_label
 
 TRAJECTORY_FORMAT = "irlc-joint-trajectory 1"
 _POSE_AXES = {"x", "y", "z", "a", "b", "c"}
@@ -255,7 +255,7 @@ def _tcp_of(run: Any, table, model, q: np.ndarray) -> np.ndarray | None:
     if all(c in table for c in ("x_mm", "y_mm", "z_mm")):
         return np.column_stack([table["x_mm"], table["y_mm"], table["z_mm"]]) * units.MM
     if model is not None:
-        from irlc.runtime.kinematics import Kinematics
+        from irlc.runtime.model.kinematics import Kinematics
 
         kin = Kinematics(model)
         return np.array([kin.tcp(qi)[:3, 3] for qi in q])

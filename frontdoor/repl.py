@@ -3,7 +3,7 @@
 Every entry is compiled as a whole program — the accumulated data-list imports and
 declarations, then the new statements as the main body (``compile_source(…, repl=True)``)
 — and executed with the interpreter's incremental mode on one persistent
-:class:`~irlc.runtime.executor.SimulatedController` and
+:class:`~irlc.runtime.control.executor.SimulatedController` and
 :class:`~irlc.runtime.interpreter.MachineState`: variables, system variables, modal
 options (JOINTLIMIT … FREEZE), simulated time and the recorded trace carry over.
 
@@ -40,8 +40,8 @@ import numpy as np
 from irlc.lang import types as T
 from irlc.lang.diagnostics import Diagnostic, line_span, render
 from irlc.lang.file_access import path_kind
-from irlc.runtime import units
-from irlc.runtime.naming import JointNaming
+from irlc.runtime import units, values
+from irlc.runtime.model.naming import JointNaming
 
 INPUT_NAME = "<input>"  # an entry typed at the terminal
 SCRIPT_NAME = "<stdin>"  # a script piped in
@@ -518,7 +518,7 @@ class Session:
 
     def naming(self) -> JointNaming:
         """Program names (the session's MAIN_JOINT names, default ``a1 … aN``) beside the
-        robot file's (:mod:`irlc.runtime.naming`)."""
+        robot file's (:mod:`irlc.runtime.model.naming`)."""
         code = self.last_code
         return JointNaming.for_model(self.model, code.joint_names if code is not None else None)
 
@@ -534,7 +534,7 @@ class Session:
 
     def where(self, short: bool = False) -> list[str]:
         pose = self.controller.pose(self.state.settings)
-        x, y, z, a, b, c = units.pose_from_si(units.pose_value_to_si(pose))
+        x, y, z, a, b, c = units.pose_from_si(values.pose_to_matrix(pose))
         q = self._program_units(self.controller.q)
         joints = "  ".join(f"{n}={_fmt(v)}" for n, v in zip(self.joint_names(), q, strict=True))
         pose_text = ", ".join(_fmt(v) for v in (x, y, z, a, b, c))
@@ -568,7 +568,7 @@ class Session:
             return "(" + ", ".join(_fmt(v) for v in units.pose_from_si(t)) + ")"
 
         file_tool = self.model.tool
-        r_tool = units.pose_value_to_si(self.state.settings.tool)
+        r_tool = values.pose_to_matrix(self.state.settings.tool)
         return (
             f"R_TOOL {pose(r_tool)} after the robot file's tool {pose(file_tool)}: "
             f"TCP tool {pose(file_tool @ r_tool)}  [mm, deg]"
@@ -621,10 +621,10 @@ class Session:
 
     def run_result(self):
         """The session so far as a RunResult (for traces and plots)."""
-        from irlc.runtime.executor import ExecutionOptions
+        from irlc.runtime.control.executor import ExecutionOptions
         from irlc.runtime.interpreter import ExecutionResult
-        from irlc.runtime.results import RunData, assemble
-        from irlc.runtime.samples import Samples
+        from irlc.runtime.outputs.results import RunData, assemble
+        from irlc.runtime.outputs.samples import Samples
 
         if self.last_code is None:
             _, self.last_code = None, self.compile([], [], "", "", 1)[0]
@@ -689,7 +689,7 @@ class Session:
                                         "keyword or a system variable; choose another name")],
                          3)  # fmt: skip
         pose = self.controller.pose(self.state.settings)
-        xyzabc = units.pose_from_si(units.pose_value_to_si(pose))
+        xyzabc = units.pose_from_si(values.pose_to_matrix(pose))
         joints = self._program_units(self.controller.q)
         try:
             keys = teach(path, name, xyzabc, joints)
@@ -743,7 +743,7 @@ def unclosed_block(text: str) -> tuple[str, int] | None:
 def _controller_class() -> type:
     """The simulated controller, counting the motion it is asked for (a MOVE to where the
     robot already is takes no time, yet the session should say that it ran)."""
-    from irlc.runtime.executor import SimulatedController
+    from irlc.runtime.control.executor import SimulatedController
 
     class ReplController(SimulatedController):
         motions = 0

@@ -66,7 +66,8 @@ def trace_chunks(
 ) -> Iterator[str]:
     """The trace's CSV text in pieces of :data:`TRACE_CHUNK_ROWS` rows (header first).
     ``table`` is the whole table, or an iterator of consecutive pieces of its rows (a
-    streamed run's, :meth:`~irlc.runtime.run.RunResult.trace_tables`): the same text. Each
+    streamed run's, :meth:`~irlc.runtime.outputs.run_result.RunResult.trace_tables`): the
+    same text. Each
     piece of the table is checked finite before its first row is formatted (a whole
     table before the header: nothing is produced for a bad one; a bad piece stops the
     text, which :func:`write_trace`'s atomic write then discards); each piece of text

@@ -5,7 +5,7 @@ so it shows a loaded report the same way as a fresh run."""
 from __future__ import annotations
 
 from irlc.runtime import units
-from irlc.runtime.naming import joint_label
+from irlc.runtime.model.naming import joint_label
 from rich.console import Console, Group
 from rich.panel import Panel
 from rich.table import Table

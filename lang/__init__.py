@@ -9,6 +9,9 @@ package (``irlc.lang.joint_kinds``, ``irlc.lang.value_ranges``) does not load th
 
 from __future__ import annotations
 
+if __name__ != "irlc.lang":  # this folder imported by its own name (from the repository root)
+    raise ImportError(f"import irlc.lang, not {__name__}: this folder is irlc.lang")
+
 import importlib
 from typing import TYPE_CHECKING, Any
 

@@ -1,6 +1,6 @@
 """The trace's column names: the one owner.
 
-``runtime/results.py`` builds the trace header from these templates, and the checker
+``runtime/outputs/results.py`` builds the trace header from these templates, and the checker
 refuses joint names whose columns would coincide with another column of the trace (a
 joint called ``a`` gave ``a_deg`` twice: its angle and the TCP's ``a`` angle, and irlc
 then misread its own trace). Per joint ``NAME`` of unit ``U`` (``deg`` | ``mm``)::

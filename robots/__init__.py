@@ -17,6 +17,9 @@ Loaded models are cached by resolved file path and modification time, so one run
 
 from __future__ import annotations
 
+if __name__ != "irlc.robots":  # this folder imported by its own name (from the repository root)
+    raise ImportError(f"import irlc.robots, not {__name__}: this folder is irlc.robots")
+
 from collections.abc import Callable
 from pathlib import Path
 

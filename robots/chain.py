@@ -19,7 +19,7 @@ from irlc.lang.joint_kinds import KINDS
 from irlc.robots.limits import read_joint_limits
 from irlc.robots.model import Joint
 from irlc.robots.toml_reader import Reader, show
-from irlc.runtime.spatial import rot_x, rot_z, transform
+from irlc.runtime.model.spatial import rot_x, rot_z, transform
 
 AXIS_NAMES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
 AXIS_NAMES.update({"-" + k: tuple(-c for c in v) for k, v in list(AXIS_NAMES.items())})

@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 from irlc.robots.model import Capsule, RobotModel
-from irlc.runtime.spatial import matrix_to_zyx
+from irlc.runtime.model.spatial import matrix_to_zyx
 
 DEG = 180.0 / math.pi
 NOT_WRITTEN = ("coupled_limits", "transmission", "drives", "reachability", "ik")

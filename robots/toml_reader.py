@@ -19,7 +19,7 @@ from irlc.lang.errors import IrlcError
 from irlc.lang.file_access import describe, is_finite_number, shown_key
 from irlc.lang.geometry_range import geometry_problem
 from irlc.lang.toml_keys import key_line
-from irlc.runtime.spatial import zyx_to_matrix
+from irlc.runtime.model.spatial import zyx_to_matrix
 
 ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 LENGTH_UNITS = {"m": 1.0, "mm": 1e-3}

@@ -1,6 +1,6 @@
 """The drive train of a robot file: ``[transmission]``, how each motor moves its joint
 (a ratio with couplings to earlier joints, or a ball screw on a lever), stored in SI for
-:mod:`irlc.runtime.motor_maps`.
+:mod:`irlc.runtime.model.motor_maps`.
 """
 
 from __future__ import annotations

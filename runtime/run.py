@@ -3,9 +3,9 @@
 ``run_file(path, …)`` compiles an ``.irl`` file (or reads an ``.ird`` file with
 :func:`irlc.lang.irdata.read_code`) and calls ``run_code(code, …)``, which is the pipeline,
 one call per stage: the setup (:func:`_setup`), the interpreter with the simulated
-controller (the set points: :class:`~irlc.runtime.samples.Samples`), the drives
-(:func:`~irlc.runtime.drive_stage.run_drives`: actual motion and verdict), and the
-results (:func:`~irlc.runtime.results.assemble`: report and trace, presentation only).
+controller (the set points: :class:`~irlc.runtime.outputs.samples.Samples`), the drives
+(:func:`~irlc.runtime.drives.stage.run_drives`: actual motion and verdict), and the
+results (:func:`~irlc.runtime.outputs.results.assemble`: report and trace, presentation only).
 
 **Start configuration**, in this order: ``seed_config`` (program units, ``--seed-config``);
 the robot's ``home``; the target of the program's first motion statement if that is a
@@ -24,9 +24,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 from irlc.lang.errors import IrlcError
@@ -36,85 +35,19 @@ from irlc.lang.joint_kinds import kind_letters
 from irlc.lang.textfile import read_user_text
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
-from irlc.runtime.controller import Settings, setting_error
-from irlc.runtime.drive_levels import LEVELS as DRIVE_LEVELS
-from irlc.runtime.errors import DriveSetupError, RunFailure
-from irlc.runtime.executor import ExecutionOptions, SimulatedController
-from irlc.runtime.limit_check import first_outside
-from irlc.runtime.naming import JointNaming
-from irlc.runtime.obstacles import Obstacle
-from irlc.runtime.recorder import RecordedRun
-from irlc.runtime.samples import Samples
+from irlc.runtime.commands import Settings, setting_error
+from irlc.runtime.control.executor import ExecutionOptions, SimulatedController
+from irlc.runtime.drives.levels import LEVELS as DRIVE_LEVELS
+from irlc.runtime.errors import DriveSetupError
+from irlc.runtime.model.limit_check import first_outside
+from irlc.runtime.model.naming import JointNaming
+from irlc.runtime.model.obstacles import Obstacle
+from irlc.runtime.outputs.run_result import RunResult
+from irlc.runtime.outputs.samples import Samples
 
 
 class RunSetupError(IrlcError):
     """The run cannot start: unknown robot, mismatching code, bad options (exit 3)."""
-
-
-@dataclass
-class RunResult:
-    """A run's result. ``times``, ``q``, ``tcp`` (SI: the actual joints, the commanded ones
-    with ideal drives), ``trace`` (program units, one row per sample) and ``recorded`` are
-    read from ``source``: arrays kept in memory, or, for a streamed run
-    (``run_code(stream=True)``), built on first use; :meth:`trace_tables` gives the trace
-    in pieces of rows, which is how the CLI writes it (bounded memory)."""
-
-    status: str  # "ok" | "failed"
-    error: RunFailure | None
-    report: dict
-    trace_columns: list[str]
-    model: RobotModel
-    obstacles: tuple[Obstacle, ...]  # SI shapes (runtime.obstacles)
-    output: list[str]
-    drive: Any = None  # the drive simulation result, or None (ideal)
-    code: Code | None = None
-    joint_names: tuple[str, ...] = ()
-    diagnostics: list = field(default_factory=list)  # compiler warnings (run_file)
-    source: Any = None  # results.TraceArrays | results.StreamedTrace
-
-    @property
-    def ok(self) -> bool:
-        return self.status == "ok"
-
-    @property
-    def times(self) -> np.ndarray:
-        """(k,) s."""
-        return self.source.times
-
-    @property
-    def q(self) -> np.ndarray:
-        """(k, n) SI."""
-        return self.source.q
-
-    @property
-    def tcp(self) -> np.ndarray:
-        """(k, 4, 4) world, m."""
-        return self.source.tcp
-
-    @property
-    def trace(self) -> np.ndarray:
-        """(k', len(trace_columns)), program units (a streamed run's: built on first use)."""
-        return self.source.trace
-
-    @trace.setter
-    def trace(self, table: np.ndarray) -> None:
-        from irlc.runtime.results import TraceArrays
-
-        src = self.source
-        self.source = TraceArrays(src.times, src.q, src.tcp, table, src.recorded)
-
-    @property
-    def recorded(self) -> RecordedRun | None:
-        """The recorder's samples (SI; :class:`~irlc.runtime.recorder.RecordedRun`)."""
-        return self.source.recorded if self.source is not None else None
-
-    def trace_tables(self):
-        """The trace table in consecutive pieces of rows (bounded memory when streamed)."""
-        return self.source.tables()
-
-    @property
-    def lines(self) -> np.ndarray:
-        return self.recorded.lines if self.recorded is not None else np.zeros(0, dtype=int)
 
 
 # --------------------------------------------------------------------------- setup
@@ -162,7 +95,7 @@ def load_model(
 
 def obstacle_shapes(code: Code) -> dict[str, Obstacle]:
     """The code's obstacles (OBSTACLE records, mm) as SI shapes, by name."""
-    from irlc.runtime.obstacles import from_definition
+    from irlc.runtime.model.obstacles import from_definition
 
     out = {}
     for o in code.obstacles:
@@ -253,7 +186,7 @@ def run_code(
     """Execute compiled ``code`` (see the module doc). ``path_tolerance`` (mm, the start
     value of ``R_PATH_TOL``) and ``orientation_tolerance`` (deg) override ``options``'
     ``tol_position`` / ``tol_orientation``; a path deviation beyond them fails the run —
-    with drives, of the actual motion (:mod:`irlc.runtime.verdict`). ``instruction_budget``:
+    with drives, of the actual motion (:mod:`irlc.runtime.outputs.verdict`). ``instruction_budget``:
     the endless-loop guard (instructions without motion; default
     :data:`~irlc.runtime.interpreter.DEFAULT_INSTRUCTION_BUDGET`). ``max_time``: the
     simulated-time budget in s (default ``ExecutionOptions.max_time_s``, 24 h);
@@ -265,7 +198,7 @@ def run_code(
     folder and the robot library (``irlc.lang.file_access``). ``stream``: bounded memory
     for a long kinematic run (``drives = ideal``; ignored with drives, which read the whole
     run): the recorder spills its samples to a temporary file
-    (:meth:`~irlc.runtime.recorder.Recorder.spill`), the report is summed up piece by piece
+    (:meth:`~irlc.runtime.outputs.recorder.Recorder.spill`), the report is summed up piece by piece
     and the trace is built piece by piece when written (:meth:`RunResult.trace_tables`);
     the same bytes as without it.
 
@@ -273,8 +206,8 @@ def run_code(
     with the simulated controller (the set points, :mod:`recorder`), the drives
     (:mod:`drive_stage`: actual motion and verdict), the results (:mod:`results`: report
     and trace, presentation only)."""
-    from irlc.runtime.drive_stage import run_drives
-    from irlc.runtime.results import RunData, assemble
+    from irlc.runtime.drives.stage import run_drives
+    from irlc.runtime.outputs.results import RunData, assemble
 
     setup = _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolerance,
                    orientation_tolerance, instruction_budget, max_time, max_cycles,
@@ -368,8 +301,8 @@ def _drive_step(model: RobotModel, level: str, q0: np.ndarray) -> float:
     the drive data is checked here, before the run (:class:`DriveSetupError`, exit 3)."""
     import warnings
 
-    from irlc.runtime.drive_stage import drive_data
     from irlc.runtime.drives.simulate import drive_step
+    from irlc.runtime.drives.stage import drive_data
     from irlc.runtime.drives.stepsize import StepSizeWarning
 
     params = drive_data(model)

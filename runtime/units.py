@@ -14,7 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 from irlc.lang.joint_kinds import PRISMATIC as PRISMATIC  # the joint kinds' owner
 from irlc.lang.joint_kinds import REVOLUTE as REVOLUTE
-from irlc.runtime import spatial
+from irlc.runtime.model import spatial
 
 MM = 1e-3  # metres per millimetre
 DEG = math.pi / 180.0  # radians per degree
@@ -87,19 +87,3 @@ def pose_from_si(
     a, b, c = spatial.EULER[euler][1](t[:3, :3])
     x, y, z = (float(v) / MM for v in t[:3, 3])
     return (x, y, z, a / DEG, b / DEG, c / DEG)
-
-
-def pose_value_to_si(p) -> np.ndarray:
-    """A :class:`~irlc.runtime.values.Pose` (mm, quaternion) → 4×4 transform in metres."""
-    return spatial.transform(
-        spatial.quat_to_matrix(p.ori.as_tuple()), (p.pos.x * MM, p.pos.y * MM, p.pos.z * MM)
-    )
-
-
-def pose_value_from_si(t: np.ndarray):
-    """4×4 transform in metres → :class:`~irlc.runtime.values.Pose` (mm, quaternion)."""
-    from irlc.runtime.values import Orientation, Pose, Position
-
-    x, y, z = (float(v) / MM for v in t[:3, 3])
-    w, qx, qy, qz = (float(v) for v in spatial.matrix_to_quat(t[:3, :3]))
-    return Pose(Position(x, y, z), Orientation(w, qx, qy, qz))

@@ -19,7 +19,8 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from irlc.runtime import spatial, units
+from irlc.runtime import units
+from irlc.runtime.model import spatial
 
 
 @dataclass(frozen=True, slots=True)
@@ -184,7 +185,7 @@ def orientation_inverse(o: Orientation) -> Orientation:
 
 
 def rotate(o: Orientation, v: Position) -> Position:
-    """``R(o) · v`` (:func:`irlc.runtime.spatial.quat_rotate`)."""
+    """``R(o) · v`` (:func:`irlc.runtime.model.spatial.quat_rotate`)."""
     return Position(*spatial.quat_rotate(o.as_tuple(), v.as_tuple()))
 
 
@@ -217,13 +218,18 @@ def inverse(p: Pose) -> Pose:
 
 
 def pose_to_matrix(p: Pose) -> np.ndarray:
-    """4×4 homogeneous transform in metres (SI boundary)."""
-    return units.pose_value_to_si(p)
+    """4×4 homogeneous transform in metres (the SI boundary, with :mod:`units`' factors)."""
+    mm = units.MM
+    return spatial.transform(
+        spatial.quat_to_matrix(p.ori.as_tuple()), (p.pos.x * mm, p.pos.y * mm, p.pos.z * mm)
+    )
 
 
 def pose_from_matrix(t: np.ndarray) -> Pose:
-    """Inverse of :func:`pose_to_matrix`."""
-    return units.pose_value_from_si(t)
+    """Inverse of :func:`pose_to_matrix`: 4×4 in metres → pose (mm, quaternion)."""
+    x, y, z = (float(v) / units.MM for v in t[:3, 3])
+    w, qx, qy, qz = (float(v) for v in spatial.matrix_to_quat(t[:3, :3]))
+    return Pose(Position(x, y, z), Orientation(w, qx, qy, qz))
 
 
 # --------------------------------------------------------------------------- equality

@@ -7,7 +7,7 @@ must exist (in ``docs/``, at the repository root, or beside the citing doc); a n
 section must be a numbered heading of it (``## 6. Motion``, ``### 6.1 Approximate
 positioning``), a named one the start of a heading (``§ REPL`` for ``## REPL (`irlc
 repl`)``). A bare ``§N`` inside a doc with numbered headings cites that doc itself.
-Relative Markdown links must resolve, a repository path (``runtime/profiles.py``,
+Relative Markdown links must resolve, a repository path (``runtime/plan/profiles.py``,
 ``programs/square.irl``) must exist unless it is a placeholder (``robots/NAME.toml``), and
 docs cite nothing outside the repository (the specification lives elsewhere).
 """

@@ -6,7 +6,8 @@ import math
 
 import numpy as np
 import pytest
-from irlc.runtime import spatial, units
+from irlc.runtime import units
+from irlc.runtime.model import spatial
 
 rng = np.random.default_rng(7)
 

@@ -4,8 +4,8 @@ Program units on the command line and in the output (mm, deg, ZYX angles), also 
 translation of the ``fk --json`` matrix; every JSON names them in a ``units`` key.
 ``--euler zyz`` adds (fk) or takes (ik) Z-Y-Z Euler angles Φ Θ Ψ (``pose_zyz``) beside
 ZYX; ``--motors`` adds the motor angles of the robot's motor maps (``motor_angles_rad``,
-rad, motor side — :mod:`irlc.runtime.motor_coords`). Joints
-follow the naming rule of :mod:`irlc.runtime.naming`: program names ``a1 … aN`` with the
+rad, motor side — :mod:`irlc.runtime.outputs.motor_coords`). Joints
+follow the naming rule of :mod:`irlc.runtime.model.naming`: program names ``a1 … aN`` with the
 robot file's names beside them (``a4 (panda_joint4)``; in JSON ``joint_names`` and
 ``robot_joint_names``).
 """
@@ -24,10 +24,11 @@ from irlc.lang.joint_kinds import kind_letters
 from irlc.robots import RobotFileError, list_robots, load_robot
 from irlc.robots.loader import MissingExtraError
 from irlc.robots.model import RobotModel
-from irlc.runtime import spatial, units
+from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
-from irlc.runtime.naming import JointNaming
-from irlc.runtime.reachability import check_vertical_plane
+from irlc.runtime.model import spatial
+from irlc.runtime.model.naming import JointNaming
+from irlc.runtime.model.reachability import check_vertical_plane
 from rich import box
 from rich.markup import escape
 from rich.table import Table
@@ -228,7 +229,7 @@ def _joint_notes(console: Console, model: RobotModel, naming: JointNaming) -> No
 
 def _motor_limits_line(model: RobotModel) -> str:
     """What bounds the motors of a coupled transmission (:mod:`motor_limits`)."""
-    from irlc.runtime.motor_limits import motor_limits
+    from irlc.runtime.model.motor_limits import motor_limits
 
     try:
         limits = motor_limits(model)
@@ -260,7 +261,7 @@ ZYZ_LABELS = ("Φ (zyz) [deg]", "Θ (zyz) [deg]", "Ψ (zyz) [deg]")
 @click.option("--euler", type=EULER_CHOICE, default="zyx", show_default=True, help=EULER_HELP)
 def fk_cmd(robot: str, q: tuple[str, ...], as_json: bool, motors: bool, euler: str) -> None:
     """Forward kinematics: joint values (deg, mm) → TCP pose (mm, deg ZYX) in the world."""
-    from irlc.runtime.kinematics import Kinematics
+    from irlc.runtime.model.kinematics import Kinematics
 
     model = _robot(robot)
     q_si = _joint_values(model, list(q))
@@ -290,16 +291,16 @@ def fk_cmd(robot: str, q: tuple[str, ...], as_json: bool, motors: bool, euler: s
 
 def _reached_pose(model: RobotModel, q_si) -> list[float]:
     """The TCP pose (mm, deg ZYX) the joints ``q_si`` reach."""
-    from irlc.runtime.kinematics import Kinematics
+    from irlc.runtime.model.kinematics import Kinematics
 
     return list(units.pose_from_si(Kinematics(model).tcp(q_si)))
 
 
 def _outside_limits(model: RobotModel, q_si) -> tuple[list[dict], list[str]]:
-    """The joints beyond the robot's position limits (runtime/limit_check.py): the JSON key
+    """The joints beyond the robot's position limits (runtime/model/limit_check.py): the JSON key
     ``outside_limits`` (program name, value, bound in deg | mm, side ``min``/``max``, unit)
     and one warning each."""
-    from irlc.runtime.limit_check import each_outside
+    from irlc.runtime.model.limit_check import each_outside
 
     limits = model.position_limits
     naming = JointNaming.for_model(model)
@@ -326,7 +327,7 @@ def _extras(model: RobotModel, q_si, t, motors: bool, euler: str) -> dict:
     if euler != "zyx":
         out[f"pose_{euler}"] = _fmt(units.pose_from_si(t, euler))
     if motors:
-        from irlc.runtime.motor_coords import has_motors, motor_angles
+        from irlc.runtime.outputs.motor_coords import has_motors, motor_angles
 
         if not has_motors(model):
             raise UsageError(
@@ -436,7 +437,7 @@ def ik_cmd(
     pose = _numbers(pose_args, "pose value")
     seed = model.home_q() if seed_args is None else _joint_values(model, seed_args, "seed value")
     from irlc.runtime.ik.find import BranchError, find_pose
-    from irlc.runtime.ik.pose import seed_problem
+    from irlc.runtime.ik.seed import seed_problem
 
     problem = seed_problem(model, seed) if seed_args is not None else None
     if problem is not None:

@@ -20,7 +20,7 @@ import click
 from irlc.cli.app import cli, distinct_outputs, require_file
 from irlc.cli.lang_cmds import allow_any_path_option
 from irlc.errors import EXIT_COMPILE, EXIT_OK, EXIT_RUN, UsageError
-from irlc.runtime.drive_levels import LEVELS as DRIVE_LEVELS
+from irlc.runtime.drives.levels import LEVELS as DRIVE_LEVELS
 
 
 def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:

@@ -118,6 +118,6 @@ def error_cells(status: str, exit_code: int | None, message: str, line: int | No
 
 
 def _round(x: float) -> float:
-    from irlc.runtime.results import rnd
+    from irlc.runtime.outputs.results import rnd
 
     return rnd(x) or 0.0

@@ -37,6 +37,19 @@ class PathError(IrlcError, ValueError):
     """The path does not name a value of its document (the message says why)."""
 
 
+RUN_KEYS = (
+    "ipo",
+    "drives",
+    "path_tolerance",
+    "orientation_tolerance",
+    "instruction_budget",
+    "seed_config",
+    "max_time",
+    "max_cycles",
+    "override",
+)
+
+
 def target(key: str) -> tuple[str, list[str]]:
     """``"robot.joints.10.weight"`` → ``("robot", ["joints", "10", "weight"])``."""
     head, _, rest = key.partition(".")
@@ -55,15 +68,9 @@ def check_run_value(key: str, value: Any) -> str | None:
     run's own checks: :func:`irlc.runtime.run.check_run_option`)."""
     from irlc.runtime.run import check_run_option
 
-    if key not in _run_keys():
-        return f"unknown run option; run.KEY is one of {', '.join(_run_keys())}"
+    if key not in RUN_KEYS:
+        return f"unknown run option; run.KEY is one of {', '.join(RUN_KEYS)}"
     return check_run_option(key, value)
-
-
-def _run_keys() -> tuple[str, ...]:
-    from irlc.study.spec import RUN_KEYS
-
-    return RUN_KEYS
 
 
 def set_value(doc: Any, parts: list[str], value: Any, create: bool) -> None:

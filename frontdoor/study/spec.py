@@ -47,19 +47,9 @@ from irlc.errors import UsageError
 from irlc.files import read_user_text
 from irlc.lang.file_access import describe, is_finite_real
 from irlc.lang.toml_keys import TomlError, parse_toml
+from irlc.study.paths import RUN_KEYS, check_run_value
 
 TOP_KEYS = ("program", "robot", "datalist_path", "name", "run", "grid", "random", "output")
-RUN_KEYS = (
-    "ipo",
-    "drives",
-    "path_tolerance",
-    "orientation_tolerance",
-    "instruction_budget",
-    "seed_config",
-    "max_time",
-    "max_cycles",
-    "override",
-)
 OUTPUT_KEYS = ("reports", "traces")
 DISTRIBUTIONS = ("uniform", "normal")
 NORMAL_REACH = 40  # sigmas: farther than any sample numpy's normal() draws in float64
@@ -253,8 +243,6 @@ def _read_top(study: Study, doc: dict) -> None:
 
 
 def _read_run(study: Study, value: Any) -> dict:
-    from irlc.study.paths import check_run_value
-
     run = _table(study, value, "run")
     for k, v in run.items():
         if k not in RUN_KEYS:

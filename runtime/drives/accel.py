@@ -87,7 +87,7 @@ class AcceleratedLoop:
         motor inertias of the rotor matrix ``Kᵀ diag(J_m) K``. Without inertial data
         (decoupled with ``load_inertia``; never refreshed inside) empty read-only arrays
         of the same kinds (one compiled specialisation)."""
-        from irlc.runtime.kinematics import Kinematics
+        from irlc.runtime.model.kinematics import Kinematics
 
         mech = self.sim.mech
         c = Kinematics(self.sim.model).chain_data

@@ -292,10 +292,10 @@ def _cross_into(a, b, out):
 
 @njit(cache=True)
 def mass_and_bias(frames, axes, revolute, rotor, mass, com, inertia, gravity, qd, M, h):
-    """``Dynamics.mass_and_bias`` on :class:`~irlc.runtime.dynamics.DynamicsData` and the
+    """``Dynamics.mass_and_bias`` on :class:`~irlc.runtime.model.dynamics.DynamicsData` and the
     link frames (``Kinematics.chain``): ``M = Σ m_i J_viᵀJ_vi + J_ωiᵀ I_i J_ωi + diag(J_r)``
     (``J_vi`` columns ``z_j × (c_i − P_j)`` revolute / ``z_j`` prismatic, ``J_ωi`` columns
-    ``z_j``, ``j ≤ i``) and ``h = C q̇ + G`` by the RNEA of :mod:`irlc.runtime.dynamics`
+    ``z_j``, ``j ≤ i``) and ``h = C q̇ + G`` by the RNEA of :mod:`irlc.runtime.model.dynamics`
     with ``q̈ = 0`` and ``a_0 = −g``."""
     n = qd.shape[0]
     p = np.empty((n, 3))

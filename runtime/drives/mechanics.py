@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime.drives import friction
-from irlc.runtime.dynamics import Dynamics, MissingInertialData
+from irlc.runtime.model.dynamics import Dynamics, MissingInertialData
 
 
 class Mechanics:

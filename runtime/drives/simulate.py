@@ -22,17 +22,17 @@ from __future__ import annotations
 import numpy as np
 from irlc.lang.errors import IrlcError
 from irlc.robots.model import RobotModel
-from irlc.runtime.drive_levels import LEVELS
 from irlc.runtime.drives import friction as fr
 from irlc.runtime.drives import setpoint, stepsize
 from irlc.runtime.drives.cascade import DcBank
+from irlc.runtime.drives.levels import LEVELS
 from irlc.runtime.drives.mechanics import Mechanics
 from irlc.runtime.drives.params import DcDrives, DriveParams, drive_params
 from irlc.runtime.drives.refresh import Refresh
 from irlc.runtime.drives.result import DriveRun, default_tolerance, summarise
 from irlc.runtime.drives.stepper import StepperBank
 from irlc.runtime.drives.transmission import Transmission
-from irlc.runtime.dynamics import Dynamics
+from irlc.runtime.model.dynamics import Dynamics
 
 STEP_CAP = 1e-3  # the largest default step (s) of the averaged levels
 
@@ -144,7 +144,7 @@ def _ideal(model, times, q_cmd, tol, level) -> DriveRun:
 def drive_step(model: RobotModel, params: DriveParams, level: str, q0: np.ndarray) -> float:
     """The step (s) :func:`simulate_drives` takes by default for a run that starts at ``q0``
     (it depends on the drives and, coupled, on the inertia at the start): for a run's
-    cycle budget before the run (:mod:`irlc.runtime.executor`)."""
+    cycle budget before the run (:mod:`irlc.runtime.control.executor`)."""
     if level == "ideal":
         raise DriveInputError("the ideal level has no drive step")
     sim = _Simulation.__new__(_Simulation)

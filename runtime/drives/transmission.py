@@ -1,6 +1,6 @@
 """Transmission: joint ↔ motor coordinates of the driven axes.
 
-With the motor map ``θ_m = f(q)`` (``irlc.runtime.motor_maps``, built from the robot
+With the motor map ``θ_m = f(q)`` (``irlc.runtime.model.motor_maps``, built from the robot
 file's ``[transmission]``) and its Jacobian ``K(q) = ∂f/∂q`` (rows of the driven axes)::
 
     ω_m = K q̇,    τ_joint = Kᵀ τ_m,    rotor inertia (joint side) = Kᵀ diag(J_m) K
@@ -12,7 +12,7 @@ Three cases, fastest first:
 * screw levers (IRb-6 A2/A3): ``f`` non-linear, ``K(q)`` evaluated each step, vectorised
   over the lever rows (``φ = C q``, ``s = √(a² + b² − 2ab cos(φ + φ0))``,
   ``θ_m = 2π (s − s(0)) / lead``, ``K = (2π/lead)·ab sin(φ + φ0)/s · C``; the same maps as
-  :class:`irlc.runtime.motor_maps.MotorMap`, tested against it).
+  :class:`irlc.runtime.model.motor_maps.MotorMap`, tested against it).
 
 Without a ``[transmission]`` table the ratios come from ``[drives] ratio``.
 """
@@ -70,7 +70,7 @@ class Transmission:
         if all(r.get("type") == "ratio" and not r.get("couple") for r in rows):
             self.ratio = np.array([r["ratio"] for r in rows], dtype=float)
             return
-        from irlc.runtime.motor_maps import MotorMap
+        from irlc.runtime.model.motor_maps import MotorMap
 
         self.map = MotorMap.from_model(model)
         if all(r.get("type") == "ratio" for r in table):

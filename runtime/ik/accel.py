@@ -39,7 +39,7 @@ import time
 import numpy as np
 import quadprog
 from irlc.runtime import accel_support
-from irlc.runtime.distance import robot_segments
+from irlc.runtime.model.distance import robot_segments
 
 AVAILABLE = accel_support.AVAILABLE  # numba importable and not IRLC_ENGINE=numpy
 compile_seconds: float | None = None  # first kernel call of this process (compile or load)
@@ -77,7 +77,7 @@ def warm_up(obstacles: bool = True) -> float:
     if obstacles and not _obstacles_warm:
         t0 = time.perf_counter()
         from irlc.runtime.ik.params import CycleOptions
-        from irlc.runtime.obstacles import PointObstacle
+        from irlc.runtime.model.obstacles import PointObstacle
 
         ik, q, target = _tiny_cycle()
         near = PointObstacle("near", target[:3, 3] + (0.0, 0.0, 0.3))
@@ -96,7 +96,7 @@ def _tiny_cycle():
     from irlc.robots.model import Joint, Limits, RobotModel
     from irlc.runtime.ik.newton import InverseTransformation
     from irlc.runtime.ik.params import IKParams
-    from irlc.runtime.kinematics import Kinematics
+    from irlc.runtime.model.kinematics import Kinematics
 
     link = np.eye(4)
     link[0, 3] = 1.0

@@ -1,7 +1,7 @@
 """Compiled obstacle distances (numba): :func:`critical_points` and the obstacle
 criterion's terms (:func:`obstacle_terms`) of the compiled IK cycle.
 
-The numpy reference is :mod:`irlc.runtime.distance` (closest pairs) and
+The numpy reference is :mod:`irlc.runtime.model.distance` (closest pairs) and
 :mod:`irlc.runtime.ik.obstacle` (the terms); every function here is the same arithmetic
 written as loops over scalars, with the same choices (which part is closest, ties, the
 escape direction of touching cores), so results agree to rounding (tested against the
@@ -23,7 +23,7 @@ the different rounding of the two never picks a different part or face.
 
 **Packed input** (public, built in Python once per robot / obstacle set):
 
-* the robot's parts: :class:`~irlc.runtime.distance.RobotSegments`' ``links`` (k,),
+* the robot's parts: :class:`~irlc.runtime.model.distance.RobotSegments`' ``links`` (k,),
   ``a_local``, ``b_local`` (k, 3) in their link frames, ``radius`` (k,) and ``fallback``
   (no collision geometry: segments between successive link origins, the last one to the
   TCP — then the local ends are unused);
@@ -34,7 +34,7 @@ the different rounding of the two never picks a different part or face.
 
 **Output** of :func:`critical_points`: one row of :data:`N_CP` floats per obstacle,
 ``[distance, robot point(3), obstacle point(3), direction(3), link]`` (the fields of
-:class:`~irlc.runtime.distance.CriticalPoint`).
+:class:`~irlc.runtime.model.distance.CriticalPoint`).
 """
 
 from __future__ import annotations
@@ -56,7 +56,7 @@ _TIE = 1e-12  # distance.TIE: distances (and face depths) this close are ties
 
 
 def pack_obstacles(obstacles) -> np.ndarray:
-    """The rows of :mod:`irlc.runtime.obstacles` shapes (module doc), read-only."""
+    """The rows of :mod:`irlc.runtime.model.obstacles` shapes (module doc), read-only."""
     out = np.zeros((len(obstacles), N_COLS))
     for row, o in zip(out, obstacles, strict=True):
         kind = o.kind

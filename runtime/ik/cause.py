@@ -37,7 +37,7 @@ decided in this order:
    ``R_SPEED_ORI`` in deg/s when the orientation sets the segment's time), rounded
    down to two significant digits. The segment's speeds are actual ones: ``R_OVERRIDE``
    scales the programmed speeds by ``k = R_OVERRIDE/100`` and accelerations by ``k²``
-   (:mod:`~irlc.runtime.preinterp`), so the value to program is the actual bound over
+   (:mod:`~irlc.runtime.plan.preinterp`), so the value to program is the actual bound over
    ``k`` (``k²`` for ``R_ACC``), and the message says at which override it holds.
    A factor ``< MIN_FACTOR`` (a path through a near-singularity, or a jump between
    branches) counts as **singular**.
@@ -54,7 +54,7 @@ from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik import unreachable
 from irlc.runtime.ik.limits import format_joint_value
 from irlc.runtime.ik.reach import Reach, walk
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model.kinematics import Kinematics
 
 SINGULAR_RATIO = 1e-3
 LIMIT_MARGIN = (1e-3, 0.5 * units.DEG)  # (prismatic m, revolute rad): "at" a position limit

@@ -1,6 +1,6 @@
 """Coupled joint limits ``A q ≥ b`` (e.g. the IRb-6's ``−40° ≤ θ2+θ3 ≤ 25°``) in the QP.
 
-The rows come from :mod:`irlc.runtime.coupled_limits` (robot file ``[[coupled_limits]]``).
+The rows come from :mod:`irlc.runtime.model.coupled_limits` (robot file ``[[coupled_limits]]``).
 Like the joint box they bound the cycle displacement ``δ = Σ + Δθ``. With the slack
 ``s = Aθ_s − b ≥ 0`` at the start of the cycle, ``A(θ_s + δ) ≥ b`` is ``Aδ ≥ −s``;
 with acceleration limits the combination must also be able to stop before its bound,
@@ -15,7 +15,7 @@ with infinite accelerations it is the position row. In Newton iteration ``k`` th
 on ``Δθ`` are ``AΔθ ≥ −brake(s) − AΣ``. A start configuration that violates a row
 raises :class:`CoupledLimitError` (message from :func:`coupled_limits.describe`).
 
-**Motor speed rows** (:mod:`irlc.runtime.motor_limits`): where a transmission couples
+**Motor speed rows** (:mod:`irlc.runtime.model.motor_limits`): where a transmission couples
 joints and the drive data bound the motor speeds (the L-1 wrist, the IRb-6), the rows
 ``±K_m δ ≥ −v_m Δt`` (``K = ∂θs/∂q``: constant for a linear map; for a non-linear one
 ``K(θ_s)`` at the start of each cycle, the rows updated in place — ``varying``) are
@@ -31,9 +31,9 @@ import math
 
 import numpy as np
 from irlc.robots.model import RobotModel
-from irlc.runtime import coupled_limits as cl
 from irlc.runtime.errors import RunFailure
-from irlc.runtime.motor_limits import MotorLimits, motor_limits
+from irlc.runtime.model import coupled_limits as cl
+from irlc.runtime.model.motor_limits import MotorLimits, motor_limits
 
 _TOL = 1e-9  # same slack as the joint box's "outside the limits"
 

@@ -23,10 +23,11 @@ from dataclasses import dataclass
 import numpy as np
 from irlc.lang.errors import IrlcError
 from irlc.robots.model import RobotModel
-from irlc.runtime import spatial
 from irlc.runtime.ik import closed_form, unreachable
-from irlc.runtime.ik.pose import PoseSolution, seed_problem, solve_pose
+from irlc.runtime.ik.pose import PoseSolution, solve_pose
 from irlc.runtime.ik.reach import restarts, tried_starts
+from irlc.runtime.ik.seed import seed_problem
+from irlc.runtime.model import spatial
 
 SPREAD = 64  # Halton starts: as6 (no closed form), 100 random reachable poses from home:
 # 6 not found with 8, 1 with 32, none with 64 (each tried only while none converged)
@@ -128,6 +129,6 @@ def _residual(sol: PoseSolution) -> float:
 
 
 def _tcp(model: RobotModel, tool: np.ndarray, q: np.ndarray) -> np.ndarray:
-    from irlc.runtime.kinematics import Kinematics
+    from irlc.runtime.model.kinematics import Kinematics
 
     return Kinematics(model, tool).tcp(q)

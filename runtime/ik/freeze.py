@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime.errors import RunFailure
-from irlc.runtime.naming import JointNaming, naming_or_default
+from irlc.runtime.model.naming import JointNaming, naming_or_default
 
 
 class FreezeError(RunFailure):

@@ -45,8 +45,8 @@ import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
-from irlc.runtime.limit_check import TOLERANCE  # slack for "outside the limits" (rounding)
-from irlc.runtime.naming import JointNaming, naming_or_default
+from irlc.runtime.model.limit_check import TOLERANCE  # slack for "outside the limits" (rounding)
+from irlc.runtime.model.naming import JointNaming, naming_or_default
 
 POSITION, SPEED, ACCEL, BRAKING = 0, 1, 2, 3
 SOURCE_NAMES = ("position", "speed", "accel", "braking")

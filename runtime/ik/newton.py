@@ -31,7 +31,6 @@ import math
 
 import numpy as np
 from irlc.robots.model import RobotModel
-from irlc.runtime.distance import critical_points
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik.compact import CompactBasis
 from irlc.runtime.ik.coupled import CoupledRows
@@ -46,8 +45,9 @@ from irlc.runtime.ik.result import CycleResult
 from irlc.runtime.ik.state import IterationState
 from irlc.runtime.ik.task_error import pose_error_list
 from irlc.runtime.ik.weighted import WeightedDisplacement
-from irlc.runtime.kinematics import Kinematics
-from irlc.runtime.naming import JointNaming
+from irlc.runtime.model.distance import critical_points
+from irlc.runtime.model.kinematics import Kinematics
+from irlc.runtime.model.naming import JointNaming
 
 
 class IKFailure(RunFailure):

@@ -31,10 +31,10 @@ Choices the seed leaves open (defaults in :class:`~irlc.runtime.ik.params.Obstac
 from __future__ import annotations
 
 import numpy as np
-from irlc.runtime.distance import critical_points
 from irlc.runtime.ik.params import ObstacleParams
 from irlc.runtime.ik.state import IterationState
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model.distance import critical_points
+from irlc.runtime.model.kinematics import Kinematics
 
 
 def activation_weight(distance: float, params: ObstacleParams) -> float:

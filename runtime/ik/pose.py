@@ -35,22 +35,21 @@ from dataclasses import dataclass
 
 import numpy as np
 from irlc.robots.model import RobotModel
-from irlc.runtime import spatial
-from irlc.runtime.coupled_limits import (
-    as_inequalities,
-    coupled_limits,
-    describe,
-    row_label,
-    violations,
-)
 from irlc.runtime.ik import unreachable
 from irlc.runtime.ik.compact import CompactBasis
 from irlc.runtime.ik.limits import format_joint_value
 from irlc.runtime.ik.newton_step import NewtonStep
 from irlc.runtime.ik.params import task_rows_for
 from irlc.runtime.ik.qp import QuadprogSolver
-from irlc.runtime.kinematics import Kinematics
-from irlc.runtime.naming import JointNaming, naming_or_default
+from irlc.runtime.ik.seed import seed_problem
+from irlc.runtime.model import spatial
+from irlc.runtime.model.coupled_limits import (
+    as_inequalities,
+    coupled_limits,
+    row_label,
+)
+from irlc.runtime.model.kinematics import Kinematics
+from irlc.runtime.model.naming import JointNaming, naming_or_default
 
 SLOW_HARD_STEPS = 5  # this many hard steps in a row not halving the error: drop the pull
 
@@ -163,26 +162,6 @@ def solve_pose(
         f"{unreachable.NOT_FOUND}: no convergence in {max_iter} iterations "
         f"(left {pe * 1e3:.4g} mm, {np.degrees(oe):.4g} deg)",
     )
-
-
-def seed_problem(model: RobotModel, q: np.ndarray, naming: JointNaming | None = None) -> str | None:
-    """Why ``q`` (SI) cannot seed the solver — outside a position limit (joint, value,
-    limit) or violating a coupled limit — or ``None``."""
-    limits = model.position_limits
-    outside = np.flatnonzero((q < limits[:, 0]) | (q > limits[:, 1]))
-    if outside.size:
-        j = int(outside[0])
-        side = 0 if q[j] < limits[j, 0] else 1
-        name = naming_or_default(naming, model).label(j)
-        return (
-            f"seed joint {name} = {format_joint_value(model, j, q[j], 0)} is "
-            f"outside its position {('min', 'max')[side]} "
-            f"{format_joint_value(model, j, limits[j, side], 0)}"
-        )
-    found = violations(coupled_limits(model), q, 1e-9)
-    if found:
-        return f"seed: {describe(max(found, key=lambda v: v.amount))}"
-    return None
 
 
 def _norm(v: np.ndarray) -> float:

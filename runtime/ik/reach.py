@@ -39,8 +39,8 @@ from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik import closed_form, unreachable
 from irlc.runtime.ik.pose import PoseSolution, solve_pose
-from irlc.runtime.kinematics import Kinematics
-from irlc.runtime.naming import JointNaming
+from irlc.runtime.model.kinematics import Kinematics
+from irlc.runtime.model.naming import JointNaming
 
 STEP_LENGTH = 0.05  # m: longest walk step along the path
 STEP_ANGLE = 10.0 * units.DEG  # rad

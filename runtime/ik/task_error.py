@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from irlc.runtime import spatial
+from irlc.runtime.model import spatial
 
 
 def pose_error_list(tcp: np.ndarray, rd: tuple, pd: tuple, target: np.ndarray) -> list[float]:

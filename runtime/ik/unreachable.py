@@ -5,7 +5,7 @@ this start`` (:data:`NOT_FOUND`) unless one of these proves that no configuratio
 the limits reaches the pose (:func:`proof`; then :data:`NOT_REACHABLE`):
 
 * **plane** (5-joint arms, ``[reachability] vertical_plane``): the approach vector leaves
-  the arm's vertical plane (:func:`irlc.runtime.reachability.check_vertical_plane`);
+  the arm's vertical plane (:func:`irlc.runtime.model.reachability.check_vertical_plane`);
 * **closed form** (robots with ``[ik] closed_form``, :mod:`.closed_form`): the family
   enumerates every configuration reaching the pose; none exists, or every one lies
   outside the position or coupled limits (the first such limit is named);
@@ -23,7 +23,8 @@ import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
 from irlc.runtime.ik import closed_form
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.ik.seed import seed_problem
+from irlc.runtime.model.kinematics import Kinematics
 
 NOT_REACHABLE = "target not reachable"
 NOT_FOUND = "no solution found from this start"
@@ -42,7 +43,7 @@ def proof(
     box = model.position_limits if position is None else np.asarray(position, dtype=float)
     if tuple(sorted(task_rows)) != (0, 1, 2, 3, 4, 5):
         return _beyond_reach(model, target, tool, box, task_rows)
-    from irlc.runtime.reachability import check_vertical_plane
+    from irlc.runtime.model.reachability import check_vertical_plane
 
     check = check_vertical_plane(model, target, tool)
     if not check.reachable:
@@ -58,8 +59,6 @@ def _closed_form(model, target, tool, box) -> str | None:
         return None
     if not found:
         return "no configuration reaches it (closed form)"
-    from irlc.runtime.ik.pose import seed_problem  # (pose imports this module)
-
     limited = _with_box(model, box)
     why = "; ".join(
         f"{b.label}: {(seed_problem(limited, b.q) or '').removeprefix('seed ')}" for b in found

@@ -13,10 +13,10 @@ from __future__ import annotations
 import dataclasses
 
 from irlc.lang.settings import SYSTEM_VARIABLES
-from irlc.runtime import builtins as B
 from irlc.runtime import values as V
-from irlc.runtime.controller import check_setting
+from irlc.runtime.commands import check_setting
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.interpreter import builtins as B
 from irlc.runtime.interpreter.datatypes import number
 from irlc.runtime.interpreter.state import UNSET, Ref
 from irlc.runtime.values import ArrayValue, JointTuple, Pose

@@ -17,9 +17,9 @@ import math
 import re
 
 from irlc.lang.irdata import JOINT_TUPLE_TYPES, RecordType, Value
-from irlc.runtime import builtins as B
 from irlc.runtime import values as V
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.interpreter import builtins as B
 from irlc.runtime.interpreter.state import UNSET
 from irlc.runtime.values import ArrayValue, JointTuple, Orientation, Pose, Position, RecordValue
 

@@ -13,12 +13,12 @@ the end of the run) emits it.
 from __future__ import annotations
 
 from irlc.lang.digital_io import output_error, pulse_error
-from irlc.runtime import builtins as B
 from irlc.runtime import values as V
-from irlc.runtime.digital_io import value_at
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.interpreter import builtins as B
 from irlc.runtime.interpreter.datatypes import number
 from irlc.runtime.interpreter.state import UNSET, Ref
+from irlc.runtime.outputs.digital_io import value_at
 from irlc.runtime.values import ArrayValue, RecordValue
 
 TIME_TOLERANCE = 1e-9  # s, when comparing simulated time with input event times

@@ -16,7 +16,7 @@ Values are immutable (:mod:`irlc.runtime.values`), so pass-by-value needs no cop
 error naming it), except ARRAY and RECORD variables, whose elements start unset one by one
 (so they can be filled element-wise), and SIGNAL outputs, which start FALSE.
 
-Motion, RECONFIGURATION and WAIT go to the :class:`~irlc.runtime.controller.Controller`
+Motion, RECONFIGURATION and WAIT go to the :class:`~irlc.runtime.commands.Controller`
 with a snapshot of the current :class:`Settings` (system variables) and
 :class:`ModalOptions` (the redundancy options). Simulated time is the controller's.
 
@@ -51,10 +51,10 @@ from collections.abc import Callable
 
 from irlc.lang.irdata import Code, Routine, Slot, Target
 from irlc.lang.value_ranges import MAX_LIVE_ELEMENTS
-from irlc.runtime import builtins as B
 from irlc.runtime import values as V
-from irlc.runtime.controller import WAIT_SAMPLED_CYCLES, Controller, ModalOptions, Settings
+from irlc.runtime.commands import WAIT_SAMPLED_CYCLES, Controller, ModalOptions, Settings
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.interpreter import builtins as B
 from irlc.runtime.interpreter.data import ELEMENTS_PER_STEP, DataOps
 from irlc.runtime.interpreter.datatypes import DataTypes
 from irlc.runtime.interpreter.io import IoOps

@@ -2,7 +2,7 @@
 JOINTLIMIT, JOINTSPEEDLIMIT, JOINTACCELLIMIT, CYCLIC, OBSTACLE, FREEZE).
 
 A mixin of :class:`~irlc.runtime.interpreter.machine.Interpreter`. A motion instruction
-builds a :class:`~irlc.runtime.controller.MotionCommand` from its operands (targets, then
+builds a :class:`~irlc.runtime.commands.MotionCommand` from its operands (targets, then
 the WITH clauses in the order of the instruction: ``docs/irdata.md``) and hands it to the
 controller with a snapshot of the current :class:`Settings` (system variables) and
 :class:`ModalOptions`; the controller plans and executes it and advances simulated time.
@@ -11,7 +11,7 @@ The WITH words and the system variables are rows of :mod:`irlc.lang.settings`; t
 options' rows are :data:`LIMIT_OPTIONS`. A limit option's bounds are checked here, where the
 program's units are known: lower ≤ upper, speed and acceleration bounds contain 0 (the
 robot must be able to stand still), position bounds contain the current joints (the one
-check, tolerance and message: :mod:`irlc.runtime.limit_check`).
+check, tolerance and message: :mod:`irlc.runtime.model.limit_check`).
 """
 
 from __future__ import annotations
@@ -19,13 +19,13 @@ from __future__ import annotations
 from irlc.lang.file_access import shown_key, shown_names
 from irlc.lang.joint_kinds import kind_from_letter
 from irlc.lang.settings import ALL_KINDS, BY_WITH_WORD, PATH_KINDS, reconfiguration_counts
-from irlc.runtime import builtins as B
 from irlc.runtime import units
 from irlc.runtime import values as V
-from irlc.runtime.controller import MotionCommand, check_setting
+from irlc.runtime.commands import MotionCommand, check_setting
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.interpreter import builtins as B
 from irlc.runtime.interpreter.datatypes import number
-from irlc.runtime.limit_check import first_outside, limit_failure, program_tolerances
+from irlc.runtime.model.limit_check import first_outside, limit_failure, program_tolerances
 from irlc.runtime.values import JointTuple, Pose
 
 MOVE_NUMBERS = {word: s.field for word, s in BY_WITH_WORD.items()}  # WITH word → field
@@ -134,7 +134,7 @@ class MotionOps:
         return lo, hi
 
     def _check_joints_inside(self, option: str, lo: JointTuple, hi: JointTuple) -> None:
-        """The current joints inside ``[lo, hi]`` (program units): runtime/limit_check.py."""
+        """The current joints inside ``[lo, hi]`` (program units): runtime/model/limit_check.py."""
         kinds = [kind_from_letter(k) for k in self.code.joint_kinds]
         q = self._ctl(self.controller.joints)
         out = first_outside(q, lo.values, hi.values, program_tolerances(kinds))

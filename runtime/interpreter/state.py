@@ -12,9 +12,9 @@ from dataclasses import dataclass, field
 
 from irlc.lang.errors import IrlcError
 from irlc.lang.irdata import Routine, Slot
-from irlc.runtime.controller import ModalOptions, Settings
-from irlc.runtime.digital_io import Outputs
+from irlc.runtime.commands import ModalOptions, Settings
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.outputs.digital_io import Outputs
 
 
 class _Unset:

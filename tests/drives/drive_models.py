@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 from irlc.robots.model import Inertial, Joint, Limits, RobotModel
-from irlc.runtime import spatial
+from irlc.runtime.model import spatial
 
 LIM = Limits((-3.0, 3.0), (-2.0, 2.0), (-10.0, 10.0))
 

@@ -88,8 +88,8 @@ def test_mass_and_bias_on_packed_data(robot):
     """M(q) and C q̇ + G from DynamicsData and the link frames equal
     Dynamics.mass_and_bias (prismatic joints included: irb6_track's track, mobile8's
     platform); M is symmetric and its diagonal holds the rotors."""
-    from irlc.runtime.dynamics import Dynamics
-    from irlc.runtime.kinematics import Kinematics
+    from irlc.runtime.model.dynamics import Dynamics
+    from irlc.runtime.model.kinematics import Kinematics
 
     model = load_toml(ROBOTS / f"{robot}.toml")
     rotor = np.linspace(0.1, 0.5, model.n)
@@ -136,8 +136,8 @@ def test_coupled_terms_on_packed_data(robot):
     DynamicsData and TransmissionData equals the numpy pieces: Dynamics.mass_and_bias
     (rotors of plain ratios on the diagonal) + Transmission.rotor_matrix, np.linalg.inv.
     Screw levers (irb6_track), plain ratios (koch11), linear couplings (l1)."""
-    from irlc.runtime.dynamics import Dynamics
-    from irlc.runtime.kinematics import Kinematics
+    from irlc.runtime.model.dynamics import Dynamics
+    from irlc.runtime.model.kinematics import Kinematics
 
     model = load_toml(ROBOTS / f"{robot}.toml")
     params = drive_params(model)

@@ -1,5 +1,5 @@
 """Rigid-body dynamics against independent computations: the Lagrangian of energies built
-from finite-differenced link velocities (FK of irlc.runtime.kinematics), the potential
+from finite-differenced link velocities (FK of irlc.runtime.model.kinematics), the potential
 energy gradient, and the reflected rotor inertia."""
 
 from __future__ import annotations
@@ -7,9 +7,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from irlc.robots.model import Inertial, Joint, Limits, RobotModel
-from irlc.runtime import spatial
-from irlc.runtime.dynamics import Dynamics, MissingInertialData
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model import spatial
+from irlc.runtime.model.dynamics import Dynamics, MissingInertialData
+from irlc.runtime.model.kinematics import Kinematics
 
 LIM = Limits((-3.0, 3.0), (-1.0, 1.0), (-1.0, 1.0))
 

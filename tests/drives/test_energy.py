@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from irlc.runtime.drives import simulate_drives
-from irlc.runtime.dynamics import Dynamics
+from irlc.runtime.model.dynamics import Dynamics
 
 from .drive_models import DC_AXIS, dc_drives, planar
 

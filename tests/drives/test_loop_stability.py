@@ -18,7 +18,7 @@ from irlc.runtime.drives.linear import (
 )
 from irlc.runtime.drives.params import DcDrives
 from irlc.runtime.drives.transmission import Transmission
-from irlc.runtime.dynamics import Dynamics
+from irlc.runtime.model.dynamics import Dynamics
 
 ROBOTS = Path(__file__).resolve().parents[2] / "robots"
 

@@ -12,7 +12,7 @@ from irlc.runtime.drives import (
     simulate_drives,
     trace_columns,
 )
-from irlc.runtime.dynamics import MissingInertialData
+from irlc.runtime.model.dynamics import MissingInertialData
 
 from .drive_models import dc_drives, planar
 

@@ -10,7 +10,7 @@ import numpy as np
 from irlc.robots.loader import load_toml
 from irlc.runtime.drives import deviation_percent, simulate_drives
 from irlc.runtime.drives.refresh import DELTA_Q, DELTA_V, Refresh
-from irlc.runtime.dynamics import Dynamics
+from irlc.runtime.model.dynamics import Dynamics
 
 ROBOTS = Path(__file__).resolve().parents[2] / "robots"
 

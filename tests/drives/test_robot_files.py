@@ -56,8 +56,8 @@ def test_robot_drives_run(name, level, delta):
 
 
 def test_motor_maps_in_the_transmission():
-    """IRb-6: screw levers and the coupled wrist go through irlc.runtime.motor_maps."""
-    from irlc.runtime.motor_maps import MotorMap
+    """IRb-6: screw levers and the coupled wrist go through irlc.runtime.model.motor_maps."""
+    from irlc.runtime.model.motor_maps import MotorMap
 
     model = load_toml(ROBOTS / "irb6.toml")
     trans = Transmission(model, drive_params(model))
@@ -73,8 +73,9 @@ def test_motor_maps_in_the_transmission():
 
 
 def test_vectorised_levers_match_the_motor_maps():
-    """The transmission's vectorised screw levers equal irlc.runtime.motor_maps (irb6_track)."""
-    from irlc.runtime.motor_maps import MotorMap
+    """The transmission's vectorised screw levers equal irlc.runtime.model.motor_maps
+    (irb6_track)."""
+    from irlc.runtime.model.motor_maps import MotorMap
 
     model = load_toml(ROBOTS / "irb6_track.toml")
     trans = Transmission(model, drive_params(model))

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from irlc.runtime.drives import simulate_drives
 from irlc.runtime.drives.linear import AxisLoop, closed_loop
-from irlc.runtime.dynamics import Dynamics
+from irlc.runtime.model.dynamics import Dynamics
 from scipy import signal
 
 from .drive_models import DC_AXIS, dc_drives, planar

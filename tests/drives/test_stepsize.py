@@ -21,7 +21,7 @@ def model():
 
 
 def tau_min(m) -> float:
-    from irlc.runtime.dynamics import Dynamics
+    from irlc.runtime.model.dynamics import Dynamics
 
     j = DC_AXIS["J_m"] + Dynamics(m).mass_matrix(np.zeros(1))[0, 0] / 30.0**2
     return float(fastest_time_constant(drive_params(m).chain, np.array([j])).min())
@@ -30,7 +30,7 @@ def tau_min(m) -> float:
 def test_time_constant_is_the_velocity_loop():
     m = model()
     c = DC_AXIS
-    from irlc.runtime.dynamics import Dynamics
+    from irlc.runtime.model.dynamics import Dynamics
 
     j = c["J_m"] + Dynamics(m).mass_matrix(np.zeros(1))[0, 0] / 900.0
     assert tau_min(m) == pytest.approx(j * c["k"] / (c["kp"] * c["ke"] * c["ks"]))

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from irlc.cli import main
 from irlc.robots.loader import load_toml
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model.kinematics import Kinematics
 from irlc.runtime.run import run_file
 from irlc.runtime.units import joints_to_si
 
@@ -246,9 +246,9 @@ def _axis(j: int, error: float = 0.0, follow: bool = True):
 def _verdict(q, clear_ideal, clear_actual, following, axes):
     from types import SimpleNamespace
 
+    from irlc.runtime.control.executor import ExecutionOptions
     from irlc.runtime.drives import drive_params
-    from irlc.runtime.executor import ExecutionOptions
-    from irlc.runtime.verdict import judge
+    from irlc.runtime.outputs.verdict import judge
 
     from .drive_models import dc_drives, planar
 
@@ -315,7 +315,7 @@ def test_a_turn_on_the_spot_is_matched_by_orientation(tmp_path):
     pose is chosen by orientation too, so the drives' lag along the turn is not an
     orientation error. Checked against an independent FK: the contour orientation error
     never exceeds the angle to the set point of the same instant, and is a fraction of it."""
-    from irlc.runtime.spatial import zyx_to_matrix
+    from irlc.runtime.model.spatial import zyx_to_matrix
 
     program = tmp_path / "turn.irl"
     program.write_text(TURN)
@@ -356,7 +356,7 @@ def test_the_nearest_point_search_covers_the_window_in_at_most_its_sample_cap(ip
     # nearest point it finds is exact (a point beside the line: its distance)
     from types import SimpleNamespace
 
-    from irlc.runtime import actual_motion as am
+    from irlc.runtime.outputs import actual_motion as am
 
     times = np.arange(0.0, 3.0 + ipo / 2, ipo)
     desired = np.tile(np.eye(4), (len(times), 1, 1))

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 from irlc.robots.model import Capsule, Joint, Limits, RobotModel
-from irlc.runtime import spatial
+from irlc.runtime.model import spatial
 
 
 def planar_arm(n: int, link: float = 1.0, *, speed=math.pi, accel=20.0, radius=0.0):

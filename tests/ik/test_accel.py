@@ -18,14 +18,14 @@ import pytest
 pytest.importorskip("numba")
 
 from irlc.robots import load_robot
-from irlc.runtime import spatial
-from irlc.runtime.distance import critical_points, robot_parts, segment_obstacle
 from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation, intersect_limits
 from irlc.runtime.ik import accel as accel_mod
 from irlc.runtime.ik.coupled import CoupledRows
 from irlc.runtime.ik.freeze import FreezeError
-from irlc.runtime.kinematics import Kinematics
-from irlc.runtime.obstacles import BoxObstacle, SphereObstacle
+from irlc.runtime.model import spatial
+from irlc.runtime.model.distance import critical_points, robot_parts, segment_obstacle
+from irlc.runtime.model.kinematics import Kinematics
+from irlc.runtime.model.obstacles import BoxObstacle, SphereObstacle
 
 pytestmark = pytest.mark.skipif(not accel_mod.AVAILABLE, reason="no numba or IRLC_ENGINE=numpy")
 
@@ -356,7 +356,7 @@ def test_irlc_engine_numpy_disables_it():
     code = (
         "from irlc.robots import load_robot\n"
         "from irlc.runtime.ik import IKParams, InverseTransformation, accel\n"
-        "from irlc.runtime.kinematics import Kinematics\n"
+        "from irlc.runtime.model.kinematics import Kinematics\n"
         "m = load_robot('panda')\n"
         "ik = InverseTransformation(m, Kinematics(m), IKParams(accel=True))\n"
         "print(accel.AVAILABLE, ik.accelerated)\n"

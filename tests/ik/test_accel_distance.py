@@ -1,5 +1,5 @@
 """The compiled obstacle queries (runtime/ik/accel_distance.py) against the numpy
-reference (runtime/distance.py, runtime/ik/obstacle.py) on random configurations: the
+reference (runtime/model/distance.py, runtime/ik/obstacle.py) on random configurations: the
 same part, distances, points and directions to 1e-12, and the same criterion terms."""
 
 from __future__ import annotations
@@ -10,13 +10,13 @@ import pytest
 pytest.importorskip("numba")
 
 from irlc.robots import load_robot
-from irlc.runtime import spatial
-from irlc.runtime.distance import critical_points, robot_segments
 from irlc.runtime.ik import accel_distance as ad
 from irlc.runtime.ik.obstacle import obstacle_terms
 from irlc.runtime.ik.params import ObstacleParams
-from irlc.runtime.kinematics import Kinematics
-from irlc.runtime.obstacles import (
+from irlc.runtime.model import spatial
+from irlc.runtime.model.distance import critical_points, robot_segments
+from irlc.runtime.model.kinematics import Kinematics
+from irlc.runtime.model.obstacles import (
     BoxObstacle,
     CapsuleObstacle,
     PlaneObstacle,
@@ -154,7 +154,7 @@ def test_packed_rows_hold_the_shapes():
 
 def test_the_kernels_use_the_reference_tolerances():
     """numba freezes these into the machine code: they must stay those of distance.py."""
-    from irlc.runtime import distance
+    from irlc.runtime.model import distance
 
     assert ad._TIE == distance.TIE and ad._EPS == distance._EPS
 
@@ -163,10 +163,10 @@ def test_the_compiled_cycle_makes_no_numpy_distance_query(monkeypatch):
     """With obstacles avoided and reported, the compiled cycle gets its terms and its
     clearances from the kernels (issue 14: the numpy queries were most of its time),
     with the numbers of the numpy cycle."""
-    from irlc.runtime import distance
     from irlc.runtime.ik import obstacle
     from irlc.runtime.ik.newton import InverseTransformation
     from irlc.runtime.ik.params import CycleOptions, IKParams
+    from irlc.runtime.model import distance
 
     model = load_robot("koch11")
     kin = Kinematics(model)

@@ -13,7 +13,6 @@ import pytest
 pytest.importorskip("numba")
 
 from irlc.robots import load_robot
-from irlc.runtime import spatial
 from irlc.runtime.ik import accel as accel_mod
 from irlc.runtime.ik.compact import CompactBasis, compact_box_qp
 from irlc.runtime.ik.cyclic import CyclicReference
@@ -24,7 +23,8 @@ from irlc.runtime.ik.params import ObstacleParams
 from irlc.runtime.ik.qp import QuadprogSolver
 from irlc.runtime.ik.state import IterationState
 from irlc.runtime.ik.weighted import WeightedDisplacement
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model import spatial
+from irlc.runtime.model.kinematics import Kinematics
 
 from .ik_robots import planar_arm
 

@@ -9,11 +9,13 @@ import numpy as np
 import pytest
 from irlc.cli import main
 from irlc.robots import load_robot
-from irlc.runtime import spatial, units
+from irlc.runtime import units
 from irlc.runtime.ik import closed_form, unreachable
 from irlc.runtime.ik.find import BranchError, find_pose
-from irlc.runtime.ik.pose import seed_problem, solve_pose
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.ik.pose import solve_pose
+from irlc.runtime.ik.seed import seed_problem
+from irlc.runtime.model import spatial
+from irlc.runtime.model.kinematics import Kinematics
 
 
 def random_in_limits(model, count: int, seed: int) -> list[np.ndarray]:
@@ -183,7 +185,7 @@ def test_pose_search_of_ptp_uses_the_closed_form(monkeypatch):
     of these 100 reachable irb6 poses fail even with the restarts; with them none."""
     from irlc.runtime.ik.params import task_rows_for
     from irlc.runtime.ik.reach import Reach
-    from irlc.runtime.naming import JointNaming
+    from irlc.runtime.model.naming import JointNaming
 
     model = load_robot("irb6")
     kin = Kinematics(model)

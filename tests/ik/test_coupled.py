@@ -8,10 +8,10 @@ import math
 import numpy as np
 import pytest
 from irlc.robots import load_robot
-from irlc.runtime.coupled_limits import as_inequalities, coupled_limits, violations
 from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation, solve_pose
 from irlc.runtime.ik.coupled import CoupledLimitError
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model.coupled_limits import as_inequalities, coupled_limits, violations
+from irlc.runtime.model.kinematics import Kinematics
 
 from .ik_robots import line_poses
 

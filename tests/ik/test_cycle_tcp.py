@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model.kinematics import Kinematics
 
 from .ik_robots import line_poses
 

@@ -6,15 +6,15 @@ import numpy as np
 import pytest
 import scipy.optimize
 from irlc.lang.irdata import ObstacleDef
-from irlc.runtime import spatial
-from irlc.runtime.distance import (
+from irlc.runtime.model import spatial
+from irlc.runtime.model.distance import (
     closest_segment_box,
     closest_segment_segment,
     critical_points,
     segment_obstacle,
 )
-from irlc.runtime.kinematics import Kinematics
-from irlc.runtime.obstacles import (
+from irlc.runtime.model.kinematics import Kinematics
+from irlc.runtime.model.obstacles import (
     BoxObstacle,
     CapsuleObstacle,
     PlaneObstacle,
@@ -202,7 +202,7 @@ def test_obstacles_from_program_units():
 
 def test_critical_points_equal_exhaustive_search_for_every_kind(koch11):
     """The pruned / vectorised search gives the same closest part as trying all parts."""
-    from irlc.runtime.distance import robot_parts
+    from irlc.runtime.model.distance import robot_parts
 
     kin = Kinematics(koch11)
     rng = np.random.default_rng(12)

@@ -5,13 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from irlc.robots import load_robot
-from irlc.runtime import spatial
 from irlc.runtime.ik.compact import CompactBasis
 from irlc.runtime.ik.limits import JointBox, LimitViolationError
 from irlc.runtime.ik.newton_step import NewtonStep
 from irlc.runtime.ik.qp import QuadprogSolver
 from irlc.runtime.ik.task_error import pose_error_list
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model import spatial
+from irlc.runtime.model.kinematics import Kinematics
 
 from .test_qp_compact import kkt_certificate, random_instance
 

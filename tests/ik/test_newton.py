@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from irlc.runtime import spatial, units
+from irlc.runtime import units
 from irlc.runtime.ik import (
     CycleOptions,
     FreezeError,
@@ -16,7 +16,8 @@ from irlc.runtime.ik import (
     reconfiguration_done,
     solve_pose,
 )
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model import spatial
+from irlc.runtime.model.kinematics import Kinematics
 
 from .ik_robots import XY, line_poses, planar_arm, run_path, smooth, square_poses
 
@@ -276,9 +277,9 @@ def test_executor_turns_a_relaxed_cycle_beyond_tolerance_into_a_run_failure(koch
     above fails the run with the IK's own deviation, the line and the binding limit."""
     from types import SimpleNamespace
 
-    from irlc.runtime.controller import Settings
+    from irlc.runtime.commands import Settings
+    from irlc.runtime.control.executor import SimulatedController
     from irlc.runtime.errors import RunFailure
-    from irlc.runtime.executor import SimulatedController
     from irlc.runtime.ik.params import CycleOptions
 
     kin = Kinematics(koch11)

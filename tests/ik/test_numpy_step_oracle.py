@@ -21,7 +21,6 @@ import numpy as np
 import pytest
 import quadprog
 from irlc.robots import load_robot
-from irlc.runtime import spatial
 from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation
 from irlc.runtime.ik.compact import CompactBasis
 from irlc.runtime.ik.limits import (
@@ -34,7 +33,8 @@ from irlc.runtime.ik.limits import (
 from irlc.runtime.ik.limits import active_codes as fast_active_codes
 from irlc.runtime.ik.newton_step import NewtonStep
 from irlc.runtime.ik.qp import QuadprogSolver
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model import spatial
+from irlc.runtime.model.kinematics import Kinematics
 
 ROBOTS = ["koch11", "panda", "mobile8", "planar4"]
 DT = 0.01

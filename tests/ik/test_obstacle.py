@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from irlc.robots import load_robot
-from irlc.runtime import spatial
 from irlc.runtime.ik import (
     CycleOptions,
     IKParams,
@@ -14,8 +13,9 @@ from irlc.runtime.ik import (
     solve_pose,
 )
 from irlc.runtime.ik.obstacle import activation_weight
-from irlc.runtime.kinematics import Kinematics
-from irlc.runtime.obstacles import BoxObstacle
+from irlc.runtime.model import spatial
+from irlc.runtime.model.kinematics import Kinematics
+from irlc.runtime.model.obstacles import BoxObstacle
 
 from .ik_robots import XY, line_poses, run_path
 

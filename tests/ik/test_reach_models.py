@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 from irlc import load_robot
 from irlc.runtime.ik.reach import LimitedModels, Reach, solve_within
-from irlc.runtime.kinematics import Kinematics
-from irlc.runtime.naming import JointNaming
+from irlc.runtime.model.kinematics import Kinematics
+from irlc.runtime.model.naming import JointNaming
 
 
 def test_built_once_per_limits_and_tool():

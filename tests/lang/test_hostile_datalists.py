@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from irlc.runtime.obstacles import from_program_units
+from irlc.runtime.model.obstacles import from_program_units
 
 from .conftest import compile_text
 

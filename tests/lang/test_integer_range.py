@@ -1,7 +1,7 @@
 """INTEGER is signed 64-bit at compile time as at run time: literals and constant folding.
 
 The expected messages are not written down here: they come from the runtime's own
-arithmetic (``irlc.runtime.builtins``) applied to the same operands, so the compiler is
+arithmetic (``irlc.runtime.interpreter.builtins``) applied to the same operands, so the compiler is
 checked against the rule it must agree with.
 """
 
@@ -10,8 +10,8 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import pytest
-from irlc.runtime import builtins as rt
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.interpreter import builtins as rt
 
 from .conftest import compile_text
 

@@ -34,7 +34,7 @@ def test_lang_imports_nothing_of_irlc_outside_lang() -> None:
 
 def test_the_runtime_reads_the_motion_kind_words_from_lang() -> None:
     from irlc.lang.settings import ALL_KINDS, KIND_WORDS
-    from irlc.runtime import cycle_time
+    from irlc.runtime.outputs import cycle_time
 
     assert cycle_time.KIND_WORDS is KIND_WORDS
     assert tuple(KIND_WORDS) == ALL_KINDS

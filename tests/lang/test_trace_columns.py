@@ -70,7 +70,7 @@ def test_first_clash_is_none_exactly_when_every_column_is_distinct(names, kinds)
 
 
 def test_the_runtime_header_is_built_from_these_names():
-    from irlc.runtime.results import trace_header
+    from irlc.runtime.outputs.results import trace_header
 
     names, kinds = ("s1", "slide"), ("revolute", "prismatic")
     header = trace_header(names, kinds, drives=True, obstacles={"box": None})

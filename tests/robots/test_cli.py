@@ -9,7 +9,7 @@ import pytest
 from irlc.cli import main
 from irlc.robots import load_robot
 from irlc.runtime import units
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model.kinematics import Kinematics
 
 
 def run(capsys, *args: str) -> tuple[int, str, str]:

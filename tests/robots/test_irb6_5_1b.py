@@ -20,7 +20,7 @@ import itertools
 import numpy as np
 import pytest
 from irlc.robots import load_robot
-from irlc.runtime.ik.pose import seed_problem
+from irlc.runtime.ik.seed import seed_problem
 
 K5 = 1.0  # the robot file's assumed k5 (its "theta5-theta234/k5" row, documented there)
 EPS = 1e-7  # deg: grid points this close to a bound count as on it (either answer)
@@ -89,7 +89,7 @@ def test_what_the_old_boxes_rejected_is_allowed(irb6):
 def test_theta5_window_is_motor_5_within_plus_minus_180_deg_times_k4_k5(irb6):
     """The row and the motor map (5.22) carry the same k5: θs5 = −k4·k5·(θ5 − θ234/k5),
     so the window row is the motor-5 row of the map divided by −k4·k5 (k4 = 80)."""
-    from irlc.runtime.motor_maps import MotorMap
+    from irlc.runtime.model.motor_maps import MotorMap
 
     rows = {c["name"]: c for c in irb6.extra["coupled_limits"]}
     motor5 = MotorMap.from_model(irb6).motor_jacobian(irb6.home_q())[4]

@@ -7,8 +7,9 @@ import math
 import numpy as np
 import pytest
 from irlc.robots import list_robots, load_robot
-from irlc.runtime import spatial, units
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime import units
+from irlc.runtime.model import spatial
+from irlc.runtime.model.kinematics import Kinematics
 
 ROBOTS = list_robots()
 

@@ -6,10 +6,10 @@ import math
 
 import numpy as np
 from irlc.robots import load_robot
-from irlc.runtime import spatial
-from irlc.runtime.coupled_limits import as_inequalities, coupled_limits, violations
-from irlc.runtime.kinematics import Kinematics
-from irlc.runtime.reachability import check_vertical_plane
+from irlc.runtime.model import spatial
+from irlc.runtime.model.coupled_limits import as_inequalities, coupled_limits, violations
+from irlc.runtime.model.kinematics import Kinematics
+from irlc.runtime.model.reachability import check_vertical_plane
 
 
 def book_ok(t2: float, t3: float, t4: float) -> bool:

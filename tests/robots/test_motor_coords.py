@@ -16,8 +16,9 @@ import numpy as np
 import pytest
 from irlc.cli import main
 from irlc.robots import load_robot
-from irlc.runtime import spatial, units
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime import units
+from irlc.runtime.model import spatial
+from irlc.runtime.model.kinematics import Kinematics
 from irlc.runtime.run import run_file
 
 Q = ["120", "250", "400", "200", "-35", "300"]  # mm, deg

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from irlc.robots import load_robot
-from irlc.runtime.motor_maps import MotorMap
+from irlc.runtime.model.motor_maps import MotorMap
 
 
 @pytest.mark.parametrize("name", ["l1", "irb6", "irb6_track", "as6", "koch11"])

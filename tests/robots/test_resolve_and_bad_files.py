@@ -12,10 +12,10 @@ import pytest
 from irlc.cli import main
 from irlc.robots import RobotFileError, UnknownRobotError, list_robots, loader, resolve_robot
 from irlc.runtime import units
-from irlc.runtime.coupled_limits import coupled_limits, describe, row_label, violations
 from irlc.runtime.ik.coupled import CoupledRows
 from irlc.runtime.ik.pose import solve_pose
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model.coupled_limits import coupled_limits, describe, row_label, violations
+from irlc.runtime.model.kinematics import Kinematics
 
 SLIDE = """\
 [robot]

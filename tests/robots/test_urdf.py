@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from irlc.robots import ROBOTS_DIR, RobotFileError, load_robot
 from irlc.robots.urdf_import import load_urdf
-from irlc.runtime import spatial
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model import spatial
+from irlc.runtime.model.kinematics import Kinematics
 
 pytest.importorskip("yourdfpy")
 

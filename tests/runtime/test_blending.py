@@ -1,5 +1,5 @@
 """Approximate positioning (WITH APPROX / R_APPROX), checked from the report and the trace
-against closed forms (runtime/blending.py, docs/language.md "Approximate positioning").
+against closed forms (runtime/plan/blending.py, docs/language.md "Approximate positioning").
 
 The LIN corner: two 200 mm sides at R_SPEED 250 mm/s, R_ACC 1000 mm/s² take exactly
 1.05 s each (ramps 0.25 s over 31.25 mm), so for APPROX d ≤ 31.25 mm the blend lies in
@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from irlc.lang.diagnostics import CompileError
-from irlc.runtime.blending import choose_overlap, limit_distance, tail_cycles
+from irlc.runtime.plan.blending import choose_overlap, limit_distance, tail_cycles
 from irlc.runtime.run import run_file
 
 PROGRAMS = Path(__file__).resolve().parents[2] / "programs"
@@ -183,7 +183,7 @@ def test_ptp_blend_in_joint_space(tmp_path):
         assert row["max_abs_speed"] <= v_max * (1 + 1e-6)
         assert row["max_abs_accel"] <= a_max * (1 + 1e-6)
     # within APPROX of each point (TCP, by forward kinematics of the trace)
-    from irlc.runtime.kinematics import Kinematics
+    from irlc.runtime.model.kinematics import Kinematics
 
     kin = Kinematics(model)
     p = _positions_mm(blended)
@@ -293,7 +293,7 @@ ENDPROGRAM
 def test_a_blend_bisected_to_an_exact_stop_keeps_its_reason(tmp_path, monkeypatch):
     """When every shortened blend fails too, the bisection ends in an exact stop; the note
     says why (the longer blend failed), not that a segment has no TCP path length."""
-    from irlc.runtime.approximation import ApproximatePositioning
+    from irlc.runtime.control.approximation import ApproximatePositioning
     from irlc.runtime.errors import RunFailure
 
     real = ApproximatePositioning._try_blend

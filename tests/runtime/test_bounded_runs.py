@@ -12,9 +12,9 @@ from pathlib import Path
 import pytest
 from irlc.cli import main
 from irlc.lang.value_ranges import MAX_LIVE_ELEMENTS
-from irlc.runtime.digital_io import value_at
 from irlc.runtime.interpreter.io import MAX_EVENTS, MAX_OUTPUT_CHARS
 from irlc.runtime.interpreter.state import UNSET
+from irlc.runtime.outputs.digital_io import value_at
 from irlc.runtime.values import ArrayValue, format_value, pose_from_zyx, text_bound
 
 
@@ -223,7 +223,7 @@ def test_a_motion_statement_is_charged_at_least_five_cycles(tmp_path, capsys):
     # planning and the target's reachability check cost even when nothing moves: 50,000
     # motions that do not move, each between two that do, would otherwise each restart the
     # loop guard's count
-    from irlc.runtime.executor import MOTION_MIN_CYCLES
+    from irlc.runtime.control.executor import MOTION_MIN_CYCLES
 
     assert MOTION_MIN_CYCLES == 5
     prog = HEAD + "BEGIN\n  MOVE PTP R_ACT_JOINT;\n  MOVE PTP R_ACT_JOINT;\nENDPROGRAM\n"
@@ -253,7 +253,7 @@ def test_a_loop_of_one_cycle_motions_meets_the_budget_five_times_sooner(tmp_path
 
 
 def test_a_small_ipo_cycle_meets_the_default_cycle_budget_at_once(tmp_path, capsys):
-    from irlc.runtime.executor import DEFAULT_MAX_CYCLES
+    from irlc.runtime.control.executor import DEFAULT_MAX_CYCLES
 
     code, _, err, cpu = run(tmp_path, capsys, MOVES, "--ipo", "0.00001")
     assert code == 2, err
@@ -315,7 +315,7 @@ def test_with_drives_the_cycle_budget_counts_their_steps(tmp_path, capsys):
     step, 10 steps to a cycle of the budget; the run fails before either stage simulates."""
     import math
 
-    from irlc.runtime.executor import DRIVE_STEPS_PER_CYCLE
+    from irlc.runtime.control.executor import DRIVE_STEPS_PER_CYCLE
 
     head = "PROGRAM p;\nROBOT r := irb6;\nBEGIN\n"
     code, out, err, _ = run(tmp_path, capsys, head + "  WAIT 2 SEC;\nENDPROGRAM\n", "--json",

@@ -1,11 +1,11 @@
 """The checker's built-in functions (lang/builtins.py) and the runtime's implementations
-(runtime/builtins.py; FK in the interpreter, it needs the controller) are the same set:
+(runtime/interpreter/builtins.py; FK in the interpreter, it needs the controller) are the same set:
 a function the compiler accepts always runs, and none runs that the compiler rejects."""
 
 from __future__ import annotations
 
 from irlc.lang.builtins import BUILTINS
-from irlc.runtime import builtins as B
+from irlc.runtime.interpreter import builtins as B
 
 
 def test_checker_and_runtime_know_the_same_builtins():

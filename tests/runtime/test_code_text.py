@@ -7,7 +7,7 @@ import time
 
 from hypothesis import given
 from hypothesis import strategies as st
-from irlc.runtime.cycle_time import code_text
+from irlc.runtime.outputs.cycle_time import code_text
 
 # the former definition (a regular expression, quadratic on long runs of blanks): the
 # reference for short lines

@@ -99,7 +99,7 @@ def test_golden_options_take_the_budget(tmp_path):
 def test_cli_help_states_the_defaults():
     from click.testing import CliRunner
     from irlc.cli.app import cli
-    from irlc.runtime.executor import DEFAULT_MAX_CYCLES
+    from irlc.runtime.control.executor import DEFAULT_MAX_CYCLES
     from irlc.runtime.interpreter import WAIT_CYCLE_COST
     from irlc.runtime.interpreter.machine import STILL_MOTION_COST
 

@@ -15,12 +15,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from irlc.robots import load_robot
-from irlc.runtime import spatial
-from irlc.runtime.distance import TIE, closest_segment_box, critical_points, robot_segments
-from irlc.runtime.interpolator import CartesianArc, CartesianLine, ReferencePath
-from irlc.runtime.kinematics import Kinematics
-from irlc.runtime.obstacles import BoxObstacle, PlaneObstacle
-from irlc.runtime.recorder import Recorder, finite_differences
+from irlc.runtime.model import spatial
+from irlc.runtime.model.distance import TIE, closest_segment_box, critical_points, robot_segments
+from irlc.runtime.model.kinematics import Kinematics
+from irlc.runtime.model.obstacles import BoxObstacle, PlaneObstacle
+from irlc.runtime.outputs.recorder import Recorder, finite_differences
+from irlc.runtime.plan.interpolator import CartesianArc, CartesianLine, ReferencePath
 
 
 def _pose(rot: np.ndarray, p: np.ndarray) -> np.ndarray:

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from irlc.runtime import spatial
-from irlc.runtime.interpolator import CartesianArc, CartesianLine, CircleError, ReferencePath
+from irlc.runtime.model import spatial
+from irlc.runtime.plan.interpolator import CartesianArc, CartesianLine, CircleError, ReferencePath
 
 
 def _pose(p, r=None):

@@ -17,7 +17,7 @@ import re
 
 from irlc.lang.irdata import Code, read_code
 from irlc.runtime import values as V
-from irlc.runtime.controller import ModalOptions, MotionCommand, Settings
+from irlc.runtime.commands import ModalOptions, MotionCommand, Settings
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.interpreter import ExecutionResult, Interpreter, MachineState
 from irlc.runtime.values import JointTuple, Pose

@@ -1,5 +1,5 @@
 """Interpreter geometry: poses, orientations, positions, joint tuples, FK — checked against
-independent 4×4 matrix computations written out here (not through irlc.runtime.spatial)."""
+independent 4×4 matrix computations written out here (not through irlc.runtime.model.spatial)."""
 
 from __future__ import annotations
 

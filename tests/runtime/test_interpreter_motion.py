@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 from irlc.lang.diagnostics import CompileError
-from irlc.runtime.controller import Settings
+from irlc.runtime.commands import Settings
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.values import JointTuple, Pose
 

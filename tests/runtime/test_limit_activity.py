@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from irlc.runtime import ptp_activity
+from irlc.runtime.control import ptp_activity
 from irlc.runtime.ik import accel
 from irlc.runtime.ik.limits import SOURCE_NAMES
 from irlc.runtime.ik.newton import InverseTransformation

@@ -1,4 +1,4 @@
-"""The one "position limits contain the state" check (runtime/limit_check.py): one
+"""The one "position limits contain the state" check (runtime/model/limit_check.py): one
 tolerance (1e-9 m | rad, the IK box's slack), one message, used by the interpreter."""
 
 from __future__ import annotations
@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from irlc.runtime.limit_check import (
+from irlc.runtime.model.limit_check import (
     TOLERANCE,
     first_outside,
     limit_failure,

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from irlc import report as report_mod
 from irlc.report import NonFiniteError, trace_chunks, trace_csv, write_trace
-from irlc.runtime.recorder import Recorder
+from irlc.runtime.outputs.recorder import Recorder
 
 
 def _reference_csv(columns, table) -> str:

@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 from irlc.robots import load_robot
 from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation
-from irlc.runtime.kinematics import Kinematics
-from irlc.runtime.motor_limits import motor_limits
+from irlc.runtime.model.kinematics import Kinematics
+from irlc.runtime.model.motor_limits import motor_limits
 from irlc.runtime.run import run_file
 
 V_STEP = 2.5 * math.pi  # rad/s, the L-1's commanded step rate (motor side)
@@ -205,7 +205,7 @@ def test_ik_cycle_respects_a_non_linear_motor_map(accel):
     its limit, a target further along lets the joint box speed both joints up: without the
     rows motor 3 overruns ``v Δt``, with them (``K(q_start)``, rows updated per cycle) it
     stays there — checked with the map itself, not its linearisation."""
-    from irlc.runtime.motor_maps import MotorMap
+    from irlc.runtime.model.motor_maps import MotorMap
 
     model = load_robot("irb6")
     mm = MotorMap.from_model(model)

@@ -1,6 +1,6 @@
 """The joint naming rule: program names first, the robot file's name beside where it differs."""
 
-from irlc.runtime.naming import JointNaming, default_names
+from irlc.runtime.model.naming import JointNaming, default_names
 
 
 def test_default_names_are_a1_to_an():
@@ -22,7 +22,7 @@ def test_program_names_of_wrong_length_fall_back_to_defaults():
 
 
 def test_joint_label_without_a_known_robot_name_is_the_program_name():
-    from irlc.runtime.naming import joint_label
+    from irlc.runtime.model.naming import joint_label
 
     assert joint_label("a5", "A3") == "a5 (A3)"
     assert joint_label("a5", None) == "a5" and joint_label("a5", "") == "a5"

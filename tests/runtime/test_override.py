@@ -136,8 +136,8 @@ def test_ptp_jerks_scale_with_k_cubed():
     R_ACC_PTP, ``ptp_jerks`` carries one more k — for a robot file's own jerks (panda) and
     for the fallback ``θ̈max · R_JERK / R_ACC`` (planar3, none in its file)."""
     from irlc.robots import load_robot
-    from irlc.runtime.controller import MotionCommand, Settings
-    from irlc.runtime.preinterp import PreInterpolator
+    from irlc.runtime.commands import MotionCommand, Settings
+    from irlc.runtime.plan.preinterp import PreInterpolator
 
     cmd = MotionCommand("PTP", (), 1)
     for name in ("panda", "planar3"):

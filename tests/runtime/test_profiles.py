@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from irlc.runtime.profiles import (
+from irlc.runtime.plan.profiles import (
     ProfileError,
     common_bounds,
     cycles,
@@ -75,7 +75,7 @@ def test_cycles_round_up_but_tolerate_rounding():
 
 def test_shared_bounds_is_the_rule_of_both_profiles():
     # one loop for the trapezoid (speed, acceleration) and the S-curve (… and jerk)
-    from irlc.runtime import scurve
+    from irlc.runtime.plan import scurve
 
     names = ("speed", "acceleration")
     (v, a), slowest = shared_bounds([1.0, 2.0], ([2.0, 1.0], [10.0, 10.0]), minimum_time, names)

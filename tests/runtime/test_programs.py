@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from irlc.robots import load_robot
 from irlc.runtime import units
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model.kinematics import Kinematics
 from irlc.runtime.run import run_file
 
 PROGRAMS = Path(__file__).resolve().parents[2] / "programs"
@@ -135,7 +135,7 @@ def test_mobile8_freeze_holds_the_platform():
 
 def _clearance_from_joints(run, name: str) -> np.ndarray:
     """Clearance recomputed from the recorded joints with the distance module."""
-    from irlc.runtime.distance import critical_points
+    from irlc.runtime.model.distance import critical_points
 
     kin = Kinematics(run.model)
     shape = next(o for o in run.obstacles if o.name == name)

@@ -7,11 +7,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from irlc.runtime import spatial
-from irlc.runtime.controller import ModalOptions, Settings
-from irlc.runtime.executor import ExecutionOptions, SimulatedController
+from irlc.runtime.commands import ModalOptions, Settings
+from irlc.runtime.control.executor import ExecutionOptions, SimulatedController
 from irlc.runtime.ik import IKParams, solve_pose
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model import spatial
+from irlc.runtime.model.kinematics import Kinematics
 from irlc.runtime.values import JointTuple
 
 from tests.ik.ik_robots import XY, planar_arm

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from irlc.runtime import spatial
+from irlc.runtime.model import spatial
 from irlc.runtime.run import run_file
 
 PROGRAMS = Path(__file__).resolve().parents[2] / "programs"
@@ -113,7 +113,7 @@ def test_only_a_residual_sized_offset_snaps_to_the_programmed_point():
     """1e-9 m (the IK's residual): plan from the programmed point; 5 µm (a real offset, a
     relaxed stop within R_PATH_TOL): from the actual pose, no jump back; a rotation
     offset counts only where the task controls orientation."""
-    from irlc.runtime.plan_start import planning_start
+    from irlc.runtime.plan.plan_start import planning_start
 
     programmed = spatial.transform(spatial.rot_z(0.3), (1.0, 0.5, 0.2))
     near = programmed.copy()

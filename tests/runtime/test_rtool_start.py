@@ -10,7 +10,7 @@ from irlc.api import compile_program
 from irlc.export import run_data
 from irlc.plots import path_length_and_speed
 from irlc.runtime import units
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model.kinematics import Kinematics
 from irlc.runtime.run import run_code
 
 PROGRAM = """PROGRAM rtool;

@@ -11,11 +11,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from irlc.runtime import recorder
+from irlc.runtime.outputs import recorder
 from irlc.runtime.run import run_file
 
 PROGRAMS = Path(__file__).resolve().parents[2] / "programs"
-PIPELINE = ("irlc.runtime.results", "irlc.runtime.samples", "irlc.runtime.drive_stage")
+PIPELINE = (
+    "irlc.runtime.outputs.results",
+    "irlc.runtime.outputs.samples",
+    "irlc.runtime.drives.stage",
+)
 
 
 def _count_differences(monkeypatch) -> list[int]:

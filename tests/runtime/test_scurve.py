@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from irlc.runtime.profiles import ProfileError, trapezoid
-from irlc.runtime.profiles import minimum_time as trapezoid_time
-from irlc.runtime.scurve import common_bounds, minimum_time, scurve
+from irlc.runtime.plan.profiles import ProfileError, trapezoid
+from irlc.runtime.plan.profiles import minimum_time as trapezoid_time
+from irlc.runtime.plan.scurve import common_bounds, minimum_time, scurve
 
 
 def brute_minimum(v: float, a: float, j: float) -> float:

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 from irlc.api import compile_program, load_robot
 from irlc.lang.diagnostics import CompileError
-from irlc.runtime.controller import MotionCommand, Settings
-from irlc.runtime.preinterp import PreInterpolator
+from irlc.runtime.commands import MotionCommand, Settings
+from irlc.runtime.plan.preinterp import PreInterpolator
 from irlc.runtime.run import run_code
 
 DT = 0.01  # the default IPO cycle (s)

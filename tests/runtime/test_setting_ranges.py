@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 import pytest
-from irlc.runtime.controller import SETTING_RANGES, check_setting, setting_error
+from irlc.runtime.commands import SETTING_RANGES, check_setting, setting_error
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.run import RunSetupError, run_code
 
@@ -87,7 +87,7 @@ def test_ipo_option_uses_the_same_range(planar3, ipo):
 def test_one_table_feeds_checker_interpreter_and_controller():
     """Each setting is one row: the runtime's tables are the lang table's (not copies)."""
     from irlc.lang import builtins, irdata, settings
-    from irlc.runtime import controller
+    from irlc.runtime import commands as controller
     from irlc.runtime.interpreter import data, motion
 
     assert controller.SETTING_RANGES is settings.SETTING_RANGES

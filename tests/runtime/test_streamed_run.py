@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from irlc.report import report_json, trace_chunks, trace_csv, write_trace
 from irlc.runtime import run as run_mod
-from irlc.runtime.recorder import Recorder, backward_jerk, finite_differences
+from irlc.runtime.outputs.recorder import Recorder, backward_jerk, finite_differences
 from irlc.runtime.run import run_file
 
 ROOT = Path(__file__).resolve().parents[2]

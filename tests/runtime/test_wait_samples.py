@@ -5,7 +5,7 @@ the recorded joints."""
 from __future__ import annotations
 
 import numpy as np
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model.kinematics import Kinematics
 from irlc.runtime.run import run_code
 
 from .conftest import Ird
@@ -31,7 +31,7 @@ def test_wait_samples_stand_still_at_the_fk_pose(planar3):
 
 def test_a_long_wait_records_its_first_cycles_and_its_end(planar3):
     # A WAIT allocated one sample per IPO cycle (24 h: 8.6 million; MemoryError for more).
-    from irlc.runtime.executor import WAIT_SAMPLED_CYCLES
+    from irlc.runtime.control.executor import WAIT_SAMPLED_CYCLES
 
     p = Ird("planar3t", "RRR")
     p.push(3, p.const("REAL", 100.0)).op(3, "WAIT")

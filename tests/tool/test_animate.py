@@ -11,8 +11,8 @@ import tempfile
 import numpy as np
 import pytest
 from irlc.animate import MAX_FRAMES, STATUS_ID, animation_data, frame_indices, write_animation
-from irlc.runtime.kinematics import Kinematics
-from irlc.runtime.obstacles import BoxObstacle, PlaneObstacle, SphereObstacle
+from irlc.runtime.model.kinematics import Kinematics
+from irlc.runtime.model.obstacles import BoxObstacle, PlaneObstacle, SphereObstacle
 
 from .tool_fixtures import make_run
 

@@ -35,7 +35,7 @@ POSITIONED = re.compile(r"^<stdin>:\d+:\d+: error: ", re.M)
 
 @pytest.fixture(scope="module")
 def session_class():
-    pytest.importorskip("irlc.runtime.executor")
+    pytest.importorskip("irlc.runtime.control.executor")
     from irlc.repl import Session
 
     warm_up_kernels()  # the kernels' one-time compile is no case's hang

@@ -21,7 +21,7 @@ PROGRAMS = {
     "mobile8": "MOVE PTP (100, 0, 0, -30, 60, 0, -30, 0);",
     "panda": "MOVE PTP (0, -30, 0, -120, 0, 90, 45);",
 }
-# robot file names, written out here (not read through irlc.runtime.naming)
+# robot file names, written out here (not read through irlc.runtime.model.naming)
 ROBOT_NAMES = {
     "mobile8": ["X", "Y", "A1", "A2", "A3", "A4", "A5", "A6"],
     "panda": [f"panda_joint{i}" for i in range(1, 8)],

@@ -33,7 +33,7 @@ def _session(script: str, *args: str, cwd=None) -> subprocess.CompletedProcess:
 def _compiler_available() -> bool:
     try:
         from irlc.lang.compiler import compile_source  # noqa: F401
-        from irlc.runtime.executor import SimulatedController  # noqa: F401
+        from irlc.runtime.control.executor import SimulatedController  # noqa: F401
     except ImportError:
         return False
     return True

@@ -9,7 +9,7 @@ from irlc.cli import main
 from irlc.robots import load_robot
 from irlc.runtime import units
 from irlc.runtime.ik.limits import format_joint_value
-from irlc.runtime.results import rnd
+from irlc.runtime.outputs.results import rnd
 from irlc.summary import _num
 
 

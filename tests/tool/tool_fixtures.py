@@ -1,7 +1,7 @@
 """Synthetic runs for the tool tests: a small 4-joint robot (R, R, P, R) moving smoothly.
 
-The run has the fields of ``irlc.runtime.run.RunResult`` that the tools read, and a trace
-with the ``interfaces.md`` columns in program units, computed here in closed form.
+The run has the fields of ``irlc.runtime.outputs.run_result.RunResult`` that the tools
+read, and a trace with the ``interfaces.md`` columns in program units, computed here in closed form.
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from types import SimpleNamespace
 
 import numpy as np
 from irlc.robots.model import Capsule, Joint, Limits, RobotModel
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model.kinematics import Kinematics
 
 DT = 0.01
 NAMES = ("a1", "a2", "a3", "a4")

@@ -27,9 +27,9 @@ from dataclasses import dataclass
 
 import numpy as np
 from irlc.robots.model import RobotModel
-from irlc.runtime import spatial
-from irlc.runtime.coupled_limits import coupled_limits, violations
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model import spatial
+from irlc.runtime.model.coupled_limits import coupled_limits, violations
+from irlc.runtime.model.kinematics import Kinematics
 
 VERIFY_POSITION = 1e-6  # m (a pose rounded to the 1e-6 mm, deg of a program still verifies)
 VERIFY_ORIENTATION = 1e-6  # rad

@@ -23,9 +23,9 @@ import math
 
 import numpy as np
 from irlc.robots.model import RobotModel
-from irlc.runtime import spatial
 from irlc.runtime.ik.closed_form import Branch, turns
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model import spatial
+from irlc.runtime.model.kinematics import Kinematics
 
 SINGULAR = 1e-12  # |sin θ5'| below this: the wrist is stretched (θ4' + θ6' only)
 

@@ -19,7 +19,7 @@ so, backwards:
 * θ5 = the rotation about axis 5 from the pose with θ5 = 0 to the target.
 
 With five joints the approach vector must lie in the arm's vertical plane
-(c_x·d_y − c_y·d_x = 0, :mod:`irlc.runtime.reachability`); off it the branches here do
+(c_x·d_y − c_y·d_x = 0, :mod:`irlc.runtime.model.reachability`); off it the branches here do
 not reproduce the pose and are dropped by the FK check of :func:`..branches`. The lengths
 λ1, l2, l3 are read from the model's joint origins (no number of the IRb-6 is written here).
 """
@@ -30,9 +30,9 @@ import math
 
 import numpy as np
 from irlc.robots.model import RobotModel
-from irlc.runtime import spatial
 from irlc.runtime.ik.closed_form import Branch, rotation_about, turns
-from irlc.runtime.kinematics import Kinematics
+from irlc.runtime.model import spatial
+from irlc.runtime.model.kinematics import Kinematics
 
 
 def _lengths(model: RobotModel, kin: Kinematics) -> tuple[float, float, float]:

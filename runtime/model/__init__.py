@@ -1,0 +1,1 @@
+"""The robot model at run time: kinematics, dynamics, geometry, limits, joint names."""

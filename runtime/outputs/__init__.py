@@ -1,0 +1,1 @@
+"""What a run recorded and what it reports: samples, verdict, report, trace, cycle times."""

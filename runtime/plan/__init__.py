@@ -1,0 +1,1 @@
+"""Planning: a motion command → profiled segments → a setpoint every IPO cycle."""
