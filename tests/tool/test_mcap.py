@@ -5,6 +5,7 @@ and compared with the trace CSV of the same run."""
 from __future__ import annotations
 
 import csv
+import itertools
 import math
 import shutil
 import sys
@@ -113,7 +114,7 @@ def test_joint_states_are_the_trace_in_si_stamped_in_simulated_time(ideal):
 
 def test_base_to_tcp_with_the_static_base_is_the_traces_tcp_pose(ideal):
     topics, rows, _ = ideal
-    (_, static), = topics["/tf_static"]
+    ((_, static),) = topics["/tf_static"]
     frames = {(f.header.frame_id, f.child_frame_id): f.transform for f in static.transforms}
     world_base = _matrix(frames[("world", "base")])
     tf = topics["/tf"]
@@ -126,7 +127,8 @@ def test_base_to_tcp_with_the_static_base_is_the_traces_tcp_pose(ideal):
                                    "z_mm")], atol=1e-5)  # fmt: skip
         a, b, c = Rotation.from_matrix(pose[:3, :3]).as_euler("ZYX", degrees=True)
         want = [float(row[k]) for k in ("a_deg", "b_deg", "c_deg")]
-        assert all(abs((x - w + 180) % 360 - 180) < 1e-6 for x, w in zip((a, b, c), want))
+        wrapped = (np.array([a, b, c]) - want + 180.0) % 360.0 - 180.0
+        assert np.abs(wrapped).max() < 1e-6
 
 
 def _matrix(transform) -> np.ndarray:
@@ -165,7 +167,7 @@ def test_markers_show_the_box_and_the_programmed_path(ideal):
     p = box.pose.position
     np.testing.assert_allclose([p.x, p.y, p.z], [0.6, -0.15, 0.0], atol=1e-12)
     np.testing.assert_allclose([box.scale.x, box.scale.y, box.scale.z], [0.4, 0.3, 0.2])
-    (_, static), = topics["/tf_static"]
+    ((_, static),) = topics["/tf_static"]
     assert "obstacle/box" in [f.child_frame_id for f in static.transforms]
     stretches = by_ns["programmed_path"]  # the three LINs: one stretch (no PTP between)
     assert len(stretches) == 1
@@ -174,7 +176,8 @@ def test_markers_show_the_box_and_the_programmed_path(ideal):
     home = np.array([float(rows[0][k]) for k in ("x_mm", "y_mm", "z_mm")])  # the PTP's
     right, above = np.array([1050.0, -200, 0]), np.array([1000.0, 250, 0])
     corners = [home, right, above, right]
-    off = [min(_distance_to_segment(x, a, b) for a, b in zip(corners, corners[1:])) for x in points]
+    segments = list(itertools.pairwise(corners))
+    off = [min(_distance_to_segment(x, a, b) for a, b in segments) for x in points]
     assert max(off) < 1e-6  # every programmed point lies on the LINs' segments
     for corner in corners:
         assert min(np.linalg.norm(points - corner, axis=1)) < 1.0  # a sample's step
