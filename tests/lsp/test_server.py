@@ -15,8 +15,8 @@ import pytest
 
 pytest_lsp = pytest.importorskip("pytest_lsp", reason="the test extra has pytest-lsp")
 from lsprotocol import types  # noqa: E402
-from pygls.uris import from_fs_path  # noqa: E402
 from pygls.protocol import default_converter  # noqa: E402
+from pygls.uris import from_fs_path  # noqa: E402
 from pytest_lsp import ClientServerConfig, LanguageClient, client_capabilities  # noqa: E402
 from pytest_lsp.client import DEFAULT_CLIENT_FEATURES, register_lsp_features  # noqa: E402
 
