@@ -4,8 +4,9 @@ Documents are IRL programs (``*.irl``) and data lists (``*.toml``). Each open pr
 analysed on open and on every change (:class:`~irlc.lsp.analysis.ProgramAnalysis`), with
 the unsaved text of every open data list in place of its file; a change of a data list
 analyses the open programs again. Diagnostics go to the program, and to each open data
-list the programs import (a data list no open program imports is checked on its own,
-without the robot's joint count).
+list the programs import. A ``.toml`` no open program imports is checked on its own
+(without the robot's joint count) when its tables are all data-list sections; any other
+TOML file (a robot file, ``pyproject.toml``) gets no diagnostics from this server.
 
 Requests — completion, hover, go to definition, document symbols — read the index of the
 program's latest analysis. Nothing rewrites the user's text: the server offers no
@@ -14,6 +15,7 @@ formatting and no edits.
 
 from __future__ import annotations
 
+import tomllib
 from pathlib import Path
 
 from irlc import __version__
@@ -104,8 +106,10 @@ class IrlServer(LanguageServer):
                              for d in p.checked.datalists)]  # fmt: skip
         if importers:
             found = [d for p in importers for d in p.diagnostics]
-        else:  # on its own: without a program, no joint count to check the arities with
+        elif looks_like_datalist(self.text(uri)):  # on its own: no joint count to check
             _, found = dlmod.load(path.stem, path, path.parent, None, self.text(uri))
+        else:  # another TOML file (a robot file, pyproject.toml): not the server's
+            found = []
         self.publish(uri, diagnostics.datalist_diagnostics(found, path, lines))
 
     def diagnostic_location(self, d) -> types.Location | None:
@@ -126,6 +130,15 @@ class IrlServer(LanguageServer):
 
     def supports(self, capability: str, default=False):
         return get_capability(self.client_capabilities, capability, default)
+
+
+def looks_like_datalist(text: str) -> bool:
+    """A TOML text whose tables are all data-list sections (``[poses]``, …)."""
+    try:
+        doc = tomllib.loads(text)
+    except (tomllib.TOMLDecodeError, ValueError):
+        return False
+    return bool(doc) and set(doc) <= set(dlmod.SECTIONS)
 
 
 def path_of(uri: str) -> Path:

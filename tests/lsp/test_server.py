@@ -253,6 +253,11 @@ async def test_a_toml_no_open_program_imports_is_checked_on_its_own(client, tmp_
                                           "key 'obstacles.w': a box needs 'size'"}  # fmt: skip
     assert all(d.range.start == at(text, "[obstacles.w]") for d in found)
     close(client, toml)
+    for other in (ROOT / "robots" / "planar3.toml", ROOT / "pyproject.toml"):  # not data lists
+        copy = tmp_path / other.name
+        shutil.copy(other, copy)
+        assert await open_doc(client, copy) == []
+        close(client, copy)
 
 
 # ---------------------------------------------------------------------------- completion
