@@ -47,6 +47,7 @@ import numpy as np
 from irlc import __version__, ros2_messages
 from irlc.export import sample_derivatives
 from irlc.files import atomic_write_bytes
+from irlc.lang.errors import IrlcError
 from irlc.runtime import spatial
 
 WORLD, BASE, TCP = "world", "base", "tcp"
@@ -65,7 +66,7 @@ _TYPES = {
 }
 
 
-class MissingWriter(ImportError):
+class MissingWriter(IrlcError, ImportError):
     """The MCAP writer is not installed (the message says which extra adds it)."""
 
 
