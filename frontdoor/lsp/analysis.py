@@ -68,7 +68,7 @@ class ProgramAnalysis:
         datalist_texts: dict[str, str],
         previous: ProgramAnalysis | None = None,
     ) -> ProgramAnalysis:
-        fallback = previous.last_index() if previous is not None else None
+        fallback = previous.built_index() if previous is not None else None
         analysis = analyze(text, path, settings, datalist_texts)
         return cls(path, text, settings, datalist_texts, analysis, fallback)
 
@@ -88,12 +88,14 @@ class ProgramAnalysis:
             self._index = Index(checked) if checked is not None else None
         return self._index
 
-    def last_index(self) -> Index | None:
-        """This text's index if it has one, else the fallback (for the next version)."""
-        return self.index() or self.previous
+    def built_index(self) -> Index | None:
+        """The newest index built so far (this text's or the fallback), building none: a
+        change must not wait for an index nobody asked for."""
+        return self._index if self._index is not None else self.previous
 
     def names_index(self) -> Index | None:
-        """An index for completion: positions may be stale, names are what matter."""
+        """This text's index, else the last one of this document that checked: for
+        completion, where the names matter and their positions may be stale."""
         return self.index() or self.previous
 
     def _recovered(self):

@@ -219,3 +219,24 @@ def test_a_wrong_grammar_is_caught(tokenizer, tmp_path):
     sample.write_text(sample_text(), encoding="utf-8")
     scoped = grammar_classes(broken / "test" / "tokenize.js", [sample])[str(sample)]
     assert any("the lexer's keyword" in p for p in disagreements(sample_text(), scoped))
+
+
+def test_the_extension_manifest_and_language_configuration(tmp_path):
+    """The manifest names files that exist; the comment markers VS Code inserts (toggle
+    comment) are comments to the lexer; the client script is valid JavaScript."""
+    manifest = json.loads((VSCODE / "package.json").read_text(encoding="utf-8"))
+    (language,) = manifest["contributes"]["languages"]
+    (grammar,) = manifest["contributes"]["grammars"]
+    assert language["extensions"] == [".irl"] and grammar["language"] == language["id"]
+    for rel in (language["configuration"], grammar["path"], manifest["main"]):
+        assert (VSCODE / rel).is_file(), rel
+    config = json.loads((VSCODE / language["configuration"]).read_text(encoding="utf-8"))
+    line, (open_, close) = config["comments"]["lineComment"], config["comments"]["blockComment"]
+    for text in (f"{line} MOVE LIN p;\n", f"{open_} MOVE LIN p; {close}"):
+        assert [t.type for t in lark_parser().lex(text, dont_ignore=True)
+                if not t.type.startswith("__IGNORE")] == ["COMMENT"]  # fmt: skip
+    pairs = {(p["open"], p["close"].strip()) for p in config["autoClosingPairs"]}
+    assert {("(*", "*)"), ("{", "}")} <= pairs  # the other comment form, and braces
+    done = subprocess.run([NODE, "--check", str(VSCODE / manifest["main"])],
+                          capture_output=True, text=True, timeout=60)  # fmt: skip
+    assert done.returncode == 0, done.stderr

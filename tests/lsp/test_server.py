@@ -306,6 +306,11 @@ async def test_completion_of_with_options_settings_robots_and_fields(client, cel
     library = {p.stem for p in (ROOT / "robots").glob("*.toml")}
     assert set(robots) == library and robots["koch11"].kind == types.CompletionItemKind.Module
 
+    obstacles = await complete(client, path, PROGRAM, at(PROGRAM, "post;"))
+    assert set(obstacles) == {"post"} and obstacles["post"].kind == types.CompletionItemKind.Value
+    datalists = await complete(client, path, PROGRAM, at(PROGRAM, "DATALIST cell", offset=9))
+    assert {"cell", "koch11_ch6"} <= set(datalists)  # the program's folder, the library
+
     fields = await complete(client, path, PROGRAM, at(PROGRAM, "where := p1"))
     assert set(fields) == {"where", "count"}  # st. → the record's fields
     typed = PROGRAM.replace("  st.where := p1;", "  p1.")
@@ -351,6 +356,11 @@ async def test_hover_shows_settings_types_values_and_the_robot(client, cell):
     assert "cell.toml" in entry
     assert "FUNCTION half(REAL: x): REAL" in await hover(client, path, at(PROGRAM, "half("))
     assert "sphere" in await hover(client, path, at(PROGRAM, "post;"))
+    typed = PROGRAM.replace("  MOVE LIN p1;", "  MOVE PTP home;")
+    await change(client, path, typed, 2)
+    joints = await hover(client, path, at(typed, "home;"))
+    assert "MAIN_JOINT" in joints and "a1 0, a2 90, a3 -90" in joints  # joint by joint
+    await change(client, path, PROGRAM, 3)
 
     robot = await hover(client, path, at(PROGRAM, "planar3"))
     spec = tomllib.loads((ROOT / "robots" / "planar3.toml").read_text(encoding="utf-8"))
@@ -360,6 +370,20 @@ async def test_hover_shows_settings_types_values_and_the_robot(client, cell):
         assert joint["name"] in row and "deg" in row
         assert f"{lo:g} … {hi:g}" in row or f"±{hi:g}" in row
         assert f"±{joint['speed']:g}" in row and f"±{joint['accel']:g}" in row
+    close(client, path)
+
+
+async def test_hover_gives_a_prismatic_joint_in_mm(client, tmp_path):
+    path, text = tmp_path / "track.irl", "PROGRAM t;\nROBOT r := irb6_track;\nBEGIN\nENDPROGRAM\n"
+    assert await open_doc(client, path, text) == []
+    robot = await hover(client, path, at(text, "irb6_track"))
+    spec = tomllib.loads((ROOT / "robots" / "irb6_track.toml").read_text(encoding="utf-8"))
+    track = spec["joints"][0]
+    assert track["kind"] == "prismatic" and spec["robot"]["units"]["length"] == "m"
+    row = next(r for r in robot.splitlines() if r.startswith("| a1 |"))
+    lo, hi = (1000 * v for v in track["position"])
+    assert f"| {track['name']} | mm | {lo:g} … {hi:g} |" in row
+    assert f"±{1000 * track['speed']:g}" in row and f"±{1000 * track['accel']:g}" in row
     close(client, path)
 
 
