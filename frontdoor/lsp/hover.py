@@ -191,4 +191,4 @@ def robot_text(name: str, program: Path, allow_any_path: bool, names=()) -> str:
 
 def _range(bounds: tuple[float, float], kind: str) -> str:
     lo, hi = (float(v) for v in units.joints_from_si(bounds, [kind] * 2))
-    return f"±{hi:.4g}" if f"{-lo:.4g}" == f"{hi:.4g}" else f"{lo:.4g} … {hi:.4g}"
+    return f"±{hi:.6g}" if f"{-lo:.6g}" == f"{hi:.6g}" else f"{lo:.6g} … {hi:.6g}"
