@@ -89,9 +89,7 @@ class IrlServer(LanguageServer):
             names = {c.name.lower(): c for c in program.checked.program.datalists}
             clauses = {dl.path: names[dl.name.lower()] for dl in program.checked.datalists
                        if dl.name.lower() in names}  # fmt: skip
-        related = get_capability(
-            self.client_capabilities, "text_document.publish_diagnostics.related_information", False
-        )
+        related = self.supports("text_document.publish_diagnostics.related_information")
         found = diagnostics.program_diagnostics(
             program.diagnostics, program.path, self.lines(program.text), clauses,
             self.diagnostic_location if related else None,
