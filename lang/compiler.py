@@ -8,14 +8,14 @@ missing or malformed data lists and every static check end up as diagnostics, an
 from __future__ import annotations
 
 import gc
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from irlc.lang import ast
 from irlc.lang import datalist as dlmod
-from irlc.lang.checker import Checker
+from irlc.lang.checker import Checked, Checker
 from irlc.lang.codegen import generate
 from irlc.lang.diagnostics import Diagnostic, Span
 from irlc.lang.errors import IrlcError
@@ -68,6 +68,38 @@ def compile_source(
         return _compile(
             text, filename, resolve_robot, tuple(datalist_path), robot_override, repl,
             allow_any_path,
+        ).result  # fmt: skip
+
+
+@dataclass
+class Analysis:
+    """A compilation with what the front end knew (:func:`analyze_source`): the result, the
+    program's AST (``None`` when it did not parse) and the checked program — the AST
+    annotated with types and symbols, the scopes, the data lists — (``None`` when it did
+    not parse or names no usable robot)."""
+
+    result: CompileResult
+    program: ast.Program | None = None
+    checked: Checked | None = None
+
+
+def analyze_source(
+    text: str,
+    filename: str,
+    *,
+    resolve_robot: RobotResolver,
+    datalist_path: Iterable[str] = (),
+    allow_any_path: bool = False,
+    datalist_texts: Mapping[str, str] | None = None,
+) -> Analysis:
+    """Compile ``text`` as :func:`compile_source` does and keep the checked program, for
+    tools that look into it (the language server, ``irlc.lsp``). ``datalist_texts`` maps
+    a data list's resolved path to the text to read in place of the file (an editor's
+    unsaved buffer)."""
+    with _cycle_collector_paused():
+        return _compile(
+            text, filename, resolve_robot, tuple(datalist_path), None, False, allow_any_path,
+            dict(datalist_texts or {}),
         )  # fmt: skip
 
 
@@ -100,26 +132,31 @@ def _compile(
     robot_override: str | None,
     repl: bool,
     allow_any_path: bool,
-) -> CompileResult:
+    datalist_texts: dict[str, str] | None = None,
+) -> Analysis:
     result = CompileResult(None, [], text, filename)
+    analysis = Analysis(result)
     program, diags = parse(text, filename)
     result.diagnostics += diags
     if program is None:
-        return result
+        return analysis
+    analysis.program = program
     if too_deep := nesting_error(program, filename):
         result.diagnostics.append(too_deep)
-        return result
+        return analysis
     robot, robot_text, robot_var = _robot(program, filename, resolve_robot, robot_override, result)
     if robot is None:  # every joint check depends on the robot: report only its diagnostic
-        return result
-    datalists = _datalists(program, filename, datalist_path, robot, result, allow_any_path)
+        return analysis
+    datalists = _datalists(
+        program, filename, datalist_path, robot, result, allow_any_path, datalist_texts or {}
+    )
     checker = Checker(program, filename, robot, datalists, repl=repl)
-    checked = checker.check()
+    analysis.checked = checker.check()
     result.diagnostics += checker.diags
     if any(d.is_error for d in result.diagnostics):
-        return result
-    result.code = generate(checked, robot, robot_text, robot_var, filename)
-    return result
+        return analysis
+    result.code = generate(analysis.checked, robot, robot_text, robot_var, filename)
+    return analysis
 
 
 class _Unreadable(IrlcError):
@@ -228,6 +265,7 @@ def _datalists(
     robot: RobotSignature | None,
     result: CompileResult,
     allow_any_path: bool = False,
+    texts: Mapping[str, str] | None = None,
 ) -> list[dlmod.Datalist]:
     out = []
     program_dir = Path(filename).parent
@@ -262,7 +300,9 @@ def _datalists(
             msg = f"data list '{clause.name}.toml' is {refusal(roots)}"
             result.diagnostics.append(Diagnostic("error", msg, filename, clause.span, ALLOW_HINT))
             continue
-        dl, diags = dlmod.load(clause.name, path, program_dir, robot.joint_count if robot else None)
+        n = robot.joint_count if robot else None
+        text = (texts or {}).get(str(path.resolve())) if texts else None
+        dl, diags = dlmod.load(clause.name, path, program_dir, n, text)
         result.diagnostics += diags
         out.append(dl)
     return out

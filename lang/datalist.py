@@ -149,14 +149,16 @@ def _show(v) -> str:
 
 
 def load(
-    name: str, path: Path, program_dir: Path, joint_count: int | None
+    name: str, path: Path, program_dir: Path, joint_count: int | None, text: str | None = None
 ) -> tuple[Datalist, list[Diagnostic]]:
-    """Read and validate one data list; ``joint_count`` None skips joint-arity checks."""
+    """Read and validate one data list; ``joint_count`` None skips joint-arity checks;
+    ``text``: the data list's text, read instead of the file (an editor's buffer)."""
     dl = Datalist(name, str(path), shown_path(path, program_dir))
-    try:
-        text = read_user_text(path, lambda file, reason: ValueError(reason))
-    except ValueError as e:  # missing, unreadable, not UTF-8 (the byte's line)
-        return dl, [Diagnostic("error", f"cannot read data list: {e}", str(path))]
+    if text is None:
+        try:
+            text = read_user_text(path, lambda file, reason: ValueError(reason))
+        except ValueError as e:  # missing, unreadable, not UTF-8 (the byte's line)
+            return dl, [Diagnostic("error", f"cannot read data list: {e}", str(path))]
     ld = _Loader(path, text, joint_count)
     try:
         doc = parse_toml(text)

@@ -146,6 +146,12 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
     type=click.Path(path_type=Path, dir_okay=False),
     help="Write the joint trajectory as JSON.",
 )
+@click.option(
+    "--mcap",
+    "mcap_path",
+    type=click.Path(path_type=Path, dir_okay=False),
+    help="Write the run as MCAP with ROS 2 messages (Foxglove; extra irlc[mcap]).",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON on stdout.")
 @click.option("--quiet", "-q", is_flag=True, help="No summary, no progress, no program output.")
 @click.option(
@@ -174,6 +180,7 @@ def run_cmd(
     animate_path,
     compare_path,
     export_path,
+    mcap_path,
     as_json,
     quiet,
     seed_config,
@@ -187,8 +194,10 @@ def run_cmd(
     distinct_outputs(  # (the --compare file is read first: a report may replace it)
         {"the program": program},
         {"--report": report_path, "--trace": trace_path, "--animate": animate_path,
-         "--export-trajectory": export_path},
+         "--export-trajectory": export_path, "--mcap": mcap_path},
     )  # fmt: skip
+    if mcap_path is not None:
+        _require_mcap_writer()
     if trace_every_step and drives == "ideal":
         raise UsageError("--trace-every-step needs --drives other than ideal")
     compare = _load_compare(compare_path) if compare_path is not None else None
@@ -223,6 +232,7 @@ def run_cmd(
         err.print(_render_diag(d), markup=False)
     written = _write_outputs(run, report_path, trace_path)
     written += _tool_outputs(run, plot_dir, animate_path, export_path, compare, err)
+    written += _mcap_output(run, mcap_path)
     if as_json:
         from irlc.report import report_json
 
@@ -353,6 +363,29 @@ def _tool_outputs(run, plot_dir, animate_path, export_path, compare, err) -> lis
         except OSError as exc:
             raise UsageError(f"{option}: cannot write {exc.filename}: {exc.strerror}") from None
     return written
+
+
+def _require_mcap_writer() -> None:
+    """A usage error before the run when the MCAP writer (extra ``mcap``) is missing."""
+    from irlc.mcap_export import MissingWriter, require_writer
+
+    try:
+        require_writer()
+    except MissingWriter as exc:
+        raise UsageError(f"--mcap: {exc}") from None
+
+
+def _mcap_output(run, mcap_path) -> list[str]:
+    """Write the MCAP file (``--mcap``); returns what was written."""
+    if mcap_path is None:
+        return []
+    from irlc.mcap_export import write_mcap
+
+    try:
+        write_mcap(run, mcap_path)
+    except OSError as exc:
+        raise UsageError(f"--mcap: cannot write {exc.filename}: {exc.strerror}") from None
+    return [f"MCAP {mcap_path}"]
 
 
 def _load_compare(path: Path):

@@ -1,5 +1,6 @@
-"""Tool commands: ``irlc test DIR [--update]`` (golden tests), ``irlc repl`` and
-``irlc warmup`` (compile the optional kernels ahead of the first run)."""
+"""Tool commands: ``irlc test DIR [--update]`` (golden tests), ``irlc repl``, ``irlc lsp``
+(the language server for editors) and ``irlc warmup`` (compile the optional kernels ahead of
+the first run)."""
 
 from __future__ import annotations
 
@@ -59,6 +60,28 @@ def repl_cmd(
     return repl_main(
         robot=robot, datalist_path=datalist_path, plain=plain, allow_any_path=allow_any_path
     )
+
+
+@cli.command("lsp")
+@click.option(
+    "--datalist-path", "datalist_path", multiple=True,
+    type=click.Path(path_type=Path, file_okay=False, exists=True),
+    help="Folder searched for IMPORT DATALIST files (repeatable).",
+)  # fmt: skip
+@allow_any_path_option
+def lsp_cmd(datalist_path: tuple[Path, ...], allow_any_path: bool) -> int:
+    """Language server for editors: speaks LSP on stdin/stdout (diagnostics, completion,
+    hover, go to definition, document symbols). Needs the extra: pip install 'irlc[lsp]'."""
+    from irlc.lsp import EXTRA_HINT, missing_dependency
+
+    missing = missing_dependency()
+    if missing is not None:
+        raise UsageError(f"lsp: the language server needs the extra lsp ({missing}): {EXTRA_HINT}")
+    from irlc.lsp.analysis import Settings
+    from irlc.lsp.server import serve
+
+    serve(Settings(tuple(str(d) for d in datalist_path), allow_any_path))
+    return EXIT_OK
 
 
 @cli.command("warmup")

@@ -50,6 +50,7 @@ class Checked:
     obstacles: list[ObstacleDef]
     inputs: dict[int, list[tuple[float, bool]]]
     datalists: list[Datalist]
+    symbols: dict[str, Symbol]  # the global scope (lower-case name → symbol), for editors
 
 
 class Checker:
@@ -126,6 +127,7 @@ class Checker:
             list(self.scope.obstacles.values()),
             decls.inputs,
             self.datalists,
+            self.scope.globals,
         )
 
     def check_routine(self, info: RoutineInfo) -> None:
@@ -147,5 +149,6 @@ class Checker:
                 f"function '{r.name}' may end without RETURN",
                 "a function that ends without RETURN stops the program with a run-time error",
             )
+        info.symbols = scope.locals
         scope.locals = None
         scope.routine = None

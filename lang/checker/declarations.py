@@ -94,10 +94,13 @@ class Declarations:
                     self.value_type(item.value),
                     f"data list {item.file}, key {item.key}",
                     value=item.value,
+                    span=item.span,
+                    file=item.file,
                 )
                 self._declare_item(item.name, sym, item)
             for o, item in dl.obstacles:
-                sym = Symbol("obstacle", o.name, None, f"data list {item.file}, key {item.key}")
+                where = f"data list {item.file}, key {item.key}"
+                sym = Symbol("obstacle", o.name, None, where, span=item.span, file=item.file)
                 if self._declare_item(o.name, sym, item):
                     self.scope.obstacles[o.name.lower()] = o
             for n, timeline in dl.inputs.items():

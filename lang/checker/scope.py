@@ -32,6 +32,7 @@ class RoutineInfo:
     local_types: list[T.Type] = field(default_factory=list)
     node: ast.Routine | None = None
     elements: int = 0  # of its parameters passed by value and its locals (T.elements)
+    symbols: dict[str, Symbol] = field(default_factory=dict)  # its scope: parameters, locals
 
     @property
     def kind(self) -> str:
@@ -49,6 +50,8 @@ class Symbol:
     value: Value | None = None
     writable: bool = True
     routine: RoutineInfo | None = None
+    span: Span | None = None  # where it is declared (its name), for editors
+    file: str | None = None  # the file declaring it when not the program (a data list)
 
 
 class Reporter:
@@ -102,6 +105,8 @@ class Scope:
                 "names are case-insensitive; choose another name",
             )
             return False
+        if sym.span is None:
+            sym.span = span
         scope[key] = sym
         return True
 

@@ -40,8 +40,8 @@ def test_a_usage_error_is_one_line_with_the_usage(capsys, args, line):
 @pytest.mark.parametrize(
     ("word", "hint"),
     [("chek", "did you mean 'check'?"), ("robtos", "did you mean 'robots'?"),
-     ("xyzzy", "commands: check, compile, disasm, fk, ik, repl, robot, robots, run, study, "
-               "test, warmup")],
+     ("xyzzy", "commands: check, compile, disasm, fk, ik, lsp, repl, robot, robots, run, "
+               "study, test, warmup")],
 )  # fmt: skip
 def test_a_misspelt_command_is_not_taken_for_a_program(tmp_path, monkeypatch, capsys, word, hint):
     """Regression (new-user walk): `irlc chek p.irl` said "got unexpected extra argument
