@@ -113,8 +113,8 @@ def _compile(
     robots = _robots(program, filename, resolve_robot, robot_override, result)
     if robots is None:  # every joint check depends on the robots: report only theirs
         return result
-    joint_count = common_joint_count(robots)
-    datalists = _datalists(program, filename, datalist_path, joint_count, result, allow_any_path)
+    counts = common_joint_count(robots) or tuple(sorted({r.n for r in robots}))
+    datalists = _datalists(program, filename, datalist_path, counts, result, allow_any_path)
     checker = Checker(program, filename, robots, datalists, repl=repl)
     checked = checker.check()
     result.diagnostics += checker.diags
@@ -257,12 +257,13 @@ def _datalists(
     program: ast.Program,
     filename: str,
     search: tuple[str, ...],
-    joint_count: int | None,
+    joint_count: int | tuple[int, ...],
     result: CompileResult,
     allow_any_path: bool = False,
 ) -> list[dlmod.Datalist]:
-    """The imported data lists; ``joint_count`` checks the arity of their joint values
-    (``None``: robots of different joint counts, each use checks its robot's)."""
+    """The imported data lists; ``joint_count`` checks the arity of their joint values (a
+    tuple: a cell's robots differ in joint count, a value has one of them; each use checks
+    its robot's)."""
     out = []
     program_dir = Path(filename).parent
     seen: dict[str, int] = {}

@@ -15,7 +15,6 @@ from irlc.lang.irdata_checks import (
     shown_word,
     timeline_problem,
 )
-from irlc.lang.irdata_robot_records import RobotRecords
 from irlc.lang.irdata_model import (
     FORMAT_VERSION,
     MAGIC,
@@ -33,6 +32,7 @@ from irlc.lang.irdata_model import (
     Target,
     Value,
 )
+from irlc.lang.irdata_robot_records import RobotRecords
 from irlc.lang.irdata_robots import (
     cooperate_problem,
     instruction_problems,
@@ -490,7 +490,11 @@ def _option_problem(ins: Instruction, code: Code) -> str | None:
         return None if len(rest) == 1 else f"expected one obstacle name, got {len(rest)} operands"
     if option == "FREEZE" and ins.op == "OPTON":
         robots = code.robots
-        n = robots[robot].joint_count if robot is not None and robot < len(robots) else code.joint_count
+        n = (
+            robots[robot].joint_count
+            if robot is not None and robot < len(robots)
+            else code.joint_count
+        )
         if rest and all(isinstance(j, int) and 1 <= j <= n for j in rest):
             return None
         return f"expected joint numbers in 1..{n}"
@@ -534,7 +538,9 @@ def _check_references(r: _Reader, code: Code, code_records) -> None:
                     r.error(lineno, col, f"unknown motion kind {shown_word(part.kind)}")
         if ins.op in ("OPTON", "OPTOFF") and ins.args[0] not in MODAL_OPTIONS:
             r.error(lineno, toks[2][1], f"unknown modal option {shown_word(ins.args[0])}")
-        elif ins.op in ("OPTON", "OPTOFF") and robots_ok and (problem := _option_problem(ins, code)):
+        elif (
+            ins.op in ("OPTON", "OPTOFF") and robots_ok and (problem := _option_problem(ins, code))
+        ):
             r.error(lineno, toks[2][1], f"{ins.op} {ins.args[0]}: {problem}")
     if not r.bad_routine and not any(rt.kind == "MAIN" for rt in code.routines):
         r.error(1, 1, "no MAIN routine")

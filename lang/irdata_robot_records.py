@@ -53,7 +53,9 @@ class RobotRecords:
         at = self._placement(words[5:], cols[5:], line) if len(words) > 5 else None
         twin = next((r for r in self.rows if r.robot.var.lower() == var.lower()), None)
         if twin is not None:
-            self.report(line, cols[1], f"ROBOT: robot {shown_word(var)} is named twice (line {twin.line})")
+            self.report(
+                line, cols[1], f"ROBOT: robot {shown_word(var)} is named twice (line {twin.line})"
+            )
         position = (self.file, line, cols[2])
         self.rows.append(_Row(CellRobot(var, name, kinds, (), at, position), line, cols[2]))
 
@@ -80,13 +82,19 @@ class RobotRecords:
             return
         row = self.rows[-1]
         if row.names_at is not None:
-            self.report(line, cols[0], f"JOINTS: robot {row.robot.var} already has its JOINTS record (line {row.names_at[0]})")
+            self.report(
+                line,
+                cols[0],
+                f"JOINTS: robot {row.robot.var} has a JOINTS record (line {row.names_at[0]})",
+            )
             return
         row.names_at = (line, cols[0])
         row.robot = replace(row.robot, joint_names=tuple(words[1:]))
         n, count = row.robot.joint_count, len(words) - 1
         if count != n:
-            self.report(line, cols[0], f"JOINTS: {count} name(s) for the ROBOT record's {n} joint(s)")
+            self.report(
+                line, cols[0], f"JOINTS: {count} name(s) for the ROBOT record's {n} joint(s)"
+            )
 
     def install(self, code: Code) -> None:
         """Check what is missing and put the robots into ``code`` (robot 0 in its first
@@ -97,7 +105,9 @@ class RobotRecords:
         for row in self.rows:
             if row.names_at is None:
                 n = row.robot.joint_count
-                self.report(row.line, row.column, f"no JOINTS record for the ROBOT record's {n} joint(s)")
+                self.report(
+                    row.line, row.column, f"no JOINTS record for the ROBOT record's {n} joint(s)"
+                )
         self._agreeing_names()
         first = self.rows[0].robot
         code.robot_var, code.robot, code.joint_kinds = first.var, first.robot, first.joint_kinds

@@ -127,9 +127,7 @@ def instruction_robots(op: str, args: Sequence[object]) -> list[int]:
     ) else []  # fmt: skip
 
 
-def instruction_problems(
-    op: str, args: Sequence[object], robots: int
-) -> list[tuple[int, str]]:
+def instruction_problems(op: str, args: Sequence[object], robots: int) -> list[tuple[int, str]]:
     """The reader's checks of the robot operands of one instruction in code of ``robots``
     robots: ``(operand index, message)`` per problem (-1: the opcode). A ``ROBOT:k`` word
     names an existing robot, stands where the instruction takes one, and is there in a
@@ -151,8 +149,14 @@ def instruction_problems(
     for i, a in enumerate(args):
         placed = i == position or (cooperate and i == 2)
         if robot_index(a) is not None and not placed:
-            problems.append((i, f"{op}: a robot operand {a} out of place" if position is not None
-                             else f"{op}: takes no robot operand"))
+            problems.append(
+                (
+                    i,
+                    f"{op}: a robot operand {a} out of place"
+                    if position is not None
+                    else f"{op}: takes no robot operand",
+                )
+            )
     if position is None or problems:
         return problems
     robot, rest = robot_operand(op, args)
@@ -182,7 +186,9 @@ def _move_problems(args: Sequence[object], robots: int) -> list[tuple[int, str]]
     return problems
 
 
-def cooperate_problem(op: str, robot: int | None, rest: Sequence[object], robots: int) -> str | None:
+def cooperate_problem(
+    op: str, robot: int | None, rest: Sequence[object], robots: int
+) -> str | None:
     """The operands of ``OPTON COOPERATE ROBOT:w ROBOT:h [VERTICAL]`` / ``OPTOFF COOPERATE
     ROBOT:w ROBOT:h`` after the option (``robot`` = w, ``rest`` the rest), else None."""
     if robots < 2:

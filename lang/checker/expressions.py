@@ -16,9 +16,9 @@ import re
 from irlc.lang import ast
 from irlc.lang import types as T
 from irlc.lang.builtins import BUILTINS, POSE_FROM_NUMBERS, POSE_FROM_PARTS
+from irlc.lang.cell import ROBOT_VARIABLES, ProgramRobot, robot_list
 from irlc.lang.checker import constants
 from irlc.lang.checker.constants import number, numbers_value
-from irlc.lang.cell import ROBOT_VARIABLES, ProgramRobot, robot_list
 from irlc.lang.checker.scope import Reporter, RoutineInfo, Scope, Symbol
 from irlc.lang.diagnostics import Span
 from irlc.lang.digital_io import is_output_syntax, output_error
@@ -123,8 +123,17 @@ class ExpressionTyper:
                 if not isinstance(item, ast.Tuple):
                     self.expr(item, None)
             return T.ERROR
-        if isinstance(want, T.JointTuple) and want.n == 0:
-            arity = len(e.items)  # robot unknown: no arity check
+        if isinstance(want, T.JointTuple) and want.n == 0:  # a cell whose robots differ
+            arity = len(e.items)
+            counts = sorted({r.n for r in self.scope.robots})
+            if arity not in counts:
+                shown = ", ".join(f"{r.var}: {r.n}" for r in self.scope.robots)
+                self.report.error(
+                    e.span,
+                    f"a {want} of {arity} values fits no robot of the cell ({shown} joints)",
+                    "one value per joint of the robot it is used with",
+                )
+                return T.ERROR
         if len(e.items) != arity:
             self.report.error(
                 e.span, f"{want} needs {arity} values, got {len(e.items)}", self._arity_hint(want)
@@ -151,7 +160,9 @@ class ExpressionTyper:
             return f"robot {self.scope.robot.name} has {self.scope.n} joints: one value per joint"
         if isinstance(want, T.JointTuple):  # a cell: the robots with that many joints
             names = [r.var for r in self.scope.robots if r.n == want.n]
-            robots = f"robot {names[0]} has" if len(names) == 1 else f"robots {', '.join(names)} have"
+            robots = (
+                f"robot {names[0]} has" if len(names) == 1 else f"robots {', '.join(names)} have"
+            )
             return f"{robots} {want.n} joints: one value per joint"
         if want == T.POSE:
             return "a POSE tuple is (x, y, z, a, b, c): mm and ZYX degrees"

@@ -287,9 +287,11 @@ class ModalBlocks:
         if keys:
             s.resolved = self.state.open.pop(keys[-1]).robots
             return
-        outer = self.state.outer.cooperation_of(tuple(range(len(self.scope.robots)))) if (
-            self.state.outer
-        ) else None
+        outer = (
+            self.state.outer.cooperation_of(tuple(range(len(self.scope.robots))))
+            if (self.state.outer)
+            else None
+        )
         if outer is not None:
             self.report.error(
                 s.span,

@@ -20,6 +20,7 @@ from irlc.lang.diagnostics import Span
 from irlc.lang.settings import (
     BY_WITH_WORD,
     KIND_WORDS,
+    PTP_KINDS,
     approximation_hint,
     reconfiguration_counts,
     setting_message,
@@ -68,9 +69,7 @@ class MotionChecker:
 
     def s_move(self, s: ast.Move) -> None:
         words = KIND_WORDS[s.kind]
-        robot = self.scope.robot_of(
-            s, words, f"{words.split()[0]} {{}} {_kind_word(s.kind)} …"
-        )
+        robot = self.scope.robot_of(s, words, f"{words.split()[0]} {{}} {_kind_word(s.kind)} …")
         if robot is not None:
             s.resolved = (robot.index,)
         for t in s.targets:
@@ -184,13 +183,13 @@ class MotionChecker:
                 if len(allowed) > 1
                 else "give one MAIN_JOINT configuration per point, in order",
             )
-        if s.kind in ("PTP", "PTPINC") and s.targets and T.assignable(joint, s.targets[0].ty):
-            if s.targets[0].ty not in (T.ERROR, None):
-                self.report.error(
-                    c.span,
-                    "WITH RECONFIGURATION needs a POSE target",
-                    "a MAIN_JOINT target already fixes the configuration",
-                )
+        target = s.targets[0].ty if s.targets else None
+        if s.kind in PTP_KINDS and target not in (T.ERROR, None) and T.assignable(joint, target):
+            self.report.error(
+                c.span,
+                "WITH RECONFIGURATION needs a POSE target",
+                "a MAIN_JOINT target already fixes the configuration",
+            )
 
     def configuration(self, k: ast.Expr, robot: ProgramRobot | None, what: str) -> None:
         """A MAIN_JOINT configuration of ``robot`` (its arity checked when constant)."""
@@ -219,9 +218,14 @@ class MotionChecker:
         n = robot.n if robot is not None else self.scope.n
         lo_t, hi_t = T.JointTuple(lo_name, n), T.JointTuple(hi_name, n)
         got_lo, got_hi = self.typer.expr(lo, lo_t), self.typer.expr(hi, hi_t)
-        if T.assignable(hi_t, got_lo) and T.assignable(lo_t, got_hi) and T.ERROR not in (
-            got_lo,
-            got_hi,
+        if (
+            T.assignable(hi_t, got_lo)
+            and T.assignable(lo_t, got_hi)
+            and T.ERROR
+            not in (
+                got_lo,
+                got_hi,
+            )
         ):
             self.report.error(
                 lo.span,

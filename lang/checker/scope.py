@@ -14,10 +14,10 @@ from dataclasses import dataclass, field
 from irlc.lang import ast
 from irlc.lang import types as T
 from irlc.lang.builtins import SYSTEM_VARIABLES
+from irlc.lang.cell import ROBOT_VARIABLES, ProgramRobot, common_joint_count, robot_list
 from irlc.lang.diagnostics import Diagnostic, Span
 from irlc.lang.irdata import ObstacleDef, Slot, Value
 from irlc.lang.settings import approximation_hint
-from irlc.lang.cell import ROBOT_VARIABLES, ProgramRobot, common_joint_count, robot_list
 from irlc.lang.signature import RobotSignature
 
 RobotNamed = ast.Move | ast.ModalOn | ast.ModalOff | ast.Reconfigure
