@@ -249,23 +249,26 @@ class ModalBlocks:
                 f"COOPERATE {s.robot} IN {s.name} WITH {_VERTICAL}; keeps the tool's z axis "
                 "vertical",
             )
+        display = f"COOPERATE {s.robot} IN {s.name}"
+        key = f"COOPERATE@{s.span.line}:{s.span.column}"  # (an error: its END still pairs)
         if not self.scope.cell:
             self.report.error(
                 s.span,
                 "COOPERATE needs a cell of two or more robots",
                 f"this program has one robot ({self.scope.robots[0].var}); add a ROBOT clause",
             )
+            self.state.open[key] = _Open(display, s.span, "COOPERATEEND")
             return
         robot = self.scope.find_robot(s.robot, s.robot_span or s.span)
         holder = self.scope.find_robot(s.name, s.name_span or s.span)
-        if robot is None or holder is None:
-            return
-        if robot is holder:
+        if robot is not None and robot is holder:
             self.report.error(
                 s.name_span or s.span,
                 f"robot {robot.var} cannot cooperate with itself",
                 "COOPERATE names the working robot, then the robot holding the workpiece",
             )
+        if robot is None or holder is None or robot is holder:
+            self.state.open[key] = _Open(display, s.span, "COOPERATEEND")
             return
         s.resolved = (robot.index, holder.index)
         display = f"COOPERATE {robot.var} IN {holder.var}"
