@@ -269,7 +269,7 @@ def test_joint_tuples_are_checked_against_the_robot_they_are_used_with() -> None
         ("  MOVE_INC arm PTP six_k;", 20, "MAIN_JOINT for robot arm needs 3 values"),
         ("  RECONFIGURATION six_k FOR arm;", 19, "MAIN_JOINT for robot arm needs 3"),
         ("  MOVE arm LIN p WITH RECONFIGURATION six_k;", 39, "robot arm needs 3 values"),
-        ("  p := FK(arm, six_k);", 17, "FK: MAIN_JOINT for robot arm needs 3 values, got 6"),
+        ("  p := FK(arm, six_k);", 16, "FK: MAIN_JOINT for robot arm needs 3 values, got 6"),
         ("  k := (1, 2, 3, 4);", 8, "a MAIN_JOINT of 4 values fits no robot of the cell"),
     ]:
         error_at(cell(stmt, decls), 8, column, fragment)
