@@ -161,7 +161,7 @@ def instruction_problems(op: str, args: Sequence[object], robots: int) -> list[t
         return problems
     robot, rest = robot_operand(op, args)
     if not takes_robot(op, args) and robot is not None:
-        problems.append((position, f"{op} {args[0]}: takes no robot (the setting is the cell's)"))
+        problems.append((position, f"{op} {args[0]}: takes no robot operand"))
     elif takes_robot(op, args) and robot is None and robots > 1:
         problems.append((-1, f"{op}: a cell's instruction names its robot (ROBOT:k)"))
     expected = _OPERANDS.get(op)
