@@ -6,6 +6,8 @@ A cell here: ``holder`` and ``welder`` (fake 6-joint robots ``six``) and ``arm``
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from irlc.lang import read_code, write_code
 from irlc.lang.irdata_robots import move_parts, robot_operand
@@ -513,3 +515,48 @@ def test_move_parts_and_robot_operands_decode_the_instructions() -> None:
     ]
     freeze = next(i for i in code.code if i.op == "OPTON")
     assert robot_operand(freeze.op, freeze.args) == (2, ("FREEZE", 2, 3))
+
+
+# ------------------------------------------------------------------ the command line
+
+
+PROGRAMS = Path(__file__).resolve().parents[2] / "programs"
+
+
+def _cli(capsys, *args: str) -> tuple[int, str, str]:
+    from irlc.cli import main
+
+    code = main(list(args))
+    out, err = capsys.readouterr()
+    assert "Traceback" not in out + err
+    return code, out, err
+
+
+@pytest.mark.parametrize("name", ["cooperating", "two_robots"])
+def test_the_example_cells_check_compile_and_disassemble(name, tmp_path, capsys) -> None:
+    program = PROGRAMS / f"{name}.irl"
+    assert _cli(capsys, "check", str(program))[0] == 0
+    out = tmp_path / f"{name}.ird"
+    assert _cli(capsys, "compile", str(program), "-o", str(out))[0] == 0
+    code = read_code(out.read_text(encoding="utf-8"))
+    assert code.is_cell and len(code.robots) == 2
+    status, listing, _ = _cli(capsys, "disasm", str(out))
+    assert status == 0 and "ROBOT:1" in listing
+
+
+def test_robot_option_is_refused_for_a_cell(capsys) -> None:
+    status, _, err = _cli(capsys, "check", str(PROGRAMS / "cooperating.irl"), "--robot", "as6")
+    assert status == 1
+    assert "cooperating.irl:9:1: error: --robot as6 cannot be used with a cell: the program " \
+        "names 2 robots (holder, welder)" in err  # fmt: skip
+
+
+def test_running_a_cell_is_a_positioned_error_until_the_runtime_runs_cells(tmp_path, capsys):
+    program = PROGRAMS / "two_robots.irl"
+    status, _, err = _cli(capsys, "run", str(program))
+    assert status == 3
+    assert f"{program}:6:16: cells are compiled but this runtime cannot run them yet" in err
+    out = tmp_path / "two.ird"
+    _cli(capsys, "compile", str(program), "-o", str(out))
+    status, _, err = _cli(capsys, "run", str(out))
+    assert status == 3 and f"{out}:7:16: cells are compiled" in err
