@@ -559,4 +559,4 @@ def test_running_a_cell_is_a_positioned_error_until_the_runtime_runs_cells(tmp_p
     out = tmp_path / "two.ird"
     _cli(capsys, "compile", str(program), "-o", str(out))
     status, _, err = _cli(capsys, "run", str(out))
-    assert status == 3 and f"{out}:7:16: cells are compiled" in err
+    assert status == 3 and f"{out}:7:15: cells are compiled" in err
