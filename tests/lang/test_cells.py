@@ -560,3 +560,17 @@ def test_running_a_cell_is_a_positioned_error_until_the_runtime_runs_cells(tmp_p
     _cli(capsys, "compile", str(program), "-o", str(out))
     status, _, err = _cli(capsys, "run", str(out))
     assert status == 3 and f"{out}:7:15: cells are compiled" in err
+
+
+def test_an_approximated_group_move_warns_where_the_advance_run_stops() -> None:
+    result = compile_text(cell(
+        "  MOVE holder LIN p AND welder LIN p WITH APPROX := 10;\n  arm.R_TOOL := p;\n"
+        "  MOVE holder LIN p WITH APPROX := 10;\n  p := welder.R_ACT_POSE;\n"
+        "  MOVE holder LIN p AND welder LIN p;",
+        "VAR POSE: p;\n",
+    ))  # fmt: skip
+    assert result.ok
+    assert [(w.line, w.message.split(":")[0]) for w in result.warnings] == [
+        (8, "changing R_TOOL stops the advance run"),
+        (10, "reading R_ACT_POSE stops the advance run"),
+    ]
