@@ -130,9 +130,7 @@ class ModalBlocks:
         if s.option == "COOPERATE":
             self.cooperate_on(s)
             return
-        robot = self.scope.robot_of(s, _START_WORD[s.option], _EXAMPLE[s.option])
-        if robot is not None:
-            s.resolved = (robot.index,)
+        robot = self.statement_robot(s, _START_WORD[s.option])
         if s.option in LIMIT_TYPES:
             self.motion.limit_pair(s.option, s.args[0], s.args[1], s.option, robot)
         elif s.option == "FREEZE":
@@ -155,10 +153,7 @@ class ModalBlocks:
         if s.option == "COOPERATE":
             self.cooperate_off(s)
             return
-        robot = self.scope.robot_of(s, _END_WORD[s.option], _EXAMPLE[s.option])
-        if robot is not None:
-            s.resolved = (robot.index,)
-        closed = self.modal_key(s, robot)
+        closed = self.modal_key(s, self.statement_robot(s, _END_WORD[s.option]))
         if closed is None:
             return
         key, display, closing = closed
@@ -187,6 +182,13 @@ class ModalBlocks:
             self.report.error(
                 s.span, f"{closing} without an earlier {display} in the same statement list"
             )
+
+    def statement_robot(self, s: ast.ModalOn | ast.ModalOff, word: str) -> ProgramRobot | None:
+        """The robot a START or END names (``FOR robot``; ``s.resolved``)."""
+        robot = self.scope.robot_of(s, word, _EXAMPLE[s.option])
+        if robot is not None:
+            s.resolved = (robot.index,)
+        return robot
 
     def modal_key(
         self, s: ast.ModalOn | ast.ModalOff, robot: ProgramRobot | None

@@ -16,7 +16,7 @@ from irlc.lang.irdata import Code, Instruction, Routine
 from irlc.lang.irdata_model import MOVE_KINDS, CellRobot
 from irlc.lang.irdata_robots import MOVE_CLAUSES, robot_word
 
-from .conftest import compile_text
+from .conftest import ird_text
 from .test_irdata_corrupt import corrupt, errors
 
 SOURCE = """PROGRAM c;
@@ -42,9 +42,7 @@ ENDPROGRAM
 
 @pytest.fixture(scope="module")
 def ird() -> str:
-    result = compile_text(SOURCE)
-    assert result.ok, [d.header() for d in result.diagnostics]
-    return write_code(result.code)
+    return ird_text(SOURCE)
 
 
 def test_the_cell_reads_back(ird: str) -> None:
@@ -107,6 +105,12 @@ def column_of(text: str, line: int, token: str) -> int:
 )  # fmt: skip
 def test_a_bad_robot_operand_is_a_read_error_at_its_operand(ird, record, replacement, token,
                                                            message) -> None:  # fmt: skip
+    assert_read_error(ird, record, replacement, token, message)
+
+
+def assert_read_error(ird: str, record: str, replacement: str, token: str, message: str) -> None:
+    """The corrupted record fails to read at ``token`` with ``message`` (a message ending
+    in a newline: exactly that message)."""
     text, line = corrupt(ird, record, replacement)
     column = column_of(text, line, token)
     found = errors(text)
@@ -136,11 +140,7 @@ def test_a_bad_robot_operand_is_a_read_error_at_its_operand(ird, record, replace
     ],
 )  # fmt: skip
 def test_a_bad_robot_record_is_a_read_error(ird, record, replacement, token, message) -> None:
-    text, line = corrupt(ird, record, replacement)
-    column = column_of(text, line, token)
-    found = errors(text)
-    assert any((ln, col) == (line, column) and msg.startswith(message)
-               for ln, col, msg in found), found  # fmt: skip
+    assert_read_error(ird, record, replacement, token, message)
 
 
 def test_every_robot_has_its_joints_record(ird: str) -> None:
@@ -152,7 +152,7 @@ def test_every_robot_has_its_joints_record(ird: str) -> None:
 
 
 def test_cooperate_needs_a_cell() -> None:
-    text = write_code(compile_text("PROGRAM t;\nROBOT r := six;\nBEGIN\nENDPROGRAM\n").code)
+    text = ird_text("PROGRAM t;\nROBOT r := six;\nBEGIN\nENDPROGRAM\n")
     text, line = corrupt(text, r"(\d+) L4 END", r"\1 L4 OPTON COOPERATE")
     assert (line, 12, "OPTON COOPERATE: COOPERATE needs a cell of two or more robots") in errors(
         text
