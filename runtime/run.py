@@ -69,6 +69,12 @@ def resolve_model(
         raise RunSetupError(
             f"{where}cells are compiled but this runtime cannot run them yet (robots: {names})"
         )
+    if code.at is not None and any(code.at):  # interim: a placed robot (issue 26)
+        where = "{}:{}:{}: ".format(*code.robot_record) if code.robot_record else ""
+        raise RunSetupError(
+            f"{where}robot {code.robot_var} is placed with AT, which this runtime cannot run "
+            f"yet (the compiler accepts it: {code.source})"
+        )
     if isinstance(robot, RobotModel):
         model = robot
     elif robot:
