@@ -18,6 +18,9 @@ Lowering (``<e>`` = code of e, ``Lx`` = a jump target):
   ``t lo GE t hi LE AND JT Larm``), then ``JMP Lelse``
 * ``WAIT FOR c`` → ``L: <c> WAITFOR L``
 * ``v.f[i] := e`` → rebuild the root with ``GETF``/``GETI`` and ``SETF``/``SETI``, store it
+* ``MOVE a LIN p AND b PTP k`` (a cell) → ``<p> <a's clauses> <k> <b's clauses>
+  MOVE LIN 1 ROBOT:0 … AND PTP 1 ROBOT:1 …``; in a cell every robot-bound instruction
+  carries ``ROBOT:k`` (lang/irdata_robots.py), code of one robot none
 """
 
 from __future__ import annotations

@@ -4,13 +4,15 @@ The checker walks the AST once, resolves every name (case-insensitively; message
 declared spelling), gives every expression its type (``Expr.ty``) and folds constants
 (``Expr.const``, an IRDATA :class:`Value`). Its parts, one file each:
 
-- :mod:`.scope`: symbols, the global and local scopes, lookup, the diagnostics.
+- :mod:`.scope`: symbols, the global and local scopes, lookup, the diagnostics, the robots
+  a statement names (a cell's, docs/language.md §10).
+- :mod:`.cell`: the robots' names and their placements (``AT``).
 - :mod:`.declarations`: constants, types, variables, routines, data-list entries.
 - :mod:`.expressions`: the type of every expression, calls against their signatures.
 - :mod:`.constants`: constant folding.
 - :mod:`.statements`: assignments, calls, control flow, WAIT, WRITE, digital outputs.
 - :mod:`.motion`: MOVE targets, WITH clauses, RECONFIGURATION.
-- :mod:`.modal`: the modal redundancy START/END blocks per statement list.
+- :mod:`.modal`: the modal redundancy START/END blocks per statement list (COOPERATE too).
 
 :class:`Checker` runs them over a program: declarations first (global, then each routine's
 signature), then each routine's body, then the main program's.

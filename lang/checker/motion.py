@@ -6,6 +6,9 @@ increment; the path motions: POSEs). Each WITH clause is given at most once: a s
 (the settings table, lang/settings.py); a limit pair (JOINTLIMIT …) takes the minimum then
 the maximum tuple, minimum ≤ maximum per joint when constant; RECONFIGURATION gives one
 MAIN_JOINT per point (or one for a whole multi-point LIN).
+
+In a cell a motion names its robot (``MOVE welder LIN p``), whose joint count types its
+joint tuples; a group move (``MOVE a LIN p AND b PTP k``) names each robot once.
 """
 
 from __future__ import annotations
