@@ -8,7 +8,8 @@ statements stop it, so the approximated point before them is reached with an exa
 * ``WAIT … SEC`` and ``WAIT FOR`` (any), ``PAUSE``, ``HALT``;
 * reading an input ``IN[n]`` (e.g. ``IF IN[1] THEN``) or ``R_ACT_POSE`` / ``R_ACT_JOINT``;
 * ``RECONFIGURATION``, switching an option on or off (JOINTLIMIT …, CYCLIC,
-  OBSTACLE, FREEZE), and assigning ``R_TOOL``, ``R_BASE`` or ``R_IPO``;
+  OBSTACLE, FREEZE, COOPERATE), and assigning ``R_TOOL``, ``R_BASE`` (also a robot's:
+  ``holder.R_TOOL``) or ``R_IPO``;
 * the end of the program (for an explicit ``WITH APPROX`` on the last motion).
 
 Writing a signal or WRITE does not stop it. The walk follows the statements in source
@@ -60,6 +61,9 @@ def approx_warnings(body: list[ast.Stmt]) -> list[tuple[ast.Node, str, str]]:
             modal = _nonzero(s.value)
         if isinstance(s, ast.Move):
             pending = _approximated(s, modal)
+        elif isinstance(s, ast.MoveGroup):  # a group is approximated when a part is
+            parts = (_approximated(part, modal) for part in s.parts)
+            pending = next((a for a in parts if a is not None), None)
     if pending is not None and pending.explicit:
         m = pending.move
         message = "WITH APPROX has no effect: the program ends after this motion"
@@ -92,8 +96,8 @@ def _stops(s: ast.Stmt) -> str | None:
         return {"Wait": "WAIT", "WaitFor": "WAIT FOR", "Pause": "PAUSE", "Halt": "HALT"}[name]
     if isinstance(s, ast.Reconfigure):
         return "RECONFIGURATION"
-    if isinstance(s, ast.Assign) and isinstance(s.target, ast.Name):
-        name = s.target.name.upper()
+    if isinstance(s, ast.Assign) and isinstance(s.target, ast.Name | ast.Field):
+        name = _variable_name(s.target)
         if name in _STOPPING_VARIABLES:
             return f"changing {name}"
     if isinstance(s, ast.ModalOn | ast.ModalOff):
@@ -102,9 +106,17 @@ def _stops(s: ast.Stmt) -> str | None:
         for node in _walk(e):
             if isinstance(node, ast.Input):
                 return "reading an input (IN[…])"
-            if isinstance(node, ast.Name) and node.name.upper() in _ACTUAL_VARIABLES:
-                return f"reading {node.name.upper()}"
+            if isinstance(node, ast.Name | ast.Field) and _variable_name(node) in _ACTUAL_VARIABLES:
+                return f"reading {_variable_name(node)}"
     return None
+
+
+def _variable_name(e: ast.Name | ast.Field) -> str:
+    """The system variable ``e`` may be: ``R_TOOL`` or a robot's ``holder.R_TOOL`` (a Field
+    the checker marked); '' for another field."""
+    if isinstance(e, ast.Name):
+        return e.name.upper()
+    return e.sym.name if e.sym is not None else ""
 
 
 def _own_exprs(s: ast.Stmt) -> list[ast.Expr]:

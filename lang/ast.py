@@ -57,6 +57,7 @@ class Call(Expr):
     name: str
     args: list[Expr]
     sym: Any = field(default=None, init=False, repr=False)
+    robot: Any = field(default=None, init=False, repr=False)  # FK(robot, k): the robot
 
 
 @dataclass(eq=False)
@@ -71,6 +72,7 @@ class Field(Expr):
     base: Expr
     name: str
     canonical: str = field(default="", init=False, repr=False)  # operand of GETF/SETF
+    sym: Any = field(default=None, init=False, repr=False)  # robot.R_TOOL: the variable
 
 
 @dataclass(eq=False)
@@ -135,7 +137,9 @@ class RecordTypeRef(TypeRef):
 
 @dataclass(eq=False)
 class Stmt(Node):
-    pass
+    """A statement. Those that name a robot carry ``resolved``: the indices of the robots
+    the checker found (the statement's robot; COOPERATE: the cooperating robot, then the
+    holding one), in the order of the program's ROBOT clauses."""
 
 
 @dataclass(eq=False)
@@ -249,19 +253,37 @@ class WithClause(Node):
 
 @dataclass(eq=False)
 class Move(Stmt):
+    """A motion of one robot; in a cell ``robot`` names it (``MOVE welder LIN p``)."""
+
     kind: str  # PTP LIN LINPATH CIRCLE PTPINC LININC
     targets: list[Expr]
     clauses: list[WithClause]
+    robot: str | None = None
+    robot_span: Span | None = None
+    resolved: tuple[int, ...] = field(default=(), init=False, repr=False)  # (checker)
+
+
+@dataclass(eq=False)
+class MoveGroup(Stmt):
+    """``MOVE holder LIN h AND welder PTP w``: the parts start and end together."""
+
+    parts: list[Move]
 
 
 @dataclass(eq=False)
 class ModalOn(Stmt):
-    """JOINTLIMIT / JOINTSPEEDLIMIT / JOINTACCELLIMIT / CYCLIC / OBSTACLE / FREEZE on."""
+    """JOINTLIMIT / JOINTSPEEDLIMIT / JOINTACCELLIMIT / CYCLIC / OBSTACLE / FREEZE on
+    (``FOR robot``: ``robot``), or ``COOPERATE robot IN name [WITH word]``."""
 
     option: str
     args: list[Expr]
-    name: str | None = None  # obstacle name
+    name: str | None = None  # obstacle name; COOPERATE: the holding robot
     name_span: Span | None = None
+    robot: str | None = None  # FOR robot; COOPERATE: the cooperating robot
+    robot_span: Span | None = None
+    word: str | None = None  # COOPERATE … WITH word (VERTICAL)
+    word_span: Span | None = None
+    resolved: tuple[int, ...] = field(default=(), init=False, repr=False)  # (checker)
 
 
 @dataclass(eq=False)
@@ -269,11 +291,17 @@ class ModalOff(Stmt):
     option: str
     name: str | None = None
     name_span: Span | None = None
+    robot: str | None = None  # FOR robot
+    robot_span: Span | None = None
+    resolved: tuple[int, ...] = field(default=(), init=False, repr=False)  # (checker)
 
 
 @dataclass(eq=False)
 class Reconfigure(Stmt):
     target: Expr
+    robot: str | None = None  # FOR robot
+    robot_span: Span | None = None
+    resolved: tuple[int, ...] = field(default=(), init=False, repr=False)  # (checker)
 
 
 # ------------------------------------------------------------------ declarations
@@ -332,6 +360,8 @@ class RobotClause(Node):
     var: str
     robot: str  # library name or path
     robot_span: Span
+    at: Expr | None = None  # AT pose: the robot's base in the cell frame
+    var_span: Span | None = None
 
 
 @dataclass(eq=False)

@@ -138,11 +138,17 @@ class Builder(Transformer):
         )
 
     def robot_clause(self, c):
-        kw, var, target = c[0], c[1], c[2]
+        kw, var, target, word, at = c[0], c[1], c[2], c[3], c[4]
         robot = target.value
         if target.type == "STRING":
             robot = _unquote(robot)
-        return ast.RobotClause(_span(kw), var.value, robot, _span(target))
+        if word is not None and word.value.upper() != "AT":
+            raise SourceError(
+                _span(word),
+                f"expected AT or ';' after the robot, got '{word.value}'",
+                "ROBOT name := robot AT (x, y, z, a, b, c); places the robot in the cell",
+            )
+        return ast.RobotClause(_span(kw), var.value, robot, _span(target), at, _span(var))
 
     def datalist_clause(self, c):
         return ast.DatalistClause(_span(c[2]), c[2].value)
@@ -376,10 +382,22 @@ class Builder(Transformer):
     def writeln(self, c):
         return ast.Write(_span(c[0]), c[1] or [] if len(c) > 1 else [], True)
 
-    # motion
+    # motion: a statement of one part is a Move, of several (… AND …) a MoveGroup
+    def move(self, c):
+        parts = [x for x in c if isinstance(x, ast.Move)]
+        parts[0].span = _span(c[0])  # the statement's position: its MOVE keyword
+        if len(parts) == 1:
+            return parts[0]
+        return ast.MoveGroup(_span(c[0]), parts)
+
+    move_inc = move
+
     def _move(self, c, kind: str, targets: list) -> ast.Move:
+        robot, kw = c[0], c[1]
         clauses = [x for x in c if isinstance(x, ast.WithClause)]
-        return ast.Move(_span(c[0]), kind, targets, clauses)
+        where = _span(robot if robot is not None else kw)
+        name, name_span = (robot.value, _span(robot)) if robot is not None else (None, None)
+        return ast.Move(where, kind, targets, clauses, name, name_span)
 
     def move_ptp(self, c):
         return self._move(c, "PTP", [c[2]])
@@ -409,33 +427,51 @@ class Builder(Transformer):
     def with_reconf(self, c):
         return ast.WithClause(_span(c[1]), "RECONF", c[2], c[1].value)
 
-    # modal redundancy options
+    # modal redundancy options; ``FOR robot`` (c[-1]) names the robot in a cell
+    def for_robot(self, c):
+        return c[1]
+
     def limit_on(self, c):
-        return ast.ModalOn(_span(c[0]), _LIMIT_OPTION[c[0].type], [c[1], c[2]])
+        on = ast.ModalOn(_span(c[0]), _LIMIT_OPTION[c[0].type], [c[1], c[2]])
+        return _for_robot(on, c[-1])
 
     def limit_off(self, c):
-        return ast.ModalOff(_span(c[0]), _LIMIT_OPTION[c[0].type])
+        return _for_robot(ast.ModalOff(_span(c[0]), _LIMIT_OPTION[c[0].type]), c[-1])
 
     def cyclic_on(self, c):
-        return ast.ModalOn(_span(c[0]), "CYCLIC", [])
+        return _for_robot(ast.ModalOn(_span(c[0]), "CYCLIC", []), c[-1])
 
     def cyclic_off(self, c):
-        return ast.ModalOff(_span(c[0]), "CYCLIC")
+        return _for_robot(ast.ModalOff(_span(c[0]), "CYCLIC"), c[-1])
 
     def obstacle_on(self, c):
-        return ast.ModalOn(_span(c[0]), "OBSTACLE", [], c[1].value, _span(c[1]))
+        on = ast.ModalOn(_span(c[0]), "OBSTACLE", [], c[1].value, _span(c[1]))
+        return _for_robot(on, c[-1])
 
     def obstacle_off(self, c):
-        return ast.ModalOff(_span(c[0]), "OBSTACLE", c[1].value, _span(c[1]))
+        off = ast.ModalOff(_span(c[0]), "OBSTACLE", c[1].value, _span(c[1]))
+        return _for_robot(off, c[-1])
 
     def freeze_on(self, c):
-        return ast.ModalOn(_span(c[0]), "FREEZE", c[1])
+        return _for_robot(ast.ModalOn(_span(c[0]), "FREEZE", c[1]), c[-1])
 
     def freeze_off(self, c):
-        return ast.ModalOff(_span(c[0]), "FREEZE")
+        return _for_robot(ast.ModalOff(_span(c[0]), "FREEZE"), c[-1])
 
     def reconf(self, c):
-        return ast.Reconfigure(_span(c[0]), c[1])
+        return _for_robot(ast.Reconfigure(_span(c[0]), c[1]), c[-1])
+
+    def cooperate_on(self, c):
+        # COOPERATE robot IN holder [WITH word]
+        robot, holder, word = c[1], c[3], c[-1]
+        on = ast.ModalOn(_span(c[0]), "COOPERATE", [], holder.value, _span(holder))
+        on.robot, on.robot_span = robot.value, _span(robot)
+        if word is not None:
+            on.word, on.word_span = word.value, _span(word)
+        return on
+
+    def cooperate_off(self, c):
+        return ast.ModalOff(_span(c[0]), "COOPERATE")
 
     def designator(self, c):
         node: ast.Expr = ast.Name(_span(c[0]), c[0].value)
@@ -520,6 +556,13 @@ class Builder(Transformer):
     def tuple(self, c):
         paren, first, rest = c
         return ast.Tuple(_span(paren), [first, *rest])
+
+
+def _for_robot(stmt, robot: Token | None):
+    """``stmt`` with the robot of its ``FOR robot`` suffix (``None``: no suffix)."""
+    if robot is not None:
+        stmt.robot, stmt.robot_span = robot.value, _span(robot)
+    return stmt
 
 
 def _section(kind: str, c) -> ast.Decls:

@@ -18,6 +18,9 @@ Lowering (``<e>`` = code of e, ``Lx`` = a jump target):
   ``t lo GE t hi LE AND JT Larm``), then ``JMP Lelse``
 * ``WAIT FOR c`` → ``L: <c> WAITFOR L``
 * ``v.f[i] := e`` → rebuild the root with ``GETF``/``GETI`` and ``SETF``/``SETI``, store it
+* ``MOVE a LIN p AND b PTP k`` (a cell) → ``<p> <a's clauses> <k> <b's clauses>
+  MOVE LIN 1 ROBOT:0 … AND PTP 1 ROBOT:1 …``; in a cell every robot-bound instruction
+  carries ``ROBOT:k`` (lang/irdata_robots.py), code of one robot none
 """
 
 from __future__ import annotations
@@ -26,10 +29,13 @@ from dataclasses import dataclass
 
 from irlc.lang import ast
 from irlc.lang import types as T
+from irlc.lang.cell import ProgramRobot
 from irlc.lang.checker import Checked, RoutineInfo, Symbol
+from irlc.lang.checker.statements import assignment_root
 from irlc.lang.irdata import Code, Instruction, RecordType, Routine, Slot, Target, Value
-from irlc.lang.irdata_model import VALUE_TYPES
-from irlc.lang.signature import RobotSignature, kind_letters
+from irlc.lang.irdata_model import VALUE_TYPES, CellRobot
+from irlc.lang.irdata_robots import robot_word
+from irlc.lang.signature import kind_letters
 
 _BINOP = {
     "+": "ADD",
@@ -101,7 +107,7 @@ class _Gen:
         self.emit(line, "POPG" if storage[0] == "G" else "POPL", storage[1])
 
     # ------------------------------------------------------------------ program
-    def run(self, robot: RobotSignature, robot_text: str, robot_var: str, source: str) -> Code:
+    def run(self, source: str) -> Code:
         p = self.c.program
         entries: list[int] = []
         for info in self.c.routines:
@@ -114,13 +120,16 @@ class _Gen:
                 self.emit(p.end_span.line, "END")
             else:
                 self.emit(info.node.end_span.line, "RET")  # type: ignore[union-attr]
+        first, *others = [self.cell_robot(r, source) for r in self.c.robots]
         code = Code(
             program=p.name,
             source=source,
-            robot_var=robot_var,
-            robot=robot_text,
-            joint_kinds=kind_letters(robot),
-            joint_names=tuple(self.c.joint_names),
+            robot_var=first.var,
+            robot=first.robot,
+            joint_kinds=first.joint_kinds,
+            joint_names=first.joint_names,
+            at=first.at,
+            other_robots=others,
             datalists=[(d.name, d.shown_path) for d in self.c.datalists],
             consts=self.consts,
             obstacles=list(self.c.obstacles),
@@ -144,6 +153,21 @@ class _Gen:
             )
         code.code = [self.finish(ins) for ins in self.code]
         return code
+
+    def cell_robot(self, r: ProgramRobot, source: str) -> CellRobot:
+        """The ROBOT and JOINTS records of robot ``r`` (a cell's joint names are the
+        program's for every robot: its MAIN_JOINT record's, else a1 … aN)."""
+        clause = r.clause
+        position = None
+        if clause is not None and r.index > 0:
+            position = (source, clause.robot_span.line, clause.robot_span.column)
+        names = tuple(self.c.joint_names[: r.n])
+        return CellRobot(r.var, r.text, kind_letters(r.signature), names, r.at, position)
+
+    def robot_words(self, s: ast.Stmt) -> list[str]:
+        """The ``ROBOT:k`` operands of a statement that names robots (in a cell only: code
+        of one robot leaves them out)."""
+        return [robot_word(k) for k in s.resolved] if len(self.c.robots) > 1 else []
 
     def finish(self, ins: list) -> Instruction:
         op, args, line = ins
@@ -177,18 +201,20 @@ class _Gen:
             self.expr(s.value, T.BOOLEAN)
             self.emit(line, "OUTSET")
             return
-        root = s.target
+        root = assignment_root(s.target)
         path: list[ast.Expr] = []
-        while isinstance(root, ast.Field | ast.Index):
-            path.insert(0, root)
-            root = root.base
-        assert isinstance(root, ast.Name) and root.sym is not None
+        node = s.target
+        while node is not root:
+            assert isinstance(node, ast.Field | ast.Index)
+            path.insert(0, node)
+            node = node.base
+        assert isinstance(root, ast.Name | ast.Field) and root.sym is not None
         sym: Symbol = root.sym
         want = sym.type if not path else path[-1].ty
         if not path:
             self.expr(s.value, want)
             if sym.kind == "sysvar":
-                self.emit(line, "POPSYS", sym.name)
+                self.emit(line, "POPSYS", sym.name, *self.sysvar_robot(sym))
             elif sym.type == T.SIGNAL:
                 self.emit(line, "SIGOUT", sym.index)
             else:
@@ -196,9 +222,13 @@ class _Gen:
             return
         self.rebuild(line, root, path, 0, s.value, want)
         if sym.kind == "sysvar":
-            self.emit(line, "POPSYS", sym.name)
+            self.emit(line, "POPSYS", sym.name, *self.sysvar_robot(sym))
         else:
             self.store(line, (sym.storage, sym.index))
+
+    def sysvar_robot(self, sym: Symbol) -> list[str]:
+        """A robot's own system variable in a cell: its ``ROBOT:k`` operand."""
+        return [robot_word(sym.robot)] if sym.robot is not None else []
 
     def rebuild(self, line, root, path, k, value, want) -> None:
         """Push a copy of ``root.path[:k]`` with ``path[k:]`` replaced by ``value``."""
@@ -354,6 +384,18 @@ class _Gen:
 
     # ------------------------------------------------------------------ motion / options
     def s_move(self, s: ast.Move) -> None:
+        self.emit(s.span.line, "MOVE", *self.move_part(s))
+
+    def s_movegroup(self, g: ast.MoveGroup) -> None:
+        """The parts' operands in order, then one MOVE: ``part AND part …``."""
+        words: list = []
+        for part in g.parts:
+            words += [*(["AND"] if words else []), *self.move_part(part)]
+        self.emit(g.span.line, "MOVE", *words)
+
+    def move_part(self, s: ast.Move) -> list:
+        """Push a motion's targets and clause operands; its words ``KIND npts [ROBOT:k]
+        clause…``."""
         for t in s.targets:
             self.expr(t, t.ty)
         words = []
@@ -366,26 +408,30 @@ class _Gen:
                 for a in c.args:
                     self.expr(a, a.ty if c.kind.startswith("JOINT") else T.REAL)
                 words.append(c.kind)
-        self.emit(s.span.line, "MOVE", s.kind, len(s.targets), *words)
+        return [s.kind, len(s.targets), *self.robot_words(s), *words]
 
     def s_modalon(self, s: ast.ModalOn) -> None:
         line = s.span.line
+        robot = self.robot_words(s)
         if s.option in ("JOINTLIMIT", "JOINTSPEEDLIMIT", "JOINTACCELLIMIT"):
             for a in s.args:
                 self.expr(a, a.ty)
-            self.emit(line, "OPTON", s.option)
+            self.emit(line, "OPTON", s.option, *robot)
         elif s.option == "CYCLIC":
-            self.emit(line, "OPTON", "CYCLIC")
+            self.emit(line, "OPTON", "CYCLIC", *robot)
         elif s.option == "OBSTACLE":
-            self.emit(line, "OPTON", "OBSTACLE", self.obstacle_name(s.name))
+            self.emit(line, "OPTON", "OBSTACLE", *robot, self.obstacle_name(s.name))
         elif s.option == "FREEZE":
-            self.emit(line, "OPTON", "FREEZE", *(int(a.const.data[0]) for a in s.args))
+            self.emit(line, "OPTON", "FREEZE", *robot, *(int(a.const.data[0]) for a in s.args))
+        elif s.option == "COOPERATE":  # ROBOT:w ROBOT:h [VERTICAL]
+            self.emit(line, "OPTON", "COOPERATE", *robot, *(["VERTICAL"] if s.word else []))
 
     def s_modaloff(self, s: ast.ModalOff) -> None:
+        robot = self.robot_words(s)
         if s.option == "OBSTACLE":
-            self.emit(s.span.line, "OPTOFF", "OBSTACLE", self.obstacle_name(s.name))
+            self.emit(s.span.line, "OPTOFF", "OBSTACLE", *robot, self.obstacle_name(s.name))
         else:
-            self.emit(s.span.line, "OPTOFF", s.option)
+            self.emit(s.span.line, "OPTOFF", s.option, *robot)
 
     def obstacle_name(self, name: str | None) -> str:
         assert name is not None
@@ -393,7 +439,7 @@ class _Gen:
 
     def s_reconfigure(self, s: ast.Reconfigure) -> None:
         self.expr(s.target, s.target.ty)
-        self.emit(s.span.line, "RECONF")
+        self.emit(s.span.line, "RECONF", *self.robot_words(s))
 
     # ------------------------------------------------------------------ expressions
     def expr(self, e: ast.Expr, want: T.Type | None = None) -> None:
@@ -424,6 +470,9 @@ class _Gen:
         self.emit(e.span.line, "MAKE", e.ty.ird(), len(e.items))
 
     def e_field(self, e: ast.Field) -> None:
+        if e.sym is not None:  # robot.R_TOOL: a robot's own system variable
+            self.emit(e.span.line, "PUSHSYS", e.sym.name, *self.sysvar_robot(e.sym))
+            return
         self.expr(e.base)
         self.emit(e.span.line, "GETF", e.canonical)
 
@@ -460,6 +509,11 @@ class _Gen:
             self.emit(line, "CALL", info.index, len(e.args))
             return
         up = e.name.upper()
+        if e.robot is not None:  # FK(robot, k): the joints, the robot as an operand
+            self.expr(e.args[1], e.args[1].ty)
+            cell = len(self.c.robots) > 1
+            self.emit(line, "CALLB", "FK", 1, *([robot_word(e.robot.index)] if cell else []))
+            return
         if up == "POSE" and len(e.args) == 6:
             for a in e.args:
                 self.expr(a, T.REAL)
@@ -470,8 +524,6 @@ class _Gen:
         self.emit(line, "CALLB", up, len(e.args))
 
 
-def generate(
-    checked: Checked, robot: RobotSignature, robot_text: str, robot_var: str, source: str
-) -> Code:
+def generate(checked: Checked, source: str) -> Code:
     """Generate the IRDATA code of a program that checked without errors."""
-    return _Gen(checked).run(robot, robot_text, robot_var, source)
+    return _Gen(checked).run(source)

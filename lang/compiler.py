@@ -15,6 +15,7 @@ from pathlib import Path
 
 from irlc.lang import ast
 from irlc.lang import datalist as dlmod
+from irlc.lang.cell import ProgramRobot, common_joint_count
 from irlc.lang.checker import Checked, Checker
 from irlc.lang.codegen import generate
 from irlc.lang.diagnostics import Diagnostic, Span
@@ -144,18 +145,19 @@ def _compile(
     if too_deep := nesting_error(program, filename):
         result.diagnostics.append(too_deep)
         return analysis
-    robot, robot_text, robot_var = _robot(program, filename, resolve_robot, robot_override, result)
-    if robot is None:  # every joint check depends on the robot: report only its diagnostic
+    robots = _robots(program, filename, resolve_robot, robot_override, result)
+    if robots is None:  # every joint check depends on the robots: report only theirs
         return analysis
+    counts = common_joint_count(robots) or tuple(sorted({r.n for r in robots}))
     datalists = _datalists(
-        program, filename, datalist_path, robot, result, allow_any_path, datalist_texts or {}
+        program, filename, datalist_path, counts, result, allow_any_path, datalist_texts or {}
     )
-    checker = Checker(program, filename, robot, datalists, repl=repl)
+    checker = Checker(program, filename, robots, datalists, repl=repl)
     analysis.checked = checker.check()
     result.diagnostics += checker.diags
     if any(d.is_error for d in result.diagnostics):
         return analysis
-    result.code = generate(analysis.checked, robot, robot_text, robot_var, filename)
+    result.code = generate(analysis.checked, filename)
     return analysis
 
 
@@ -192,15 +194,17 @@ def _not_utf8(data: bytes, e: UnicodeDecodeError, name: str) -> Diagnostic:
     )
 
 
-def _robot(
+def _robots(
     program: ast.Program,
     filename: str,
     resolve: RobotResolver,
     override: str | None,
     result: CompileResult,
-) -> tuple[RobotSignature | None, str, str]:
-    clause = program.robot[0] if program.robot else None
-    if clause is None and override is None:
+) -> list[ProgramRobot] | None:
+    """The program's robots (one per ROBOT clause, or the ``--robot`` one); ``None`` after
+    a diagnostic: no robot, ``--robot`` with a cell, a robot that cannot be used."""
+    clauses = program.robot
+    if not clauses and override is None:
         result.diagnostics.append(
             Diagnostic(
                 "error",
@@ -210,7 +214,35 @@ def _robot(
                 "add 'ROBOT r := koch11;' after the PROGRAM line, or pass --robot NAME",
             )
         )
-        return None, "", ""
+        return None
+    if len(clauses) > 1 and override is not None:
+        result.diagnostics.append(
+            Diagnostic(
+                "error",
+                f"--robot {override} cannot be used with a cell: the program names "
+                f"{len(clauses)} robots ({', '.join(c.var for c in clauses)})",
+                filename,
+                clauses[1].span,
+                "leave out --robot; each ROBOT clause names its robot",
+            )
+        )
+        return None
+    if len(clauses) > 1:
+        robots = [_robot(k, c, filename, resolve, None, result) for k, c in enumerate(clauses)]
+        return None if None in robots else robots  # type: ignore[return-value]
+    robot = _robot(0, clauses[0] if clauses else None, filename, resolve, override, result)
+    return None if robot is None else [robot]
+
+
+def _robot(
+    index: int,
+    clause: ast.RobotClause | None,
+    filename: str,
+    resolve: RobotResolver,
+    override: str | None,
+    result: CompileResult,
+) -> ProgramRobot | None:
+    """The robot of one ROBOT clause (``--robot`` wins over it, with a warning)."""
     span: Span | None = clause.robot_span if clause else None
     wanted = override if override is not None else clause.robot  # type: ignore[union-attr]
     if clause is not None and override is not None and override.lower() != clause.robot.lower():
@@ -230,7 +262,7 @@ def _robot(
         msg = str(e.args[0]) if isinstance(e, KeyError) and e.args else str(e)
         msg = f"cannot use robot '{wanted}'{where}: {msg}"
         result.diagnostics.append(Diagnostic("error", msg, filename, span))
-        return None, "", robot_var
+        return None
     try:
         letters = kind_letters(robot)
     except ValueError as e:
@@ -241,8 +273,8 @@ def _robot(
         result.diagnostics.append(
             Diagnostic("error", f"cannot use robot '{wanted}'{where}: {problem}", filename, span)
         )
-        return None, "", robot_var
-    return robot, wanted, robot_var
+        return None
+    return ProgramRobot(index, robot_var, wanted, robot, clause)
 
 
 def _resolve_any_case(resolve: RobotResolver, wanted: str) -> RobotSignature:
@@ -262,11 +294,14 @@ def _datalists(
     program: ast.Program,
     filename: str,
     search: tuple[str, ...],
-    robot: RobotSignature | None,
+    joint_count: int | tuple[int, ...],
     result: CompileResult,
     allow_any_path: bool = False,
     texts: Mapping[str, str] | None = None,
 ) -> list[dlmod.Datalist]:
+    """The imported data lists; ``joint_count`` checks the arity of their joint values (a
+    tuple: a cell's robots differ in joint count, a value has one of them; each use checks
+    its robot's)."""
     out = []
     program_dir = Path(filename).parent
     seen: dict[str, int] = {}
@@ -300,9 +335,8 @@ def _datalists(
             msg = f"data list '{clause.name}.toml' is {refusal(roots)}"
             result.diagnostics.append(Diagnostic("error", msg, filename, clause.span, ALLOW_HINT))
             continue
-        n = robot.joint_count if robot else None
         text = (texts or {}).get(str(path.resolve())) if texts else None
-        dl, diags = dlmod.load(clause.name, path, program_dir, n, text)
+        dl, diags = dlmod.load(clause.name, path, program_dir, joint_count, text)
         result.diagnostics += diags
         out.append(dl)
     return out

@@ -107,7 +107,7 @@ def shown_path(path: Path, program_dir: Path) -> str:
 
 
 class _Loader:
-    def __init__(self, path: Path, text: str, joint_count: int | None):
+    def __init__(self, path: Path, text: str, joint_count: int | tuple[int, ...] | None):
         self.file = str(path)
         self.text = text
         self.n = joint_count
@@ -123,7 +123,10 @@ class _Loader:
         position = key_position(self.text, key)
         return Span(*position) if position else None
 
-    def numbers(self, value, key: str, size: int | None, what: str) -> tuple[float, ...] | None:
+    def numbers(
+        self, value, key: str, size: int | tuple[int, ...] | None, what: str
+    ) -> tuple[float, ...] | None:
+        """A list of ``size`` finite numbers (a tuple of sizes: one of them), else an error."""
         if not isinstance(value, list):
             self.error(key, f"expected {what}, got {_show(value)}")
             return None
@@ -131,8 +134,10 @@ class _Loader:
         if bad is not None:  # (a list of numbers but one: "got a list of 3 values" read odd)
             self.error(key, f"value {bad + 1} is not a number: {_show(value[bad])} ({what})")
             return None
-        if size is not None and len(value) != size:
-            self.error(key, f"expected {size} numbers ({what}), got {len(value)}")
+        sizes = (size,) if isinstance(size, int) else size
+        if sizes is not None and len(value) not in sizes:
+            shown = " or ".join(str(n) for n in sizes)
+            self.error(key, f"expected {shown} numbers ({what}), got {len(value)}")
             return None
         if not all(is_finite_number(v) for v in value):
             self.error(key, "numbers must be finite")
@@ -149,10 +154,15 @@ def _show(v) -> str:
 
 
 def load(
-    name: str, path: Path, program_dir: Path, joint_count: int | None, text: str | None = None
+    name: str,
+    path: Path,
+    program_dir: Path,
+    joint_count: int | tuple[int, ...] | None,
+    text: str | None = None,
 ) -> tuple[Datalist, list[Diagnostic]]:
-    """Read and validate one data list; ``joint_count`` None skips joint-arity checks;
-    ``text``: the data list's text, read instead of the file (an editor's buffer)."""
+    """Read and validate one data list; ``joint_count`` None skips joint-arity checks (a
+    tuple: the joint counts of a cell's robots, a joint value has one of them); ``text``:
+    the data list's text, read instead of the file (an editor's buffer)."""
     dl = Datalist(name, str(path), shown_path(path, program_dir))
     if text is None:
         try:

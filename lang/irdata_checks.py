@@ -87,8 +87,9 @@ class TypeTable:
         return f"unknown type {shown_word(ty)}"
 
 
-def const_problem(value: Value, joint_count: int) -> str | None:
-    """Why a ``CONST`` value does not have the shape of its type, else None."""
+def const_problem(value: Value, joint_counts: tuple[int, ...]) -> str | None:
+    """Why a ``CONST`` value does not have the shape of its type, else None (a joint
+    tuple has one value per joint of a robot of the code: one of ``joint_counts``)."""
     ty, data = value.type, value.data
     if ty == "CHAR":
         return None if len(data[0]) == 1 else "CHAR: expected one character"
@@ -96,7 +97,12 @@ def const_problem(value: Value, joint_count: int) -> str | None:
         return None
     if ty == "REAL":
         return None if len(data) == 1 else f"REAL: expected one number, got {len(data)}"
-    size = _CONST_SIZES.get(ty, joint_count if ty in JOINT_TUPLE_TYPES else None)
+    if ty in JOINT_TUPLE_TYPES:
+        if len(data) in joint_counts or not joint_counts:
+            return None
+        sizes = " or ".join(str(n) for n in joint_counts)
+        return f"{ty}: expected {sizes} numbers, got {len(data)}"
+    size = _CONST_SIZES.get(ty)
     if size is None:
         return f"a constant cannot be of type {shown_word(ty)}"
     if len(data) != size:

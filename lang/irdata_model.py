@@ -25,22 +25,27 @@ JOINT_TUPLE_TYPES = (
 )
 SYSTEM_VARIABLES = tuple(_SYSTEM_VARIABLES)  # names; their rows: lang/settings.py
 MOVE_KINDS = ALL_KINDS
-MODAL_OPTIONS = ("JOINTLIMIT", "JOINTSPEEDLIMIT", "JOINTACCELLIMIT", "CYCLIC", "OBSTACLE", "FREEZE")
+MODAL_OPTIONS = (
+    "JOINTLIMIT", "JOINTSPEEDLIMIT", "JOINTACCELLIMIT", "CYCLIC", "OBSTACLE", "FREEZE",
+    "COOPERATE",
+)  # fmt: skip
 
 # Operand signatures: i = integer, w = word, t = jump target, * = any number of int/word.
 OPCODES: dict[str, str] = {
     "PUSHC": "i", "PUSHG": "i", "POPG": "i", "PUSHL": "i", "POPL": "i",
-    "REFG": "i", "REFL": "i", "PUSHSYS": "w", "POPSYS": "w", "POP": "", "DUP": "",
+    "REFG": "i", "REFL": "i", "PUSHSYS": "w*", "POPSYS": "w*", "POP": "", "DUP": "",
     "GETF": "w", "SETF": "w", "GETI": "", "SETI": "",
     "ADD": "", "SUB": "", "MUL": "", "DIV": "", "IDIV": "", "MOD": "", "NEG": "", "NOT": "",
     "EQ": "", "NE": "", "LT": "", "GT": "", "LE": "", "GE": "",
     "AND": "", "OR": "", "XOR": "", "COMPOSE": "",
-    "MAKE": "wi", "CALLB": "wi", "CALL": "ii", "RET": "", "RETV": "",
+    "MAKE": "wi", "CALLB": "wi*", "CALL": "ii", "RET": "", "RETV": "",
     "JMP": "t", "JF": "t", "JT": "t", "HALT": "", "PAUSE": "", "END": "",
     "WAIT": "", "WAITFOR": "t", "PUSHIN": "", "SIGOUT": "i", "WRITE": "i", "WRITELN": "i",
     "OUTSET": "", "PUSHOUT": "", "PULSE": "",
-    "MOVE": "wi*", "RECONF": "", "OPTON": "w*", "OPTOFF": "w*",
+    "MOVE": "wi*", "RECONF": "*", "OPTON": "w*", "OPTOFF": "w*",
 }  # fmt: skip
+# (the variadic tails of CALLB, PUSHSYS, POPSYS and RECONF hold a ROBOT:k operand only:
+# lang/irdata_robots.py)
 
 
 def shown_word(word: str, limit: int = 32) -> str:
@@ -116,8 +121,30 @@ class RecordType:
     fields: tuple[tuple[str, str], ...]  # (name, type)
 
 
+@dataclass(frozen=True)
+class CellRobot:
+    """A robot of the code: a ``ROBOT`` record and the ``JOINTS`` record after it."""
+
+    var: str  # the program's name for the robot
+    robot: str  # library name or file
+    joint_kinds: str  # one letter per joint: R | P
+    joint_names: tuple[str, ...]
+    at: tuple[float, ...] | None = None  # AT x y z a b c (mm, ZYX deg); None: the identity
+    # (file, line, column) of its robot operand: the ROBOT record of a read file, or the
+    # ROBOT clause of a compiled program (robots after the first); None when not known
+    position: tuple[str, int, int] | None = None
+
+    @property
+    def joint_count(self) -> int:
+        return len(self.joint_kinds)
+
+
 @dataclass
 class Code:
+    """The code of a program. Its first robot is ``robot_var``, ``robot``, ``joint_kinds``,
+    ``joint_names``, ``at``; a cell's further robots are ``other_robots`` (robot 1, 2, …;
+    :attr:`robots` lists them all, :attr:`is_cell` says whether there are several)."""
+
     program: str
     source: str
     robot_var: str
@@ -135,10 +162,26 @@ class Code:
     # Where the ROBOT record was read from: (file, line, column of the robot operand); not
     # part of the format. Empty for code the compiler made (its ROBOT clause was resolved).
     robot_record: tuple[str, int, int] | None = None
+    at: tuple[float, ...] | None = None  # the first robot's placement (AT), None: identity
+    other_robots: list[CellRobot] = field(default_factory=list)  # a cell's robots 1, 2, …
 
     @property
     def joint_count(self) -> int:
         return len(self.joint_kinds)
+
+    @property
+    def robots(self) -> list[CellRobot]:
+        """Every robot of the code, robot 0 first (the ``ROBOT:k`` operands' order)."""
+        first = CellRobot(
+            self.robot_var, self.robot, self.joint_kinds, self.joint_names, self.at,
+            self.robot_record,
+        )  # fmt: skip
+        return [first, *self.other_robots]
+
+    @property
+    def is_cell(self) -> bool:
+        """Whether the code runs several robots (docs/irdata.md, Cells)."""
+        return bool(self.other_robots)
 
     def robot_problem(self, message: str) -> str:
         """``message`` about the code's robot, positioned at its ROBOT record when the code

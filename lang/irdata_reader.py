@@ -32,7 +32,13 @@ from irlc.lang.irdata_model import (
     Target,
     Value,
 )
-from irlc.lang.settings import BY_WITH_WORD
+from irlc.lang.irdata_robot_records import RobotRecords
+from irlc.lang.irdata_robots import (
+    cooperate_problem,
+    instruction_problems,
+    move_parts,
+    robot_operand,
+)
 from irlc.lang.value_ranges import parse_integer, string_too_long
 
 MAX_ERRORS = 20  # errors shown of one file
@@ -53,6 +59,7 @@ class _Reader:
         # (types refer to TYPE records; joint tuples to the ROBOT record's joint count)
         self.later: list[tuple[str, object, int, int]] = []
         self.types = TypeTable({})
+        self.robots = RobotRecords(filename, self.error)
 
     def error(self, line: int, col: int, msg: str, hint: str | None = None) -> None:
         if len(self.diags) >= MAX_ERRORS:
@@ -213,20 +220,9 @@ def _read_header_record(r: _Reader, code: Code, op, toks, lineno, pending) -> No
     elif op == "SOURCE" and need(2):
         code.source = _file_name(r, words[1], lineno, col_of[1], op)
     elif op == "ROBOT" and need(5):
-        code.robot_var = words[1]
-        code.robot = _file_name(r, words[2], lineno, col_of[2], op)
-        code.robot_record = (r.file, lineno, col_of[2])
-        kinds = words[4]
-        if not re.fullmatch(r"[RP]+", kinds) or str(len(kinds)) != words[3]:
-            r.error(
-                lineno,
-                col_of[4],
-                f"ROBOT: joint kinds {shown_word(kinds)} do not match count {shown_word(words[3])}",
-            )
-        code.joint_kinds = kinds
+        r.robots.robot(words, col_of, lineno, _file_name(r, words[2], lineno, col_of[2], op))
     elif op == "JOINTS":
-        code.joint_names = tuple(words[1:])
-        r.later.append(("joints", len(words) - 1, lineno, col_of[0]))
+        r.robots.joints(words, col_of, lineno)
     elif op == "UNITS":
         if words[1:] != ["mm", "deg", "s"]:
             r.error(lineno, col_of[0], "UNITS: only 'mm deg s' is supported")
@@ -358,21 +354,16 @@ def _read_type(r: _Reader, code: Code, words, cols, lineno) -> None:
 
 
 def _check_header(r: _Reader, code: Code) -> None:
-    """The checks of :mod:`irlc.lang.irdata_checks` on the records kept in ``r.later``."""
-    if code.robot_record is None:
-        r.error(1, 1, "no ROBOT record")
-    elif not any(what == "joints" for what, *_ in r.later):
-        _, line, col = code.robot_record
-        r.error(line, col, f"no JOINTS record for the ROBOT record's {code.joint_count} joint(s)")
+    """The checks of :mod:`irlc.lang.irdata_checks` on the records kept in ``r.later``;
+    the robots (:mod:`irlc.lang.irdata_robot_records`)."""
+    r.robots.install(code)
     types = r.types = TypeTable({t.index: t.fields for t in code.types})
     for what, item, lineno, col in r.later:
         problem = None
         if what in ("slot", "field", "result"):
             problem = types.problem(item, signal=what == "slot")  # type: ignore[arg-type]
         elif what == "const":
-            problem = const_problem(item, code.joint_count)  # type: ignore[arg-type]
-        elif what == "joints" and item != code.joint_count:
-            problem = f"JOINTS: {item} name(s) for the ROBOT record's {code.joint_count} joint(s)"
+            problem = const_problem(item, r.robots.joint_counts)  # type: ignore[arg-type]
         elif what == "routine":
             problem = _slot_problem(*item)  # type: ignore[misc]
         if problem:
@@ -488,33 +479,35 @@ def _read_instruction(r: _Reader, toks, lineno, idx, fixups) -> Instruction | No
 
 
 def _option_problem(ins: Instruction, code: Code) -> str | None:
-    """The operands of ``OPTON``/``OPTOFF OPTION …``: one obstacle name for OBSTACLE,
-    joint numbers 1..N for ``OPTON FREEZE``, none otherwise."""
-    option, rest = ins.args[0], ins.args[1:]
+    """The operands of ``OPTON``/``OPTOFF OPTION [ROBOT:k] …``: one obstacle name for
+    OBSTACLE, joint numbers 1..N of the robot for ``OPTON FREEZE``, the two robots of
+    COOPERATE, none otherwise."""
+    robot, operands = robot_operand(ins.op, ins.args)
+    option, rest = operands[0], operands[1:]
+    if option == "COOPERATE":
+        return cooperate_problem(ins.op, robot, rest, len(code.robots))
     if option == "OBSTACLE":
         return None if len(rest) == 1 else f"expected one obstacle name, got {len(rest)} operands"
     if option == "FREEZE" and ins.op == "OPTON":
-        n = code.joint_count
+        robots = code.robots
+        n = (
+            robots[robot].joint_count
+            if robot is not None and robot < len(robots)
+            else code.joint_count
+        )
         if rest and all(isinstance(j, int) and 1 <= j <= n for j in rest):
             return None
         return f"expected joint numbers in 1..{n}"
     return f"expected no operands, got {len(rest)}" if rest else None
 
 
-_MOVE_CLAUSES = (*BY_WITH_WORD, "JOINTLIMIT", "JOINTSPEEDLIMIT", "JOINTACCELLIMIT")
-
-
-def _check_move(r: _Reader, ins: Instruction, lineno: int, toks) -> None:
-    """``MOVE KIND npts clause…``: a positive point count, known clause words (``WITH``
-    words, the joint-limit options, ``RECONF:k`` with ``k`` ≥ 1)."""
-    npts = ins.args[1]
-    if not isinstance(npts, int) or npts < 1:
-        r.error(lineno, toks[3][1], f"MOVE: expected a positive number of points, got {npts}")
-    for (tok, col), word in zip(toks[4:], ins.args[2:], strict=True):
-        word = str(word)
-        reconf = word.startswith("RECONF:") and re.fullmatch(r"[1-9][0-9]{0,5}", word[7:])
-        if word not in _MOVE_CLAUSES and not reconf:
-            r.error(lineno, col, f"MOVE: unknown clause {shown_word(tok)}")
+def _robot_problems(r: _Reader, ins: Instruction, code: Code, lineno: int, toks) -> bool:
+    """The robot operands of ``ins`` (lang/irdata_robots.py), each at its operand's column;
+    whether there was none."""
+    problems = instruction_problems(ins.op, ins.args, len(code.robots))
+    for index, message in problems:
+        r.error(lineno, toks[2 + index][1] if index >= 0 else toks[1][1], message)
+    return not problems
 
 
 def _check_references(r: _Reader, code: Code, code_records) -> None:
@@ -537,13 +530,17 @@ def _check_references(r: _Reader, code: Code, code_records) -> None:
             r.error(lineno, toks[2][1], f"unknown system variable {shown_word(ins.args[0])}")
         if ins.op == "MAKE" and (problem := r.types.problem(str(ins.args[0]))):
             r.error(lineno, toks[2][1], f"MAKE: {problem}")
-        if ins.op == "MOVE" and ins.args[0] not in MOVE_KINDS:
-            r.error(lineno, toks[2][1], f"unknown motion kind {shown_word(ins.args[0])}")
-        elif ins.op == "MOVE":
-            _check_move(r, ins, lineno, toks)
+        robots_ok = _robot_problems(r, ins, code, lineno, toks)
+        if ins.op == "MOVE":
+            for part in move_parts(ins.args)[0]:
+                if part.kind not in MOVE_KINDS:
+                    col = toks[2 + part.start][1]
+                    r.error(lineno, col, f"unknown motion kind {shown_word(part.kind)}")
         if ins.op in ("OPTON", "OPTOFF") and ins.args[0] not in MODAL_OPTIONS:
             r.error(lineno, toks[2][1], f"unknown modal option {shown_word(ins.args[0])}")
-        elif ins.op in ("OPTON", "OPTOFF") and (problem := _option_problem(ins, code)):
+        elif (
+            ins.op in ("OPTON", "OPTOFF") and robots_ok and (problem := _option_problem(ins, code))
+        ):
             r.error(lineno, toks[2][1], f"{ins.op} {ins.args[0]}: {problem}")
     if not r.bad_routine and not any(rt.kind == "MAIN" for rt in code.routines):
         r.error(1, 1, "no MAIN routine")

@@ -7,6 +7,7 @@ from __future__ import annotations
 import re
 
 from irlc.lang.irdata_model import MAGIC, Code, Instruction, Operand, Routine, Slot, Target, Value
+from irlc.lang.irdata_robots import instruction_robots
 
 
 def _num(v: float | int) -> str:
@@ -54,14 +55,13 @@ def _slot(s: Slot) -> str:
 
 
 def _header_records(code: Code, entry_recno) -> list[str]:
-    recs = [
-        f"PROGRAM {code.program}",
-        f"SOURCE {_quote(code.source)}",
-        f"ROBOT {code.robot_var} {code.robot if _is_word(code.robot) else _quote(code.robot)} "
-        f"{code.joint_count} {code.joint_kinds}",
-        "JOINTS " + " ".join(code.joint_names),
-        "UNITS mm deg s",
-    ]
+    recs = [f"PROGRAM {code.program}", f"SOURCE {_quote(code.source)}"]
+    for robot in code.robots:
+        name = robot.robot if _is_word(robot.robot) else _quote(robot.robot)
+        at = "" if robot.at is None else " AT " + " ".join(_num(x) for x in robot.at)
+        recs.append(f"ROBOT {robot.var} {name} {robot.joint_count} {robot.joint_kinds}{at}")
+        recs.append("JOINTS " + " ".join(robot.joint_names))
+    recs.append("UNITS mm deg s")
     recs += [f"DATALIST {name} {_quote(path)}" for name, path in code.datalists]
     recs += [f"CONST {k} {format_value(v)}" for k, v in enumerate(code.consts)]
     for o in code.obstacles:
@@ -101,7 +101,9 @@ def _comment(code: Code, ins: Instruction, routine: Routine | None) -> str:
             return slots[a[0]].name
     if op == "CALL" and 0 <= a[0] < len(code.routines):
         return code.routines[a[0]].name
-    return ""
+    robots = code.robots
+    named = [robots[k].var for k in instruction_robots(op, a) if k < len(robots)]
+    return ", ".join(named)
 
 
 def write_code(code: Code) -> str:

@@ -146,6 +146,9 @@ SETTINGS: tuple[Setting, ...] = (
     Setting("approx", "R_APPROX", "APPROX", SettingRange(0.0, 1e5, "mm", closed=True),
             ALL_KINDS, "approximate positioning: blend distance at the point (0: exact stop)",
             0.0),
+    Setting("clearance", "R_CLEARANCE", None, SettingRange(0.0, 1e5, "mm", closed=True), (),
+            "distance kept between robots' links and non-adjacent links of one robot "
+            "(0: only reported)", 0.0),
 )  # fmt: skip
 
 BY_FIELD: dict[str, Setting] = {s.field: s for s in SETTINGS}

@@ -36,6 +36,7 @@ _PUNCT = {
     "SLASH": "'/'",
     "RELOP": "a comparison",
     "__ANON_0": "':='",
+    "AND_PART": "AND",  # before the next part of a group move (irl.lark)
     "NAME": "a name",
     "NUMBER": "a number",
     "STRING": "a string",
@@ -71,6 +72,7 @@ _OPERATORS = {
     "DIV",
     "MOD",
     "AND",
+    "AND_PART",
     "OR",
     "EXOR",
     "COLON",

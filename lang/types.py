@@ -35,7 +35,7 @@ class Type:
 
 @dataclass(frozen=True)
 class JointTuple(Type):
-    n: int = 0
+    n: int = 0  # values (one per joint); 0: any (a cell whose robots differ in joint count)
 
 
 @dataclass(frozen=True)
@@ -115,6 +115,10 @@ def assignable(target: Type, source: Type) -> bool:
         return True
     if isinstance(target, Array) and isinstance(source, Array):
         return target.length == source.length and assignable(target.elem, source.elem)
+    if isinstance(target, JointTuple) and isinstance(source, JointTuple):
+        # a cell of robots with different joint counts: any arity (n = 0), checked where
+        # the tuple meets a robot
+        return target.name == source.name and 0 in (target.n, source.n)
     return False
 
 

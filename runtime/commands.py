@@ -76,6 +76,7 @@ class Settings:
     jerk: float = _default("jerk")  # R_JERK, mm/s³ (S-curve path jerk)
     override: float = _default("override")  # R_OVERRIDE, % (start: --override)
     approx: float = _default("approx")  # R_APPROX, mm (0: exact stop)
+    clearance: float = _default("clearance")  # R_CLEARANCE, mm (0: only reported)
 
 
 # The range table of the numeric settings is lang/settings.py (one row per setting; the

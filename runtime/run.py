@@ -62,6 +62,19 @@ def resolve_model(
     """The robot to run on: ``robot`` (override, the user's) or the code's robot, by
     :func:`irlc.robots.resolve_robot` (a library name or a path relative to the program;
     the code's own path inside the program's allowed roots unless ``allow_any_path``)."""
+    if code.is_cell:  # interim, until the runtime runs cells (issue 26)
+        second = code.other_robots[0]
+        where = "{}:{}:{}: ".format(*second.position) if second.position else ""
+        names = ", ".join(r.var for r in code.robots)
+        raise RunSetupError(
+            f"{where}cells are compiled but this runtime cannot run them yet (robots: {names})"
+        )
+    if code.at is not None and any(code.at):  # interim: a placed robot (issue 26)
+        where = "{}:{}:{}: ".format(*code.robot_record) if code.robot_record else ""
+        raise RunSetupError(
+            f"{where}robot {code.robot_var} is placed with AT, which this runtime cannot run "
+            f"yet (the compiler accepts it: {code.source})"
+        )
     if isinstance(robot, RobotModel):
         model = robot
     elif robot:

@@ -4,13 +4,15 @@ The checker walks the AST once, resolves every name (case-insensitively; message
 declared spelling), gives every expression its type (``Expr.ty``) and folds constants
 (``Expr.const``, an IRDATA :class:`Value`). Its parts, one file each:
 
-- :mod:`.scope`: symbols, the global and local scopes, lookup, the diagnostics.
+- :mod:`.scope`: symbols, the global and local scopes, lookup, the diagnostics, the robots
+  a statement names (a cell's, docs/language.md §10).
+- :mod:`.cell`: the robots' names and their placements (``AT``).
 - :mod:`.declarations`: constants, types, variables, routines, data-list entries.
 - :mod:`.expressions`: the type of every expression, calls against their signatures.
 - :mod:`.constants`: constant folding.
 - :mod:`.statements`: assignments, calls, control flow, WAIT, WRITE, digital outputs.
 - :mod:`.motion`: MOVE targets, WITH clauses, RECONFIGURATION.
-- :mod:`.modal`: the modal redundancy START/END blocks per statement list.
+- :mod:`.modal`: the modal redundancy START/END blocks per statement list (COOPERATE too).
 
 :class:`Checker` runs them over a program: declarations first (global, then each routine's
 signature), then each routine's body, then the main program's.
@@ -23,6 +25,8 @@ from dataclasses import dataclass
 from irlc.lang import ast
 from irlc.lang import types as T
 from irlc.lang.approx_lint import approx_warnings
+from irlc.lang.cell import ProgramRobot
+from irlc.lang.checker.cell import RobotDeclarations
 from irlc.lang.checker.declarations import Declarations
 from irlc.lang.checker.expressions import ExpressionTyper
 from irlc.lang.checker.modal import ModalBlocks
@@ -32,7 +36,6 @@ from irlc.lang.checker.statements import StatementChecker, always_returns
 from irlc.lang.datalist import Datalist
 from irlc.lang.diagnostics import Diagnostic
 from irlc.lang.irdata import ObstacleDef, Slot
-from irlc.lang.signature import RobotSignature
 
 __all__ = ["Checked", "Checker", "RoutineInfo", "Symbol"]
 
@@ -42,6 +45,7 @@ class Checked:
     """What the code generator needs besides the annotated AST."""
 
     program: ast.Program
+    robots: list[ProgramRobot]
     joint_names: tuple[str, ...]
     records: list[T.Record]
     globals: list[Slot]
@@ -60,7 +64,7 @@ class Checker:
         self,
         program: ast.Program,
         filename: str,
-        robot: RobotSignature | None,
+        robots: list[ProgramRobot],
         datalists: list[Datalist],
         *,
         repl: bool = False,
@@ -68,9 +72,10 @@ class Checker:
         self.prog = program
         self.datalists = datalists
         self.report = Reporter(filename)
-        self.scope = Scope(robot, self.report)
+        self.scope = Scope(robots, self.report)
         self.typer = ExpressionTyper(self.scope, self.report)
         self.decls = Declarations(self.scope, self.typer, self.report)
+        self.robots = RobotDeclarations(self.scope, self.typer, self.report)
         motion = MotionChecker(self.scope, self.typer, self.report)
         modal = ModalBlocks(self.scope, self.typer, motion, self.report, repl=repl)
         self.statements = StatementChecker(self.scope, self.typer, motion, modal, self.report)
@@ -85,24 +90,15 @@ class Checker:
             self.report.error(
                 u.span,
                 f"{u.what} is not supported by irlc",
-                "irlc runs one program on one simulated robot; remove this clause",
+                "irlc runs one program on its simulated robots; remove this clause",
             )
-        if len(p.robot) > 1:
-            self.report.error(
-                p.robot[1].span,
-                "a second ROBOT clause",
-                f"the program already names its robot on line {p.robot[0].span.line}",
-            )
-        if p.robot:
-            rc = p.robot[0]
-            self.scope.declare_global(
-                rc.var, Symbol("robot", rc.var, None, f"line {rc.span.line}"), rc.span
-            )
+        self.robots.declare()
         decls = self.decls
         decls.find_joint_record(p.decls)
         decls.add_datalists(self.datalists)
         decls.check_trace_columns()
         decls.declare_all(p.decls, is_global=True)
+        self.robots.placements()
         for r in p.routines:
             decls.declare_routine(r)
         main = RoutineInfo(0, p.name, False, [], [], None)
@@ -119,6 +115,7 @@ class Checker:
             self.report.warning(node.span, message, hint)
         return Checked(
             p,
+            self.scope.robots,
             self.scope.joint_names,
             decls.records,
             decls.global_slots,

@@ -52,12 +52,17 @@ class Declarations:
                 if n.lower() in seen:
                     self.report.error(s, f"joint name '{n}' is repeated")
                 seen.add(n.lower())
-            if self.scope.robot is not None and len(names) != self.scope.n:
+            other = next((r for r in self.scope.robots if r.n != len(names)), None)
+            if other is not None:
+                robot = other.signature.name + (f" ({other.var})" if self.scope.cell else "")
                 self.report.error(
                     td.span,
                     f"{td.name.upper()} declares {len(names)} joints, but robot "
-                    f"{self.scope.robot.name} has {self.scope.n}",
-                    f"declare one REAL field per joint ({self.scope.n})",
+                    f"{robot} has {other.n}",
+                    f"declare one REAL field per joint ({other.n})"
+                    if not self.scope.cell
+                    else "the joint names of a cell name every robot's joints: declare them "
+                    "only when the robots have the same number of joints",
                 )
                 continue
             self.scope.joint_field_names[td.name.upper()] = tuple(names)
@@ -68,18 +73,21 @@ class Declarations:
     def check_trace_columns(self) -> None:
         """MAIN_JOINT names whose trace columns would coincide with another column (a joint
         ``a``: ``a_deg`` is also the TCP's angle a): :mod:`irlc.lang.trace_columns`."""
-        robot, names = self.scope.robot, self.scope.joint_names
-        if robot is None or not self.joint_spans or len(names) != self.scope.n:
+        names = self.scope.joint_names
+        if not self.joint_spans or any(r.n != len(names) for r in self.scope.robots):
             return
         obstacles = [o.name for o in self.scope.obstacles.values()]
-        clash = trace_columns.first_clash(names, robot.joint_kinds, obstacles)
-        if clash is not None:
-            j, column, other = clash
-            self.report.error(
-                self.joint_spans[j],
-                f"joint name '{names[j]}' gives the trace column {column}, which is also {other}",
-                "choose another name for this joint",
-            )
+        for robot in self.scope.robots:  # a cell's columns: each robot's, prefixed by its name
+            clash = trace_columns.first_clash(names, robot.signature.joint_kinds, obstacles)
+            if clash is not None:
+                j, column, other = clash
+                self.report.error(
+                    self.joint_spans[j],
+                    f"joint name '{names[j]}' gives the trace column {column}, which is also "
+                    f"{other}",
+                    "choose another name for this joint",
+                )
+                return
 
     def add_datalists(self, datalists: list[Datalist]) -> None:
         for dl in datalists:

@@ -16,9 +16,10 @@ import re
 from irlc.lang import ast
 from irlc.lang import types as T
 from irlc.lang.builtins import BUILTINS, POSE_FROM_NUMBERS, POSE_FROM_PARTS
+from irlc.lang.cell import ROBOT_VARIABLES, ProgramRobot, robot_list
 from irlc.lang.checker import constants
 from irlc.lang.checker.constants import number, numbers_value
-from irlc.lang.checker.scope import Reporter, RoutineInfo, Scope
+from irlc.lang.checker.scope import Reporter, RoutineInfo, Scope, Symbol
 from irlc.lang.diagnostics import Span
 from irlc.lang.digital_io import is_output_syntax, output_error
 from irlc.lang.irdata import Value, string_too_long
@@ -86,6 +87,8 @@ class ExpressionTyper:
             )
             return T.ERROR
         e.sym = sym
+        if self.scope.robot_variable_problem(sym, e.span):
+            return T.ERROR
         if sym.kind == "routine":
             info = sym.routine
             assert info is not None
@@ -95,7 +98,8 @@ class ExpressionTyper:
             self.report.error(e.span, f"'{sym.name}' is a {what}, not a value")
             return T.ERROR
         if sym.kind in ("type", "robot", "obstacle"):
-            what = {"type": "a type", "robot": "the robot", "obstacle": "an obstacle"}[sym.kind]
+            robot = "a robot" if self.scope.cell else "the robot"
+            what = {"type": "a type", "robot": robot, "obstacle": "an obstacle"}[sym.kind]
             hint = "use it in OBSTACLE / OBSTACLEEND" if sym.kind == "obstacle" else None
             self.report.error(e.span, f"'{sym.name}' is {what}, not a value", hint)
             return T.ERROR
@@ -119,8 +123,17 @@ class ExpressionTyper:
                 if not isinstance(item, ast.Tuple):
                     self.expr(item, None)
             return T.ERROR
-        if isinstance(want, T.JointTuple) and want.n == 0:
-            arity = len(e.items)  # robot unknown: no arity check
+        if isinstance(want, T.JointTuple) and want.n == 0:  # a cell whose robots differ
+            arity = len(e.items)
+            counts = sorted({r.n for r in self.scope.robots})
+            if arity not in counts:
+                shown = ", ".join(f"{r.var}: {r.n}" for r in self.scope.robots)
+                self.report.error(
+                    e.span,
+                    f"a {want} of {arity} values fits no robot of the cell ({shown} joints)",
+                    "one value per joint of the robot it is used with",
+                )
+                return T.ERROR
         if len(e.items) != arity:
             self.report.error(
                 e.span, f"{want} needs {arity} values, got {len(e.items)}", self._arity_hint(want)
@@ -145,6 +158,12 @@ class ExpressionTyper:
     def _arity_hint(self, want: T.Type) -> str | None:
         if isinstance(want, T.JointTuple) and self.scope.robot is not None:
             return f"robot {self.scope.robot.name} has {self.scope.n} joints: one value per joint"
+        if isinstance(want, T.JointTuple):  # a cell: the robots with that many joints
+            names = [r.var for r in self.scope.robots if r.n == want.n]
+            robots = (
+                f"robot {names[0]} has" if len(names) == 1 else f"robots {', '.join(names)} have"
+            )
+            return f"{robots} {want.n} joints: one value per joint"
         if want == T.POSE:
             return "a POSE tuple is (x, y, z, a, b, c): mm and ZYX degrees"
         return None
@@ -289,6 +308,8 @@ class ExpressionTyper:
             e.const = folded
 
     def e_field(self, e: ast.Field, want) -> T.Type:
+        if (robot_variable := self.robot_field(e)) is not None:
+            return T.value_type(robot_variable.type or T.ERROR)
         bt = self.expr(e.base, None)
         if bt == T.ERROR:
             return T.ERROR
@@ -401,6 +422,8 @@ class ExpressionTyper:
             return T.ERROR
         if up == "POSE":
             return self.pose_call(e)
+        if up == "FK" and (len(e.args) == 2 or self.scope.cell):
+            return self.fk_call(e)
         sig = BUILTINS.get(up)
         if sig is None:
             self.report.error(
@@ -427,6 +450,76 @@ class ExpressionTyper:
             self.report.error(_blamed_span(e, res), f"{up}: {res}")
             return T.ERROR
         return res
+
+    def fk_call(self, e: ast.Call) -> T.Type:
+        """``FK(robot, k)``: the forward kinematics of a robot (in a cell it is named)."""
+        robot = None
+        if len(e.args) == 2 and isinstance(e.args[0], ast.Name):
+            robot = self.scope.find_robot(e.args[0].name, e.args[0].span)
+        elif self.scope.cell:
+            self.report.error(
+                e.span,
+                f"FK in a cell names its robot ({robot_list(self.scope.robots)})",
+                f"write FK({self.scope.robots[0].var}, joints)",
+            )
+        else:
+            self.report.error(e.span, f"FK: takes 1 argument, got {len(e.args)}")
+        if robot is None:
+            for a in e.args[1:] if len(e.args) == 2 else e.args:
+                self.expr(a, None)
+            return T.ERROR
+        e.robot = robot
+        got = self.robot_tuple(e.args[1], "MAIN_JOINT", robot, "FK")
+        return T.ERROR if got == T.ERROR else T.POSE
+
+    def robot_tuple(self, e: ast.Expr, name: str, robot: ProgramRobot, what: str) -> T.Type:
+        """``e`` as a joint tuple of type ``name`` used with ``robot``: a tuple literal gets
+        the robot's arity as context; a constant's values are counted (a mixed cell's
+        joint tuples have no arity of their own: a variable's is checked when it runs)."""
+        want = T.JointTuple(name, robot.n)
+        got = self.expr(e, want)
+        if not self.require(e, want, got, what) or not self.robot_arity(e, robot, what):
+            return T.ERROR
+        return got
+
+    def robot_arity(self, e: ast.Expr, robot: ProgramRobot, what: str) -> bool:
+        """Whether a typed joint-tuple constant ``e`` has one value per joint of ``robot``
+        (an error at ``e`` if not; a value that is not constant passes)."""
+        c = e.const
+        if c is None or c.type not in T.JOINT_TUPLE_TYPES or len(c.data) == robot.n:
+            return True
+        self.report.error(
+            e.span,
+            f"{what}: {c.type} for robot {robot.var} needs {robot.n} values, got {len(c.data)}",
+            f"robot {robot.var} ({robot.signature.name}) has {robot.n} joints",
+        )
+        return False
+
+    def robot_field(self, e: ast.Field) -> Symbol | None:
+        """``robot.R_TOOL`` (a robot's own system variable, ``cell.ROBOT_VARIABLES``): its
+        symbol, also set as ``e.sym``; ``None`` when ``e`` does not start with a robot's
+        name. Another name after a robot is an error (the symbol's type is then ERROR)."""
+        if e.sym is not None or not isinstance(e.base, ast.Name):
+            return e.sym
+        owner = self.scope.lookup(e.base.name)
+        if owner is None or owner.kind != "robot":
+            return None
+        e.base.sym = owner
+        robot = self.scope.robots[owner.index]
+        up = e.name.upper()
+        if up in ROBOT_VARIABLES:
+            e.sym = self.scope.robot_variable(robot, up)
+            return e.sym
+        other = self.scope.lookup(up)
+        self.report.error(
+            e.span,
+            f"{up} is a setting of the whole program, not of robot {robot.var}: write {up}"
+            if other is not None and other.kind == "sysvar"
+            else f"robot {robot.var} has no variable '{e.name}'",
+            "a robot's own variables: " + ", ".join(f"{robot.var}.{v}" for v in ROBOT_VARIABLES),
+        )
+        e.sym = Symbol("sysvar", up, T.ERROR, "system variable", writable=False)
+        return e.sym
 
     def _builtin_want(self, name: str, k: int, arg: ast.Expr) -> T.Type | None:
         """The context type of argument ``k`` (it types a tuple literal there)."""

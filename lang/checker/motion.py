@@ -6,12 +6,16 @@ increment; the path motions: POSEs). Each WITH clause is given at most once: a s
 (the settings table, lang/settings.py); a limit pair (JOINTLIMIT …) takes the minimum then
 the maximum tuple, minimum ≤ maximum per joint when constant; RECONFIGURATION gives one
 MAIN_JOINT per point (or one for a whole multi-point LIN).
+
+In a cell a motion names its robot (``MOVE welder LIN p``), whose joint count types its
+joint tuples; a group move (``MOVE a LIN p AND b PTP k``) names each robot once.
 """
 
 from __future__ import annotations
 
 from irlc.lang import ast
 from irlc.lang import types as T
+from irlc.lang.cell import ProgramRobot
 from irlc.lang.checker.constants import number
 from irlc.lang.checker.expressions import ExpressionTyper
 from irlc.lang.checker.scope import Reporter, Scope
@@ -19,6 +23,7 @@ from irlc.lang.diagnostics import Span
 from irlc.lang.settings import (
     BY_WITH_WORD,
     KIND_WORDS,
+    PTP_KINDS,
     approximation_hint,
     reconfiguration_counts,
     setting_message,
@@ -41,9 +46,37 @@ class MotionChecker:
         self.typer = typer
         self.report = report
 
+    def s_movegroup(self, g: ast.MoveGroup) -> None:
+        """``MOVE a LIN p AND b PTP k``: every part names its robot, each robot once."""
+        first: dict[int, ast.Move] = {}
+        for part in g.parts:
+            if part.robot is None:
+                self.report.error(
+                    part.span,
+                    "each part of a group move names its robot",
+                    f"write {KIND_WORDS[part.kind].split()[0]} holder "
+                    f"{_kind_word(part.kind)} … AND welder …",
+                )
+            self.s_move(part)
+            if not part.resolved:
+                continue
+            k = part.resolved[0]
+            if k in first:
+                where = first[k].robot_span or first[k].span
+                self.report.error(
+                    part.robot_span or part.span,
+                    f"robot {self.scope.robots[k].var} moves twice in one group move",
+                    f"a robot moves at most once in a group (first at column {where.column})",
+                )
+            first.setdefault(k, part)
+
     def s_move(self, s: ast.Move) -> None:
+        words = KIND_WORDS[s.kind]
+        robot = self.scope.robot_of(s, words, f"{words.split()[0]} {{}} {_kind_word(s.kind)} …")
+        if robot is not None:
+            s.resolved = (robot.index,)
         for t in s.targets:
-            self.move_target(s, t)
+            self.move_target(s, t, robot)
         seen: dict[str, Span] = {}
         for c in s.clauses:
             if c.kind in seen:
@@ -54,33 +87,46 @@ class MotionChecker:
                 )
                 continue
             seen[c.kind] = c.span
-            self.with_clause(s, c)
+            self.with_clause(s, c, robot)
 
-    def move_target(self, s: ast.Move, t: ast.Expr) -> None:
-        joint = self.scope.main_joint()
+    def main_joint(self, robot: ProgramRobot | None) -> T.JointTuple:
+        """The MAIN_JOINT type of ``robot`` (``None``: the program's)."""
+        return T.JointTuple("MAIN_JOINT", robot.n) if robot is not None else self.scope.main_joint()
+
+    def move_target(self, s: ast.Move, t: ast.Expr, robot: ProgramRobot | None) -> None:
+        joint = self.main_joint(robot)
+        what = f"{KIND_WORDS[s.kind]} target"
         if s.kind == "PTP":
             if isinstance(t, ast.Tuple):
                 n = len(t.items)
-                want = joint if n == self.scope.n or n != 6 else T.POSE
-                got = self.typer.expr(t, want)
+                want = joint if n == joint.n or n != 6 else T.POSE
+                if want == joint and robot is not None:
+                    self.typer.robot_tuple(t, "MAIN_JOINT", robot, what)
+                else:
+                    self.typer.expr(t, want)
                 return
             got = self.typer.expr(t, None)
-            if got not in (T.POSE, T.ERROR) and got != joint:
+            if got not in (T.POSE, T.ERROR) and not T.assignable(joint, got):
                 self.report.error(
                     t.span, f"MOVE PTP needs a POSE or a MAIN_JOINT target, got {got}"
                 )
+            elif isinstance(got, T.JointTuple) and robot is not None:
+                self.typer.robot_arity(t, robot, what)
+            return
+        if s.kind == "PTPINC" and robot is not None:
+            self.typer.robot_tuple(t, "MAIN_JOINT", robot, what)
             return
         want = joint if s.kind == "PTPINC" else T.POSE
         got = self.typer.expr(t, want)
-        self.typer.require(t, want, got, f"{KIND_WORDS[s.kind]} target")
+        self.typer.require(t, want, got, what)
 
-    def with_clause(self, s: ast.Move, c: ast.WithClause) -> None:
+    def with_clause(self, s: ast.Move, c: ast.WithClause, robot: ProgramRobot | None) -> None:
         ptp = s.kind in ("PTP", "PTPINC")
         if c.kind in LIMIT_TYPES:
-            self.limit_pair(c.kind, c.args[0], c.args[1], f"WITH {c.kind}")
+            self.limit_pair(c.kind, c.args[0], c.args[1], f"WITH {c.kind}", robot)
             return
         if c.kind == "RECONF":
-            self.reconf_clause(s, c)
+            self.reconf_clause(s, c, robot)
             return
         if c.kind not in _WITH_PARAMS:
             self.report.error(
@@ -115,8 +161,8 @@ class MotionChecker:
         if message is not None:
             self.report.error(value.span, message)
 
-    def reconf_clause(self, s: ast.Move, c: ast.WithClause) -> None:
-        joint = self.scope.main_joint()
+    def reconf_clause(self, s: ast.Move, c: ast.WithClause, robot: ProgramRobot | None) -> None:
+        joint = self.main_joint(robot)
         npts = len(s.targets)
         configs = c.args
         if (
@@ -128,8 +174,7 @@ class MotionChecker:
             configs = configs[0].items  # (k1, k2, k3): one configuration per point
         c.args = list(configs)
         for k in configs:
-            got = self.typer.expr(k, joint)
-            self.typer.require(k, joint, got, "WITH RECONFIGURATION")
+            self.configuration(k, robot, "WITH RECONFIGURATION")
         allowed = reconfiguration_counts(s.kind, npts)
         if len(configs) not in allowed:
             plural = "s" if len(configs) != 1 else ""
@@ -141,12 +186,22 @@ class MotionChecker:
                 if len(allowed) > 1
                 else "give one MAIN_JOINT configuration per point, in order",
             )
-        if s.kind in ("PTP", "PTPINC") and s.targets and s.targets[0].ty == joint:
+        target = s.targets[0].ty if s.targets else None
+        if s.kind in PTP_KINDS and target not in (T.ERROR, None) and T.assignable(joint, target):
             self.report.error(
                 c.span,
                 "WITH RECONFIGURATION needs a POSE target",
                 "a MAIN_JOINT target already fixes the configuration",
             )
+
+    def configuration(self, k: ast.Expr, robot: ProgramRobot | None, what: str) -> None:
+        """A MAIN_JOINT configuration of ``robot`` (its arity checked when constant)."""
+        if robot is not None:
+            self.typer.robot_tuple(k, "MAIN_JOINT", robot, what)
+            return
+        joint = self.scope.main_joint()
+        got = self.typer.expr(k, joint)
+        self.typer.require(k, joint, got, what)
 
     def _numbers_only(self, t: ast.Tuple) -> bool:
         """Whether every item of ``t`` is a number (then ``t`` is one configuration, not a
@@ -159,11 +214,22 @@ class MotionChecker:
         del self.report.diags[mark:]
         return numeric
 
-    def limit_pair(self, option: str, lo: ast.Expr, hi: ast.Expr, what: str) -> None:
+    def limit_pair(
+        self, option: str, lo: ast.Expr, hi: ast.Expr, what: str, robot: ProgramRobot | None
+    ) -> None:
         lo_name, hi_name = LIMIT_TYPES[option]
-        lo_t, hi_t = T.JointTuple(lo_name, self.scope.n), T.JointTuple(hi_name, self.scope.n)
+        n = robot.n if robot is not None else self.scope.n
+        lo_t, hi_t = T.JointTuple(lo_name, n), T.JointTuple(hi_name, n)
         got_lo, got_hi = self.typer.expr(lo, lo_t), self.typer.expr(hi, hi_t)
-        if got_lo == hi_t and got_hi == lo_t:
+        if (
+            T.assignable(hi_t, got_lo)
+            and T.assignable(lo_t, got_hi)
+            and T.ERROR
+            not in (
+                got_lo,
+                got_hi,
+            )
+        ):
             self.report.error(
                 lo.span,
                 f"{what} takes {lo_name} then {hi_name}: the arguments are swapped",
@@ -172,6 +238,9 @@ class MotionChecker:
             return
         ok = self.typer.require(lo, lo_t, got_lo, f"{what}, first argument")
         ok = self.typer.require(hi, hi_t, got_hi, f"{what}, second argument") and ok
+        if ok and robot is not None:
+            ok = self.typer.robot_arity(lo, robot, f"{what}, first argument")
+            ok = self.typer.robot_arity(hi, robot, f"{what}, second argument") and ok
         if not ok or lo.const is None or hi.const is None:
             return
         for k, (a, b) in enumerate(zip(lo.const.data, hi.const.data, strict=False)):
@@ -185,9 +254,15 @@ class MotionChecker:
                 return
 
     def s_reconfigure(self, s: ast.Reconfigure) -> None:
-        joint = self.scope.main_joint()
-        got = self.typer.expr(s.target, joint)
-        self.typer.require(s.target, joint, got, "RECONFIGURATION")
+        robot = self.scope.robot_of(s, "RECONFIGURATION", "RECONFIGURATION k FOR {}")
+        if robot is not None:
+            s.resolved = (robot.index,)
+        self.configuration(s.target, robot, "RECONFIGURATION")
+
+
+def _kind_word(kind: str) -> str:
+    """``LIN`` for ``LIN``/``LININC``, ``LIN PATH``, ``CIRCLE``, ``PTP``."""
+    return KIND_WORDS[kind].split(" ", 1)[1]
 
 
 def _fmt(x: float) -> str:

@@ -14,10 +14,14 @@ from dataclasses import dataclass, field
 from irlc.lang import ast
 from irlc.lang import types as T
 from irlc.lang.builtins import SYSTEM_VARIABLES
+from irlc.lang.cell import ROBOT_VARIABLES, ProgramRobot, common_joint_count, robot_list
 from irlc.lang.diagnostics import Diagnostic, Span
 from irlc.lang.irdata import ObstacleDef, Slot, Value
 from irlc.lang.settings import approximation_hint
 from irlc.lang.signature import RobotSignature
+
+RobotNamed = ast.Move | ast.ModalOn | ast.ModalOff | ast.Reconfigure
+"""The statements that name a robot in a cell."""
 
 
 @dataclass(eq=False)
@@ -52,6 +56,7 @@ class Symbol:
     routine: RoutineInfo | None = None
     span: Span | None = None  # where it is declared (its name), for editors
     file: str | None = None  # the file declaring it when not the program (a data list)
+    robot: int | None = None  # a robot's index; a system variable's robot in a cell
 
 
 class Reporter:
@@ -69,22 +74,77 @@ class Reporter:
 
 
 class Scope:
-    """The symbol tables, the routine being checked and the robot's joint names."""
+    """The symbol tables, the routine being checked, the robots and their joint names.
 
-    def __init__(self, robot: RobotSignature | None, report: Reporter):
-        self.robot = robot
-        self.n = robot.joint_count if robot is not None else 0
+    ``n`` is the joint count of the program's robots, 0 in a cell whose robots differ in it:
+    there a joint tuple takes any number of values, checked where it meets a robot."""
+
+    def __init__(self, robots: list[ProgramRobot], report: Reporter):
+        self.robots = robots
+        self.cell = len(robots) > 1
+        self.n = common_joint_count(robots) or 0
         self.report = report
         self.globals: dict[str, Symbol] = {}
         self.locals: dict[str, Symbol] | None = None
         self.routine: RoutineInfo | None = None
         self.obstacles: dict[str, ObstacleDef] = {}
-        self.joint_names: tuple[str, ...] = tuple(f"a{i}" for i in range(1, self.n + 1))
+        most = max((r.n for r in robots), default=0)
+        self.joint_names: tuple[str, ...] = tuple(f"a{i}" for i in range(1, most + 1))
         self.joint_field_names: dict[str, tuple[str, ...]] = {}
 
+    @property
+    def robot(self) -> RobotSignature | None:
+        """The program's robot when it has one (``None`` in a cell)."""
+        return self.robots[0].signature if len(self.robots) == 1 else None
+
     def main_joint(self) -> T.JointTuple:
-        """The robot's MAIN_JOINT type (one REAL per joint)."""
+        """The MAIN_JOINT type (one REAL per joint; any number in a mixed cell)."""
         return T.JointTuple("MAIN_JOINT", self.n)
+
+    # ------------------------------------------------------------------ robots
+    def find_robot(self, name: str, span: Span) -> ProgramRobot | None:
+        """The robot called ``name``; an error at ``span`` if there is none."""
+        robot = next((r for r in self.robots if r.var.lower() == name.lower()), None)
+        if robot is None:
+            sym = self.lookup(name)
+            what = f"'{sym.name}' is not a robot" if sym is not None else f"unknown robot '{name}'"
+            self.report.error(span, what, f"robots of this program: {robot_list(self.robots)}")
+        return robot
+
+    def robot_of(self, s: RobotNamed, what: str, example: str) -> ProgramRobot | None:
+        """The robot a statement names (its ``robot``, at ``robot_span``); without a name
+        the program's one robot, an error in a cell (``what``: the statement's words,
+        ``example``: how it names a robot, ``{}`` for the name)."""
+        if s.robot is not None:
+            return self.find_robot(s.robot, s.robot_span or s.span)
+        if not self.cell:
+            return self.robots[0]
+        self.report.error(
+            s.span,
+            f"{what} in a cell names its robot ({robot_list(self.robots)})",
+            "write " + example.format(self.robots[0].var),
+        )
+        return None
+
+    def robot_variable(self, robot: ProgramRobot, name: str) -> Symbol:
+        """``robot.NAME``: a system variable of one robot (:data:`ROBOT_VARIABLES`)."""
+        sym = self.lookup(name)
+        assert sym is not None and sym.kind == "sysvar", name
+        sym.robot = robot.index if self.cell else None
+        return sym
+
+    def robot_variable_problem(self, sym: Symbol, span: Span) -> bool:
+        """A robot's own system variable without its robot in a cell: reported (True)."""
+        if not self.cell or sym.kind != "sysvar" or sym.name not in ROBOT_VARIABLES:
+            return False
+        if sym.robot is not None:  # robot.R_TOOL
+            return False
+        self.report.error(
+            span,
+            f"{sym.name} belongs to one robot of the cell ({robot_list(self.robots)})",
+            f"write {self.robots[0].var}.{sym.name}",
+        )
+        return True
 
     # ------------------------------------------------------------------ declare
     def declare_global(self, name: str, sym: Symbol, span: Span) -> bool:

@@ -42,6 +42,7 @@ class StatementChecker:
         self.labels: dict[str, ast.Label] = {}
         self._elsewhere = {  # statement class (lower case) -> its checker elsewhere
             "move": motion.s_move,
+            "movegroup": motion.s_movegroup,
             "reconfigure": motion.s_reconfigure,
             "modalon": modal.s_modalon,
             "modaloff": modal.s_modaloff,
@@ -75,11 +76,20 @@ class StatementChecker:
         if self.typer.is_output(s.target):
             self.s_output(s)
             return
-        root = s.target
-        while isinstance(root, ast.Field | ast.Index):
-            root = root.base
-        assert isinstance(root, ast.Name)
-        sym = self.scope.lookup(root.name)
+        node = s.target  # robot.R_TOOL …: the checker marks the robot's variable (Field.sym)
+        while isinstance(node, ast.Field | ast.Index):
+            if isinstance(node, ast.Field):
+                self.typer.robot_field(node)
+            node = node.base
+        root = assignment_root(s.target)
+        if isinstance(root, ast.Field):  # robot.R_TOOL: a robot's own system variable
+            sym: Symbol | None = self.typer.robot_field(root)
+        else:
+            sym = self.scope.lookup(root.name)
+        reported = sym is not None and sym.kind == "sysvar" and sym.type == T.ERROR
+        if sym is not None and (reported or self.scope.robot_variable_problem(sym, root.span)):
+            self.typer.expr(s.value, None)
+            return
         if sym is None:
             hint = self.scope.suggest(root.name)
             self.report.error(root.span, f"unknown name '{root.name}'", hint)
@@ -114,10 +124,10 @@ class StatementChecker:
             self.motion.constant_setting(BY_SYSTEM_VARIABLE[sym.name].field, s.value, sym.name)
 
     def target_type(self, target: ast.Expr, sym: Symbol) -> T.Type | None:
-        if isinstance(target, ast.Name):
+        if isinstance(target, ast.Name) or target is assignment_root(target):
             target.sym = sym
             target.ty = sym.type
-            return sym.type
+            return None if sym.type == T.ERROR else sym.type
         t = self.typer.expr(target, None)
         return None if t == T.ERROR else t
 
@@ -332,6 +342,19 @@ class StatementChecker:
             self.report.error(s.args[1].span, str(pulse_error(k)))
 
 
+def assignment_root(target: ast.Expr) -> ast.Name | ast.Field:
+    """The variable an assignment stores into: the name under the target's fields and
+    elements, or a robot's system variable ``robot.R_TOOL`` (a Field the checker marked
+    with its ``sym``)."""
+    node = target
+    while isinstance(node, ast.Field | ast.Index):
+        if isinstance(node, ast.Field) and node.sym is not None:
+            return node
+        node = node.base
+    assert isinstance(node, ast.Name)
+    return node
+
+
 def always_returns(body: list[ast.Stmt]) -> bool:
     """Whether every path through ``body`` ends in RETURN or HALT."""
     for s in body:
@@ -351,6 +374,8 @@ def always_returns(body: list[ast.Stmt]) -> bool:
 
 
 def _describe(target: ast.Expr, sym: Symbol) -> str:
+    if isinstance(target, ast.Field) and target.sym is sym and isinstance(target.base, ast.Name):
+        return f"{target.base.name}.{sym.name}"  # robot.R_TOOL
     if isinstance(target, ast.Name):
         return sym.name
     if isinstance(target, ast.Field):

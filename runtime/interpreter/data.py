@@ -126,6 +126,8 @@ class DataOps:
             v = check_setting(SETTINGS_FIELDS[name], v, name).upper()
         else:
             v = check_setting(SETTINGS_FIELDS[name], number(v, name), name)
+        if SETTINGS_FIELDS[name] == "clearance" and v > 0:  # interim (issue 26)
+            raise RunFailure(f"{name} := {v:g}: this runtime cannot keep a clearance yet")
         setattr(self.state.settings, SETTINGS_FIELDS[name], v)
 
     # ------------------------------------------------------------------ fields and elements

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from irlc.lang import SimpleRobot, compile_source
+from irlc.lang import SimpleRobot, compile_source, write_code
 
 HERE = Path(__file__).parent
 GOLDEN = HERE / "golden"
@@ -26,6 +26,13 @@ def fake_resolver(name: str) -> SimpleRobot:
 def compile_text(text: str, filename: str = "test.irl", **kw):
     kw.setdefault("resolve_robot", fake_resolver)
     return compile_source(text, filename, **kw)
+
+
+def ird_text(source: str) -> str:
+    """The IRDATA text of a program that compiles (with the fake robots)."""
+    result = compile_text(source)
+    assert result.ok, [d.header() for d in result.diagnostics]
+    return write_code(result.code)
 
 
 @pytest.fixture

@@ -162,11 +162,11 @@ CASES: list[tuple[str, str, int, int, str]] = [
         "cannot use robot 'nobot'",
     ),
     (
-        "two_robots",
-        "PROGRAM t;\nROBOT r := six;\nROBOT s := six;\nBEGIN\nENDPROGRAM\n",
+        "two_robots_one_name",  # (two robots are a cell: tests/lang/test_cells.py)
+        "PROGRAM t;\nROBOT r := six;\nROBOT R := six;\nBEGIN\nENDPROGRAM\n",
         3,
-        1,
-        "second ROBOT clause",
+        7,
+        "'R' is already defined as 'r'",
     ),
     # ---------------------------------------------------------------- names
     ("unknown_name", body("  x := y;", "VAR REAL: x;\n"), 5, 8, "unknown name 'y'"),

@@ -12,7 +12,7 @@ import re
 import pytest
 from irlc.lang import CompileError, read_code, write_code
 
-from .conftest import compile_text
+from .conftest import ird_text
 
 SOURCE = """PROGRAM t;
 ROBOT r := six;
@@ -31,9 +31,7 @@ ENDPROGRAM
 
 @pytest.fixture(scope="module")
 def ird() -> str:
-    result = compile_text(SOURCE)
-    assert result.ok, [d.header() for d in result.diagnostics]
-    return write_code(result.code)
+    return ird_text(SOURCE)
 
 
 def corrupt(text: str, record: str, replacement: str) -> tuple[str, int]:

@@ -15,7 +15,7 @@ from irlc.lang.file_access import read_source_text
 from irlc.lang.irdata_checks import MAX_CELLS
 from irlc.lang.irdata_reader import MAX_ERRORS
 
-from .conftest import compile_text
+from .conftest import compile_text, ird_text
 from .test_irdata_corrupt import corrupt, errors
 
 SOURCE = """PROGRAM t;
@@ -40,9 +40,7 @@ ENDPROGRAM
 
 @pytest.fixture(scope="module")
 def ird() -> str:
-    result = compile_text(SOURCE)
-    assert result.ok, [d.header() for d in result.diagnostics]
-    return write_code(result.code)
+    return ird_text(SOURCE)
 
 
 def test_the_program_reads_back(ird: str) -> None:

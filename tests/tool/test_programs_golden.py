@@ -21,9 +21,18 @@ def _runtime_available() -> bool:
     return True
 
 
+CELLS = {"cooperating", "two_robots"}  # compiled (tests/lang); run once the runtime runs cells
+_CASES = [
+    pytest.param(p, marks=pytest.mark.xfail(strict=True, reason="cells: runtime pending (#26)"))
+    if p.stem in CELLS
+    else p
+    for p in find_programs(PROGRAMS)
+]
+
+
 @pytest.mark.scenario
 @pytest.mark.skipif(not _runtime_available(), reason="the runtime (irlc.runtime.run) is missing")
-@pytest.mark.parametrize("program", find_programs(PROGRAMS), ids=lambda p: p.stem)
+@pytest.mark.parametrize("program", _CASES, ids=lambda p: p.stem)
 def test_program_matches_golden(program, request):
     update = request.config.getoption("--update-golden")
     result = run_case(program, update=update)
