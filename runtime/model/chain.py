@@ -103,20 +103,11 @@ class Chain:
         rows = tuple(int(r) for r in task_rows)
         if list(rows) != sorted(set(rows)) or not set(rows) <= set(range(6)):
             raise ValueError(f"task rows must be increasing, within 0..5: {rows}")
-        self.model = model
-        self.kin = kin
-        self.bodies = bodies
-        self.task_rows = rows
-        self.tasks = tuple(tasks)
+        self.model, self.kin, self.bodies = model, kin, bodies
+        self.task_rows, self.tasks = rows, tuple(tasks)
+        self.n = model.n
+        self.weights = model.weights  # the redundancy weights w (W = diag(w))
         self.limits = JointLimits(model.position_limits, model.speed_limits, model.accel_limits)
-
-    @property
-    def n(self) -> int:
-        return self.model.n
-
-    @property
-    def weights(self) -> np.ndarray:
-        return self.model.weights
 
     @property
     def rows(self) -> int:
