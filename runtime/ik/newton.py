@@ -114,6 +114,7 @@ class InverseTransformation:
         self._cyclic = CyclicReference(self.weights, np.zeros(n))
         self._state = IterationState(np.zeros(n), np.zeros(n), np.zeros(n))
         self._accel = None
+        self._bodies_are_task_frames = chain.bodies.task_frames_are_world
         p = self.params
         if p.solver == "quadprog" and p.max_iter >= 1 and chain.compiled:
             from irlc.runtime.ik import accel  # (not at import: `python -m …accel` runs it)
@@ -159,14 +160,17 @@ class InverseTransformation:
         (the executor fails the run beyond its tolerance).
         """
         opts = options or self._default
-        if self._accel is not None and self.coupled is None and not opts.frozen:
+        compiled = self._accel is not None
+        if compiled and opts.obstacles and not self._bodies_are_task_frames:
+            compiled = False  # the kernel measures distances on the task chain's frames
+        if compiled and self.coupled is None and not opts.frozen:
             # the kernel runs the same finiteness test first (nothing before it reads q)
             return self._step_accel(q_start, q_prev, target, dt, opts)
         tl = target.tolist()
         if not (_finite(q_start) and math.isfinite(sum(tl[0]) + sum(tl[1]) + sum(tl[2]))):
             _require_finite("start configuration", q_start)
             _require_finite("target pose", target)
-        if self._accel is not None:
+        if compiled:
             return self._step_accel(q_start, q_prev, target, dt, opts)
         lim = self.limits
         acc = lim[2] if opts.accel is None else opts.accel

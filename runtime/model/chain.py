@@ -26,7 +26,8 @@ compact-QP step. A :class:`Chain` is that common form, built from parts:
   ``F = [F_task; F_extra]``, ``J = [J_task; J_extra]``.
 
 :class:`SerialChain` is one robot (exactly the behaviour and numbers of the solver before
-chains; the compiled engine covers it); :class:`~irlc.runtime.model.cooperating.
+chains; the compiled engine covers it, as any chain without extra rows: :attr:`Chain.
+compiled`); :class:`~irlc.runtime.model.cooperating.
 CooperatingChain` two robots as one chain; a mobile robot with a platform task is a
 :class:`SerialChain` with a :class:`~irlc.runtime.ik.tasks.platform.PlatformTask`.
 """
@@ -116,9 +117,11 @@ class Chain:
 
     @property
     def compiled(self) -> bool:
-        """True when the compiled engine covers the chain: its bodies are the task chain's
-        own frames (one robot) and it has no extra rows."""
-        return self.bodies.task_frames_are_world and not self.tasks
+        """True when the compiled engine covers the chain: it has no extra rows (it reads
+        the packed task chain, ``kin.chain_data``). Its distances are the task chain's
+        frames', so a cycle with obstacles runs on the numpy path unless the bodies are
+        those frames (``bodies.task_frames_are_world``: one robot)."""
+        return not self.tasks
 
     def with_tasks(self, tasks: Sequence[EqualityTask]) -> Chain:
         """The same chain with other extra rows (the parts are shared)."""

@@ -185,13 +185,24 @@ def _scene():
     return CooperatingChain(holder, welder)
 
 
-def test_cooperating_cycles_follow_a_line_on_the_workpiece_over_both_robots():
+def _compiled_available() -> bool:
+    from irlc.runtime.ik import accel
+
+    return accel.AVAILABLE
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_cooperating_cycles_follow_a_line_on_the_workpiece_over_both_robots(compiled):
     """A line in the holder's tool frame, 100 IPO cycles: every cycle the welder's tool in
     the holder's tool frame — from the two robots' own FK — is on the line, and both
-    robots move (the redundancy of the 12-joint chain)."""
+    robots move (the redundancy of the 12-joint chain). The compiled engine runs the
+    joined chain too (it reads the packed task chain) and gives the numpy path's joints."""
+    if compiled and not _compiled_available():
+        pytest.skip("no numba or IRLC_ENGINE=numpy")
     chain = _scene()
-    ik = InverseTransformation(chain, params=IKParams(accel=True))
-    assert not ik.accelerated  # the numpy path: its bodies are not the task frames
+    ik = InverseTransformation(chain, params=IKParams(accel=compiled))
+    reference = InverseTransformation(chain, params=IKParams(accel=False))
+    assert ik.accelerated == compiled and not reference.accelerated
     theta0 = chain.join(chain.holder.model.home_q(), chain.worker.model.home_q())
     start = chain.tcp(theta0)
     q_prev = q = theta0
@@ -203,6 +214,7 @@ def test_cooperating_cycles_follow_a_line_on_the_workpiece_over_both_robots():
         assert r.converged and not r.relaxed
         err = spatial.pose_error(_relative(chain, r.q), target)
         assert np.linalg.norm(err[:3]) < 1e-8 and np.linalg.norm(err[3:]) < 1e-8
+        np.testing.assert_allclose(r.q, reference.step(q, q_prev, target, 0.01).q, atol=1e-10)
         q_prev, q = q, r.q
     moved = [np.linalg.norm(a - b) for a, b in zip(chain.split(q), chain.split(theta0),
                                                     strict=True)]  # fmt: skip
@@ -233,22 +245,28 @@ def test_cooperating_clearances_are_each_robots_own_distances():
         assert r.clearances[name][0] == pytest.approx(distance, abs=1e-6)
 
 
-def test_cooperating_chain_avoids_an_obstacle_with_both_robots():
+@pytest.mark.parametrize("compiled", [False, True])
+def test_cooperating_chain_avoids_an_obstacle_with_both_robots(compiled):
     """OBSTACLE through the chain: a ball beside the welder's forearm; holding the relative
-    pose, the criterion moves the chain so that the clearance grows."""
+    pose, the criterion moves the chain so that the clearance grows. With obstacles the
+    chain's cycles run on the numpy path (its bodies are the robots' own links, not the
+    task chain's frames that the kernel would measure)."""
     chain = _scene()
     theta = chain.join(chain.holder.model.home_q(), chain.worker.model.home_q())
     frames = chain.world_frames(theta)
     link = chain.holder.model.n + 1 + 3
     ball = SphereObstacle("ball", frames[link][:3, 3] + np.array([0.0, 0.25, 0.0]), 0.05)
     opts = CycleOptions(obstacles=[ball], active_obstacles=frozenset({"ball"}))
-    ik = InverseTransformation(chain)
+    ik = InverseTransformation(chain, params=IKParams(accel=compiled and _compiled_available()))
+    reference = InverseTransformation(chain, params=IKParams(accel=False))
     target = chain.tcp(theta)
     q_prev = q = theta
     first = None
     for _ in range(30):
         r = ik.step(q, q_prev, target, 0.01, opts)
         assert r.converged
+        want = reference.step(q, q_prev, target, 0.01, opts)
+        assert np.array_equal(r.q, want.q) and r.clearances == want.clearances
         first = r.clearances["ball"][0] if first is None else first
         q_prev, q = q, r.q
     assert r.clearances["ball"][0] > first + 1e-3
