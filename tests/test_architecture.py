@@ -47,10 +47,7 @@ KNOWN_PRIVATE_IMPORTS: set[str] = {
     "bench/bench_programs.py",
     "bench/bench_run.py",
 }
-KNOWN_LARGE_CLASSES: set[str] = {
-    "irlc.runtime.control.executor.SimulatedController",
-    "irlc.runtime.interpreter.machine.Interpreter",
-}
+KNOWN_LARGE_CLASSES: set[str] = set()
 
 
 def _modules() -> dict[str, Path]:

@@ -1,20 +1,28 @@
 """Approximate positioning in the simulated controller (``WITH APPROX`` / ``R_APPROX``):
 which segment is pending, when it is blended into the next one or run to an exact stop,
 and the report entry of each approximated point. The geometry (superposition, the
-choice of the overlap) is :mod:`~irlc.runtime.plan.blending`; the cycles themselves are the
-executor's (:mod:`~irlc.runtime.control.executor`), whose controller includes this class.
+choice of the overlap) is :mod:`~irlc.runtime.plan.blending`; the cycles are the cycle
+runner's (:mod:`~irlc.runtime.control.cycles`).
 
-* :meth:`ApproximatePositioning._feed` runs a segment: blended with the pending one (if
+The controller uses :class:`ApproximatePositioning` through a small interface:
+
+* :meth:`~ApproximatePositioning.distance` — a statement's blend distance (WITH APPROX,
+  else R_APPROX);
+* :meth:`~ApproximatePositioning.before_move` — a change of options, tool, base or IPO
+  cycle ends the pending motion with an exact stop; LIN/CIRCLE → PTP: the joints the
+  inverse transformation will give for the pending Cartesian tail are computed ahead
+  (it is deterministic), so that the PTP is planned from their end and the two are
+  superposed in joint space;
+* :meth:`~ApproximatePositioning.start_point` — where the next motion starts (the
+  pending segment's point);
+* :meth:`~ApproximatePositioning.feed` runs a segment: blended with the pending one (if
   any), and itself left pending — its last cycles within ``min(APPROX, L/2)`` of its
-  point — when its statement approximates;
-* :meth:`ApproximatePositioning._blend` runs the pending rest and the overlap; a blend
-  the inverse transformation cannot follow is undone (state and recorder) and its
-  distance bisected down to an exact stop;
-* :meth:`ApproximatePositioning.flush` ends the pending segment with an exact stop (the
+  point — when its statement approximates; a blend the inverse transformation cannot
+  follow is undone (:class:`BlendMark`: the controller state, the recorder and both
+  segments' progress) and its distance bisected down to an exact stop;
+* :meth:`~ApproximatePositioning.flush` ends the pending segment with an exact stop (the
   advance run stops: WAIT, WAIT FOR, input and R_ACT reads, options, the program's end);
-* LIN/CIRCLE → PTP: the joints the inverse transformation will give for the pending
-  Cartesian tail are computed ahead (:meth:`_joint_chain`; it is deterministic), the PTP
-  is planned from their end and the two are superposed in joint space.
+* ``blends`` — the report's ``approximations``, one entry per approximated point.
 """
 
 from __future__ import annotations
@@ -27,7 +35,12 @@ from dataclasses import dataclass, field
 import numpy as np
 from irlc.runtime import units
 from irlc.runtime.commands import MotionCommand, Settings, setting_error
+from irlc.runtime.control.cycles import CycleRunner
+from irlc.runtime.control.segment_run import PendingSegment, RunMark, SegmentRun
+from irlc.runtime.control.state import ControllerState
+from irlc.runtime.control.statement_log import StatementLog
 from irlc.runtime.errors import RunFailure
+from irlc.runtime.outputs.recorder import Recorder
 from irlc.runtime.plan.blending import (
     NO_OVERLAP,
     Overlap,
@@ -38,72 +51,114 @@ from irlc.runtime.plan.blending import (
     tail_cycles,
     within_joint_limits,
 )
-from irlc.runtime.plan.interpolator import ReferencePath, Segment
-from irlc.runtime.plan.preinterp import override_factor
+from irlc.runtime.plan.interpolator import Segment
 
 _MIN_BLEND = 1e-4  # m: a blend shortened below this is an exact stop
 _BISECTIONS = 5  # trials when a blend must be shortened (1/32 of the failed distance)
 
 
-class ApproximatePositioning:
-    """The approximate-positioning part of :class:`~irlc.runtime.control.executor.
-    SimulatedController` (it provides ``_run_cycles``, ``_start``, ``_ik_cycle``,
-    ``_joint_cycle``, ``recorder``, ``statements``, ``q``, ``q_prev``, ``_t``)."""
+@dataclass(frozen=True)
+class BlendMark:
+    """What a tried blend changes, to undo it: the controller state, the recorder, the
+    progress of the pending segment A and of the next segment B."""
 
-    _pending: PendingSegment | None
-    blends: list[dict]
+    state: ControllerState
+    recorder: tuple
+    a: RunMark
+    b: RunMark
+
+
+class ApproximatePositioning:
+    """The blender of the simulated controller (module docstring): it moves ``state``
+    through ``cycles``, records in ``recorder`` and ends statement spans in ``log``."""
+
+    def __init__(
+        self,
+        state: ControllerState,
+        recorder: Recorder,
+        cycles: CycleRunner,
+        log: StatementLog,
+    ):
+        self.state, self.recorder, self.cycles, self.log = state, recorder, cycles, log
+        self.blends: list[dict] = []  # one entry per approximated point (the report's)
+
+    @property
+    def pending(self) -> PendingSegment | None:
+        return self.state.pending
 
     def flush(self, reason: str = "") -> None:
         """Ends the pending approximated motion with an exact stop at its point (the
         advance run stops: WAIT, WAIT FOR, an input read, R_ACT_POSE, a change of options,
         the end of the program); ``reason`` goes into the point's report entry."""
-        pending, self._pending = self._pending, None
+        st = self.state
+        pending, st.pending = st.pending, None
         if pending is None:
             return
-        self._run_cycles(pending.run, pending.run.seg.cycles)
-        self.blends.append(pending.entry(None, self.dt_used, reason or "exact stop"))
-        self._extend_span(pending.run.seg.line)
+        self.cycles.run(pending.run, pending.run.seg.cycles)
+        self.blends.append(pending.entry(None, pending.run.dt, reason or "exact stop"))
+        self.log.exact_stop(pending.run.seg.line, st.t)
 
-    def _extend_span(self, line: int) -> None:
-        """The cycle-time span of the statement whose point was pending ends where the
-        exact stop ends (the spans keep tiling the run: cycle_time.py)."""
-        if self.statements and self.statements[-1].line == line:
-            last = self.statements[-1]
-            self.statements[-1] = dataclasses.replace(last, end=self._t, stop="exact")
+    def before_move(self, cmd: MotionCommand, context: tuple) -> None:
+        """Before a motion is planned: an exact stop when what a blend needs changed
+        (``context``: options, tool, base, Δt); into a PTP from a Cartesian segment the
+        pending tail's joints computed ahead (:meth:`_joint_chain`)."""
+        pending = self.state.pending
+        if pending is not None and pending.context != context:
+            self.flush(self._pending_reason(cmd, context))
+        pending = self.state.pending
+        joint = cmd.kind in ("PTP", "PTPINC")
+        if pending is not None and joint and not pending.run.seg.is_joint:
+            try:  # LIN/CIRCLE → PTP: plan the PTP from the Cartesian segment's end joints
+                self._joint_chain(pending)
+            except RunFailure:  # it cannot be followed: run it (and fail) at its own line
+                self.flush("the motion before cannot be followed")
 
-    def _approx(self, cmd: MotionCommand, settings: Settings) -> float:
+    def start_point(self) -> tuple[np.ndarray | None, np.ndarray | None]:
+        """``(joints, world TCP)`` where the next motion starts when a segment is pending
+        (either may be ``None``: not known ahead); ``(None, None)`` when none is."""
+        pending = self.state.pending
+        if pending is None:
+            return None, None
+        seg = pending.run.seg
+        if seg.is_joint:
+            return seg.path.q1.copy(), None
+        q = pending.chain[seg.cycles].copy() if pending.chain else None  # (_joint_chain)
+        return q, seg.path.at(1.0).copy()
+
+    def distance(self, cmd: MotionCommand, settings: Settings) -> float:
         """The statement's blend distance (m): WITH APPROX, else R_APPROX."""
         value = cmd.approx if cmd.approx is not None else settings.approx
         what = "WITH APPROX" if cmd.approx is not None else "R_APPROX"
         error = setting_error("approx", value)
         if error is not None:
-            raise RunFailure(f"{what} := {value!r}: {error}", cmd.line, self._t)
+            raise RunFailure(f"{what} := {value!r}: {error}", cmd.line, self.state.t)
         return float(value) * units.MM
 
     def _pending_reason(self, cmd: MotionCommand, context) -> str:
-        old = self._pending.context if self._pending is not None else context
+        pending = self.state.pending
+        old = pending.context if pending is not None else context
         if old[0] != context[0]:
             return f"the options changed before line {cmd.line} (exact stop)"
         return f"R_TOOL, R_BASE or R_IPO changed before line {cmd.line} (exact stop)"
 
-    def _feed(self, run: SegmentRun, approx: float, context, point: int) -> None:
+    def feed(self, run: SegmentRun, approx: float, context, point: int) -> None:
         """Run segment ``run``: blended with the pending one if any, and itself left
         pending (its last cycles within ``APPROX`` of its point) when ``approx > 0``."""
-        seg = run.seg
+        seg, st = run.seg, self.state
         length = self._seg_length(run)
         reserve = 0
         if approx > 0.0:
             d_own = limit_distance(approx, length, length)
             reserve = tail_cycles(self._remaining(run, d_own), d_own)
-        pending, self._pending = self._pending, None
+        pending, st.pending = st.pending, None
         if pending is not None:
             overlap = self._blend(pending, run, length, reserve)
-            self.blends.append(pending.entry(overlap, self.dt_used, pending.limit_reason))
+            self.blends.append(pending.entry(overlap, run.dt, pending.limit_reason))
         if approx > 0.0:
-            self._run_cycles(run, max(run.done, seg.cycles - reserve))
-            self._pending = PendingSegment(run, approx, length, context, point)
+            self.cycles.run(run, max(run.done, seg.cycles - reserve))
+            st.pending = PendingSegment(run, approx, length, context, point)
         else:
-            self._run_cycles(run, seg.cycles)
+            self.cycles.run(run, seg.cycles)
 
     # ------------------------------------------------------------------ blending
 
@@ -140,37 +195,30 @@ class ApproximatePositioning:
     def _try_blend(self, pending: PendingSegment, run: SegmentRun, overlap: Overlap, *, keep: bool):
         """Runs the rest of A and the blend; ``None`` if it worked (undone unless
         ``keep``), else the failure, undone. An exact stop's failure is raised."""
-        state = self._mark(pending.run, run)
+        mark = self._mark(pending.run, run)
         try:
-            self._run_cycles(pending.run, pending.run.seg.cycles - overlap.cycles)
+            self.cycles.run(pending.run, pending.run.seg.cycles - overlap.cycles)
             self._blend_cycles(pending, run, overlap.cycles)
         except RunFailure as exc:
             if overlap.cycles == 0:
                 raise
-            self._rewind(state, pending.run, run)
+            self._rewind(mark, pending.run, run)
             return exc
         else:
             if not keep:
-                self._rewind(state, pending.run, run)
+                self._rewind(mark, pending.run, run)
             return None
         finally:
-            self.recorder.release(state[5])  # its samples may be spilled (recorder.py)
+            self.recorder.release(mark.recorder)  # its samples may be spilled (recorder.py)
 
-    def _mark(self, a_run: SegmentRun, b_run: SegmentRun) -> tuple:
-        return (self.q.copy(), self.q_prev.copy(), self._t, self._cycles, self._last_reference,
-                self.recorder.mark(), a_run.done, b_run.done, b_run.started, b_run.reference,
-                None if b_run.cycle_opts is None else b_run.cycle_opts.reference,
-                None if a_run.cycle_opts is None else a_run.cycle_opts.reference)  # fmt: skip
+    def _mark(self, a_run: SegmentRun, b_run: SegmentRun) -> BlendMark:
+        return BlendMark(self.state.snapshot(), self.recorder.mark(), a_run.mark(), b_run.mark())
 
-    def _rewind(self, state: tuple, a_run: SegmentRun, b_run: SegmentRun) -> None:
-        (self.q, self.q_prev, self._t, self._cycles, self._last_reference, rec, a_done,
-         b_done, b_started, b_ref, b_opt_ref, a_opt_ref) = state  # fmt: skip
-        self.recorder.rewind(rec)
-        a_run.done, b_run.done, b_run.started, b_run.reference = a_done, b_done, b_started, b_ref
-        if b_run.cycle_opts is not None:
-            b_run.cycle_opts.reference = b_opt_ref
-        if a_run.cycle_opts is not None:
-            a_run.cycle_opts.reference = a_opt_ref
+    def _rewind(self, mark: BlendMark, a_run: SegmentRun, b_run: SegmentRun) -> None:
+        self.state.restore(mark.state)
+        self.recorder.rewind(mark.recorder)
+        a_run.restore(mark.a)
+        b_run.restore(mark.b)
 
     def _seg_length(self, run: SegmentRun) -> float:
         """Path length of the TCP (m): the chord for PTP."""
@@ -297,11 +345,11 @@ class ApproximatePositioning:
         a PTP segment the joints are superposed and set directly; into a Cartesian one
         the poses (a PTP's by forward kinematics) are, followed by the inverse
         transformation."""
-        a_run = pending.run
+        a_run, st, cycles = pending.run, self.state, self.cycles
         seg_b, dt = run.seg, run.dt
         big_k = a_run.seg.cycles
-        self._start(run)
-        self._active_obstacles = run.obstacles
+        cycles.start(run)
+        st.active_obstacles = run.obstacles
         k0 = len(self.recorder)
         if seg_b.is_joint:
             q1 = self._a_joints(pending, big_k)
@@ -310,8 +358,8 @@ class ApproximatePositioning:
             for j in range(1, m + 1):
                 qa = self._a_joints(pending, big_k - m + j)
                 _, qb = seg_b.setpoint(j, dt)
-                self._joint_cycle(seg_b, blend_joints(qa, qb, q1), j, 0.0, dt, run.solver, False)
-            self._last_reference = None
+                cycles.joint_cycle(seg_b, blend_joints(qa, qb, q1), j, dt, run.solver, False)
+            st.last_reference = None
         else:
             corner = self._a_pose(pending, big_k)
             opts, reference = run.cycle_opts, run.reference
@@ -320,8 +368,8 @@ class ApproximatePositioning:
                 s, xb = seg_b.setpoint(j, dt)
                 if reference is not None:
                     opts.reference = reference.at(s)
-                self._ik_cycle(seg_b, blend_pose(xa, xb, corner), dt, opts, run.solver)
-            self._last_reference = opts.reference
+                cycles.ik_cycle(seg_b, blend_pose(xa, xb, corner), dt, opts, run.solver)
+            st.last_reference = opts.reference
         a_run.done, run.done = big_k, max(run.done, m)
         if m:
             tcp = self.recorder.rows("tcp", max(k0 - 1, 0), k0 + m)[:, :3, 3]
@@ -332,7 +380,7 @@ class ApproximatePositioning:
     def _check_chain(self, pending: PendingSegment, k: int, line: int) -> None:
         """The joints computed ahead for a Cartesian segment are those it reached (the
         inverse transformation is deterministic); a difference would be a jump."""
-        gap = float(np.max(np.abs(self.q - pending.chain[k])))
+        gap = float(np.max(np.abs(self.state.q - pending.chain[k])))
         if gap > 1e-9:
             self.recorder.warnings.append(
                 f"line {line}: the blend into the PTP starts {gap:.3g} (rad | m) away from "
@@ -360,10 +408,10 @@ class ApproximatePositioning:
         state), so that a PTP can be planned from its end and blended in joint space."""
         run = pending.run
         seg, dt = run.seg, run.dt
-        self._start(run)
+        self.cycles.start(run)
         opts, reference = run.cycle_opts, run.reference
         saved = opts.reference
-        q, q_prev = self.q.copy(), self.q_prev.copy()
+        q, q_prev = self.state.q.copy(), self.state.q_prev.copy()
         chain = {run.done: q}
         try:
             for k in range(run.done + 1, seg.cycles + 1):
@@ -425,57 +473,6 @@ class _Tails:
         return self.a, self.b[:n], joints, self.speed_cap
 
 
-class SegmentRun:
-    """One segment being executed: cycles done so far and its per-cycle options."""
-
-    def __init__(self, ctl, seg: Segment, options, solver, settings):
-        self.seg, self.solver = seg, solver
-        # the k = R_OVERRIDE/100 it was planned with: a failure's suggested speeds (ik.cause)
-        seg.info["override"] = override_factor(settings)
-        self.dt = ctl._dt(settings)
-        self.done = 0
-        self.started = False
-        self.obstacles = frozenset(options.obstacles)
-        self.reference: ReferencePath | None = None
-        self.cycle_opts = None if seg.is_joint else ctl._cycle_options(seg, options)
-
-
-@dataclass
-class PendingSegment:
-    """An approximated segment whose last cycles wait for the next motion."""
-
-    run: SegmentRun
-    approx: float  # m, requested
-    length: float  # m, TCP path length (chord for PTP)
-    context: tuple  # what must not change for a blend (kind family, options, tool, base, Δt)
-    point: int  # 1-based point of its statement
-    limit: float = 0.0  # m, d = min(APPROX, L_A/2, L_B/2)
-    limit_reason: str = ""
-    min_speed: float = 0.0  # m/s, lowest TCP speed during the blend
-    chain: dict = field(default_factory=dict)  # cycle → joints (Cartesian A before a PTP)
-    start_time: float = 0.0  # s, the blend's first sample's predecessor
-
-    def entry(self, overlap: Overlap | None, dt: float, reason: str) -> dict:
-        """The point's report entry (mm, s): ``overlap`` None is an exact stop."""
-        o = overlap or NO_OVERLAP
-        seg = self.run.seg
-        return {
-            "line": seg.line,
-            "point": self.point,
-            "kind": seg.kind,
-            "approx_mm": _mm(self.approx),
-            "limit_mm": _mm(self.limit if overlap is not None else 0.0),
-            "used_mm": _mm(o.used),
-            "max_distance_mm": _mm(o.max_distance),
-            "start_s": round(self.start_time, 9) if o.cycles else None,
-            "cycles": o.cycles,
-            "saved_s": round(o.cycles * dt, 9),
-            "min_speed_mm_s": _mm(self.min_speed) if o.cycles else 0.0,
-            "blended": o.cycles > 0,
-            "note": reason if (reason or not o.cycles) else "",
-        }
-
-
 def _peak_speed(seg: Segment, dt: float) -> float:
     """The largest TCP path speed of a Cartesian segment (m/s): its profile's largest
     ``Δs/Δt`` on the IPO grid times its path length (any profile shape)."""
@@ -483,7 +480,3 @@ def _peak_speed(seg: Segment, dt: float) -> float:
     s[0] = 0.0
     steps = np.diff(np.array(s))
     return float(steps.max(initial=0.0)) / dt * float(getattr(seg.path, "length", 0.0))
-
-
-def _mm(x: float) -> float:
-    return round(x / units.MM, 6) + 0.0

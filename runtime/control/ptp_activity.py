@@ -3,9 +3,9 @@ report's limit activity of joint motion (``limit_active_s``, ``limit_activity``)
 counterpart of the inverse transformation's active box for Cartesian motion.
 
 The joint profile (:meth:`~irlc.runtime.plan.preinterp.PreInterpolator.joint_profile`) keeps
-each joint's peak speed and acceleration in ``seg.info`` (``joint_speed``,
-``joint_accel``); a joint is at its bound when that peak equals its active limit within a
-relative 1e-9.
+each joint's peak speed and acceleration in ``seg.peaks``
+(:class:`~irlc.runtime.plan.interpolator.JointPeaks`); a joint is at its bound when that
+peak equals its active limit within a relative 1e-9.
 """
 
 from __future__ import annotations
@@ -34,18 +34,20 @@ def at_bounds(seg: Segment, k: int, dt: float) -> dict[int, str] | None:
 def _bounds(seg: Segment) -> tuple[list, list]:
     """``(joints at their acceleration bound, joints at their speed bound)`` of a PTP
     segment, each as ``(joint, moves up)``, within a relative 1e-9 (cached per segment)."""
-    cached = seg.info.get("at_bounds")
-    if cached is None:
+    peaks = seg.peaks
+    if peaks is None:
+        return [], []
+    if peaks.at_bounds is None:
         path, (_, spd, acc) = seg.path, seg.limits
-        accel, speed = seg.info.get("joint_accel"), seg.info.get("joint_speed")
+        accel, speed = peaks.accel, peaks.speed
         at_accel, at_speed = [], []
         for j in range(len(path.q0)):
             up = bool(path.q1[j] >= path.q0[j])
-            if path.q1[j] == path.q0[j] or accel is None:
+            if path.q1[j] == path.q0[j]:
                 continue
             if accel[j] >= min(acc[j, 1], -acc[j, 0]) * (1.0 - 1e-9):
                 at_accel.append((j, up))
             if speed[j] >= (spd[j, 1] if up else -spd[j, 0]) * (1.0 - 1e-9):
                 at_speed.append((j, up))
-        cached = seg.info["at_bounds"] = (at_accel, at_speed)
-    return cached
+        peaks.at_bounds = (at_accel, at_speed)
+    return peaks.at_bounds

@@ -6,10 +6,8 @@ the active limits and ``R_SPEED_PTP``/``R_ACC_PTP``) while the TCP is held; afte
 profile ends the reference stays at ``k`` and the statement ends at the first cycle with
 ``‖θ(t) − θ(t−Δt)‖ < ε_conf`` *and* ``‖θ(t−Δt) − θ(t−2Δt)‖ < ε_conf``
 (``IKParams.eps_conf``; the second condition is our addition to seed 4.2.3, see
-:func:`~irlc.runtime.ik.self_motion.reconfiguration_done`) or after ``reconf_settle_s``
-seconds (a warning). The cycles themselves are the executor's
-(:mod:`~irlc.runtime.control.executor`),
-whose controller includes this class.
+:func:`~irlc.runtime.ik.self_motion.reconfiguration_done`) or after ``settle_s``
+seconds (a warning). The cycles are the cycle runner's (:mod:`~irlc.runtime.control.cycles`).
 """
 
 from __future__ import annotations
@@ -17,72 +15,96 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from irlc.runtime import units
 from irlc.runtime.commands import ModalOptions, MotionCommand, Settings
+from irlc.runtime.control.budget import RunBudget
+from irlc.runtime.control.cycles import CycleRunner
+from irlc.runtime.control.segment_run import Solver
+from irlc.runtime.control.statement_log import StatementLog
 from irlc.runtime.ik.self_motion import reconfiguration_done
+from irlc.runtime.plan.interpolator import Segment
+from irlc.runtime.plan.preinterp import PlanState, PreInterpolator
 from irlc.runtime.values import JointTuple
 
 
-class Reconfiguration:
-    """The RECONFIGURATION statement of :class:`~irlc.runtime.control.executor.SimulatedController`
-    (it provides ``flush``, ``pre``, ``recorder``, ``_solver``, ``_plan_state``,
-    ``_cycle_options``, ``_within_budget``, ``_grant_cycles``, ``_ik_cycle``,
-    ``_log_statement``, ``q``, ``q_prev``, ``_t``, ``opts``, ``ik_params``)."""
+class SelfMotion:
+    """RECONFIGURATION of the simulated controller: plans the reference and runs the
+    self-motion's cycles on ``cycles`` (module docstring), within ``budget``, logging
+    the statement's span in ``log``."""
+
+    def __init__(
+        self,
+        pre: PreInterpolator,
+        cycles: CycleRunner,
+        budget: RunBudget,
+        log: StatementLog,
+        *,
+        eps_conf: float,
+        settle_s: float,
+    ):
+        self.pre, self.cycles, self.budget, self.log = pre, cycles, budget, log
+        self.eps_conf = eps_conf
+        self.settle_s = settle_s
 
     def reconfigure(
-        self, target: JointTuple, line: int, settings: Settings, options: ModalOptions
+        self,
+        target: JointTuple,
+        line: int,
+        settings: Settings,
+        options: ModalOptions,
+        solver: Solver,
+        plan: PlanState,
     ) -> None:
-        self.flush(f"RECONFIGURATION at line {line}")
-        self._line = line
-        self.recorder.tol_position = settings.path_tol * units.MM  # R_PATH_TOL
-        solver = self._solver(settings)
-        state = self._plan_state(settings, solver)
-        lims = self.pre.limits((None, None, None), options, line)
-        self.pre.check_inside(self.q, lims[0], line, "the limits exclude the current state")
-        k = self.pre.joints_si(target)
+        """Self-motion to ``target`` from ``plan`` (where the robot stands), the TCP held
+        by ``solver``'s inverse transformation."""
+        pre, st = self.pre, self.cycles.state
+        lims = pre.limits((None, None, None), options, line)
+        pre.check_inside(st.q, lims[0], line, "the limits exclude the current state")
+        k = pre.joints_si(target)
         # reference profile: a synchronised joint move from here to k (PTP timing)
         cmd = MotionCommand("PTP", (target,), line)
-        self.pre.check_inside(k, lims[0], line, "RECONFIGURATION target")
-        ref_seg = self.pre.joint_profile(cmd, settings, self.q, k, lims, state.dt)
-        hold = self.pre.hold("reconf", line, state, 0, lims)
-        dt = state.dt
-        cycle_opts = self._cycle_options(hold, options)
+        pre.check_inside(k, lims[0], line, "RECONFIGURATION target")
+        dt = plan.dt
+        ref_seg = pre.joint_profile(cmd, settings, st.q, k, lims, dt)
+        hold = pre.hold("reconf", line, plan, 0, lims)
+        cycle_opts = self.cycles.options_for(hold, options)
         cycle_opts.self_motion = True
-        settle = max(1, math.ceil(self.opts.reconf_settle_s / dt))
+        settle = max(1, math.ceil(self.settle_s / dt))
         # the time budget for the longest it may take; the cycle budget for the reference's
         # cycles now, each settling cycle when it is simulated (it usually settles at once)
         what = "the RECONFIGURATION"
-        self._within_budget((ref_seg.cycles + settle) * dt, line, what)
-        self._grant_cycles(ref_seg.cycles, ref_seg.cycles * dt, line, what)
-        t0, stop = self._t, "failed"
+        self.budget.check_time(st.t, (ref_seg.cycles + settle) * dt, line, what)
+        self.budget.grant(ref_seg.cycles, ref_seg.cycles * dt, st.t, line, what)
+        t0, stop = st.t, "failed"
         try:
-            self._reconf_cycles(ref_seg, k, hold, cycle_opts, solver, dt, settle, line)
+            self._cycles(ref_seg, k, hold, cycle_opts, solver, dt, settle, line)
             stop = "exact"
         finally:
             limit = ref_seg.limiting
-            self._log_statement("RECONFIGURATION", line, t0, stop, limit, settings.override)
+            self.log.add("RECONFIGURATION", line, t0, st.t, stop, limit, settings.override)
 
-    def _reconf_cycles(self, ref_seg, k, hold, cycle_opts, solver, dt, settle, line) -> None:
+    def _cycles(self, ref_seg: Segment, k, hold: Segment, cycle_opts, solver, dt, settle, line):
         """The self-motion's cycles: follow the reference, then settle (module doc)."""
+        st, cycles = self.cycles.state, self.cycles
         k_cyc = 0
         while True:
             k_cyc += 1
             if k_cyc <= ref_seg.cycles:
                 _, ref = ref_seg.setpoint(k_cyc, dt)
             else:
-                self._grant_cycles(1, dt, line, "the RECONFIGURATION's settling")
+                what = "the RECONFIGURATION's settling"
+                self.budget.grant(1, dt, st.t, line, what)
                 ref = k
             cycle_opts.reference = ref
-            q_prev2 = self.q_prev  # θ(t − 2Δt) after this cycle: the two-cycle rule
-            self._ik_cycle(hold, hold.path.pose, dt, cycle_opts, solver)
-            self._last_reference = np.array(ref, dtype=float)
+            q_prev2 = st.q_prev  # θ(t − 2Δt) after this cycle: the two-cycle rule
+            cycles.ik_cycle(hold, hold.path.pose, dt, cycle_opts, solver)
+            st.last_reference = np.array(ref, dtype=float)
             if k_cyc > ref_seg.cycles and reconfiguration_done(
-                self.q, self.q_prev, self.ik_params.eps_conf, q_prev2
+                st.q, st.q_prev, self.eps_conf, q_prev2
             ):
                 break
             if k_cyc > ref_seg.cycles + settle:
-                self.recorder.warnings.append(
+                cycles.recorder.warnings.append(
                     f"line {line}: RECONFIGURATION did not settle within "
-                    f"{self.opts.reconf_settle_s:g} s after its reference arrived"
+                    f"{self.settle_s:g} s after its reference arrived"
                 )
                 break

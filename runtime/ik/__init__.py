@@ -13,15 +13,11 @@ from irlc.runtime.ik.coupled import CoupledLimitError
 from irlc.runtime.ik.freeze import FreezeError
 from irlc.runtime.ik.limits import LimitViolation, LimitViolationError, intersect_limits
 from irlc.runtime.ik.newton import IKFailure, InverseTransformation
-from irlc.runtime.ik.params import (
-    CycleOptions,
-    IKParams,
-    ObstacleParams,
-    task_rows_for,
-)
+from irlc.runtime.ik.params import CycleOptions, IKParams, ObstacleParams
 from irlc.runtime.ik.pose import PoseSolution, solve_pose
 from irlc.runtime.ik.result import CycleResult
 from irlc.runtime.ik.self_motion import reconfiguration_done
+from irlc.runtime.model.chain import task_rows_for
 
 __all__ = [
     "CoupledLimitError",

@@ -27,6 +27,7 @@ For the desired TCP pose ``x`` and ``θ_s`` the configuration at the start of th
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -45,7 +46,7 @@ from irlc.runtime.ik.result import CycleResult
 from irlc.runtime.ik.state import IterationState
 from irlc.runtime.ik.task_error import pose_error_list
 from irlc.runtime.ik.weighted import WeightedDisplacement
-from irlc.runtime.model.distance import critical_points
+from irlc.runtime.model.chain import Chain, ChainPoint, JointLimits, SerialChain
 from irlc.runtime.model.kinematics import Kinematics
 from irlc.runtime.model.naming import JointNaming
 
@@ -55,25 +56,40 @@ class IKFailure(RunFailure):
 
 
 class InverseTransformation:
-    """Per-robot solver state (arrays, compact basis) reused from cycle to cycle."""
+    """Per-chain solver state (arrays, compact basis) reused from cycle to cycle.
+
+    ``InverseTransformation(chain, params=…)`` solves a :class:`~irlc.runtime.model.chain.
+    Chain`; ``InverseTransformation(model, kinematics, params)`` one robot: its
+    :class:`~irlc.runtime.model.chain.SerialChain` with ``kinematics`` (default: the
+    robot file's tool) and ``params.task_rows``. The chain's task rows win over
+    ``params.task_rows`` (``self.params`` carries the chain's)."""
 
     def __init__(
         self,
-        model: RobotModel,
-        kinematics: Kinematics,
+        model: RobotModel | Chain,
+        kinematics: Kinematics | None = None,
         params: IKParams | None = None,
         naming: JointNaming | None = None,
     ):
-        self.model = model
-        self.kin = kinematics
-        self.params = params or IKParams.for_robot(model)
+        if isinstance(model, Chain):
+            chain = model
+            params = dataclasses.replace(params or IKParams(), task_rows=chain.task_rows)
+        else:
+            params = params or IKParams.for_robot(model)
+            chain = SerialChain(model, kinematics, task_rows=params.task_rows)
+        self.chain = chain
+        self.model = model = chain.model
+        self.kin = chain.kin
+        self.params = params
         self.n = n = model.n
-        self.rows = np.array(self.params.task_rows, dtype=int)
+        self.rows = np.array(chain.task_rows, dtype=int)
         npos = int(np.sum(self.rows < 3))  # rows are sorted: position rows come first
         self.pos_rows, self.ori_rows = slice(0, npos), slice(npos, self.rows.size)
         self._row_list = [int(r) for r in self.rows]
         self._all_rows = self.rows.size == 6
-        self.weights = model.weights
+        self.tasks = chain.tasks  # extra equality rows, stacked under the pose rows
+        self.m = chain.rows
+        self.weights = chain.weights
         self.box = JointBox(n)
         self.naming = naming
         basis = CompactBasis(self.params.cond_max, self.params.singular_cond)
@@ -84,13 +100,13 @@ class InverseTransformation:
             self.coupled.naming = naming
         self._g = np.zeros(n)
         self._H = np.zeros((n, n))
-        self._J6 = kinematics.jacobian_out()  # (fills without a copy)
+        self._J6 = self.kin.jacobian_out()  # (fills without a copy)
         self._tcp = np.empty((4, 4))
         self._bounds = np.empty((2, n))
         self._lower, self._upper = self._bounds
         self._frozen_cache: tuple[tuple, FrozenJoints] | None = None
         self._no_frozen = FrozenJoints(n, {})
-        self.limits = (model.position_limits, model.speed_limits, model.accel_limits)
+        self.limits = chain.limits
         self._default = CycleOptions()
         self._weighted = WeightedDisplacement(self.weights)
         self._conf = WeightedDisplacement(self.weights, self.params.obstacle.a_conf)
@@ -98,8 +114,9 @@ class InverseTransformation:
         self._cyclic = CyclicReference(self.weights, np.zeros(n))
         self._state = IterationState(np.zeros(n), np.zeros(n), np.zeros(n))
         self._accel = None
+        self._bodies_are_task_frames = chain.bodies.task_frames_are_world
         p = self.params
-        if p.solver == "quadprog" and p.max_iter >= 1:
+        if p.solver == "quadprog" and p.max_iter >= 1 and chain.compiled:
             from irlc.runtime.ik import accel  # (not at import: `python -m …accel` runs it)
 
             if accel.use_accel(p.accel):
@@ -116,8 +133,8 @@ class InverseTransformation:
         if getattr(self, "coupled", None) is not None:
             self.coupled.naming = value
 
-    limits: tuple[np.ndarray, np.ndarray, np.ndarray]
-    """The robot's own (position, speed, accel) limits, ``(n, 2)`` SI each — what a
+    limits: JointLimits
+    """The chain's own (position, speed, accel) limits, ``(n, 2)`` SI each — what a
     cycle uses where its options give none."""
 
     @property
@@ -143,14 +160,17 @@ class InverseTransformation:
         (the executor fails the run beyond its tolerance).
         """
         opts = options or self._default
-        if self._accel is not None and self.coupled is None and not opts.frozen:
+        compiled = self._accel is not None
+        if compiled and opts.obstacles and not self._bodies_are_task_frames:
+            compiled = False  # the kernel measures distances on the task chain's frames
+        if compiled and self.coupled is None and not opts.frozen:
             # the kernel runs the same finiteness test first (nothing before it reads q)
             return self._step_accel(q_start, q_prev, target, dt, opts)
         tl = target.tolist()
         if not (_finite(q_start) and math.isfinite(sum(tl[0]) + sum(tl[1]) + sum(tl[2]))):
             _require_finite("start configuration", q_start)
             _require_finite("target pose", target)
-        if self._accel is not None:
+        if compiled:
             return self._step_accel(q_start, q_prev, target, dt, opts)
         lim = self.limits
         acc = lim[2] if opts.accel is None else opts.accel
@@ -169,7 +189,7 @@ class InverseTransformation:
             coupled.prepare(q_start, dt, acc, q_prev)
         if opts.frozen:
             frozen = self.frozen_joints(opts.frozen)
-            frozen.check_task(self.model, self.rows.size, self.naming)
+            frozen.check_task(self.model, self.m, self.naming)
         else:
             frozen = self._no_frozen
 
@@ -195,8 +215,9 @@ class InverseTransformation:
         J = None
         iterations = 0
         rd, pd = (tl[0][:3], tl[1][:3], tl[2][:3]), (tl[0][3], tl[1][3], tl[2][3])
-        tcp, end, J6 = self._tcp, kin._end, self._J6
+        tcp, end, J6 = self._tcp, kin.end, self._J6
         tol_p, tol_o = p.tol_position, p.tol_orientation
+        tasks, extra, task_errors, met = self.tasks, (), (), True
         for k in range(p.max_iter + 1):
             frames = kin.chain(theta)
             np.dot(frames[-1], end, out=tcp)
@@ -208,23 +229,31 @@ class InverseTransformation:
             else:
                 e = [e[r] for r in self._row_list]
                 pe, oe = self._errors(e)
+            if tasks:
+                point = ChainPoint(self.chain, theta, frames)
+                extra = [np.asarray(t.residual(point), dtype=float) for t in tasks]
+                task_errors = tuple(float(np.linalg.norm(r)) for r in extra)
+                met = self._tasks_met(task_errors)
             if k == 0:
                 if opts.reference is None and not opts.active_obstacles:
                     criteria = self._weighted_only
                     diagonal = None if frozen else self._weighted
                 else:
-                    criteria = self._criteria(opts, frames)
+                    criteria = self._criteria(opts, theta, frames)
                     diagonal = _single_diagonal(criteria, frozen)
             elif (
-                (pe < tol_p and oe < tol_o)
+                (pe < tol_p and oe < tol_o and met)
                 or k == p.max_iter
                 or (relaxed and _tiny(outcome.dtheta, theta))
             ):
                 break
-            F = np.zeros(len(e)) if (k == 0 and opts.self_motion) else np.array(e)
             J = kin.tcp_jacobian(frames, tcp[:3, 3], J6)
             if not self._all_rows:
                 J = J.take(self.rows, axis=0)
+            if tasks:  # the extra rows under the pose rows (seed ch. 4.2: F = [f − x; Φ])
+                e = [*e, *np.concatenate(extra).tolist()]
+                J = np.vstack((J, *(t.jacobian(point) for t in tasks)))
+            F = np.zeros(len(e)) if (k == 0 and opts.self_motion) else np.array(e)
             np.subtract(theta, q_start, out=sigma)
             state.iteration = k
             ineq = None if coupled is None else coupled.at(sigma)
@@ -244,8 +273,8 @@ class InverseTransformation:
         else:  # no break: the last step was not followed by FK (max_iter = 0)
             frames = kin.chain(theta)
             np.dot(frames[-1], end, out=tcp)
-        converged = pe < tol_p and oe < tol_o
-        clearances = self._clearances(frames, opts) if opts.obstacles else {}
+        converged = pe < tol_p and oe < tol_o and met
+        clearances = self._clearances(theta, frames, opts) if opts.obstacles else {}
         codes = box.active_codes(theta - q_start)
         qp_active = None if outcome is None else outcome.active
         # the box (for ``binding``) and J (for manipulability) are copied only when a
@@ -275,6 +304,7 @@ class InverseTransformation:
             coupled=coupled,
             tcp=tcp.copy(),
             naming=self.naming,
+            task_errors=task_errors,
         )
 
     # ------------------------------------------------------------------ pieces
@@ -318,6 +348,15 @@ class InverseTransformation:
             naming=self.naming,
         )
 
+    def _tasks_met(self, errors: tuple[float, ...]) -> bool:
+        """Every extra task's rows below its tolerance (``tol_position`` for position
+        rows, ``tol_orientation`` for orientation rows)."""
+        p = self.params
+        return all(
+            err < (p.tol_position if t.kind == "position" else p.tol_orientation)
+            for t, err in zip(self.tasks, errors, strict=True)
+        )
+
     def _errors(self, e: list) -> tuple[float, float]:
         """Norms of the position and orientation parts of the task error."""
         pos, ori = e[self.pos_rows], e[self.ori_rows]
@@ -330,7 +369,7 @@ class InverseTransformation:
             self._frozen_cache = (key, FrozenJoints(self.n, frozen))
         return self._frozen_cache[1]
 
-    def _criteria(self, opts: CycleOptions, frames: np.ndarray) -> list:
+    def _criteria(self, opts: CycleOptions, theta: np.ndarray, frames: np.ndarray) -> list:
         out: list = []
         active = self.avoided(opts)
         if opts.reference is not None:
@@ -342,7 +381,9 @@ class InverseTransformation:
         else:
             out.append(self._conf if active else self._weighted)
         if active:
-            out.extend(obstacle_terms(self.kin, frames, active, self.params.obstacle))
+            bodies = self.chain.bodies
+            world = bodies.world(theta, frames)
+            out.extend(obstacle_terms(bodies, world, active, self.params.obstacle))
         return out
 
     def _cost(self, criteria, state) -> tuple[np.ndarray, np.ndarray]:
@@ -405,19 +446,20 @@ class InverseTransformation:
             out = self.stepper.hard(Jf, Ff, Hf, gf, lower[free], upper[free], ineq_f)
         if out is None:
             out = self._relaxed(Jf, Ff, Hf, gf, lower[free], upper[free], ineq_f)
-        if out.singular and self.rows.size <= free.size and _full_rank(J, self.rows.size):
-            raise FreezeError(frozen.describe_impossible(self.model, self.rows.size, self.naming))
+        if out.singular and self.m <= free.size and _full_rank(J, self.m):
+            raise FreezeError(frozen.describe_impossible(self.model, self.m, self.naming))
         dtheta = np.empty(self.n)
         dtheta[free] = out.dtheta
         dtheta[fz] = c
         return out, dtheta
 
-    def _clearances(self, frames, opts: CycleOptions) -> dict[str, tuple[float, int]]:
+    def _clearances(self, theta, frames, opts: CycleOptions) -> dict[str, tuple[float, int]]:
         if not opts.obstacles:
             return {}
+        bodies = self.chain.bodies
+        world = bodies.world(theta, frames)
         return {
-            cp.name: (cp.distance, cp.link)
-            for cp in critical_points(self.kin, frames, opts.obstacles)
+            cp.name: (cp.distance, cp.link) for cp in bodies.critical_points(world, opts.obstacles)
         }
 
 

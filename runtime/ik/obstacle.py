@@ -33,7 +33,7 @@ from __future__ import annotations
 import numpy as np
 from irlc.runtime.ik.params import ObstacleParams
 from irlc.runtime.ik.state import IterationState
-from irlc.runtime.model.distance import critical_points
+from irlc.runtime.model.bodies import Bodies, bodies_of
 from irlc.runtime.model.kinematics import Kinematics
 
 
@@ -75,13 +75,18 @@ class ObstacleTerm:
         H += self.weight * self.jtj
 
 
-def obstacle_terms(kin: Kinematics, frames: np.ndarray, obstacles, params: ObstacleParams):
+def obstacle_terms(
+    bodies: Bodies | Kinematics, frames: np.ndarray, obstacles, params: ObstacleParams
+):
     """Terms for the active obstacles (one per obstacle, its closest robot part);
-    obstacles beyond the activation distance are left out."""
+    obstacles beyond the activation distance are left out. ``bodies``: the chain's links
+    in the world (:mod:`~irlc.runtime.model.bodies`; a ``Kinematics`` stands for its one
+    robot) and ``frames`` their world frames."""
+    bodies = bodies_of(bodies)
     out = []
-    for cp in critical_points(kin, frames, obstacles):
+    for cp in bodies.critical_points(frames, obstacles):
         if cp.distance >= params.activation:
             continue
-        jac = kin.jacobian_at(frames, cp.robot_point, upto=cp.link)[:3]
+        jac = bodies.jacobian(frames, cp.link, cp.robot_point)[:3]
         out.append(ObstacleTerm(jac, cp.direction, cp.distance, params, cp.name))
     return out

@@ -23,7 +23,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from irlc.robots.model import TASK_COMPONENTS, RobotModel
+from irlc.robots.model import RobotModel
+from irlc.runtime.model.chain import task_rows_for
 
 
 @dataclass
@@ -59,23 +60,6 @@ class IKParams:
         if "task_rows" not in overrides:
             params.task_rows = task_rows_for(model)
         return params
-
-
-def task_rows_for(model: RobotModel) -> tuple[int, ...]:
-    """Controlled pose-error components from the robot file (default: all six)."""
-    ik = model.extra.get("ik", {}) if isinstance(model.extra, dict) else {}
-    names: Sequence[str] | None = ik.get("task") if isinstance(ik, dict) else None
-    if names is None:
-        names = model.extra.get("task") if isinstance(model.extra, dict) else None
-    if not names:
-        return tuple(range(6))
-    bad = [c for c in names if c not in TASK_COMPONENTS]
-    if bad:
-        raise ValueError(
-            f"robot {model.name}: unknown task component(s) {bad}; "
-            f"known: {', '.join(TASK_COMPONENTS)}"
-        )
-    return tuple(sorted(TASK_COMPONENTS.index(c) for c in names))
 
 
 @dataclass

@@ -39,10 +39,10 @@ from irlc.runtime.ik import unreachable
 from irlc.runtime.ik.compact import CompactBasis
 from irlc.runtime.ik.limits import format_joint_value
 from irlc.runtime.ik.newton_step import NewtonStep
-from irlc.runtime.ik.params import task_rows_for
 from irlc.runtime.ik.qp import QuadprogSolver
 from irlc.runtime.ik.seed import seed_problem
 from irlc.runtime.model import spatial
+from irlc.runtime.model.chain import task_rows_for
 from irlc.runtime.model.coupled_limits import (
     as_inequalities,
     coupled_limits,

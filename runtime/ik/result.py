@@ -17,7 +17,9 @@ class CycleResult:
     was moved into the cost), ``singular`` (no well-conditioned m×m block of J was found
     in some step), ``clearances`` (obstacle name → (distance m, link) at the end of the
     cycle, for every obstacle in ``CycleOptions.obstacles``), ``tcp`` (4×4 world TCP pose
-    at ``q``, from the last forward kinematics of the cycle — callers need no second FK),
+    at ``q``, from the last forward kinematics of the cycle — callers need no second FK;
+    the chain's task pose, in its base frame), ``task_errors`` (the norm of each extra
+    task's rows at ``q``, in the order of ``chain.tasks``: m or rad by its kind),
     ``active_codes`` (per joint the box bound the cycle displacement touches, coded by
     :func:`~irlc.runtime.ik.limits.active_codes`; ``None`` when none: the recorder keeps
     the codes and labels them only for the report).
@@ -53,6 +55,7 @@ class CycleResult:
         coupled=None,
         tcp=None,
         naming=None,
+        task_errors=(),
     ):
         self.q = q
         self.iterations = iterations
@@ -68,6 +71,7 @@ class CycleResult:
         self._coupled = coupled
         self._naming = naming  # JointNaming of the messages (None: a1 … aN)
         self.tcp = tcp  # 4×4 world TCP pose at ``q`` (SI)
+        self.task_errors: tuple[float, ...] = task_errors  # ‖F_k‖ per extra task (chain.tasks)
 
     def __repr__(self) -> str:
         return (

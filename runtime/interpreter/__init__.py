@@ -2,7 +2,8 @@
 controller. One file per concept:
 
 * :mod:`.machine` — :class:`Interpreter`: decoding, the fetch–dispatch loop, frames and the
-  operand stack, control flow, the endless-loop guard;
+  operand stack, control flow, the endless-loop guard; built from the instruction sets
+  below, which see it through :mod:`.context` (:class:`~.context.Machine`);
 * :mod:`.state` — variable cells, frames, :class:`MachineState` (kept between REPL chunks),
   :class:`ExecutionResult`;
 * :mod:`.datatypes` — the program's types at run time (constants, coercion, MAKE, fields

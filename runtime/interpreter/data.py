@@ -1,8 +1,9 @@
 """The data instructions: variables, system variables, fields and elements, operators,
 MAKE and built-in calls (``docs/irdata.md``).
 
-A mixin of :class:`~irlc.runtime.interpreter.machine.Interpreter`: the handlers work on the
-machine's operand stack, frames and :class:`MachineState`; what a value of a type is, is
+A part of the interpreter (:class:`DataInstructions`): the handlers work on the machine's
+operand stack, frames and :class:`MachineState` (:class:`~irlc.runtime.interpreter.context.
+Machine`); what a value of a type is, is
 :class:`~irlc.runtime.interpreter.datatypes.DataTypes` (``self.types``). A VAR parameter's
 cell holds a :class:`Ref` to the caller's cell; ``PUSHL`` / ``POPL`` read and write through
 it, ``REFL`` of such a cell passes the same reference on.
@@ -17,7 +18,8 @@ from irlc.runtime import values as V
 from irlc.runtime.commands import check_setting
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.interpreter import builtins as B
-from irlc.runtime.interpreter.datatypes import number
+from irlc.runtime.interpreter.context import Machine
+from irlc.runtime.interpreter.datatypes import DataTypes, number
 from irlc.runtime.interpreter.state import UNSET, Ref
 from irlc.runtime.values import ArrayValue, JointTuple, Pose
 
@@ -36,26 +38,40 @@ def unset_error(name: str) -> RunFailure:
     return RunFailure(f"variable '{name}' is used before it has a value")
 
 
-class DataOps:
+class DataInstructions:
     """``PUSHC`` … ``CALLB``; see the module docstring."""
+
+    def __init__(self, machine: Machine):
+        self.m = machine
+        # the machine's containers (the same objects for the whole run) and its push
+        self.stack, self.frames, self.state = machine.stack, machine.frames, machine.state
+        self.code = machine.code
+        self.push = machine.push
+        self.pop_n = machine.pop_n
+        self.types: DataTypes | None = None
+        self.consts: list = []
+
+    def prepare(self, types: DataTypes) -> None:
+        """The code is loaded: its types and constants."""
+        self.types, self.consts = types, self.m.consts
 
     # ------------------------------------------------------------------ variables
 
-    def _op_pushc(self, args) -> None:
-        self._push(self._consts[args[0]])
+    def op_pushc(self, args) -> None:
+        self.push(self.consts[args[0]])
 
-    def _op_pushg(self, args) -> None:
+    def op_pushg(self, args) -> None:
         v = self.state.globals[args[0]]
         if v is UNSET:
             raise unset_error(self.code.globals[args[0]].name)
-        self._push(v)
+        self.push(v)
 
-    def _op_popg(self, args) -> None:
+    def op_popg(self, args) -> None:
         slot = self.code.globals[args[0]]
         v = self.stack.pop()
         self.state.globals[args[0]] = self.types.coerce(v, slot.type, f"variable {slot.name!r}")
 
-    def _op_pushl(self, args) -> None:
+    def op_pushl(self, args) -> None:
         frame = self.frames[-1]
         v = frame.cells[args[0]]
         name = frame.slots[args[0]].name
@@ -64,9 +80,9 @@ class DataOps:
             v = v.cells[v.index]
         if v is UNSET:
             raise unset_error(name)
-        self._push(v)
+        self.push(v)
 
-    def _op_popl(self, args) -> None:
+    def op_popl(self, args) -> None:
         frame = self.frames[-1]
         v = self.stack.pop()
         cell = frame.cells[args[0]]
@@ -77,42 +93,43 @@ class DataOps:
             slot = frame.slots[args[0]]
             frame.cells[args[0]] = coerce(v, slot.type, f"variable {slot.name!r}")
 
-    def _op_refg(self, args) -> None:
+    def op_refg(self, args) -> None:
         g = args[0]
-        self._push(Ref(self.state.globals, g, self.code.globals[g]))
+        self.push(Ref(self.state.globals, g, self.code.globals[g]))
 
-    def _op_refl(self, args) -> None:
+    def op_refl(self, args) -> None:
         frame = self.frames[-1]
         cell = frame.cells[args[0]]
-        self._push(
+        self.push(
             cell if isinstance(cell, Ref) else Ref(frame.cells, args[0], frame.slots[args[0]])
         )
 
-    def _op_pop(self, args) -> None:
+    def op_pop(self, args) -> None:
         self.stack.pop()
 
-    def _op_dup(self, args) -> None:
-        self._push(self.stack[-1])
+    def op_dup(self, args) -> None:
+        self.push(self.stack[-1])
 
     # ------------------------------------------------------------------ system variables
 
-    def _op_pushsys(self, args) -> None:
+    def op_pushsys(self, args) -> None:
         name = args[0]
         st = self.state
+        m = self.m
         if name in _ACTUAL:
-            self._stop_advance(f"line {self._line()} reads {name}")
+            m.stop_advance(f"line {m.line()} reads {name}")
         if name == "R_ACT_POSE":
-            v = self._ctl(self.controller.pose, dataclasses.replace(st.settings))
+            v = m.call(m.controller.pose, dataclasses.replace(st.settings))
         elif name == "R_ACT_JOINT":
-            q = self._ctl(self.controller.joints)
+            q = m.call(m.controller.joints)
             v = JointTuple("MAIN_JOINT", tuple(float(x) for x in q))
         elif name in SETTINGS_FIELDS:
             v = getattr(st.settings, SETTINGS_FIELDS[name])
         else:
             raise B.malformed(f"unknown system variable {name!r}")
-        self._push(v)
+        self.push(v)
 
-    def _op_popsys(self, args) -> None:
+    def op_popsys(self, args) -> None:
         name = args[0]
         v = self.stack.pop()
         if name not in SETTINGS_FIELDS:
@@ -132,54 +149,55 @@ class DataOps:
 
     # ------------------------------------------------------------------ fields and elements
 
-    def _op_getf(self, args) -> None:
+    def op_getf(self, args) -> None:
         c = self.stack.pop()
-        self._push(self.types.get_field(c, args[0]))
+        self.push(self.types.get_field(c, args[0]))
 
-    def _op_setf(self, args) -> None:
+    def op_setf(self, args) -> None:
         v = self.stack.pop()
         c = self.stack.pop()
-        self._push(self.types.set_field(c, args[0], v))
+        self.push(self.types.set_field(c, args[0], v))
 
-    def _op_geti(self, args) -> None:
+    def op_geti(self, args) -> None:
         i = self.stack.pop()
         c = self.stack.pop()
-        self._push(self.types.get_item(c, i))
+        self.push(self.types.get_item(c, i))
 
-    def _op_seti(self, args) -> None:
+    def op_seti(self, args) -> None:
         v = self.stack.pop()
         i = self.stack.pop()
         c = self.stack.pop()
         if isinstance(c, ArrayValue):  # the copy costs its length
-            self._charge_elements(len(c.items))
-        self._push(self.types.set_item(c, i, v))
+            self.m.charge_elements(len(c.items))
+        self.push(self.types.set_item(c, i, v))
 
     # ------------------------------------------------------------------ operators
 
-    def _op_binary(self, args) -> None:
+    def op_binary(self, args) -> None:
         b = self.stack.pop()
         a = self.stack.pop()
-        self._push(args[0](a, b))
+        self.push(args[0](a, b))
 
-    def _op_neg(self, args) -> None:
-        self._push(B.neg(self.stack.pop()))
+    def op_neg(self, args) -> None:
+        self.push(B.neg(self.stack.pop()))
 
-    def _op_not(self, args) -> None:
-        self._push(B.logical_not(self.stack.pop()))
+    def op_not(self, args) -> None:
+        self.push(B.logical_not(self.stack.pop()))
 
-    def _op_make(self, args) -> None:
+    def op_make(self, args) -> None:
         ty, n = args
-        items = self._pop_n(n)
-        self._push(self.types.make(ty, items))
+        items = self.pop_n(n)
+        self.push(self.types.make(ty, items))
 
-    def _op_callb(self, args) -> None:
+    def op_callb(self, args) -> None:
         name, argc = args
-        values = tuple(self._pop_n(argc))
+        values = tuple(self.pop_n(argc))
         if name == "FK":
             if argc != 1:
                 raise B.malformed(f"FK takes 1 argument, got {argc}")
             joints = self.types.joint_tuple(values[0], "FK")
             settings = dataclasses.replace(self.state.settings)
-            self._push(B.checked_value(self._ctl(self.controller.forward, joints, settings), "FK"))
+            fk = self.m.call(self.m.controller.forward, joints, settings)
+            self.push(B.checked_value(fk, "FK"))
             return
-        self._push(B.call_builtin(name, values))
+        self.push(B.call_builtin(name, values))

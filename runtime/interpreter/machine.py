@@ -4,12 +4,15 @@ A stack machine with one operand stack and a stack of frames. Globals live in th
 :class:`MachineState`; a frame holds the cells of one routine activation (parameters,
 then locals, numbered by their slot index). This module is the machine itself: decoding
 the instructions into handlers once, the fetch–dispatch loop, frames and the operand stack,
-control flow, and the endless-loop guard. The handlers of the other instructions are the
-mixins beside it, one concept each: :mod:`.data` (variables, fields, operators, built-ins),
-:mod:`.io` (WAIT, inputs and outputs, WRITE, events) and :mod:`.motion` (MOVE,
+control flow, and the endless-loop guard. The other instructions are handled by parts
+beside it, one concept each, that see the machine through the small interface of
+:class:`~irlc.runtime.interpreter.context.Machine`: :class:`~.data.DataInstructions`
+(variables, fields, operators, built-ins), :class:`~.io.IoInstructions` (WAIT, inputs
+and outputs, WRITE, events) and :class:`~.motion.MotionInstructions` (MOVE,
 RECONFIGURATION, the modal options); what a value of a type is, is :mod:`.datatypes`.
-An instruction ``OP`` is handled by the method ``_op_op``; an optional ``_decode_op``
-turns its operands into the handler's arguments once, when the code is loaded.
+An instruction ``OP`` is handled by the method ``op_op`` of the machine or of a part;
+an optional ``decode_op`` beside it turns its operands into the handler's arguments
+once, when the code is loaded.
 
 Values are immutable (:mod:`irlc.runtime.values`), so pass-by-value needs no copy and
 ``SETF`` / ``SETI`` build a new value. Variables start *unset* (reading one is a run-time
@@ -55,10 +58,10 @@ from irlc.runtime import values as V
 from irlc.runtime.commands import WAIT_SAMPLED_CYCLES, Controller, ModalOptions, Settings
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.interpreter import builtins as B
-from irlc.runtime.interpreter.data import ELEMENTS_PER_STEP, DataOps
+from irlc.runtime.interpreter.data import ELEMENTS_PER_STEP, DataInstructions
 from irlc.runtime.interpreter.datatypes import DataTypes
-from irlc.runtime.interpreter.io import IoOps
-from irlc.runtime.interpreter.motion import MotionOps
+from irlc.runtime.interpreter.io import IoInstructions
+from irlc.runtime.interpreter.motion import MotionInstructions
 from irlc.runtime.interpreter.state import (
     ControllerError,
     ExecutionResult,
@@ -85,8 +88,9 @@ MAX_CALL_DEPTH = 10_000
 MAX_STACK = 1_000_000
 
 
-class Interpreter(DataOps, IoOps, MotionOps):
-    """Executes one :class:`Code` against ``controller``; see the module docstring."""
+class Interpreter:
+    """Executes one :class:`Code` against ``controller``; see the module docstring. The
+    machine of the parts (:class:`~irlc.runtime.interpreter.context.Machine`)."""
 
     def __init__(
         self,
@@ -108,26 +112,25 @@ class Interpreter(DataOps, IoOps, MotionOps):
         self.state = state if state is not None else MachineState()
         if settings is not None:
             self.state.settings = settings
-        self._output_cb = output.append if isinstance(output, list) else output
         self.result: ExecutionResult | None = None
         self.wait_timeout = float(wait_timeout)
         self.budget = instruction_budget
         self.pc = 0
-        self._cur = 0
+        self.cur = 0  # the instruction being executed
         self._steps = 0
         self._progress_at = 0
         self._progress_time = -math.inf
         self.stack: list = []
         self.frames: list[Frame] = []
-        self._line_buffer: list[str] = []
-        self._written = 0  # characters of WRITE output (io.MAX_OUTPUT_CHARS)
+        self.types: DataTypes | None = None  # (when the code is loaded)
+        self.consts: list = []
         self._element_steps = 0  # budget charged for work on array elements
-        self._run_output: list[str] = []
-        self._run_events: list[dict] = []
-        self._run_warnings: list[str] = []
-        self._waitfor: tuple[int, float] | None = None  # (instruction, start time)
         self._prepared = False
         self._running = False
+        self.io = IoInstructions(self, output.append if isinstance(output, list) else output)
+        self.data = DataInstructions(self)
+        self.motion = MotionInstructions(self)
+        self._parts = (self, self.data, self.io, self.motion)
 
     # ------------------------------------------------------------------ running
 
@@ -145,22 +148,17 @@ class Interpreter(DataOps, IoOps, MotionOps):
             self._prepare()
             self._running = True
             status = self._execute()
-            self._stop_advance("the program ends")
+            self.stop_advance("the program ends")
         except RunFailure as e:
             if not e.line and self._running:
-                e.line = self._nearest_line(self._cur) or e.line
+                e.line = self._nearest_line(self.cur) or e.line
             if e.time_s is None:
-                e.time_s = self._time()
+                e.time_s = self.time()
             error = e
-        self._flush_line()
+        io = self.io
+        io.flush_line()
         self.result = ExecutionResult(
-            status,
-            self._run_output,
-            self._run_events,
-            self._run_warnings,
-            error,
-            self.state,
-            self._steps,
+            status, io.run_output, io.run_events, io.run_warnings, error, self.state, self._steps
         )
         if check and error is not None:
             raise error
@@ -173,7 +171,7 @@ class Interpreter(DataOps, IoOps, MotionOps):
             while True:
                 cur = self.pc
                 handler, args = prog[cur]
-                self._cur = cur
+                self.cur = cur
                 self.pc = cur + 1
                 self._steps += 1
                 if self._steps - self._progress_at > budget:
@@ -191,13 +189,15 @@ class Interpreter(DataOps, IoOps, MotionOps):
             raise self._bad_code(f"{type(e).__name__}: {e}") from None
 
     def _bad_code(self, what: str) -> RunFailure:
-        op = self.code.code[self._cur].op if self._cur < len(self.code.code) else "?"
-        return B.malformed(f"{what} at instruction {self._cur} ({op})")
+        op = self.code.code[self.cur].op if self.cur < len(self.code.code) else "?"
+        return B.malformed(f"{what} at instruction {self.cur} ({op})")
 
-    def _progress(self) -> None:
+    # ------------------------------------------------------------------ the parts' interface
+
+    def moved(self) -> None:
         """Restart the instruction budget if simulated time advanced by motion; else charge
         the motion statement that did not move (STILL_MOTION_COST)."""
-        t = self._time()
+        t = self.time()
         if t > self._progress_time:
             self._progress_time = t
             # the count restarts, never past the run's limit (RUN_BUDGETS budgets in all)
@@ -205,10 +205,10 @@ class Interpreter(DataOps, IoOps, MotionOps):
         else:
             self._steps += STILL_MOTION_COST
 
-    def _waited(self, t_before: float) -> None:
+    def waited(self, t_before: float) -> None:
         """Charge the budget for the cycles a WAIT (or a WAIT FOR) stood still; fail at the
         waiting statement once it is used up."""
-        t = self._time()
+        t = self.time()
         if t > t_before:
             cycles = math.ceil((t - t_before) / self.state.settings.ipo - 1e-9)
             cycles = min(cycles, WAIT_SAMPLED_CYCLES)  # what the wait costs to simulate
@@ -238,17 +238,19 @@ class Interpreter(DataOps, IoOps, MotionOps):
             return ""
         return f", work on an array as its elements / {ELEMENTS_PER_STEP}"
 
-    def _charge_elements(self, n: int) -> None:
+    def charge_elements(self, n: int) -> None:
         """Charge work on ``n`` elements to the budget (data.ELEMENTS_PER_STEP)."""
         steps = n // ELEMENTS_PER_STEP
         self._steps += steps
         self._element_steps += steps
 
-    def _time(self) -> float:
+    def time(self) -> float:
+        """Simulated time (s): the controller's."""
         return float(self.controller.time)
 
-    def _line(self) -> int:
-        return self._lines[self._cur]
+    def line(self) -> int:
+        """The source line of the instruction being executed."""
+        return self._lines[self.cur]
 
     def _nearest_line(self, index: int) -> int:
         """The source line of instruction ``index``, else of the nearest instruction before
@@ -258,7 +260,7 @@ class Interpreter(DataOps, IoOps, MotionOps):
                 return self._lines[k]
         return 0
 
-    def _ctl(self, fn: Callable, *args, **kwargs):
+    def call(self, fn: Callable, *args, **kwargs):
         """Call the controller; its own RunFailures pass, other exceptions are bugs there."""
         try:
             return fn(*args, **kwargs)
@@ -276,8 +278,8 @@ class Interpreter(DataOps, IoOps, MotionOps):
         if len(code.joint_names) != code.joint_count:
             raise B.malformed(f"{len(code.joint_names)} joint names for {code.joint_count} joints")
         self.types = DataTypes(code.types, code.joint_names)
-        self._consts = [self.types.constant(k, v) for k, v in enumerate(code.consts)]
-        self._inputs = {n: sorted(ev) for n, ev in code.inputs.items()}
+        self.consts = [self.types.constant(k, v) for k, v in enumerate(code.consts)]
+        self.data.prepare(self.types)
         self._routines = {r.index: r for r in code.routines}
         self._slot_tables = {r.index: self._slot_table(r) for r in code.routines}
         self._frame_elements = {  # elements a call's cells hold (VAR parameters: none)
@@ -287,7 +289,7 @@ class Interpreter(DataOps, IoOps, MotionOps):
         self._live = 0  # elements the globals and the active calls' cells hold
         self._bind_globals()
         self._prog = [self._decode(ins) for ins in code.code]
-        self._prog.append((self._op_fell_off, ()))
+        self._prog.append((self._fell_off, ()))
         main = next((r for r in code.routines if r.kind == "MAIN"), None)
         if main is None or main.params:
             raise B.malformed("no MAIN routine without parameters")
@@ -321,12 +323,16 @@ class Interpreter(DataOps, IoOps, MotionOps):
 
     def _decode(self, ins) -> tuple[Callable, tuple]:
         if ins.op in B.BINARY:
-            return self._op_binary, (B.BINARY[ins.op],)
-        handler = getattr(self, "_op_" + ins.op.lower(), None)
-        if handler is None:
+            return self.data.op_binary, (B.BINARY[ins.op],)
+        name = ins.op.lower()
+        for part in self._parts:  # the machine (control flow), then the instruction sets
+            handler = getattr(part, "op_" + name, None)
+            if handler is not None:
+                break
+        else:
             raise B.malformed(f"unknown opcode {ins.op!r}")
         args = tuple(a.index if isinstance(a, Target) else a for a in ins.args)
-        decode = getattr(self, "_decode_" + ins.op.lower(), None)
+        decode = getattr(part, "decode_" + name, None)
         if decode is not None:
             args = decode(args)
         return handler, args
@@ -342,7 +348,7 @@ class Interpreter(DataOps, IoOps, MotionOps):
                 f" use (at most {MAX_LIVE_ELEMENTS}){hint}"
             )
         self._live += n
-        self._charge_elements(n)
+        self.charge_elements(n)
 
     def _push_frame(self, r: Routine, args: list, return_pc: int) -> None:
         if len(self.frames) >= MAX_CALL_DEPTH:
@@ -366,7 +372,8 @@ class Interpreter(DataOps, IoOps, MotionOps):
         cells.extend(self.types.initial(s.type) for s in slots[len(cells) :])
         self.frames.append(Frame(r, cells, slots, return_pc, len(self.stack)))
 
-    def _pop_n(self, n: int) -> list:
+    def pop_n(self, n: int) -> list:
+        """The top ``n`` operands (the deepest first), removed from the stack."""
         if n < 0 or len(self.stack) < n:
             raise B.malformed(f"stack underflow: {n} operands needed, {len(self.stack)} present")
         if n == 0:
@@ -375,25 +382,25 @@ class Interpreter(DataOps, IoOps, MotionOps):
         del self.stack[-n:]
         return out
 
-    def _push(self, v: object) -> None:
+    def push(self, v: object) -> None:
         if len(self.stack) >= MAX_STACK:
             raise B.malformed(f"the operand stack grew beyond {MAX_STACK} values")
         self.stack.append(v)
 
     # ------------------------------------------------------------------ control flow
 
-    def _op_call(self, args) -> None:
+    def op_call(self, args) -> None:
         r, argc = args
         routine = self._routines.get(r)
         if routine is None or routine.kind == "MAIN":
             raise B.malformed(f"CALL of routine {r}, which is not a procedure or function")
         if argc != len(routine.params):
             raise B.malformed(f"{routine.name!r} takes {len(routine.params)} arguments, got {argc}")
-        values = self._pop_n(argc)
+        values = self.pop_n(argc)
         self._push_frame(routine, values, return_pc=self.pc)
         self.pc = routine.entry
 
-    def _op_ret(self, args) -> None:
+    def op_ret(self, args) -> None:
         frame = self.frames[-1]
         if frame.routine.kind == "MAIN":
             raise Finished("ok")
@@ -403,14 +410,14 @@ class Interpreter(DataOps, IoOps, MotionOps):
             )
         self._leave(frame)
 
-    def _op_retv(self, args) -> None:
+    def op_retv(self, args) -> None:
         frame = self.frames[-1]
         ty = frame.routine.result_type
         if ty is None:
             raise B.malformed(f"RETV in {frame.routine.name!r}, which is not a function")
         v = self.types.coerce(self.stack.pop(), ty, f"the result of {frame.routine.name!r}")
         self._leave(frame)
-        self._push(v)
+        self.push(v)
 
     def _leave(self, frame: Frame) -> None:
         self.frames.pop()
@@ -418,40 +425,51 @@ class Interpreter(DataOps, IoOps, MotionOps):
         del self.stack[frame.stack_base :]
         self.pc = frame.return_pc
 
-    def _op_jmp(self, args) -> None:
+    def op_jmp(self, args) -> None:
         self.pc = args[0]
 
-    def _condition(self, what: str) -> bool:
+    def condition(self, what: str) -> bool:
+        """The BOOLEAN popped from the stack (malformed code: anything else)."""
         b = self.stack.pop()
         if not isinstance(b, bool):
             raise B.malformed(f"{what} needs a BOOLEAN, got {V.type_name(b)}")
         return b
 
-    def _op_jf(self, args) -> None:
-        if not self._condition("JF"):
+    def op_jf(self, args) -> None:
+        if not self.condition("JF"):
             self.pc = args[0]
 
-    def _op_jt(self, args) -> None:
-        if self._condition("JT"):
+    def op_jt(self, args) -> None:
+        if self.condition("JT"):
             self.pc = args[0]
 
-    def _op_halt(self, args) -> None:
-        self._stop_advance(f"HALT at line {self._line()}")
-        self._event("halt")
+    def op_halt(self, args) -> None:
+        self.stop_advance(f"HALT at line {self.line()}")
+        self.io.event("halt")
         raise Finished("halted")
 
-    def _op_end(self, args) -> None:
+    def op_end(self, args) -> None:
         raise Finished("ok")
 
-    def _op_fell_off(self, args) -> None:
+    def _fell_off(self, args) -> None:
         raise B.malformed("execution ran past the last instruction (no END)")
 
-    def _op_pause(self, args) -> None:
-        self._stop_advance(f"PAUSE at line {self._line()}")
-        self._event("pause")
-        self._warn(f"line {self._line()}: PAUSE in a batch run — execution continues")
+    def op_pause(self, args) -> None:
+        self.stop_advance(f"PAUSE at line {self.line()}")
+        self.io.event("pause")
+        self.io.warn(f"line {self.line()}: PAUSE in a batch run — execution continues")
 
-    def _snapshot(self) -> tuple[Settings, ModalOptions]:
+    def stop_advance(self, why: str) -> None:
+        """The advance run stops here: a pending approximated motion ends exactly at its
+        point first (WAIT, WAIT FOR, reading an input or R_ACT_…, options, HALT, PAUSE,
+        the end of the program)."""
+        flush = getattr(self.controller, "flush", None)
+        if flush is not None:
+            self.call(flush, why)
+
+    def snapshot(self) -> tuple[Settings, ModalOptions]:
+        """Copies of the settings and modal options for the controller (a motion handed
+        over keeps them)."""
         st = self.state
         opts = dataclasses.replace(st.options, frozen=dict(st.options.frozen))
         return dataclasses.replace(st.settings), opts

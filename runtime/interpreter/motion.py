@@ -1,7 +1,8 @@
 """The motion instructions: MOVE, RECONFIGURATION and the modal options (OPTON / OPTOFF of
 JOINTLIMIT, JOINTSPEEDLIMIT, JOINTACCELLIMIT, CYCLIC, OBSTACLE, FREEZE).
 
-A mixin of :class:`~irlc.runtime.interpreter.machine.Interpreter`. A motion instruction
+A part of the interpreter (:class:`MotionInstructions`, through
+:class:`~irlc.runtime.interpreter.context.Machine`). A motion instruction
 builds a :class:`~irlc.runtime.commands.MotionCommand` from its operands (targets, then
 the WITH clauses in the order of the instruction: ``docs/irdata.md``) and hands it to the
 controller with a snapshot of the current :class:`Settings` (system variables) and
@@ -24,6 +25,7 @@ from irlc.runtime import values as V
 from irlc.runtime.commands import MotionCommand, check_setting
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.interpreter import builtins as B
+from irlc.runtime.interpreter.context import Machine
 from irlc.runtime.interpreter.datatypes import number
 from irlc.runtime.model.limit_check import first_outside, limit_failure, program_tolerances
 from irlc.runtime.values import JointTuple, Pose
@@ -38,12 +40,17 @@ LIMIT_TOLERANCE = 1e-6  # deg/s | mm/s (per derivative): how far a rate bound ma
 _POINT_COUNTS = {"CIRCLE": 2, "PTP": 1, "PTPINC": 1, "LININC": 1}  # LIN, LINPATH: any
 
 
-class MotionOps:
+class MotionInstructions:
     """``MOVE``, ``RECONF``, ``OPTON``, ``OPTOFF``; see the module docstring."""
+
+    def __init__(self, machine: Machine):
+        self.m = machine
+        self.stack, self.state, self.code = machine.stack, machine.state, machine.code
+        self.pop_n = machine.pop_n
 
     # ------------------------------------------------------------------ MOVE
 
-    def _decode_move(self, args: tuple) -> tuple:
+    def decode_move(self, args: tuple) -> tuple:
         """``MOVE kind npts clause…`` → ``(kind, npts, ((word, field, operands), …))``."""
         if len(args) < 2 or not isinstance(args[1], int) or args[1] < 1:
             raise B.malformed("MOVE needs a kind and a positive number of points")
@@ -60,17 +67,18 @@ class MotionOps:
                 raise B.malformed(f"unknown MOVE clause {word!r}")
         return (args[0], args[1], tuple(clauses))
 
-    def _op_move(self, args) -> None:
+    def op_move(self, args) -> None:
         kind, npts, clauses = args
         fields: dict[str, object] = {}
         for word, name, count in reversed(clauses):
-            operands = self._pop_n(count)
+            operands = self.pop_n(count)
             fields[name] = self._move_clause(word, operands, kind, npts)
-        targets = tuple(self._move_target(kind, t) for t in self._pop_n(npts))
+        targets = tuple(self._move_target(kind, t) for t in self.pop_n(npts))
         _check_point_count(kind, npts)
-        cmd = MotionCommand(kind, targets, self._line(), **fields)
-        self._ctl(self.controller.move, cmd, *self._snapshot())
-        self._progress()
+        m = self.m
+        cmd = MotionCommand(kind, targets, m.line(), **fields)
+        m.call(m.controller.move, cmd, *m.snapshot())
+        m.moved()
 
     def _move_target(self, kind: str, t: object) -> object:
         if kind in PATH_KINDS:  # a Cartesian path goes to POSE targets
@@ -79,7 +87,7 @@ class MotionOps:
             return t
         if kind == "PTP" and isinstance(t, Pose):
             return t
-        return self.types.main_joint(t, f"MOVE {kind} target")
+        return self.m.types.main_joint(t, f"MOVE {kind} target")
 
     def _move_clause(self, word: str, operands: list, kind: str, npts: int) -> object:
         if word in MOVE_NUMBERS:
@@ -89,12 +97,13 @@ class MotionOps:
             return self._checked_limits(word, operands[0], operands[1])
         if len(operands) not in reconfiguration_counts(kind, npts):
             raise B.malformed(f"{len(operands)} RECONFIGURATION targets for {npts} points")
-        return tuple(self.types.main_joint(k, "RECONFIGURATION") for k in operands)
+        return tuple(self.m.types.main_joint(k, "RECONFIGURATION") for k in operands)
 
-    def _op_reconf(self, args) -> None:
-        k = self.types.main_joint(self.stack.pop(), "RECONFIGURATION")
-        self._ctl(self.controller.reconfigure, k, self._line(), *self._snapshot())
-        self._progress()
+    def op_reconf(self, args) -> None:
+        k = self.m.types.main_joint(self.stack.pop(), "RECONFIGURATION")
+        m = self.m
+        m.call(m.controller.reconfigure, k, m.line(), *m.snapshot())
+        m.moved()
 
     # ------------------------------------------------------------------ limit options
 
@@ -104,14 +113,14 @@ class MotionOps:
     def _joint_labels(self) -> tuple[str, ...]:
         """Joint names for messages (the naming rule: the program's name, the robot's in
         parentheses where it differs), from the controller's naming when it has one."""
-        naming = getattr(self.controller, "naming", None)
+        naming = getattr(self.m.controller, "naming", None)
         if naming is None or len(naming.program) != len(self.code.joint_names):
             return tuple(self.code.joint_names)
         return tuple(naming.label(i) for i in range(len(naming.program)))
 
     def _checked_limits(self, option: str, lo: object, hi: object) -> tuple[JointTuple, JointTuple]:
-        lo = self.types.joint_tuple(lo, f"{option} lower bounds")
-        hi = self.types.joint_tuple(hi, f"{option} upper bounds")
+        lo = self.m.types.joint_tuple(lo, f"{option} lower bounds")
+        hi = self.m.types.joint_tuple(hi, f"{option} upper bounds")
         derivative = LIMIT_OPTIONS[option][1]
         names = self._joint_labels()
         fmt = V.format_real
@@ -136,7 +145,7 @@ class MotionOps:
     def _check_joints_inside(self, option: str, lo: JointTuple, hi: JointTuple) -> None:
         """The current joints inside ``[lo, hi]`` (program units): runtime/model/limit_check.py."""
         kinds = [kind_from_letter(k) for k in self.code.joint_kinds]
-        q = self._ctl(self.controller.joints)
+        q = self.m.call(self.m.controller.joints)
         out = first_outside(q, lo.values, hi.values, program_tolerances(kinds))
         if out is not None:
             name, unit = self._joint_labels()[out.joint], self._joint_unit(out.joint, 0)
@@ -148,9 +157,9 @@ class MotionOps:
 
     # ------------------------------------------------------------------ OPTON / OPTOFF
 
-    def _op_opton(self, args) -> None:
+    def op_opton(self, args) -> None:
         option, rest = args[0], args[1:]
-        self._stop_advance(f"{option} switched on at line {self._line()}")
+        self.m.stop_advance(f"{option} switched on at line {self.m.line()}")
         opts = self.state.options
         if option in LIMIT_OPTIONS:
             hi = self.stack.pop()
@@ -162,7 +171,8 @@ class MotionOps:
         elif option == "CYCLIC":
             if opts.cyclic_reference is not None:
                 raise RunFailure("CYCLICSTART while CYCLIC is already on")
-            opts.cyclic_reference = tuple(float(x) for x in self._ctl(self.controller.joints))
+            joints = self.m.call(self.m.controller.joints)
+            opts.cyclic_reference = tuple(float(x) for x in joints)
         elif option == "OBSTACLE":
             self._obstacle_on(rest)
             self._check_switch_on(option)
@@ -175,9 +185,10 @@ class MotionOps:
     def _check_switch_on(self, option: str) -> None:
         """Let the controller reject an option that cannot hold from this very statement
         (an obstacle the arm is inside, too many frozen joints); optional for controllers."""
-        check = getattr(self.controller, "check_switch_on", None)
+        m = self.m
+        check = getattr(m.controller, "check_switch_on", None)
         if check is not None:
-            self._ctl(check, option, self._line(), *self._snapshot())
+            m.call(check, option, m.line(), *m.snapshot())
 
     def _obstacle_on(self, rest: tuple) -> None:
         if len(rest) != 1:
@@ -195,17 +206,17 @@ class MotionOps:
         opts = self.state.options
         if opts.frozen:
             raise RunFailure("FREEZESTART while joints are already frozen")
-        n = self.types.joint_count
+        n = self.m.types.joint_count
         if not rest or any(not isinstance(j, int) or not 1 <= j <= n for j in rest):
             raise B.malformed(
                 f"FREEZE needs joint numbers in 1..{n}, got {' '.join(map(str, rest))}"
             )
-        q = self._ctl(self.controller.joints)
+        q = self.m.call(self.m.controller.joints)
         opts.frozen = {j - 1: float(q[j - 1]) for j in rest}
 
-    def _op_optoff(self, args) -> None:
+    def op_optoff(self, args) -> None:
         option, rest = args[0], args[1:]
-        self._stop_advance(f"{option} switched off at line {self._line()}")
+        self.m.stop_advance(f"{option} switched off at line {self.m.line()}")
         opts = self.state.options
         if option in LIMIT_OPTIONS:
             attr = LIMIT_OPTIONS[option][0]

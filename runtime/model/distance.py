@@ -348,7 +348,15 @@ def critical_points(kin: Kinematics, frames: np.ndarray, obstacles) -> list[Crit
     there) go to the lowest part index (module doc)."""
     seg = robot_segments(kin)
     a_all, b_all = seg.world(kin, frames)
-    radius = seg.radius
+    return closest_parts(a_all, b_all, seg.radius, seg.links, obstacles)
+
+
+def closest_parts(
+    a_all: np.ndarray, b_all: np.ndarray, radius: np.ndarray, links: np.ndarray, obstacles
+) -> list[CriticalPoint]:
+    """:func:`critical_points` of parts given by their world ends ``a_all``, ``b_all``
+    (``(k, 3)``), radii and the link each moves with (a chain of several robots gathers
+    its robots' parts: :class:`~irlc.runtime.model.bodies.CellBodies`)."""
     out = []
     for obstacle in obstacles:
         kind = obstacle.kind
@@ -371,7 +379,7 @@ def critical_points(kin: Kinematics, frames: np.ndarray, obstacles) -> list[Crit
                 best.obstacle_point,
                 best.direction,
                 obstacle.name,
-                int(seg.links[i]),
+                int(links[i]),
             )
         )
     return out

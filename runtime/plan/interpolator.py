@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import bisect
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from irlc.lang.errors import IrlcError
@@ -243,9 +243,24 @@ class ReferencePath:
 
 
 @dataclass
+class JointPeaks:
+    """A PTP segment's peak speed and acceleration of each joint (``(n,)`` SI, ≥ 0: the
+    profile's cruise speed and acceleration times the joint's travel), for the report's
+    limit activity (:mod:`~irlc.runtime.control.ptp_activity`, which caches in
+    ``at_bounds`` the joints at their bounds)."""
+
+    speed: np.ndarray
+    accel: np.ndarray
+    at_bounds: tuple | None = None
+
+
+@dataclass
 class Segment:
     """One profiled piece of motion; ``kind`` is ``ptp``, ``lin``, ``circle``,
-    ``reconf`` or ``wait``. Limits are ``(n, 2)`` SI arrays (program ∩ robot)."""
+    ``reconf`` or ``wait``. Limits are ``(n, 2)`` SI arrays (program ∩ robot).
+    ``peaks``: a PTP segment's joint peaks; ``override``: the factor
+    ``k = R_OVERRIDE/100`` it was planned with (a failure's suggested speeds are values to
+    program: ik.cause)."""
 
     kind: str
     line: int
@@ -256,7 +271,8 @@ class Segment:
     reference: ReferencePath | None = None
     limiting: str = ""  # what set the segment's time (for reports)
     limiting_joint: int = -1  # PTP: the joint whose bound sets the time
-    info: dict = field(default_factory=dict)
+    peaks: JointPeaks | None = None
+    override: float = 1.0
 
     @property
     def duration(self) -> float:

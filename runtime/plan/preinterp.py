@@ -68,6 +68,7 @@ from irlc.runtime.plan.interpolator import (
     CircleError,
     Hold,
     JointLine,
+    JointPeaks,
     ReferencePath,
     Segment,
 )
@@ -250,12 +251,17 @@ class PreInterpolator:
         check_coordinates(state.base, "R_BASE", cmd.line)
         kind = cmd.kind
         if kind in ("PTP", "PTPINC"):
-            return self._plan_ptp(cmd, settings, options, state, lims)
-        if kind in ("LIN", "LINPATH", "LININC"):
-            return self._plan_lin(cmd, settings, state, lims)
-        if kind == "CIRCLE":
-            return self._plan_circle(cmd, settings, state, lims)
-        raise RunFailure(f"unknown motion kind {kind!r}", cmd.line)
+            segments = self._plan_ptp(cmd, settings, options, state, lims)
+        elif kind in ("LIN", "LINPATH", "LININC"):
+            segments = self._plan_lin(cmd, settings, state, lims)
+        elif kind == "CIRCLE":
+            segments = self._plan_circle(cmd, settings, state, lims)
+        else:
+            raise RunFailure(f"unknown motion kind {kind!r}", cmd.line)
+        k = override_factor(settings)
+        for seg in segments:
+            seg.override = k
+        return segments
 
     def hold(
         self,
@@ -368,8 +374,10 @@ class PreInterpolator:
             slowest,
         )
         moving = profile.duration > 0.0
-        seg.info["joint_speed"] = np.abs(delta) * (profile.cruise if moving else 0.0)
-        seg.info["joint_accel"] = np.abs(delta) * (profile.accel if moving else 0.0)
+        seg.peaks = JointPeaks(
+            np.abs(delta) * (profile.cruise if moving else 0.0),
+            np.abs(delta) * (profile.accel if moving else 0.0),
+        )
         return seg
 
     def _path_motor_rates(self, path, q, lims, settings, state: PlanState, line):

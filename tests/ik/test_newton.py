@@ -290,7 +290,7 @@ def test_executor_turns_a_relaxed_cycle_beyond_tolerance_into_a_run_failure(koch
     ctl = SimulatedController(koch11, q0)
     solver = ctl._solver(Settings())
     with pytest.raises(RunFailure) as info:
-        ctl._ik_cycle(SimpleNamespace(line=7), target, 0.01, CycleOptions(), solver)
+        ctl.cycles.ik_cycle(SimpleNamespace(line=7), target, 0.01, CycleOptions(), solver)
     err = info.value
     assert err.line == 7 and err.time_s == pytest.approx(0.01)
     assert f"TCP deviation {expected.position_error / units.MM:.4g} mm" in err.message
