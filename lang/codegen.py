@@ -29,6 +29,7 @@ from irlc.lang import types as T
 from irlc.lang.checker import Checked, RoutineInfo, Symbol
 from irlc.lang.irdata import Code, Instruction, RecordType, Routine, Slot, Target, Value
 from irlc.lang.irdata_model import VALUE_TYPES
+from irlc.lang.settings import BY_LIMIT_WORD
 from irlc.lang.signature import RobotSignature, kind_letters
 
 _BINOP = {
@@ -370,7 +371,7 @@ class _Gen:
 
     def s_modalon(self, s: ast.ModalOn) -> None:
         line = s.span.line
-        if s.option in ("JOINTLIMIT", "JOINTSPEEDLIMIT", "JOINTACCELLIMIT"):
+        if s.option in BY_LIMIT_WORD:
             for a in s.args:
                 self.expr(a, a.ty)
             self.emit(line, "OPTON", s.option)

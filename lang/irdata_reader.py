@@ -32,7 +32,7 @@ from irlc.lang.irdata_model import (
     Target,
     Value,
 )
-from irlc.lang.settings import BY_WITH_WORD
+from irlc.lang.settings import BY_LIMIT_WORD, BY_WITH_WORD
 from irlc.lang.value_ranges import parse_integer, string_too_long
 
 MAX_ERRORS = 20  # errors shown of one file
@@ -501,7 +501,7 @@ def _option_problem(ins: Instruction, code: Code) -> str | None:
     return f"expected no operands, got {len(rest)}" if rest else None
 
 
-_MOVE_CLAUSES = (*BY_WITH_WORD, "JOINTLIMIT", "JOINTSPEEDLIMIT", "JOINTACCELLIMIT")
+_MOVE_CLAUSES = (*BY_WITH_WORD, *BY_LIMIT_WORD)
 
 
 def _check_move(r: _Reader, ins: Instruction, lineno: int, toks) -> None:

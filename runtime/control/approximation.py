@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from irlc.runtime import units
-from irlc.runtime.commands import MotionCommand, Settings, setting_error
+from irlc.runtime.commands import MotionCommand
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.plan.blending import (
     NO_OVERLAP,
@@ -39,7 +39,7 @@ from irlc.runtime.plan.blending import (
     within_joint_limits,
 )
 from irlc.runtime.plan.interpolator import ReferencePath, Segment
-from irlc.runtime.plan.preinterp import override_factor
+from irlc.runtime.plan.motion_values import MotionValues
 
 _MIN_BLEND = 1e-4  # m: a blend shortened below this is an exact stop
 _BISECTIONS = 5  # trials when a blend must be shortened (1/32 of the failed distance)
@@ -70,15 +70,6 @@ class ApproximatePositioning:
         if self.statements and self.statements[-1].line == line:
             last = self.statements[-1]
             self.statements[-1] = dataclasses.replace(last, end=self._t, stop="exact")
-
-    def _approx(self, cmd: MotionCommand, settings: Settings) -> float:
-        """The statement's blend distance (m): WITH APPROX, else R_APPROX."""
-        value = cmd.approx if cmd.approx is not None else settings.approx
-        what = "WITH APPROX" if cmd.approx is not None else "R_APPROX"
-        error = setting_error("approx", value)
-        if error is not None:
-            raise RunFailure(f"{what} := {value!r}: {error}", cmd.line, self._t)
-        return float(value) * units.MM
 
     def _pending_reason(self, cmd: MotionCommand, context) -> str:
         old = self._pending.context if self._pending is not None else context
@@ -428,11 +419,11 @@ class _Tails:
 class SegmentRun:
     """One segment being executed: cycles done so far and its per-cycle options."""
 
-    def __init__(self, ctl, seg: Segment, options, solver, settings):
+    def __init__(self, ctl, seg: Segment, options, solver, motion: MotionValues):
         self.seg, self.solver = seg, solver
         # the k = R_OVERRIDE/100 it was planned with: a failure's suggested speeds (ik.cause)
-        seg.info["override"] = override_factor(settings)
-        self.dt = ctl._dt(settings)
+        seg.info["override"] = motion.k
+        self.dt = motion.ipo
         self.done = 0
         self.started = False
         self.obstacles = frozenset(options.obstacles)

@@ -60,6 +60,7 @@ from irlc.runtime.model.obstacles import Obstacle
 from irlc.runtime.outputs.cycle_time import KIND_WORDS, StatementSpan, motion_limit
 from irlc.runtime.outputs.recorder import Recorder
 from irlc.runtime.plan.interpolator import JointLine, ReferencePath, Segment
+from irlc.runtime.plan.motion_values import MotionValues, motion_values
 from irlc.runtime.plan.plan_start import ROUND_OFF, planning_start
 from irlc.runtime.plan.preinterp import (
     PlanState,
@@ -190,9 +191,11 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
         self._line = cmd.line
         self.recorder.tol_position = settings.path_tol * units.MM  # R_PATH_TOL
         solver = self._solver(settings)
-        approx = self._approx(cmd, settings)
+        motion = motion_values(cmd, settings, self.opts.ipo, self._t)  # each value checked once
+        self.dt_used = motion.ipo
+        approx = motion.approx * units.MM
         context = (options, solver.kin.tool.tobytes(), base_transform(settings).tobytes(),
-                   self._dt(settings))  # fmt: skip
+                   motion.ipo)  # fmt: skip
         if self._pending is not None and self._pending.context != context:
             self.flush(self._pending_reason(cmd, context))
         joint = cmd.kind in ("PTP", "PTPINC")
@@ -201,7 +204,7 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
                 self._joint_chain(self._pending)
             except RunFailure:  # it cannot be followed: run it (and fail) at its own line
                 self.flush("the motion before cannot be followed")
-        state = self._plan_state(settings, solver)
+        state = self._plan_state(settings, solver, motion)
         t0, segments, stop = self._t, [], "failed"
         try:
             segments = self.pre.plan(cmd, settings, options, state)
@@ -214,7 +217,7 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
                 what = KIND_WORDS.get(cmd.kind, cmd.kind)
                 check_targets(reach, cartesian, self.q, cmd.line, self._t, what)
             for point, seg in enumerate(segments, start=1):
-                run = SegmentRun(self, seg, options, solver, settings)
+                run = SegmentRun(self, seg, options, solver, motion)
                 self._feed(run, approx, context, point)
             if segments:  # the next motion is planned from this point (plan_start.py)
                 end = self._programmed_point(cmd, segments[-1], state)
@@ -581,7 +584,7 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
             self._stamp_start(solver)  # a tool set before the first motion holds from t = 0
         return solver
 
-    def _plan_state(self, settings: Settings, solver: _Solver) -> PlanState:
+    def _plan_state(self, settings: Settings, solver: _Solver, motion: MotionValues) -> PlanState:
         """Where the next motion starts: here, or at the pending segment's point."""
         q, tcp = self.q.copy(), None
         pending = self._pending
@@ -595,8 +598,7 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
                     q = pending.chain[seg.cycles].copy()
         if tcp is None:
             tcp = self._start_pose(solver, q)
-        dt, base = self._dt(settings), base_transform(settings)
-        return PlanState(q, tcp, dt, base, solver.kin.tool, self._t)
+        return PlanState(q, tcp, motion, base_transform(settings), solver.kin.tool, self._t)
 
     def _start_pose(self, solver: _Solver, q: np.ndarray) -> np.ndarray:
         """The TCP a motion from ``q`` is planned from: the last Cartesian point as

@@ -20,6 +20,7 @@ import numpy as np
 from irlc.runtime import units
 from irlc.runtime.commands import ModalOptions, MotionCommand, Settings
 from irlc.runtime.ik.self_motion import reconfiguration_done
+from irlc.runtime.plan.motion_values import motion_values
 from irlc.runtime.values import JointTuple
 
 
@@ -36,14 +37,16 @@ class Reconfiguration:
         self._line = line
         self.recorder.tol_position = settings.path_tol * units.MM  # R_PATH_TOL
         solver = self._solver(settings)
-        state = self._plan_state(settings, solver)
+        # reference profile: a synchronised joint move from here to k (PTP timing)
+        cmd = MotionCommand("PTP", (target,), line)
+        motion = motion_values(cmd, settings, self.opts.ipo, self._t)
+        self.dt_used = motion.ipo
+        state = self._plan_state(settings, solver, motion)
         lims = self.pre.limits((None, None, None), options, line)
         self.pre.check_inside(self.q, lims[0], line, "the limits exclude the current state")
         k = self.pre.joints_si(target)
-        # reference profile: a synchronised joint move from here to k (PTP timing)
-        cmd = MotionCommand("PTP", (target,), line)
         self.pre.check_inside(k, lims[0], line, "RECONFIGURATION target")
-        ref_seg = self.pre.joint_profile(cmd, settings, self.q, k, lims, state.dt)
+        ref_seg = self.pre.joint_profile(cmd, motion, self.q, k, lims)
         hold = self.pre.hold("reconf", line, state, 0, lims)
         dt = state.dt
         cycle_opts = self._cycle_options(hold, options)
