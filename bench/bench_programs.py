@@ -27,8 +27,8 @@ import time
 from pathlib import Path
 
 from irlc.lang.compiler import compile_file
+from irlc.runtime import accel_support, warmup
 from irlc.runtime.control.executor import ExecutionOptions
-from irlc.runtime.ik import accel
 from irlc.runtime.ik.params import IKParams
 from irlc.runtime.run import _robot_resolver, resolve_model, run_code
 
@@ -77,10 +77,10 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--json", type=Path, default=None, help="also write the rows as JSON")
     args = ap.parse_args()
-    if not accel.AVAILABLE:
+    if not accel_support.AVAILABLE:
         raise SystemExit("numba is not installed (pip install 'irlc[fast]')")
     files = [Path(p) for p in args.programs] or sorted(PROGRAMS.glob("*.irl"))
-    seconds = accel.warm_up()
+    seconds = warmup.warm_ik() + warmup.warm_ik_obstacles()
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(f"python {platform.python_version()}, {platform.machine()}, kernels ready in "
           f"{seconds:.2f} s, load average (1 min) {load:.2f}, best of {args.repeat}")  # fmt: skip

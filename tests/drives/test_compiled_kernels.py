@@ -1,4 +1,4 @@
-"""Each compiled drive kernel (runtime/drives/accel_kernels.py) against its numpy
+"""Each compiled drive kernel (runtime/drives/compiled/kernels.py) against its numpy
 reference, on known cases and randomized inputs: the first-order armature with the
 current clamp (``motor.first_order``) and the transmission on its public packed data
 (``Transmission.data`` against ``Transmission.motor_and_jacobian``)."""
@@ -11,21 +11,24 @@ from pathlib import Path
 import numpy as np
 import pytest
 from irlc.robots.loader import load_toml
-from irlc.runtime.drives import accel, motor
+from irlc.runtime.accel_support import AVAILABLE
+from irlc.runtime.drives import motor
 from irlc.runtime.drives.params import drive_params
 from irlc.runtime.drives.transmission import Transmission
 
 ROBOTS = Path(__file__).resolve().parents[2] / "robots"
-pytestmark = pytest.mark.skipif(not accel.AVAILABLE, reason="numba not installed / disabled")
+pytestmark = pytest.mark.skipif(not AVAILABLE, reason="numba not installed / disabled")
 
 
 def _kernels():
-    return accel._module()
+    from irlc.runtime.drives.compiled import kernels
+
+    return kernels
 
 
 def _first_order(i0, u, omega, R, L, ks, tau, i_max):
     res = np.empty(4)
-    _kernels()._first_order(i0, u, omega, R, L, ks, tau, i_max, res)
+    _kernels().first_order(i0, u, omega, R, L, ks, tau, i_max, res)
     return res
 
 
@@ -73,7 +76,9 @@ def test_transmission_on_packed_data(robot):
     lo, hi = np.clip(model.position_limits, -2.0, 2.0).T
     for _ in range(50):
         q = lo + (hi - lo) * rng.uniform(0.2, 0.8, model.n)
-        _kernels()._transmission(data.linear, data.rows, data.angle, data.lever, q, theta, kmat)
+        _kernels().motor_and_jacobian(
+            data.linear, data.rows, data.angle, data.lever, q, theta, kmat
+        )
         ref_theta, ref_k = trans.motor_and_jacobian(q)
         assert np.allclose(theta, ref_theta, rtol=1e-13, atol=1e-12)
         assert np.allclose(kmat, ref_k, rtol=1e-13, atol=1e-12)
@@ -120,13 +125,13 @@ def test_invert_against_numpy():
         for spd in (True, False):
             a = rng.normal(size=(n, n))
             a = a @ a.T + n * np.eye(n) if spd else a
-            _kernels()._invert(a, out, work)
+            _kernels().invert(a, out, work)
             ref = np.linalg.inv(a)
             assert np.allclose(out, ref, rtol=0, atol=1e-12 * np.abs(ref).max())
             assert np.allclose(out @ a, np.eye(n), atol=1e-11)
     a = np.array([[0.0, 2.0], [3.0, 1.0]])  # zero on the diagonal: a pivot swap
     out = np.empty((2, 2))
-    _kernels()._invert(a, out, np.empty((2, 4)))
+    _kernels().invert(a, out, np.empty((2, 4)))
     assert np.allclose(out, np.linalg.inv(a), rtol=1e-15)
 
 
@@ -174,10 +179,11 @@ def test_coupled_terms_on_packed_data(robot):
 
 
 def test_chain_source_digest():
-    """run_segment's machine code includes ik/accel_chain._chain; numba's cache is keyed by
-    this module's file only, so a change of _chain must change CHAIN_SOURCE_DIGEST here."""
+    """run_segment's machine code includes ik/compiled/chain.forward_chain; numba's cache is
+    keyed by the kernel module's file only, so a change of forward_chain must change
+    CHAIN_SOURCE_DIGEST there."""
     k = _kernels()
     assert k.chain_source_digest() == k.CHAIN_SOURCE_DIGEST, (
-        "ik/accel_chain._chain changed: set CHAIN_SOURCE_DIGEST in "
-        f"runtime/drives/accel_kernels.py to {k.chain_source_digest()!r}"
+        "ik/compiled/chain.forward_chain changed: set CHAIN_SOURCE_DIGEST in "
+        f"runtime/drives/compiled/kernels.py to {k.chain_source_digest()!r}"
     )
