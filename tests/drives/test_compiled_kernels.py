@@ -187,3 +187,171 @@ def test_chain_source_digest():
         "ik/compiled/chain.forward_chain changed: set CHAIN_SOURCE_DIGEST in "
         f"runtime/drives/compiled/kernels.py to {k.chain_source_digest()!r}"
     )
+
+
+# ---------------------------------------------------------------------- the rest, one each
+def test_sign_clip_and_pivot_against_numpy():
+    k = _kernels()
+    rng = np.random.default_rng(16)
+    for x in (*rng.normal(size=50), 0.0, -0.0, 1e-300, -1e-300):
+        assert k.sign(x) == np.sign(x)
+        lo, hi = sorted(rng.normal(size=2))
+        assert k.clip(x, lo, hi) == np.clip(x, lo, hi)
+    for rows in (1, 3, 6):
+        for c in range(rows):
+            work = rng.normal(size=(rows, rows + 1))
+            ref = work.copy()
+            k.pivot(work, c, rows, rows + 1)
+            best = c + int(np.argmax(np.abs(ref[c:, c])))  # the first largest, as LAPACK
+            ref[[c, best], c:] = ref[[best, c], c:]
+            np.testing.assert_array_equal(work, ref)
+
+
+def _spd(rng, n):
+    a = rng.normal(size=(n, n))
+    return a @ a.T + n * np.eye(n)
+
+
+def test_solve_free_against_numpy():
+    """``q̈_f = M_ff⁻¹ rhs_f`` by elimination with partial pivoting, zero on the held axes."""
+    k = _kernels()
+    rng = np.random.default_rng(17)
+    n = 6
+    for _ in range(100):
+        mm, rhs = _spd(rng, n), rng.normal(size=n)
+        free = np.flatnonzero(rng.uniform(size=n) < 0.7).astype(np.int64)
+        qdd, work = np.full(n, np.nan), np.empty((n, n + 1))
+        k.solve_free(mm, np.resize(free, n), free.size, rhs, qdd, work)
+        ref = np.zeros(n)
+        if free.size:
+            ref[free] = np.linalg.solve(mm[np.ix_(free, free)], rhs[free])
+        np.testing.assert_allclose(qdd, ref, rtol=1e-12, atol=1e-14)
+
+
+def _mechanics():
+    from irlc.runtime.drives.mechanics import Mechanics
+
+    model = load_toml(ROBOTS / "irb6_track.toml")
+    n = model.n
+    return Mechanics(model, "coupled", np.full(n, 0.1), np.array(model.home_q(), float), None)
+
+
+def test_karnopp_against_mechanics():
+    """Karnopp's two passes on a held M: the same accelerations, joint-side friction and
+    final stuck set as Mechanics.accel_driven (Mechanics._karnopp), stuck axes that hold
+    and that break away."""
+    k, mech = _kernels(), _mechanics()
+    n = mech.n
+    rng = np.random.default_rng(18)
+    broke = held = 0
+    for _ in range(200):
+        mm, hb = _spd(rng, n), rng.normal(size=n)
+        drive, slide = rng.normal(size=n) * 5, rng.normal(size=n) * 0.5
+        stuck = rng.uniform(size=n) < 0.5
+        static = rng.uniform(0.0, 6.0, n)
+        running = static * rng.uniform(0.5, 1.0, n)
+        slide[stuck] = 0.0
+        ref_qdd, ref_fric, ref_stuck = mech.accel_driven(
+            mm, hb, drive, slide, stuck.copy(), static, running, mech.inverse(mm)
+        )
+        got_stuck, qdd, fric = stuck.copy(), np.empty(n), np.empty(n)
+        scratch = (np.empty(n, np.int64), np.empty((n, n + 1)), np.empty(n), np.empty(n))
+        k.karnopp(mm, hb, drive, slide, got_stuck, static, running, qdd, fric, *scratch)
+        np.testing.assert_array_equal(got_stuck, ref_stuck)
+        np.testing.assert_allclose(qdd, ref_qdd, rtol=1e-11, atol=1e-13)
+        np.testing.assert_allclose(fric, ref_fric, rtol=1e-11, atol=1e-13)
+        broke += int(np.count_nonzero(stuck & ~ref_stuck))
+        held += int(np.count_nonzero(ref_stuck))
+    assert broke > 20 and held > 20  # both outcomes of the break-away test
+
+
+def test_refresh_due_against_the_refresh_policy():
+    """``Refresh.due``: every k steps, or (adaptive) after the hold time or when q, q̇ moved
+    beyond the bounds since the last refresh."""
+    from irlc.runtime.drives.refresh import Refresh
+
+    k = _kernels()
+    rng = np.random.default_rng(19)
+    n, h = 5, 1e-3
+    for every in (None, 1, 3):
+        ref = Refresh(every, h, n)
+        ist, fst = np.zeros(k.N_IST, np.int64), np.zeros(k.N_FST)
+        ist[k.EVERY], ist[k.MAX_STEPS] = every or 0, ref.max_steps
+        fst[k.DQ], fst[k.DV] = ref.dq, ref.dv
+        q, qd = rng.normal(size=n), rng.normal(size=n)
+        ref.mark(0, q, qd)
+        for s in range(1, 60):
+            q = q + rng.normal(size=n) * 1e-3
+            qd = qd + rng.normal(size=n) * 1e-2
+            ist[k.S0] = ref.s0
+            due = ref.due(s, q, qd)
+            assert k.refresh_due(s, q, qd, ref.q0, ref.qd0, ist, fst) == due, (every, s)
+            if due:
+                ref.mark(s, q, qd)
+
+
+def test_axis_step_against_the_dc_bank():
+    """One DC axis of the averaged cascade (the fused linear map, or P → PI → current loop
+    → averaged stage with every limit) against DcBank.step on the irb6_track's measured
+    chain: torque, mean current and voltage, saturation, energy, copper loss and the new
+    state, for small and saturating errors and speeds."""
+    from irlc.runtime.drives.cascade import DcBank
+    from irlc.runtime.drives.compiled.loop import axis_parameters
+
+    k = _kernels()
+    model = load_toml(ROBOTS / "irb6_track.toml")
+    params = drive_params(model)
+    c, h = params.chain, 1e-3
+    m = len(c.kz)
+    rng = np.random.default_rng(20)
+    bank = DcBank(c, h, False, rng.normal(size=m) * 0.2)
+    par = axis_parameters(k, c, params.friction, np.zeros(m))
+    out, res, saturated = np.empty(6), np.empty(4), 0
+    for trial in range(300):
+        scale = (1e-3, 0.05, 5.0)[trial % 3]
+        d, omega = rng.normal(size=m) * scale, rng.normal(size=m) * 20 * scale
+        z = bank.z  # the bank's state [x_v; i; u] (blocks of m axes), before the step
+        xv, xi, xu = z[2 * m : 3 * m].copy(), z[3 * m : 4 * m].copy(), z[4 * m :].copy()
+        ref = bank.step(d, np.zeros(m), omega, 0.0)
+        for a in range(m):
+            k.axis_step(a, d[a], omega[a], par, bank.fused, bank.limits, bank.loop.big, xv, xi,
+                        xu, h, out, res)  # fmt: skip
+            want = [ref[i][a] for i in (0, 1, 2, 4, 5)]  # τ_m, ī, ū, ∫u i, ∫R i²
+            assert out[[0, 1, 2, 4, 5]] == pytest.approx(want, rel=1e-10, abs=1e-12), (trial, a)
+            assert bool(out[3]) == bool(ref[3][a]), (trial, a)
+            saturated += bool(out[3])
+        np.testing.assert_allclose(np.concatenate((xv, xi, xu)), bank.z[2 * m :], rtol=1e-10,
+                                   atol=1e-12)  # fmt: skip
+    assert saturated > 100  # the limited branches ran
+
+
+def test_joint_step_against_numpy():
+    """The joint side of one step shared by every level: ``T = Kᵀτ_m``, sliding friction
+    ``Kᵀf_m``, ``q̈ = M⁻¹(T − f − h)`` or Karnopp (Mechanics.accel_driven), the record row,
+    then semi-implicit Euler (stuck axes stop)."""
+    k, mech = _kernels(), _mechanics()
+    n, m, h = mech.n, mech.n, 1e-3
+    rng = np.random.default_rng(26)
+    for trial in range(60):
+        mm, hb = _spd(rng, n), rng.normal(size=n)
+        kmat, tau_m, f_m = rng.normal(size=(m, n)), rng.normal(size=m), rng.normal(size=m)
+        static = rng.uniform(0.0, 3.0, n)
+        running = static * 0.7
+        stuck = rng.uniform(size=n) < (0.4 if trial % 2 else 0.0)
+        q, qd = rng.normal(size=n), rng.normal(size=n)
+        q_ref, qd_ref = q.copy(), qd.copy()
+        rec = tuple(np.zeros((3, n)) for _ in range(4))
+        m_inv = mech.inverse(mm)
+        got_stuck = stuck.copy()
+        k.joint_step(1, h, kmat, tau_m, f_m, True, bool(stuck.any()), got_stuck, mm, hb, m_inv,
+                     static, running, q, qd, rec, k.joint_scratch(n))  # fmt: skip
+        drive, slide = kmat.T @ tau_m, kmat.T @ f_m
+        qdd, fric, ref_stuck = mech.accel_driven(
+            mm, hb, drive, slide, stuck.copy(), static, running, m_inv
+        )
+        np.testing.assert_array_equal(got_stuck, ref_stuck)
+        for row, want in zip(rec, (q_ref, qd_ref, drive, fric), strict=True):
+            np.testing.assert_allclose(row[1], want, rtol=1e-12, atol=1e-13)
+        qd_ref = np.where(ref_stuck, 0.0, qd_ref + h * qdd)
+        np.testing.assert_allclose(qd, qd_ref, rtol=1e-12, atol=1e-13)
+        np.testing.assert_allclose(q, q_ref + h * qd_ref, rtol=1e-12, atol=1e-13)

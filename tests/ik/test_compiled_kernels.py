@@ -17,14 +17,23 @@ from irlc.runtime.accel_support import AVAILABLE
 from irlc.runtime.ik.compact import CompactBasis, compact_box_qp
 from irlc.runtime.ik.compiled import layout as L
 from irlc.runtime.ik.compiled.box import active_codes, joint_box
-from irlc.runtime.ik.compiled.chain import forward_chain, matmul44, pose_error, tcp_jacobian
-from irlc.runtime.ik.compiled.cycle import general_cost, reduce_frozen
+from irlc.runtime.ik.compiled.chain import (
+    evaluate,
+    forward_chain,
+    matmul44,
+    pose_error,
+    tcp_jacobian,
+)
+from irlc.runtime.ik.compiled.cycle import apply_z, general_cost, inputs_finite, reduce_frozen
 from irlc.runtime.ik.compiled.qp import (
+    compact_rest,
     hard_data,
     hard_data_general,
     relaxed_data,
+    row_terms,
     scalar_qp,
     split,
+    square_step,
     unconstrained_qp,
 )
 from irlc.runtime.ik.cyclic import CyclicReference
@@ -492,3 +501,127 @@ def test_unconstrained_qp_against_quadprog():
     assert not unconstrained_qp(H, np.ones(2), np.eye(2), -np.ones(2), np.empty(2))
     C, b = np.eye(2), np.array([0.5, -1.0])  # z = (0.5, ·): exactly on the first bound
     assert not unconstrained_qp(np.eye(2), np.array([0.5, 0.0]), C, b, np.empty(2))
+
+
+# ---------------------------------------------------------------------- the rest, one each
+def test_evaluate_against_fk_and_the_task_error(robots):
+    """FK, TCP, the task error (all six components) and its norms over the task rows, at
+    random configurations and targets, against Kinematics and spatial.pose_error."""
+    rng = np.random.default_rng(21)
+    for name, rows in (("koch11", (0, 1, 2, 3, 4, 5)), ("panda", (0, 1, 2, 5)), ("irb6", (2, 4))):
+        model = robots[name]
+        kin, n = Kinematics(model), model.n
+        data = kin.chain_data
+        rows_a = np.array(rows, dtype=np.int64)
+        for _ in range(30):
+            q = _random_q(model, rng)
+            target = kin.tcp(_random_q(model, rng))
+            V, ist, fst = np.zeros((L.NV, n)), np.zeros(L.N_IST_ALL, np.int64), np.zeros(L.N_FST)
+            V[L.THETA] = q
+            ist[L.NPOS] = int(np.sum(rows_a < 3))
+            frames, tcp = np.empty((n + 1, 4, 4)), np.empty((4, 4))
+            evaluate(data.basis, data.joints, data.ends, target, frames, np.empty((4, 4)), tcp,
+                     rows_a, V, ist, fst)  # fmt: skip
+            np.testing.assert_allclose(frames, kin.chain(q), rtol=0, atol=1e-12)
+            np.testing.assert_allclose(tcp, kin.tcp(q), rtol=0, atol=1e-12)
+            e = spatial.pose_error(kin.tcp(q), target)  # (ill-conditioned near half turns)
+            np.testing.assert_array_equal(fst[L.E0 : L.E0 + 6], _pose_error(tcp, target))
+            np.testing.assert_allclose(fst[L.E0 : L.E0 + 6], e, rtol=0, atol=1e-9)
+            e6 = fst[L.E0 : L.E0 + 6]  # the norms over the task's position / orientation rows
+            pos = [r for r in rows if r < 3]
+            ori = [r for r in rows if r >= 3]
+            assert fst[L.PE] == pytest.approx(np.linalg.norm(e6[pos]), rel=1e-15, abs=1e-300)
+            assert fst[L.OE] == pytest.approx(np.linalg.norm(e6[ori]), rel=1e-15, abs=1e-300)
+
+
+def test_matmul44_and_row_terms_against_numpy():
+    rng = np.random.default_rng(22)
+    for _ in range(50):
+        a, b, out = rng.normal(size=(4, 4)), rng.normal(size=(4, 4)), np.empty((4, 4))
+        matmul44(a, b, out)
+        np.testing.assert_allclose(out, a @ b, rtol=1e-14, atol=1e-14)
+        A, dp, sigma = rng.normal(size=(3, 7)), rng.normal(size=7), rng.normal(size=7)
+        for r in range(3):
+            got = row_terms(A, r, dp, sigma)
+            np.testing.assert_allclose(got, (A[r] @ dp, A[r] @ sigma), rtol=1e-13, atol=1e-15)
+
+
+def test_square_step_against_newton_step():
+    """n = m (no null space): the particular step Δθ_p if it satisfies the box and the
+    coupled rows, with the rows it touches — NewtonStep.hard_diagonal's answer — else no
+    step; random square systems, boxes that admit and exclude it, and coupled rows."""
+    rng = np.random.default_rng(23)
+    n, seen = 4, {True: 0, False: 0}
+    for k in range(300):
+        J, F = rng.normal(size=(n, n)), rng.normal(size=n) * 0.05
+        dp = np.linalg.solve(J, -F)
+        lower, upper = -rng.uniform(0.0, 0.1, n), rng.uniform(0.0, 0.1, n)
+        if k % 5 == 0:  # exactly at a bound: a touching row
+            upper[0] = dp[0]
+        A = rng.normal(size=(2, n)) if k % 3 == 0 else np.zeros((0, n))
+        sigma = rng.normal(size=n) * 0.01
+        b = A @ (sigma + dp) - rng.uniform(-0.01, 0.05, A.shape[0])
+        ineq = None if A.shape[0] == 0 else (A, b - A @ sigma)
+        step = NewtonStep(QuadprogSolver())
+        ref = step.hard_diagonal(J, F, np.ones(n), np.zeros(n), np.stack((lower, upper)), ineq)
+        V = _workspace(n, np.ones(n), np.zeros(n), dp, lower, upper)
+        V[L.SIGMA] = sigma
+        active, mult, ist = np.zeros(2 * n, np.int64), np.zeros(2 * n), np.zeros(L.N_IST, np.int64)
+        ok = square_step(V, A, b, active, mult, ist)
+        assert ok == (ref is not None)
+        seen[ok] += 1
+        if ok:
+            np.testing.assert_allclose(V[L.DTHETA], ref.dtheta, rtol=0, atol=1e-12)
+            assert sorted(active[: ist[L.N_ACTIVE]].tolist()) == sorted(ref.active.tolist())
+    assert min(seen.values()) > 30  # both branches
+
+
+def test_compact_rest_and_apply_z_against_numpy():
+    """The compact QP's scaling and constraint columns (quadprog's ``solve_ct`` scaling:
+    max diag H̃ = 1; ``[N, −N, (AN)ᵀ]``, ``[l − Δθ_p; Δθ_p − u; b − AΣ − AΔθ_p]``), and the
+    step from its solution ``Δθ = Δθ_p + N z``."""
+    rng = np.random.default_rng(24)
+    for _ in range(50):
+        n, nz, r = 6, 3, 2
+        N, A = rng.normal(size=(n, nz)), rng.normal(size=(r, n))
+        dp, sigma, b = rng.normal(size=n), rng.normal(size=n), rng.normal(size=r)
+        lower, upper = -rng.uniform(0.1, 1, n), rng.uniform(0.1, 1, n)
+        H = rng.normal(size=(nz, nz))
+        H = H @ H.T + np.eye(nz)
+        g = rng.normal(size=nz)
+        V = _workspace(n, np.ones(n), np.zeros(n), dp, lower, upper)
+        V[L.SIGMA] = sigma
+        Ht, gt, fst = H.copy(), g.copy(), np.zeros(L.N_FST)
+        Ct, bt = np.empty((nz, 2 * n + r)), np.empty(2 * n + r)
+        compact_rest(V, N, A, b, Ht, gt, Ct, bt, fst)
+        scale = 1.0 / np.diag(H).max()
+        assert fst[L.SCALE] == pytest.approx(scale, rel=1e-15)
+        np.testing.assert_allclose(Ht, H * scale, rtol=1e-14)
+        np.testing.assert_allclose(gt, -g * scale, rtol=1e-14)
+        np.testing.assert_allclose(Ct, np.hstack((N.T, -N.T, (A @ N).T)), rtol=1e-13, atol=1e-14)
+        rhs = np.concatenate((lower - dp, dp - upper, b - A @ sigma - A @ dp))
+        np.testing.assert_allclose(bt, rhs, rtol=1e-13, atol=1e-14)
+        z = rng.normal(size=nz)
+        Vr = _workspace(n, np.ones(n), np.zeros(n), dp, lower, upper)
+        Vr[L.Z, :nz] = z
+        apply_z(Vr, N, n, nz)
+        np.testing.assert_allclose(Vr[L.DTHETA], dp + N @ z, rtol=1e-13, atol=1e-15)
+
+
+def test_inputs_finite_is_the_numpy_paths_first_test():
+    """The cycle's first test of its inputs: ``q·q`` and the sum of the target's first
+    three rows finite (InverseTransformation.step: an overflow of ‖q‖² sends both paths to
+    the exact check)."""
+    rng = np.random.default_rng(25)
+    for k in range(200):
+        q, target = rng.normal(size=7), rng.normal(size=(4, 4))
+        bad = k % 4
+        if bad == 1:
+            q[k % 7] = (np.inf, -np.inf, np.nan)[k % 3]
+        elif bad == 2:
+            target[k % 3, k % 4] = np.nan
+        elif bad == 3:
+            q[0] = 1e200  # finite, but ‖q‖² overflows
+        with np.errstate(over="ignore", invalid="ignore"):
+            expected = math.isfinite(float(q @ q)) and math.isfinite(float(target[:3].sum()))
+        assert inputs_finite(q, target) == expected

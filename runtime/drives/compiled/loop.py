@@ -37,6 +37,19 @@ def _read_only(a: np.ndarray) -> np.ndarray:
     return a
 
 
+def axis_parameters(k, c, frc, band) -> np.ndarray:
+    """The per-axis constants ``par`` (m, ``k.N_PAR``) of the averaged kernel (module ``k``):
+    the DC chain ``c`` (``DcDrives``), the motor-side friction ``frc`` and the stick band."""
+    par = np.zeros((len(c.kz), k.N_PAR))
+    for idx, value in (
+        (k.KZ, c.kz), (k.KE, c.ke), (k.KP, c.kp), (k.KI, c.ki), (k.ULIM, c.u_ref_max),
+        (k.R, c.R), (k.L, c.L), (k.KS, c.ks), (k.U, c.U), (k.IMAX, c.i_max),
+        (k.RUN_M, frc.running), (k.VISC_M, frc.viscous), (k.BAND, band),
+    ):  # fmt: skip
+        par[:, idx] = value
+    return par
+
+
 class CompiledLoop:
     """The constant arrays of one drive simulation (``simulate._Simulation``) for the
     kernel."""
@@ -44,17 +57,8 @@ class CompiledLoop:
     def __init__(self, sim, bank, static_j, running_j, sticky: bool, sliding: bool):
         k = self.layout_module()
         self.k, self.sim, self.bank = k, sim, bank
-        c, frc, trans = sim.p.chain, sim.p.friction, sim.trans
-        m = len(sim.axes)
-        par = np.zeros((m, k.N_PAR))
-        for idx, value in (
-            (k.KZ, c.kz), (k.KE, c.ke), (k.KP, c.kp), (k.KI, c.ki), (k.ULIM, c.u_ref_max),
-            (k.R, c.R), (k.L, c.L), (k.KS, c.ks), (k.U, c.U), (k.IMAX, c.i_max),
-            (k.RUN_M, frc.running), (k.VISC_M, frc.viscous), (k.BAND, sim.band),
-        ):  # fmt: skip
-            par[:, idx] = value
-        self.par = par
-        self.trans = trans.data  # the packed motor map (public, read-only)
+        self.par = axis_parameters(k, sim.p.chain, sim.p.friction, sim.band)
+        self.trans = sim.trans.data  # the packed motor map (public, read-only)
         self.static_j, self.running_j = static_j, running_j
         self.ist = np.zeros(k.N_IST, dtype=np.int64)
         self.fst = np.array([sim.h, 0.0, 0.0])
