@@ -93,7 +93,7 @@ def kernels_allowed() -> bool:
     return NUMBA_INSTALLED and not _forced_numpy()
 
 
-# numba importable and not IRLC_ENGINE=numpy, at import (what the accelerators' tests skip on)
+# numba importable and not IRLC_ENGINE=numpy, at import (what the compiled engine's tests skip on)
 AVAILABLE = kernels_allowed()
 
 
