@@ -30,7 +30,7 @@ from irlc.lang.compiler import compile_file
 from irlc.runtime import accel_support, warmup
 from irlc.runtime.control.executor import ExecutionOptions
 from irlc.runtime.ik.params import IKParams
-from irlc.runtime.run import _robot_resolver, resolve_model, run_code
+from irlc.runtime.run import resolve_model, robot_resolver, run_code
 
 PROGRAMS = Path(__file__).resolve().parents[1] / "programs"
 PATHS = (("numpy", False), ("compiled", True))
@@ -46,7 +46,7 @@ def _time_once(code, model, base: Path, flag: bool) -> tuple[float, float, dict]
 
 def measure(path: Path, repeat: int) -> dict:
     """Wall times of one program on both paths (rounds alternate the paths)."""
-    result = compile_file(path, resolve_robot=_robot_resolver(path.parent, None))
+    result = compile_file(path, resolve_robot=robot_resolver(path.parent, None))
     model = resolve_model(result.code, None, path.parent)
     walls: dict[str, list[float]] = {name: [] for name, _ in PATHS}
     cpus: dict[str, list[float]] = {name: [] for name, _ in PATHS}

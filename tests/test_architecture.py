@@ -21,15 +21,7 @@ PACKAGES = {
 MAX_CLASS_LINES = 600
 
 KNOWN_CYCLES: set[frozenset[str]] = set()
-KNOWN_PRIVATE_IMPORTS: set[str] = {
-    "tests/runtime/test_hostile_runs.py",
-    "tests/runtime/test_blending.py",
-    "tests/tool/test_joint_naming.py",
-    "tests/tool/test_shown_numbers.py",
-    "tests/robots/test_panda_core.py",
-    "bench/bench_programs.py",
-    "bench/bench_run.py",
-}
+KNOWN_PRIVATE_IMPORTS: set[str] = set()
 KNOWN_LARGE_CLASSES: set[str] = {
     "irlc.runtime.control.executor.SimulatedController",
     "irlc.runtime.interpreter.machine.Interpreter",
