@@ -7,7 +7,7 @@ two swept shapes is the distance between their cores minus both radii, along the
 direction, so three core problems suffice, each solved in closed form:
 
 * **segment–segment** (covers point and sphere): minimise ``‖p(s) − q(t)‖²`` over the
-  unit square; the unconstrained stationary point is clamped edge by edge (Ericson,
+  unit square; the unconstrained stationary point is clamped edge by edge ([Ericson 2005],
   *Real-Time Collision Detection*, §5.1.9), with the degenerate and parallel cases
   handled explicitly.
 * **segment–box** (oriented box, half extents ``h``, in the box frame): the squared
