@@ -5,9 +5,6 @@ branches; the numpy loop where it does not cover; the use/skip decision."""
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
 import warnings
 from pathlib import Path
 
@@ -158,24 +155,6 @@ def test_the_factory_picks_the_loop(monkeypatch):
     assert engine.compiled_loop(Sim, None) is (PwmLoop if available else None)
     Sim.is_dc = False  # stepper drives
     assert engine.compiled_loop(Sim, True) is None
-
-
-def test_irlc_engine_numpy_runs_numpy():
-    code = (
-        "import numpy as np\n"
-        "from irlc.robots import load_robot\n"
-        "import sys\n"
-        "from irlc.runtime.accel_support import AVAILABLE\n"
-        "from irlc.runtime.drives import simulate_drives\n"
-        "m = load_robot('koch11')\n"
-        "q = np.tile(m.home_q(), (2, 1))\n"
-        "r = simulate_drives(m, np.array([0.0, 0.01]), q, level='coupled', accel=True)\n"
-        "print(AVAILABLE, 'numba' in sys.modules, r.could_follow)\n"
-    )
-    env = dict(os.environ, IRLC_ENGINE="numpy")
-    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
-    assert out.returncode == 0, out.stderr
-    assert out.stdout.split() == ["False", "False", "True"]
 
 
 def test_first_order_mixed_axes_equal_single_axes():

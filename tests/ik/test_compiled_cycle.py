@@ -8,10 +8,6 @@ decision), relaxed / converged / singular flags and the same binding text.
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 
@@ -358,22 +354,6 @@ def test_the_factory_picks_the_engine(robots, monkeypatch):
     assert compiled(accel=None, max_iter=0) is False
     monkeypatch.setenv("IRLC_ENGINE", "auto")
     assert compiled(accel=None) is True
-
-
-def test_irlc_engine_numpy_disables_it():
-    code = (
-        "from irlc.robots import load_robot\n"
-        "from irlc.runtime.accel_support import AVAILABLE\n"
-        "from irlc.runtime.ik import IKParams, InverseTransformation\n"
-        "from irlc.runtime.model.kinematics import Kinematics\n"
-        "m = load_robot('panda')\n"
-        "ik = InverseTransformation(m, Kinematics(m), IKParams(accel=True))\n"
-        "print(AVAILABLE, ik.accelerated)\n"
-    )
-    env = dict(os.environ, IRLC_ENGINE="numpy")
-    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
-    assert out.returncode == 0, out.stderr
-    assert out.stdout.split() == ["False", "False"]
 
 
 def test_every_option_runs_compiled(robots, monkeypatch):
