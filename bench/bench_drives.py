@@ -8,7 +8,7 @@ the whole plan, ``--repeat`` rounds) so that a change in the machine's load hits
 alike; the table gives the median and the best round, and the load average before and
 after. ``--plan core`` times only the 1 ms coupled/decoupled and the pwm runs. Every case
 runs the numpy loop (``accel=False``, the reference); with numba installed the cases the
-compiled loops cover (``runtime/drives/accel.py``; pwm: ``accel_pwm.py``) run a second
+compiled loops cover (``runtime/drives/compiled/loop.py``; pwm: ``pwm_loop.py``) run a second
 time with ``accel=True`` (the kernels are compiled or loaded from numba's cache before
 timing; ``--no-accel`` skips them). Usage::
 
@@ -29,7 +29,8 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from irlc.runtime.drives import accel, accel_pwm, simulate_drives
+from irlc.runtime import accel_support, warmup
+from irlc.runtime.drives import simulate_drives
 from irlc.runtime.run import run_file
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -88,12 +89,13 @@ def main() -> None:
     ap.add_argument("--no-accel", action="store_true", help="numpy loop only")
     args = ap.parse_args()
     print(f"python {platform.python_version()}, numpy {np.__version__}, {platform.machine()}")
-    use_fast = accel.AVAILABLE and not args.no_accel
+    use_fast = accel_support.AVAILABLE and not args.no_accel
     if use_fast:
         import numba
+        from irlc.runtime.drives.compiled import loop, pwm_loop
 
-        warm = accel.cache_warm() and accel_pwm.cache_warm()
-        seconds = accel.warm_up() + accel_pwm.warm_up()
+        warm = loop.KERNELS.cache_warm() and pwm_loop.KERNELS.cache_warm()
+        seconds = warmup.warm_drives() + warmup.warm_pwm()
         state = "loaded from cache" if warm else "compiled"
         print(f"numba {numba.__version__}: drive kernel {state} in {seconds:.2f} s")
     load0 = os.getloadavg()

@@ -40,7 +40,8 @@ from pathlib import Path
 
 import numpy as np
 from irlc.robots import load_robot
-from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation, accel
+from irlc.runtime import accel_support, warmup
+from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation
 from irlc.runtime.model import spatial
 from irlc.runtime.model.kinematics import Kinematics
 
@@ -199,14 +200,14 @@ def breakdown(model, cases) -> None:
 
 
 def jit_times() -> None:
-    """Seconds of ``python -m irlc.runtime.ik.accel`` (compile or load the kernels) and of
+    """Seconds of ``python -m irlc.runtime.warmup ik`` (compile or load the kernels) and of
     the whole process, with an empty numba cache and then with the cache it filled."""
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache)
         for label in ("empty cache", "warm cache"):
             t0 = time.perf_counter()
             out = subprocess.run(
-                [sys.executable, "-m", "irlc.runtime.ik.accel"],
+                [sys.executable, "-m", "irlc.runtime.warmup", "ik"],
                 env=env, capture_output=True, text=True, check=True,
             )  # fmt: skip
             wall = time.perf_counter() - t0
@@ -242,7 +243,8 @@ def main() -> int:
         breakdown(model, cases[:1000])
         return 0
     runners = {}
-    for jit in (False, True) if accel.AVAILABLE else (False,):
+    compiled = warmup.warm_ik() if accel_support.AVAILABLE else None  # (before timing)
+    for jit in (False, True) if accel_support.AVAILABLE else (False,):
         tag = "compiled" if jit else "numpy"
         a = args.accel
         runners[f"irlc {tag} (1 iteration)"] = bench_irlc(model, cases, 1, accel=a, jit=jit)
@@ -269,7 +271,7 @@ def main() -> int:
         f"load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; kernels loaded/compiled in ",
         end="",
     )
-    print(f"{accel.compile_seconds} s" if accel.compile_seconds else "- (numba not used)")
+    print(f"{compiled:.2f} s" if compiled is not None else "- (numba not used)")
     print(f"irlc acceleration limit: {args.accel} rad/s² (inf: none, like the peers)")
     print(f"pink {_version('pin-pink')}, mink {_version('mink')}, pin {_version('pin')}, ", end="")
     print(f"mujoco {_version('mujoco')}, quadprog {_version('quadprog')}, numpy {np.__version__}")

@@ -27,10 +27,10 @@ import time
 from pathlib import Path
 
 from irlc.lang.compiler import compile_file
+from irlc.runtime import accel_support, warmup
 from irlc.runtime.control.executor import ExecutionOptions
-from irlc.runtime.ik import accel
 from irlc.runtime.ik.params import IKParams
-from irlc.runtime.run import _robot_resolver, resolve_model, run_code
+from irlc.runtime.run import resolve_model, robot_resolver, run_code
 
 PROGRAMS = Path(__file__).resolve().parents[1] / "programs"
 PATHS = (("numpy", False), ("compiled", True))
@@ -46,7 +46,7 @@ def _time_once(code, model, base: Path, flag: bool) -> tuple[float, float, dict]
 
 def measure(path: Path, repeat: int) -> dict:
     """Wall times of one program on both paths (rounds alternate the paths)."""
-    result = compile_file(path, resolve_robot=_robot_resolver(path.parent, None))
+    result = compile_file(path, resolve_robot=robot_resolver(path.parent, None))
     model = resolve_model(result.code, None, path.parent)
     walls: dict[str, list[float]] = {name: [] for name, _ in PATHS}
     cpus: dict[str, list[float]] = {name: [] for name, _ in PATHS}
@@ -77,10 +77,10 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--json", type=Path, default=None, help="also write the rows as JSON")
     args = ap.parse_args()
-    if not accel.AVAILABLE:
+    if not accel_support.AVAILABLE:
         raise SystemExit("numba is not installed (pip install 'irlc[fast]')")
     files = [Path(p) for p in args.programs] or sorted(PROGRAMS.glob("*.irl"))
-    seconds = accel.warm_up()
+    seconds = warmup.warm_ik() + warmup.warm_ik_obstacles()
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(f"python {platform.python_version()}, {platform.machine()}, kernels ready in "
           f"{seconds:.2f} s, load average (1 min) {load:.2f}, best of {args.repeat}")  # fmt: skip

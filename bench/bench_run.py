@@ -24,7 +24,7 @@ from bench_json import Recorder  # (bench/: the script's folder is on sys.path)
 from irlc.lang.compiler import compile_file
 from irlc.robots import load_robot
 from irlc.runtime.ik.newton import InverseTransformation
-from irlc.runtime.run import _robot_resolver, run_code
+from irlc.runtime.run import robot_resolver, run_code
 
 PROGRAMS = Path(__file__).resolve().parents[1] / "programs"
 CASES = [
@@ -88,7 +88,7 @@ def main() -> None:
 
 def _one(file: str, what: str, engine: str, args, out: Recorder) -> None:
     path = PROGRAMS / file
-    result = compile_file(path, resolve_robot=_robot_resolver(path.parent, None))
+    result = compile_file(path, resolve_robot=robot_resolver(path.parent, None))
     robot = _robot_for(result.code.robot)
     best, best_ik = float("inf"), 0.0
     for _ in range(args.repeat):

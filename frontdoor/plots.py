@@ -106,7 +106,7 @@ def _series(d: RunData, what) -> np.ndarray | None:
     return d.program_units((d.q, d.qd, d.qdd)[what])
 
 
-def _axis_label(d: RunData, j: int, what) -> str:
+def axis_label(d: RunData, j: int, what) -> str:
     unit = "A" if what == "current" else d.unit(j, 0 if what == "error" else what)
     return f"{d.joint_label(j)} [{unit}]"
 
@@ -138,7 +138,7 @@ def _joint_page(plt, d, c, values, other, joints, what, title):
             ax.plot(c.times[::every], other[::every, jc], "+", color="C3", ms=5,
                     label=c.label or "compare")  # fmt: skip
         _draw_limits(ax, d, j, what, shown)
-        ax.set_ylabel(_axis_label(d, j, what))
+        ax.set_ylabel(axis_label(d, j, what))
         ax.grid(True, lw=0.3)
     for ax in axes[-1]:
         ax.set_xlabel("t [s]")

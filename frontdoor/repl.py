@@ -40,6 +40,7 @@ import numpy as np
 from irlc.lang import types as T
 from irlc.lang.diagnostics import Diagnostic, line_span, render
 from irlc.lang.file_access import path_kind
+from irlc.lang.settings import LIMIT_OPTIONS, SETTINGS
 from irlc.runtime import units, values
 from irlc.runtime.model.naming import JointNaming
 
@@ -62,7 +63,7 @@ META_HELP = """\
 :where          pose (mm, deg) and joints of the robot, simulated time
 :robot          the robot: joints, kinds, units
 :limits         joint limits: the robot's and the active program limits
-:options        active modal options (JOINTLIMIT …, CYCLIC, OBSTACLE, FREEZE)
+:options        active modal options (JOINTLIMIT …, CYCLIC, OBSTACLE, FREEZE), the R_… settings
 :trace FILE     write the session's trace (CSV, program units)
 :plot DIR       write the session's figures (PNG) into DIR
 :teach NAME [FILE]  store the pose as NAME and the joints as NAME_joints in a data list
@@ -593,14 +594,16 @@ class Session:
         return out
 
     def options(self) -> list[str]:
+        """The active modal options, then every setting of the table (lang/settings.py) and
+        the tool."""
         o = self.state.options
         out = []
-        for label, pair in (("JOINTLIMIT", o.joint_limits), ("JOINTSPEEDLIMIT", o.speed_limits),
-                            ("JOINTACCELLIMIT", o.accel_limits)):  # fmt: skip
+        for option in LIMIT_OPTIONS:
+            pair = getattr(o, option.field)
             if pair:
                 lo = ", ".join(_fmt(v) for v in pair[0].values)
                 hi = ", ".join(_fmt(v) for v in pair[1].values)
-                out.append(f"{label} min ({lo}) max ({hi})")
+                out.append(f"{option.word} min ({lo}) max ({hi})")
         if o.cyclic_reference is not None:
             out.append("CYCLIC reference (" + ", ".join(_fmt(v) for v in o.cyclic_reference) + ")")
         for name in o.obstacles:
@@ -609,13 +612,10 @@ class Session:
             naming = self.naming()
             frozen = ", ".join(f"{naming.name(j)}={_fmt(v)}" for j, v in sorted(o.frozen.items()))
             out.append(f"FREEZE {frozen}")
-        s = self.state.settings
-        out.append(f"R_SPEED {_fmt(s.speed)}  R_ACC {_fmt(s.acc)}  R_SPEED_ORI {_fmt(s.speed_ori)}"
-                   f"  R_SPEED_PTP {_fmt(s.speed_ptp)}  R_IPO {_fmt(s.ipo)}"
-                   f"  R_PATH_TOL {_fmt(s.path_tol)}  R_PROFILE {s.profile}"
-                   f"  R_JERK {_fmt(s.jerk)}  R_OVERRIDE {_fmt(s.override)}")  # fmt: skip
+        active = bool(out)
+        out += settings_lines(self.state.settings)
         out.append(self._tool_line())
-        return out if len(out) > 2 else ["no modal options active", *out]
+        return out if active else ["no modal options active", *out]
 
     # ------------------------------------------------------------------ files
 
@@ -777,6 +777,24 @@ def _drop_temporaries(state) -> None:
         keep -= 1
     del state.global_slots[keep:]
     del state.globals[keep:]
+
+
+def settings_lines(settings, width: int = 88) -> list[str]:
+    """The system variables of the settings table (lang/settings.py), one ``NAME value
+    unit`` each, in the table's order, as lines of at most ``width`` characters."""
+    items = []
+    for row in SETTINGS:
+        if row.system_variable:
+            value = getattr(settings, row.field)
+            shown = value if isinstance(value, str) else f"{value:g}"
+            items.append(f"{row.system_variable} {shown}{' ' + row.unit if row.unit else ''}")
+    lines = [items[0]]
+    for item in items[1:]:
+        if len(lines[-1]) + 2 + len(item) <= width:
+            lines[-1] += "  " + item
+        else:
+            lines.append(item)
+    return lines
 
 
 def _fmt(v: float) -> str:

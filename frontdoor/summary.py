@@ -12,7 +12,7 @@ from rich.table import Table
 from rich.text import Text
 
 
-def _num(v, fmt: str = ".4g") -> str:
+def shown_number(v, fmt: str = ".4g") -> str:
     """``v`` in ``fmt``, snapped (:func:`units.shown`, :func:`units.fixed` for ``.Nf``)."""
     if v is None:
         return "—"
@@ -59,15 +59,15 @@ def joints_table(report: dict) -> Table:
     for i, j in enumerate(report["joints"]):
         cells: list = [
             Text(labels[i]),
-            _num(j["min"], ".2f"),
-            _num(j["max"], ".2f"),
-            _num(end[i] if i < len(end) else None, ".2f"),
-            _num(j["max_abs_speed"], ".1f"),
-            _num(j["max_abs_accel"], ".0f"),
+            shown_number(j["min"], ".2f"),
+            shown_number(j["max"], ".2f"),
+            shown_number(end[i] if i < len(end) else None, ".2f"),
+            shown_number(j["max_abs_speed"], ".1f"),
+            shown_number(j["max_abs_accel"], ".0f"),
             _limit_cell(j),
         ]
         if following:
-            cells.append(_num(j.get("max_following_error"), ".3g"))
+            cells.append(shown_number(j.get("max_following_error"), ".3g"))
         table.add_row(*cells)
     return table
 
@@ -84,12 +84,12 @@ def motors_table(report: dict) -> Table | None:
     for m in motors["axes"]:
         table.add_row(
             Text(joint_label(m["joint"], m.get("robot_name"))),
-            _num(m["start_rad"], ".4f"),
-            _num(m["end_rad"], ".4f"),
-            _num(m["travel_rad"], ".4f"),
-            _num(m["max_abs_speed_rad_s"], ".4g"),
-            _num(m["speed_limit_rad_s"], ".4g"),
-            _num(m["travel_time_s"], ".4f"),
+            shown_number(m["start_rad"], ".4f"),
+            shown_number(m["end_rad"], ".4f"),
+            shown_number(m["travel_rad"], ".4f"),
+            shown_number(m["max_abs_speed_rad_s"], ".4g"),
+            shown_number(m["speed_limit_rad_s"], ".4g"),
+            shown_number(m["travel_time_s"], ".4f"),
         )
     return table
 
@@ -104,30 +104,31 @@ def overview_table(report: dict) -> Table:
     table.add_row("program / robot", f"{report['program']} on {report['robot']}")
     table.add_row(
         "duration",
-        f"{_num(report['duration_s'], '.3f')} s, {report['samples']} samples at "
-        f"IPO {_num(report['ipo_s'] * 1e3, '.3g')} ms, drives {report['drives']}",
+        f"{shown_number(report['duration_s'], '.3f')} s, {report['samples']} samples at "
+        f"IPO {shown_number(report['ipo_s'] * 1e3, '.3g')} ms, drives {report['drives']}",
     )
     table.add_row("path error", _path_error(report))
     ik = report.get("ik") or {}
     table.add_row(
         "inverse transformation",
-        f"{ik.get('cycles', 0)} cycles, {_num(ik.get('iterations_mean'), '.2f')} iterations "
-        f"mean / {ik.get('iterations_max', 0)} max, {ik.get('relaxed_cycles', 0)} relaxed",
+        f"{ik.get('cycles', 0)} cycles, {shown_number(ik.get('iterations_mean'), '.2f')} "
+        f"iterations mean / {ik.get('iterations_max', 0)} max, "
+        f"{ik.get('relaxed_cycles', 0)} relaxed",
     )
     for name, o in sorted((report.get("obstacles") or {}).items()):
         table.add_row(
             f"obstacle {name}",
-            f"min clearance {_num(o.get('min_distance_mm'), '.1f')} mm"
+            f"min clearance {shown_number(o.get('min_distance_mm'), '.1f')} mm"
             + (f" at t = {o['at_time_s']:.2f} s" if o.get("at_time_s") is not None else ""),
         )
-    approximated = _approximations(report)
+    approximated = approximations_text(report)
     if approximated:
         table.add_row("approximated points", approximated)
     drives = report.get("drives_summary")
     if drives:
         table.add_row(
             "drives",
-            f"{drives['level']}, step {_num(drives['step_s'] * 1e3, '.3g')} ms, "
+            f"{drives['level']}, step {shown_number(drives['step_s'] * 1e3, '.3g')} ms, "
             + ("could follow" if drives["could_follow"] else "[red]could NOT follow[/red]"),
         )
     if report.get("verdict"):
@@ -138,12 +139,12 @@ def overview_table(report: dict) -> Table:
             table.add_row(label, text)
     error = report.get("error")
     if error:
-        where = f"line {error.get('line')}, t = {_num(error.get('time_s'), '.3f')} s"
+        where = f"line {error.get('line')}, t = {shown_number(error.get('time_s'), '.3f')} s"
         table.add_row("error", Text(f"{where}: {error['message']}", style="red"))
     return table
 
 
-def _approximations(report: dict) -> str:
+def approximations_text(report: dict) -> str:
     """``5 blended (used 38.1–40 mm, saved 1.0 s), 1 exact stop (line 17: the program
     ends)``; empty without approximate positioning."""
     entries = report.get("approximations") or []
@@ -170,25 +171,25 @@ def _approximations(report: dict) -> str:
 def _path_error(report: dict) -> str:
     """``max … mm, … deg``; with drives ``(actual motion; ideal …)`` and the tolerances."""
     text = (
-        f"max {_num(report['max_path_error_mm'], '.3g')} mm, "
-        f"{_num(report['max_orientation_error_deg'], '.3g')} deg"
+        f"max {shown_number(report['max_path_error_mm'], '.3g')} mm, "
+        f"{shown_number(report['max_orientation_error_deg'], '.3g')} deg"
     )
     ideal = report.get("ideal")
     if not ideal:
         return text
     text += (
-        f" (actual motion; ideal {_num(ideal.get('max_path_error_mm'), '.3g')} mm, "
-        f"{_num(ideal.get('max_orientation_error_deg'), '.3g')} deg)"
+        f" (actual motion; ideal {shown_number(ideal.get('max_path_error_mm'), '.3g')} mm, "
+        f"{shown_number(ideal.get('max_orientation_error_deg'), '.3g')} deg)"
     )
     tol = report.get("tolerances") or {}
     if tol:
         path, loosest = tol.get("path_mm"), tol.get("path_mm_loosest")
         span = (
-            _num(path, "g")
+            shown_number(path, "g")
             if loosest in (None, path)
-            else f"{_num(path, 'g')}–{_num(loosest, 'g')}"
+            else f"{shown_number(path, 'g')}–{shown_number(loosest, 'g')}"
         )
-        text += f", tolerance {span} mm, {_num(tol.get('orientation_deg'), 'g')} deg"
+        text += f", tolerance {span} mm, {shown_number(tol.get('orientation_deg'), 'g')} deg"
     return text
 
 
@@ -196,11 +197,12 @@ def _criteria(verdict: dict) -> str:
     """The drive verdict's criteria in one line: tolerances, bounds, ratings."""
     c = verdict.get("criteria") or {}
     parts = [
-        f"path ≤ {_num(c.get('path_tolerance_mm'), 'g')} mm",
-        f"orientation ≤ {_num(c.get('orientation_tolerance_deg'), 'g')} deg",
+        f"path ≤ {shown_number(c.get('path_tolerance_mm'), 'g')} mm",
+        f"orientation ≤ {shown_number(c.get('orientation_tolerance_deg'), 'g')} deg",
     ]
     bounds = {
-        f"{_num(b['bound'], '.3g')} {b['unit']}" for b in c.get("following_error_bound") or []
+        f"{shown_number(b['bound'], '.3g')} {b['unit']}"
+        for b in c.get("following_error_bound") or []
     }
     if bounds:
         parts.append(f"following error ≤ {' | '.join(sorted(bounds))}")
@@ -211,7 +213,7 @@ def _criteria(verdict: dict) -> str:
 
 
 def _pose_text(pose) -> str:
-    return "(" + ", ".join(_num(v, ".6g") for v in pose) + ")"
+    return "(" + ", ".join(shown_number(v, ".6g") for v in pose) + ")"
 
 
 def tool_text(tool: dict) -> tuple[str, str]:
@@ -247,12 +249,14 @@ def statements_table(report: dict) -> Table | None:
     table = _table("cycle time per statement (s)", columns + (("override %",) if shown else ()))
     for r in rows:
         cells = [
-            str(r["line"]), _short(r["statement"]), _num(r["start_s"], ".3f"),
-            _num(r["duration_s"], ".3f"), r["stop"] or "—", r["limit"] or "—",
+            str(r["line"]), _short(r["statement"]), shown_number(r["start_s"], ".3f"),
+            shown_number(r["duration_s"], ".3f"), r["stop"] or "—", r["limit"] or "—",
         ]  # fmt: skip
-        table.add_row(*cells, *([_num(r.get("override_percent"), "g")] if shown else []))
+        table.add_row(*cells, *([shown_number(r.get("override_percent"), "g")] if shown else []))
     blank = [""] * (3 if shown else 2)
-    table.add_row("", Text("sum", style="dim"), "", Text(_num(total, ".3f"), style="bold"), *blank)
+    table.add_row(
+        "", Text("sum", style="dim"), "", Text(shown_number(total, ".3f"), style="bold"), *blank
+    )
     return table
 
 
@@ -268,10 +272,12 @@ def _statement_lines_table(rows: list[dict], total: float) -> Table:
     shown = list(per_line.items())[:MAX_STATEMENT_ROWS]
     for line, (text, runs, t) in shown:
         share = f"{100.0 * t / total:.1f} %" if total > 0 else "—"
-        table.add_row(str(line), _short(text), str(runs), _num(t, ".3f"), share)
+        table.add_row(str(line), _short(text), str(runs), shown_number(t, ".3f"), share)
     more = len(per_line) - len(shown)
     label = f"… {more} more lines (report: statements)" if more > 0 else "sum"
-    table.add_row("", Text(label, style="dim"), "", Text(_num(total, ".3f"), style="bold"), "")
+    table.add_row(
+        "", Text(label, style="dim"), "", Text(shown_number(total, ".3f"), style="bold"), ""
+    )
     return table
 
 
@@ -354,7 +360,9 @@ def render_comparison(report: dict, other, console: Console) -> None:
 
     def row(label: str, x, y) -> None:
         diff = None if x is None or y is None else x - y
-        table.add_row(label, _num(x, ".4g"), _num(y, ".4g"), _num(diff, "+.3g"))
+        table.add_row(
+            label, shown_number(x, ".4g"), shown_number(y, ".4g"), shown_number(diff, "+.3g")
+        )
 
     row("duration s", a["duration_s"], b["duration_s"])
     row("max path error mm", a["max_path_error_mm"], b["max_path_error_mm"])

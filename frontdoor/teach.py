@@ -6,8 +6,8 @@ list's names are one namespace (docs/language.md §8). The file is created when 
 otherwise it is edited as **text**: an existing key's value is replaced in place (its
 line's comment kept), a new key goes after the last entry of its section, a missing
 section is appended. Comments, blank lines, order and every other entry stay as they
-were — ``tomllib`` reads TOML but cannot write it, and no TOML writer is a core
-dependency.
+were; the new values are written by the project's one TOML writer
+(:mod:`irlc.lang.toml_text`).
 
 Every edit is verified before it is written: the new text must parse, hold exactly the
 new values under the two keys, and equal the old file's data everywhere else;
@@ -24,6 +24,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from irlc.files import atomic_write_text, read_user_text
+from irlc.lang import toml_text
 from irlc.lang.errors import IrlcError
 from irlc.lang.toml_keys import TomlError, parse_toml
 
@@ -36,16 +37,24 @@ class TeachError(IrlcError):
     """The pose cannot be stored (bad name, unreadable or unsuitable file)."""
 
 
+DECIMALS = 6  # 1 nm, 1 µdeg
+
+
 def number(v: float) -> str:
     """``12.5``, ``-0.000001``, ``90`` (6 decimals at most, no negative zero)."""
-    if not math.isfinite(v):
-        raise TeachError(f"cannot store the non-finite value {v!r}")
-    text = f"{round(float(v), 6):.6f}".rstrip("0").rstrip(".")
-    return "0" if text in ("-0", "") else text
+    return toml_text.number(_finite([v])[0], DECIMALS)
 
 
 def array(values: Sequence[float]) -> str:
-    return "[" + ", ".join(number(v) for v in values) + "]"
+    """``[12.5, -90, 0]``, each as :func:`number`."""
+    return toml_text.value(_finite(values), DECIMALS)
+
+
+def _finite(values: Sequence[float]) -> list[float]:
+    for v in values:
+        if not math.isfinite(v):
+            raise TeachError(f"cannot store the non-finite value {v!r}")
+    return [float(v) for v in values]
 
 
 def teach(path: Path, name: str, pose: Sequence[float], joints: Sequence[float]) -> list[str]:

@@ -14,6 +14,7 @@ import re
 from irlc.lang import ast
 from irlc.lang.diagnostics import Diagnostic, Span
 from irlc.lang.errors import IrlcError
+from irlc.lang.settings import LIMIT_OPTIONS
 from irlc.lang.types import INT_MAX
 from irlc.lang.typos import MISSPELLED, misspelled_keyword
 from irlc.lang.value_ranges import parse_integer
@@ -76,13 +77,9 @@ def _nodes(children) -> list:
     return [c for c in children if not isinstance(c, Token) and c is not None]
 
 
-_LIMIT_OPTION = {
-    "JOINTLIMIT": "JOINTLIMIT",
-    "JOINTSPEEDLIMIT": "JOINTSPEEDLIMIT",
-    "JOINTACCELLIMIT": "JOINTACCELLIMIT",
-    "JOINTLIMITEND": "JOINTLIMIT",
-    "JOINTSPEEDLIMITEND": "JOINTSPEEDLIMIT",
-    "JOINTACCELLIMITEND": "JOINTACCELLIMIT",
+_LIMIT_OPTION = {  # the grammar's tokens of the limit options (on and off) → the option
+    **{o.word: o.word for o in LIMIT_OPTIONS},
+    **{o.end_word: o.word for o in LIMIT_OPTIONS},
 }
 _BINOPS = {"PLUS": "+", "MINUS": "-", "STAR": "*", "SLASH": "/", "COLON": ":"}
 

@@ -35,6 +35,7 @@ from irlc.lang.checker.statements import assignment_root
 from irlc.lang.irdata import Code, Instruction, RecordType, Routine, Slot, Target, Value
 from irlc.lang.irdata_model import VALUE_TYPES, CellRobot
 from irlc.lang.irdata_robots import robot_word
+from irlc.lang.settings import BY_LIMIT_WORD
 from irlc.lang.signature import kind_letters
 
 _BINOP = {
@@ -413,7 +414,7 @@ class _Gen:
     def s_modalon(self, s: ast.ModalOn) -> None:
         line = s.span.line
         robot = self.robot_words(s)
-        if s.option in ("JOINTLIMIT", "JOINTSPEEDLIMIT", "JOINTACCELLIMIT"):
+        if s.option in BY_LIMIT_WORD:
             for a in s.args:
                 self.expr(a, a.ty)
             self.emit(line, "OPTON", s.option, *robot)

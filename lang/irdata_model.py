@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from irlc.lang.settings import ALL_KINDS
-from irlc.lang.settings import SYSTEM_VARIABLES as _SYSTEM_VARIABLES
+from irlc.lang.settings import ALL_KINDS, BY_LIMIT_WORD, LIMIT_TUPLE_TYPES
+from irlc.lang.settings import SYSTEM_VARIABLES as SETTING_VARIABLES
 
 FORMAT_VERSION = 1
 MAGIC = f"IRDATA {FORMAT_VERSION}"
@@ -14,21 +14,10 @@ MAGIC = f"IRDATA {FORMAT_VERSION}"
 VALUE_TYPES = ("INTEGER", "REAL", "BOOLEAN", "CHAR", "STRING", "POSITION", "ORIENTATION", "POSE")
 """The scalar value types a constant or variable of the code may have (besides the joint
 tuples and, for variables, SIGNAL)."""
-JOINT_TUPLE_TYPES = (
-    "MAIN_JOINT",
-    "MAIN_JOINT_MIN",
-    "MAIN_JOINT_MAX",
-    "MAIN_JOINT_SPEED_MIN",
-    "MAIN_JOINT_SPEED_MAX",
-    "MAIN_JOINT_ACCEL_MIN",
-    "MAIN_JOINT_ACCEL_MAX",
-)
-SYSTEM_VARIABLES = tuple(_SYSTEM_VARIABLES)  # names; their rows: lang/settings.py
+JOINT_TUPLE_TYPES = ("MAIN_JOINT", *LIMIT_TUPLE_TYPES)  # limit bounds: lang/settings.py
+SYSTEM_VARIABLES = tuple(SETTING_VARIABLES)  # names; their rows: lang/settings.py
 MOVE_KINDS = ALL_KINDS
-MODAL_OPTIONS = (
-    "JOINTLIMIT", "JOINTSPEEDLIMIT", "JOINTACCELLIMIT", "CYCLIC", "OBSTACLE", "FREEZE",
-    "COOPERATE",
-)  # fmt: skip
+MODAL_OPTIONS = (*BY_LIMIT_WORD, "CYCLIC", "OBSTACLE", "FREEZE", "COOPERATE")
 
 # Operand signatures: i = integer, w = word, t = jump target, * = any number of int/word.
 OPCODES: dict[str, str] = {

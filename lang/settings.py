@@ -7,13 +7,23 @@ at program start, and/or a WITH word (``WITH SPEED := v``, IRDATA ``MOVE LIN 1 S
 unit (program units: mm, deg, s, %), the motion kinds that accept the WITH form, and its
 admissible range
 
-    v ∈ (low, high]      or, when ``closed``,      v ∈ [low, high].
+    v ∈ (low, high]      or, when ``closed``,      v ∈ [low, high],
+
+and its override exponent ``p``: the program override ``R_OVERRIDE`` scales the motion in
+time by ``k = R_OVERRIDE / 100``, so a speed is used as ``v·k``, an acceleration ``v·k²``, a
+jerk ``v·k³`` and a motion time ``v/k`` (``v·k^p``; 0: not scaled).
 
 The same range is checked when a constant is compiled (``R_SPEED := -5;`` is a compile
 error at its line and column) and when a value is assigned or used at run time (a
 the runtime's ``RunFailure`` at its line), with the same words:
-``R_SPEED := -5.0: the value must be in (0, 100000] mm/s``. A new setting is one row here plus its
-behaviour in the controller.
+``R_SPEED := -5.0: the value must be in (0, 100000] mm/s``. The runtime checks each value
+once per motion (``runtime/plan/motion_values.py``), with the same function. A new setting
+is one row here plus its behaviour in the controller.
+
+The joint-limit options (``JOINTLIMIT``, ``JOINTSPEEDLIMIT``, ``JOINTACCELLIMIT``) are the
+rows of :data:`LIMIT_OPTIONS`: their words, tuple types, the field that holds them and the
+derivative they bound; the parser's words, the checker, the IRDATA reader and writer, the
+interpreter, the pre-interpolator and the REPL read them from there.
 
 A string setting (``R_PROFILE``) has a :class:`SettingChoices` in place of the range: the
 value must be one of its words (any case; ``R_PROFILE := 'scurve'`` is ``'SCURVE'``), and
@@ -100,10 +110,19 @@ class Setting:
     kinds: tuple[str, ...] = ()  # motion kinds whose WITH form accepts it
     meaning: str = ""
     default: float | str | None = None  # the system variable's value at program start
+    override_power: int = 0  # R_OVERRIDE scales the value by k^p (module doc)
 
     @property
     def unit(self) -> str:
         return self.range.unit
+
+    def scaled(self, value, k: float):
+        """``value`` as a motion uses it at override ``k = R_OVERRIDE / 100``: the number
+        ``value·k^p`` (``value / k`` for a time), a word as it is."""
+        if isinstance(value, str):
+            return value
+        p = self.override_power
+        return float(value) * k**p if p >= 0 else float(value) / k**-p
 
     @property
     def type_name(self) -> str:
@@ -115,21 +134,21 @@ def _positive(unit: str, high: float) -> SettingRange:
     return SettingRange(0.0, high, unit)
 
 
-# THE table of numeric settings (with their start values; runtime.controller.Settings
-# reads them).
+# THE table of the settings (with their start values; runtime.commands.Settings reads
+# them; the last column: the override exponent p, module doc).
 SETTINGS: tuple[Setting, ...] = (
     Setting("speed", "R_SPEED", "SPEED", _positive("mm/s", 1e5), PATH_KINDS,
-            "path speed", 500.0),
+            "path speed", 500.0, 1),
     Setting("acc", "R_ACC", "ACC", _positive("mm/s²", 1e6), PATH_KINDS,
-            "path acceleration", 1000.0),
+            "path acceleration", 1000.0, 2),
     Setting("speed_ori", "R_SPEED_ORI", "SPEED_ORI", _positive("deg/s", 1e5), PATH_KINDS,
-            "orientation speed", 45.0),
+            "orientation speed", 45.0, 1),
     Setting("speed_ptp", "R_SPEED_PTP", "SPEED_PTP", _positive("%", 100.0), PTP_KINDS,
-            "PTP speed, % of each joint's maximum", 50.0),
+            "PTP speed, % of each joint's maximum", 50.0, 1),
     Setting("acc_ptp", "R_ACC_PTP", "ACC_PTP", _positive("%", 100.0), PTP_KINDS,
-            "PTP acceleration, % of each joint's maximum", 50.0),
+            "PTP acceleration, % of each joint's maximum", 50.0, 2),
     Setting("time", None, "TIME", _positive("s", 86400.0), ALL_KINDS,
-            "fixed motion time (overrides the speeds)"),
+            "fixed motion time (overrides the speeds)", None, -1),
     Setting("ipo", "R_IPO", None, SettingRange(1e-5, 1.0, "s", closed=True), (),
             "interpolation (IPO) cycle", 0.01),
     # at least 10 × the IK's convergence tolerance (1e-9 m, runtime/ik/params.py): below
@@ -139,7 +158,7 @@ SETTINGS: tuple[Setting, ...] = (
     Setting("profile", "R_PROFILE", None, SettingChoices(("TRAPEZOID", "SCURVE")), (),
             "velocity profile: trapezoid, or jerk-limited S-curve", "TRAPEZOID"),
     Setting("jerk", "R_JERK", None, _positive("mm/s³", 1e7), (),
-            "path jerk of the S-curve (PTP: runtime.md)", 10000.0),
+            "path jerk of the S-curve (PTP: runtime.md)", 10000.0, 3),
     Setting("override", "R_OVERRIDE", None, SettingRange(1.0, 100.0, "%", closed=True), (),
             "program override (start value: --override): speeds ×k, accelerations ×k², "
             "WITH TIME ÷k, k = R_OVERRIDE/100", 100.0),
@@ -182,6 +201,38 @@ SYSTEM_VARIABLES: dict[str, SystemVariable] = {
         SystemVariable("R_ACT_JOINT", None, False, None),
     )
 }  # fmt: skip
+
+
+@dataclass(frozen=True)
+class LimitOption:
+    """A joint-limit option: modal (``WORD lo, hi; … WORDEND;``, IRDATA ``OPTON WORD`` /
+    ``OPTOFF WORD``) or for one motion (``WITH WORD lo, hi``, IRDATA ``MOVE … WORD``); its
+    bounds are a (minimum, maximum) pair of joint tuples of ``types``, bounding the
+    ``derivative``-th derivative of each joint (0 position, 1 speed, 2 acceleration)."""
+
+    word: str
+    field: str  # the (min, max) pair's field of MotionCommand and ModalOptions
+    derivative: int
+    types: tuple[str, str]  # joint-tuple types of the minimum and the maximum
+    meaning: str
+
+    @property
+    def end_word(self) -> str:
+        """The word that switches the modal option off (``JOINTLIMITEND``)."""
+        return self.word + "END"
+
+
+LIMIT_OPTIONS: tuple[LimitOption, ...] = (
+    LimitOption("JOINTLIMIT", "joint_limits", 0, ("MAIN_JOINT_MIN", "MAIN_JOINT_MAX"),
+                "joint position limits"),
+    LimitOption("JOINTSPEEDLIMIT", "speed_limits", 1,
+                ("MAIN_JOINT_SPEED_MIN", "MAIN_JOINT_SPEED_MAX"), "joint speed limits"),
+    LimitOption("JOINTACCELLIMIT", "accel_limits", 2,
+                ("MAIN_JOINT_ACCEL_MIN", "MAIN_JOINT_ACCEL_MAX"), "joint acceleration limits"),
+)  # fmt: skip
+BY_LIMIT_WORD: dict[str, LimitOption] = {o.word: o for o in LIMIT_OPTIONS}
+LIMIT_TUPLE_TYPES: tuple[str, ...] = tuple(t for o in LIMIT_OPTIONS for t in o.types)
+"""The joint-tuple types of limit bounds (``MAIN_JOINT_MIN`` … ``MAIN_JOINT_ACCEL_MAX``)."""
 
 
 def setting_error(field_name: str, value: object) -> str | None:
@@ -236,11 +287,15 @@ def _shown_default(value: float | str) -> str:
     return f"'{value}'" if isinstance(value, str) else f"{value:g}"
 
 
+_OVERRIDE_WORDS = {0: "—", 1: "×k", 2: "×k²", 3: "×k³", -1: "÷k"}
+
+
 def ranges_table() -> str:
     """The settings and their ranges as a Markdown table (docs/language.md lists it)."""
     rows = [
-        "| system variable | start value | WITH | unit | admissible values | WITH accepted by |",
-        "|---|---|---|---|---|---|",
+        "| system variable | start value | WITH | unit | admissible values | WITH accepted by "
+        "| R_OVERRIDE |",
+        "|---|---|---|---|---|---|---|",
     ]
     for s in SETTINGS:
         kinds = ", ".join(KIND_WORDS[k].removeprefix("MOVE ") for k in s.kinds) or "—"
@@ -249,7 +304,7 @@ def ranges_table() -> str:
         rows.append(
             f"| {s.system_variable or '—'} | {start} | "
             f"{s.with_word or '—'} | {s.unit} | "
-            f"{s.range.interval()} | {kinds} |"
+            f"{s.range.interval()} | {kinds} | {_OVERRIDE_WORDS[s.override_power]} |"
         )
     return "\n".join(rows) + "\n"
 

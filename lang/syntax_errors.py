@@ -14,7 +14,7 @@ import re
 from irlc.lang.ast_builder import token_span
 from irlc.lang.diagnostics import Diagnostic, Span
 from irlc.lang.grammar import keywords, lark_parser
-from irlc.lang.settings import approximation_hint
+from irlc.lang.settings import BY_LIMIT_WORD, approximation_hint
 from irlc.lang.typos import misspelled_keyword
 from lark import Token
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
@@ -57,7 +57,7 @@ _STATEMENT_STARTS = {
     "MOVE",
     "MOVE_INC",
     "RETURN",
-    "JOINTLIMIT",
+    *BY_LIMIT_WORD,
     "CYCLICSTART",
     "OBSTACLE",
     "FREEZESTART",
@@ -115,7 +115,7 @@ def _describe_expected(expected: set[str]) -> str:
     rest = set(expected)
     if len(rest & _STATEMENT_STARTS) >= 4:
         words.append("a statement")
-        rest -= _STATEMENT_STARTS | {"NAME", "JOINTSPEEDLIMIT", "JOINTACCELLIMIT"}
+        rest -= _STATEMENT_STARTS | {"NAME"}
         rest -= {t for t in rest if t.endswith("END") and t != "$END"}
     if "NUMBER" in rest and "NAME" in rest:
         words.append("an expression")

@@ -51,6 +51,7 @@ __all__ = [
     "RobotModel",
     "Sphere",
     "UnknownRobotError",
+    "clear_cache",
     "list_robots",
     "load_robot",
     "resolve_robot",
@@ -172,6 +173,12 @@ def resolve_robot(
             _cache.pop(next(iter(_cache)))
         _cache[key] = model
     return model
+
+
+def clear_cache() -> None:
+    """Forget every loaded model: the next load reads its file again (after an optional
+    extra was installed or removed, which changes how a URDF-backed file loads)."""
+    _cache.clear()
 
 
 def resolver(

@@ -29,12 +29,12 @@ Command line (regenerates the shipped core copy of a URDF robot; needs ``irlc[ur
 
 from __future__ import annotations
 
-import json
 import math
 import sys
 from pathlib import Path
 
 import numpy as np
+from irlc.lang.toml_text import InlineTable, dumps
 from irlc.robots.model import Capsule, RobotModel
 from irlc.runtime.model.spatial import matrix_to_zyx
 
@@ -42,132 +42,107 @@ DEG = 180.0 / math.pi
 NOT_WRITTEN = ("coupled_limits", "transmission", "drives", "reachability", "ik")
 
 
-def _num(x: float) -> str:
-    """Shortest exact text of a float (``repr``), valid TOML; no ``-0.0``."""
-    x = float(x) + 0.0
-    if not math.isfinite(x):
-        raise ValueError(f"cannot write the non-finite number {x}")
-    return repr(x)
+def _vec(values) -> list[float]:
+    return [float(v) for v in values]
 
 
-def _vec(values) -> str:
-    return "[" + ", ".join(_num(v) for v in values) + "]"
-
-
-def _str(text: str) -> str:
-    return json.dumps(text, ensure_ascii=False)  # a JSON string is a TOML basic string
-
-
-def _transform_items(t: np.ndarray) -> list[str]:
+def _transform(t: np.ndarray) -> InlineTable:
     """A rigid transform as ``xyz``, ``zyx`` (deg) — or ``matrix`` near gimbal lock, where
     ZYX angles lose digits."""
     if abs(t[2, 0]) > 1.0 - 1e-6:
-        rows = ", ".join(_vec(row) for row in t)
-        return [f"matrix = [{rows}]"]
+        return InlineTable(matrix=[_vec(row) for row in t])
     zyx = [a * DEG for a in matrix_to_zyx(t[:3, :3])]
-    return [f"xyz = {_vec(t[:3, 3])}", f"zyx = {_vec(zyx)}"]
-
-
-def _transform(t: np.ndarray) -> str:
-    return "{ " + ", ".join(_transform_items(t)) + " }"
+    return InlineTable(xyz=_vec(t[:3, 3]), zyx=zyx)
 
 
 def _scale(kind: str) -> float:
     return DEG if kind == "revolute" else 1.0
 
 
-def _robot_table(model: RobotModel) -> list[str]:
-    out = [
-        "[robot]",
-        f"name = {_str(model.name)}",
-        f"description = {_str(model.description)}",
-        'chain = "axes"',
-        'units = { angle = "deg", length = "m" }',
-        f"gravity = {_vec(model.gravity)}",
-    ]
+def _robot_table(model: RobotModel) -> dict:
+    out = {
+        "name": model.name,
+        "description": model.description,
+        "chain": "axes",
+        "units": InlineTable(angle="deg", length="m"),
+        "gravity": _vec(model.gravity),
+    }
     if model.home is not None:
-        home = [h * _scale(j.kind) for h, j in zip(model.home, model.joints, strict=True)]
-        out.append(f"home = {_vec(home)}")
+        out["home"] = [h * _scale(j.kind) for h, j in zip(model.home, model.joints, strict=True)]
     if "source" in model.extra:
-        out.append(f"source = {_str(model.extra['source'])}")
+        out["source"] = model.extra["source"]
     return out
 
 
-def _assumptions(model: RobotModel) -> list[str]:
+def _assumptions(model: RobotModel) -> dict:
     assumed = dict(model.extra.get("assumed", {}))
     notes = sorted(set(model.extra.get("urdf_notes", [])))
     if notes:
         assumed["urdf_conversion"] = "; ".join(notes)
-    if not assumed:
-        return []
-    return ["", "[assumptions]"] + [f"{_str(k)} = {_str(v)}" for k, v in sorted(assumed.items())]
+    return dict(sorted(assumed.items()))
 
 
-def _joints(model: RobotModel) -> list[str]:
+def _joints(model: RobotModel) -> list[dict]:
     out = []
     for j in model.joints:
         s = _scale(j.kind)
         lim = j.limits
-        out += [
-            "",
-            "[[joints]]",
-            f"name = {_str(j.name)}",
-            f'kind = "{j.kind}"',
-            f"axis = {_vec(j.axis)}",
-            f"origin = {_transform(j.origin)}",
-            f"position = {_vec(np.array(lim.position) * s)}",
-            f"speed = {_vec(np.array(lim.speed) * s)}",
-            f"accel = {_vec(np.array(lim.accel) * s)}",
-            f"weight = {_num(j.weight)}",
-        ]
+        row = {
+            "name": j.name,
+            "kind": j.kind,
+            "axis": _vec(j.axis),
+            "origin": _transform(j.origin),
+            "position": _vec(np.array(lim.position) * s),
+            "speed": _vec(np.array(lim.speed) * s),
+            "accel": _vec(np.array(lim.accel) * s),
+            "weight": float(j.weight),
+        }
         if lim.jerk is not None:
-            out.append(f"jerk = {_num(lim.jerk * s)}")
+            row["jerk"] = lim.jerk * s
         if j.offset != 0.0:
-            out.append(f"offset = {_num(j.offset * s)}")
+            row["offset"] = j.offset * s
+        out.append(row)
     return out
 
 
-def _geometry(model: RobotModel) -> list[str]:
+def _geometry(model: RobotModel) -> list[dict]:
     out = []
     for g in model.geometry:
-        out += ["", "[[geometry]]", f"link = {g.link}"]
+        row: dict = {"link": g.link}
         if isinstance(g, Capsule):
-            out += ['shape = "capsule"', f"a = {_vec(g.a)}", f"b = {_vec(g.b)}"]
+            row |= {"shape": "capsule", "a": _vec(g.a), "b": _vec(g.b)}
         else:
-            out += ['shape = "sphere"', f"center = {_vec(g.center)}"]
-        out.append(f"radius = {_num(g.radius)}")
+            row |= {"shape": "sphere", "center": _vec(g.center)}
+        out.append(row | {"radius": float(g.radius)})
     return out
 
 
-def _inertials(model: RobotModel) -> list[str]:
+def _inertials(model: RobotModel) -> list[dict]:
     out = []
     for m in model.inertials:
         i = m.inertia
         six = [i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]]
-        out += [
-            "",
-            "[[inertials]]",
-            f"link = {m.link}",
-            f"mass = {_num(m.mass)}",
-            f"com = {_vec(m.com)}",
-            f"inertia = {_vec(six)}",
-        ]
+        row = {"link": m.link, "mass": float(m.mass), "com": _vec(m.com), "inertia": _vec(six)}
         if m.assumed:
-            out += ["assumed = true", 'reason = "assumed in the source description"']
+            row |= {"assumed": True, "reason": "assumed in the source description"}
+        out.append(row)
     return out
 
 
 def model_to_toml(model: RobotModel, header: str = "") -> str:
-    """The TOML text of ``model`` (see the module doc); ``header``: leading comment lines."""
+    """The TOML text of ``model`` (see the module doc); ``header``: leading comment lines.
+    A non-finite number is a :class:`ValueError`."""
     left = [k for k in NOT_WRITTEN if k in model.extra] + (["limit_sets"] * bool(model.limit_sets))
     if left:
         raise ValueError(f"robot {model.name}: cannot write {', '.join(left)} (not supported)")
-    lines = [f"# {line}".rstrip() for line in header.splitlines()] + [""] * bool(header)
-    lines += _robot_table(model) + _assumptions(model)
+    doc: dict = {"robot": _robot_table(model)}
+    if assumptions := _assumptions(model):
+        doc["assumptions"] = assumptions
     for label, t in (("base", model.base), ("flange", model.flange), ("tool", model.tool)):
-        lines += ["", f"[{label}]", *_transform_items(t)]
-    lines += _joints(model) + _geometry(model) + _inertials(model)
-    return "\n".join(lines) + "\n"
+        doc[label] = dict(_transform(t))
+    doc |= {"joints": _joints(model), "geometry": _geometry(model)}
+    doc["inertials"] = _inertials(model)
+    return dumps(doc, header=header, finite=True)
 
 
 def generated_header(source: Path, target: Path) -> str:

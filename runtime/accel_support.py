@@ -1,8 +1,9 @@
 """Which engine runs the hot loops: numpy (the reference) or the compiled kernels.
 
-Shared by the IK accelerator (:mod:`irlc.runtime.ik.accel`) and the drive accelerator
-(:mod:`irlc.runtime.drives.accel`). One environment switch, ``IRLC_ENGINE``, chooses for
-every caller that leaves its ``accel`` flag at ``None`` (:func:`decide`):
+Shared by the compiled IK cycle (:mod:`irlc.runtime.ik.compiled`) and the compiled drive
+loops (:mod:`irlc.runtime.drives.compiled`); :mod:`irlc.runtime.engine` is the one factory
+that asks :func:`decide` and builds them. One environment switch, ``IRLC_ENGINE``, chooses
+for every caller that leaves its ``accel`` flag at ``None`` (:func:`decide`):
 
 =============  ==========================================================================
 (unset, empty) the default engine, numpy: callers at ``None`` run numpy; a caller's
@@ -32,8 +33,7 @@ default every run is fast from the first one and gives the same bytes whatever t
 holds; with ``compiled`` the bytes are those of the kernels on every run, compiled or
 loaded (the cached machine code is the compiled one), and a run that has to compile says
 so once on stderr (:meth:`Kernels.load`). ``irlc warmup`` (or ``python -m
-irlc.runtime.ik.accel``, ``python -m irlc.runtime.drives.accel`` and ``python -m
-irlc.runtime.drives.accel_pwm``) compiles ahead of the first run.
+irlc.runtime.warmup``) compiles ahead of the first run.
 """
 
 from __future__ import annotations
@@ -49,9 +49,9 @@ ENV = "IRLC_ENGINE"
 ENGINES = ("numpy", "compiled", "auto")
 DEFAULT_ENGINE = "numpy"
 KERNEL_NAMES = {  # the kernel modules, as the compile message names them
-    "irlc.runtime.ik.accel_kernels": "IK kernels",
-    "irlc.runtime.drives.accel_kernels": "drive kernels",
-    "irlc.runtime.drives.accel_pwm_kernels": "PWM drive kernels",
+    "irlc.runtime.ik.compiled.cycle": "IK kernels",
+    "irlc.runtime.drives.compiled.kernels": "drive kernels",
+    "irlc.runtime.drives.compiled.pwm_kernels": "PWM drive kernels",
 }
 COMPILE_ESTIMATE = {  # wall time of the first compile, quiet machine … load ≈ 3 on 2 cores
     "IK kernels": "15–25 s",  # (measured 24.4 s wall at load 2.7, ≈ 17 s CPU)
@@ -93,14 +93,14 @@ def kernels_allowed() -> bool:
     return NUMBA_INSTALLED and not _forced_numpy()
 
 
-# numba importable and not IRLC_ENGINE=numpy, at import (what the accelerators' tests skip on)
+# numba importable and not IRLC_ENGINE=numpy, at import (what the compiled engine's tests skip on)
 AVAILABLE = kernels_allowed()
 
 
 def kernel_cached(kernel) -> bool:
     """True when numba's on-disk cache holds ``kernel`` (a ``@njit(cache=True)`` dispatcher)
     for its current source (numba's index is keyed by the kernel's own source file: see
-    ``SOURCES_DIGEST`` in :mod:`irlc.runtime.ik.accel_cycle` for the modules it calls)."""
+    ``SOURCES_DIGEST`` in :mod:`irlc.runtime.ik.compiled.cycle` for the modules it calls)."""
     if not NUMBA_INSTALLED:
         return False
     try:
@@ -132,7 +132,9 @@ class Kernels:
         self._what = what or KERNEL_NAMES.get(module, module)
         self._module, self._announced = None, False
 
-    def _import(self):
+    def module(self):
+        """The kernel module, imported without the compile message: for its constants (a
+        caller that never calls its kernels compiles nothing)."""
         if self._module is None:
             self._module = importlib.import_module(self._name)
         return self._module
@@ -140,7 +142,7 @@ class Kernels:
     def load(self):
         """The kernel module. The first load of a process whose cache lacks the kernels
         says on stderr that it compiles them (once; later runs load them)."""
-        module = self._import()
+        module = self.module()
         if not self._announced:
             self._announced = True
             if not self.cache_warm():
@@ -149,7 +151,7 @@ class Kernels:
 
     def cache_warm(self) -> bool:
         """True when numba's on-disk cache holds the probe kernel for the current source."""
-        return kernel_cached(getattr(self._import(), self._probe))
+        return kernel_cached(getattr(self.module(), self._probe))
 
 
 def compile_message(what: str) -> str:

@@ -435,7 +435,7 @@ def run_file(
 
         result = compile_file(
             path,
-            resolve_robot=_robot_resolver(path.parent, robot, allow_any_path),
+            resolve_robot=robot_resolver(path.parent, robot, allow_any_path),
             datalist_path=tuple(str(d) for d in datalist_path),
             robot_override=override,
             allow_any_path=allow_any_path,
@@ -449,7 +449,7 @@ def run_file(
     return run
 
 
-def _robot_resolver(
+def robot_resolver(
     base_dir: Path, override: RobotModel | None = None, allow_any_path: bool = False
 ):
     """``name → RobotModel`` for the compiler: the override model, or

@@ -122,8 +122,8 @@ def warm_up_kernels() -> None:
 
     if not (AVAILABLE and decide(None)):
         return
-    from irlc.runtime.drives import accel as drive_accel
-    from irlc.runtime.ik import accel as ik_accel
+    from irlc.runtime.warmup import warm_drives, warm_ik, warm_ik_obstacles
 
-    ik_accel.warm_up()
-    drive_accel.warm_up()
+    warm_ik()
+    warm_ik_obstacles()
+    warm_drives()

@@ -20,33 +20,8 @@ PACKAGES = {
 }
 MAX_CLASS_LINES = 600
 
-KNOWN_CYCLES: set[frozenset[str]] = {
-    frozenset(
-        {
-            "irlc.runtime.drives.accel",
-            "irlc.runtime.drives.accel_pwm",
-            "irlc.runtime.drives.simulate",
-        }
-    ),
-    frozenset({"irlc.runtime.ik.accel", "irlc.runtime.ik.newton"}),
-}
-KNOWN_PRIVATE_IMPORTS: set[str] = {
-    "runtime/ik/accel_kernels.py",
-    "runtime/ik/accel_cycle.py",
-    "runtime/drives/accel_pwm_kernels.py",
-    "runtime/ik/accel_box.py",
-    "runtime/ik/accel.py",
-    "runtime/ik/accel_qp.py",
-    "runtime/drives/accel_kernels.py",
-    "tests/runtime/test_hostile_runs.py",
-    "tests/runtime/test_blending.py",
-    "tests/tool/test_joint_naming.py",
-    "tests/tool/test_shown_numbers.py",
-    "tests/ik/test_accel_kernels.py",
-    "tests/robots/test_panda_core.py",
-    "bench/bench_programs.py",
-    "bench/bench_run.py",
-}
+KNOWN_CYCLES: set[frozenset[str]] = set()
+KNOWN_PRIVATE_IMPORTS: set[str] = set()
 KNOWN_LARGE_CLASSES: set[str] = set()
 
 

@@ -10,6 +10,14 @@ repl`)``). A bare ``§N`` inside a doc with numbered headings cites that doc its
 Relative Markdown links must resolve, a repository path (``runtime/plan/profiles.py``,
 ``programs/square.irl``) must exist unless it is a placeholder (``robots/NAME.toml``), and
 docs cite nothing outside the repository (the specification lives elsewhere).
+
+A literature citation names an entry of the bibliography, docs/references.md (entries are
+headings ``### [Key] …``): a bracketed key with a year (``[Karnopp 1985]``, ``[Goldfarb &
+Idnani 1983]``, ``[Arnström et al. 2022]``) or a key without one that the bibliography has
+(``[Szkodny]``); the seed monograph's ``seed eq. N`` / ``seed eqs. N–M`` must name formulas
+its entry lists (``*Formulas cited:*``), ``seed N.M`` / ``seed chapter N`` / ``seed's
+chapter N`` sections it lists (``*Sections cited:*``); every entry says what irlc takes
+from the work.
 """
 
 from __future__ import annotations
@@ -37,6 +45,59 @@ REPO_PATH = re.compile(
 )
 PLACEHOLDER = re.compile(r"(?:^|/)(?:[A-Z]+|x)(?:\.|/)")  # NAME.toml, x.toml
 LINK = re.compile(r"\]\(([^)\s]+)\)")
+REFERENCES = DOCS / "references.md"
+ENTRY = re.compile(r"^### \[([^\]]+)\]", re.MULTILINE)
+NAME = r"[A-Z][\w'’-]+"
+KEYED = re.compile(rf"\[((?:{NAME})(?: (?:&|and) {NAME}| et al\.)? \d{{4}}[a-z]?)\]")
+BRACKET = re.compile(r"\[([A-Z][\w &.'’-]*)\]")
+SEED_FORMULA = re.compile(r"(?<![-\w])seed (?:eqs?\.|formulas?) (\d+)(?:\s*[–-]\s*(\d+))?")
+SEED_SECTION = re.compile(
+    r"(?<![-\w])seed(?:'s)? (?:(?:chapter|ch\.|§) ?(\d+(?:\.\d+)*)|(\d+(?:\.\d+)+))"
+)
+
+
+def _numbers(label: str, text: str) -> set[str]:
+    """The numbers of an entry's ``*label:*`` line (``39, 40``; ``6.1``)."""
+    m = re.search(rf"^\*{label}:\* (.*(?:\n(?!\n|\*|#).*)*)", text, re.MULTILINE)
+    return set(re.findall(r"\d+(?:\.\d+)*", m.group(1))) if m else set()
+
+
+def _bibliography(text: str) -> tuple[set[str], set[str], set[str]]:
+    """The entry keys of docs/references.md, and the seed's formulas and sections."""
+    keys = set(ENTRY.findall(text))
+    seed = text.split("### [seed]", 1)[1].split("\n### ", 1)[0] if "### [seed]" in text else ""
+    return keys, _numbers("Formulas cited", seed), _numbers("Sections cited", seed)
+
+
+BIBLIOGRAPHY = _bibliography(REFERENCES.read_text(encoding="utf-8"))
+
+
+def _literature_problems(text: str, where, bibliography=BIBLIOGRAPHY) -> list[str]:
+    """Citations of the literature that name no entry (or no listed seed formula or
+    section) of docs/references.md."""
+    keys, formulas, sections = bibliography
+    firsts = {k.split()[0] for k in keys}
+    problems = []
+
+    def problem(m: re.Match, what: str) -> None:
+        problems.append(f"{where}:{_line(text, m.start())}: {what} in references.md")
+
+    for m in KEYED.finditer(text):
+        if m.group(1) not in keys:
+            problem(m, f"[{m.group(1)}] is not an entry")
+    for m in BRACKET.finditer(text):  # a key without a year: one the bibliography has
+        name = m.group(1)
+        if name not in keys and not KEYED.fullmatch(m.group()) and name.split()[0] in firsts:
+            problem(m, f"[{name}] is not an entry")
+    for m in SEED_FORMULA.finditer(text):
+        first, last = int(m.group(1)), int(m.group(2) or m.group(1))
+        missing = [n for n in range(first, last + 1) if str(n) not in formulas]
+        if missing or last < first:
+            problem(m, f"seed formula {missing or first} is not listed")
+    for m in SEED_SECTION.finditer(text):
+        if (section := m.group(1) or m.group(2)) not in sections:
+            problem(m, f"seed section {section} is not listed")
+    return problems
 
 
 def _citing_files() -> list[Path]:
@@ -102,6 +163,7 @@ def _problems(path: Path) -> list[str]:
         cited = m.group(1)
         if not PLACEHOLDER.search(cited) and not (ROOT / cited).exists():
             problems.append(f"{where}:{_line(text, m.start())}: {cited} does not exist")
+    problems += _literature_problems(text, where)
     if path.suffix == ".md":
         for m in LINK.finditer(text):
             link = m.group(1).split("#")[0]
@@ -140,4 +202,32 @@ def test_the_checker_sees_a_stale_section_and_a_missing_file(tmp_path):
         "cites.md:7: interfaces.md has no section § Nothing",
         "cites.md:7: golden.md has no section §1",
         "cites.md:7: runtime/none.py does not exist",
+    ]
+
+
+def test_the_bibliography_has_the_sources_and_says_what_irlc_takes():
+    text = REFERENCES.read_text(encoding="utf-8")
+    keys, formulas, sections = BIBLIOGRAPHY
+    assert {"seed", "Szkodny", "Yurevich", "Dubey & Luh 1988", "Pritschow & Koch 1991"} <= keys
+    assert {str(n) for n in range(39, 50)} <= formulas and {"4.2", "4.2.4", "6"} <= sections
+    entries = re.split(r"^### ", text, flags=re.MULTILINE)[1:]
+    assert len(entries) == len(keys)
+    for entry in entries:
+        assert re.search(r"^\*irlc takes:\* \S", entry, re.MULTILINE), entry.splitlines()[0]
+
+
+def test_the_checker_sees_a_citation_outside_the_bibliography():
+    bibliography = ({"seed", "Karnopp 1985", "Szkodny"}, {"40", "41"}, {"4.2", "6"})
+    text = (
+        "friction [Karnopp 1985], [Karnopp 1986], [Nobody & Else 1999], [Szkodny], [Karnopp]\n"
+        "[deg], [x], seed eq. 40–41, seed eq. 42, seed 4.2, seed 4.3,\n"
+        "seed chapter 6, the seed's chapter 7, --seed 2.158, [mm, deg]\n"
+    )
+    assert _literature_problems(text, "t.md", bibliography) == [
+        "t.md:1: [Karnopp 1986] is not an entry in references.md",
+        "t.md:1: [Nobody & Else 1999] is not an entry in references.md",
+        "t.md:1: [Karnopp] is not an entry in references.md",
+        "t.md:2: seed formula [42] is not listed in references.md",
+        "t.md:2: seed section 4.3 is not listed in references.md",
+        "t.md:3: seed section 7 is not listed in references.md",
     ]

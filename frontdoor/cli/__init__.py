@@ -28,7 +28,7 @@ __all__ = ["cli", "main"]
 def main(argv: list[str] | None = None) -> int:
     _usable_streams()
     try:
-        with _quiet_libraries():
+        with quiet_libraries():
             rv = cli.main(args=argv, prog_name="irlc", standalone_mode=False)
     except click.exceptions.Exit as e:
         return e.exit_code
@@ -139,7 +139,7 @@ def _discard_stdout() -> None:
 
 
 @contextlib.contextmanager
-def _quiet_libraries():
+def quiet_libraries():
     """No library noise on stderr: numpy's floating-point RuntimeWarnings (a non-finite
     result is caught where it matters: every output is checked finite) and the warnings
     yourdfpy and lxml log while parsing a URDF (a bad URDF is a RobotFileError)."""

@@ -98,15 +98,8 @@ def warmup_cmd() -> int:
         if accel_support.NUMBA_INSTALLED:
             why = f"{accel_support.ENV}=numpy disables the kernels"
         raise UsageError(f"warmup: {why}")
-    from irlc.runtime.drives import accel as drive_accel
-    from irlc.runtime.drives import accel_pwm
-    from irlc.runtime.ik import accel as ik_accel
+    from irlc.runtime.warmup import warm_all
 
     accel_support.WARMING_UP = True
-    kernels = (("IK kernels", ik_accel), ("drive kernels", drive_accel))
-    for name, module in (*kernels, ("PWM drive kernels", accel_pwm)):
-        warm = module.cache_warm()
-        seconds = module.warm_up()
-        done = "loaded from numba's cache" if warm else "compiled and cached"
-        click.echo(f"{name}: {done} in {seconds:.1f} s")
+    warm_all(click.echo)
     return EXIT_OK

@@ -266,7 +266,7 @@ def robot_model(plan: Plan, changes: list[tuple[list[str], Any]]):
 
 def datalist_text(plan: Plan, name: str, changes: list[tuple[list[str], Any]]) -> str:
     """The TOML text of data list ``name`` with ``changes`` applied."""
-    from irlc.study.toml_text import dumps
+    from irlc.lang.toml_text import dumps
 
     _, base = plan.datalists[_dl_name(plan, name)]
     doc = copy.deepcopy(base)

@@ -25,20 +25,17 @@ from irlc.lang.checker.motion import LIMIT_TYPES, MotionChecker
 from irlc.lang.checker.scope import Reporter, Scope
 from irlc.lang.diagnostics import Span
 from irlc.lang.file_access import shown_names
+from irlc.lang.settings import LIMIT_OPTIONS
 
 _START_WORD = {
-    "JOINTLIMIT": "JOINTLIMIT",
-    "JOINTSPEEDLIMIT": "JOINTSPEEDLIMIT",
-    "JOINTACCELLIMIT": "JOINTACCELLIMIT",
+    **{o.word: o.word for o in LIMIT_OPTIONS},
     "CYCLIC": "CYCLICSTART",
     "OBSTACLE": "OBSTACLE",
     "FREEZE": "FREEZESTART",
     "COOPERATE": "COOPERATE",
 }
 _END_WORD = {
-    "JOINTLIMIT": "JOINTLIMITEND",
-    "JOINTSPEEDLIMIT": "JOINTSPEEDLIMITEND",
-    "JOINTACCELLIMIT": "JOINTACCELLIMITEND",
+    **{o.word: o.end_word for o in LIMIT_OPTIONS},
     "CYCLIC": "CYCLICEND",
     "OBSTACLE": "OBSTACLEEND",
     "FREEZE": "FREEZEEND",

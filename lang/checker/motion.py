@@ -21,6 +21,7 @@ from irlc.lang.checker.expressions import ExpressionTyper
 from irlc.lang.checker.scope import Reporter, Scope
 from irlc.lang.diagnostics import Span
 from irlc.lang.settings import (
+    BY_LIMIT_WORD,
     BY_WITH_WORD,
     KIND_WORDS,
     PTP_KINDS,
@@ -29,12 +30,8 @@ from irlc.lang.settings import (
     setting_message,
 )
 
-LIMIT_TYPES = {
-    "JOINTLIMIT": ("MAIN_JOINT_MIN", "MAIN_JOINT_MAX"),
-    "JOINTSPEEDLIMIT": ("MAIN_JOINT_SPEED_MIN", "MAIN_JOINT_SPEED_MAX"),
-    "JOINTACCELLIMIT": ("MAIN_JOINT_ACCEL_MIN", "MAIN_JOINT_ACCEL_MAX"),
-}
-"""The limit options and their (minimum, maximum) joint-tuple types."""
+LIMIT_TYPES = {o.word: o.types for o in BY_LIMIT_WORD.values()}
+"""The limit options and their (minimum, maximum) joint-tuple types (lang/settings.py)."""
 _WITH_PARAMS = tuple(BY_WITH_WORD)  # SPEED ACC SPEED_ORI SPEED_PTP ACC_PTP TIME
 
 
@@ -133,8 +130,7 @@ class MotionChecker:
                 c.span,
                 f"unknown WITH option '{c.word}'",
                 approximation_hint(c.word)
-                or f"WITH options: {', '.join(_WITH_PARAMS)}, JOINTLIMIT, JOINTSPEEDLIMIT, "
-                "JOINTACCELLIMIT, RECONFIGURATION",
+                or f"WITH options: {', '.join((*_WITH_PARAMS, *LIMIT_TYPES))}, RECONFIGURATION",
             )
             self.typer.expr(c.args[0], None)
             return

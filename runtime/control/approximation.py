@@ -33,8 +33,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from irlc.runtime import units
-from irlc.runtime.commands import MotionCommand, Settings, setting_error
+from irlc.runtime.commands import MotionCommand
 from irlc.runtime.control.cycles import CycleRunner
 from irlc.runtime.control.segment_run import PendingSegment, RunMark, SegmentRun
 from irlc.runtime.control.state import ControllerState
@@ -124,15 +123,6 @@ class ApproximatePositioning:
             return seg.path.q1.copy(), None
         q = pending.chain[seg.cycles].copy() if pending.chain else None  # (_joint_chain)
         return q, seg.path.at(1.0).copy()
-
-    def distance(self, cmd: MotionCommand, settings: Settings) -> float:
-        """The statement's blend distance (m): WITH APPROX, else R_APPROX."""
-        value = cmd.approx if cmd.approx is not None else settings.approx
-        what = "WITH APPROX" if cmd.approx is not None else "R_APPROX"
-        error = setting_error("approx", value)
-        if error is not None:
-            raise RunFailure(f"{what} := {value!r}: {error}", cmd.line, self.state.t)
-        return float(value) * units.MM
 
     def _pending_reason(self, cmd: MotionCommand, context) -> str:
         pending = self.state.pending

@@ -66,6 +66,7 @@ from irlc.runtime.model.obstacles import Obstacle
 from irlc.runtime.outputs.cycle_time import KIND_WORDS, StatementSpan, motion_limit
 from irlc.runtime.outputs.recorder import Recorder
 from irlc.runtime.plan.interpolator import JointLine, ReferencePath, Segment
+from irlc.runtime.plan.motion_values import MotionValues, motion_values
 from irlc.runtime.plan.plan_start import ROUND_OFF, planning_start
 from irlc.runtime.plan.preinterp import (
     PlanState,
@@ -200,11 +201,12 @@ class SimulatedController:
         st.line = cmd.line
         self.recorder.tol_position = settings.path_tol * units.MM  # R_PATH_TOL
         solver = self._solver(settings)
-        approx = self.blender.distance(cmd, settings)
-        dt = self._dt(settings)
+        motion = motion_values(cmd, settings, self.opts.ipo, st.t)  # each value checked once
+        self.dt_used = dt = motion.ipo
+        approx = motion.approx * units.MM
         context = (options, solver.kin.tool.tobytes(), base_transform(settings).tobytes(), dt)
         self.blender.before_move(cmd, context)
-        plan = self._plan_state(settings, solver)
+        plan = self._plan_state(settings, solver, motion)
         t0, segments, stop = st.t, [], "failed"
         try:
             segments = self.pre.plan(cmd, settings, options, plan)
@@ -283,8 +285,11 @@ class SimulatedController:
         self.state.line = line
         self.recorder.tol_position = settings.path_tol * units.MM  # R_PATH_TOL
         solver = self._solver(settings)
-        plan = self._plan_state(settings, solver)
-        self.self_motion.reconfigure(target, line, settings, options, solver, plan)
+        cmd = MotionCommand("PTP", (target,), line)
+        motion = motion_values(cmd, settings, self.opts.ipo, self.state.t)
+        self.dt_used = motion.ipo
+        plan = self._plan_state(settings, solver, motion)
+        self.self_motion.reconfigure(target, line, options, solver, plan)
 
     def check_switch_on(
         self, option: str, line: int, settings: Settings, options: ModalOptions
@@ -369,14 +374,13 @@ class SimulatedController:
             self._stamp_start(solver)  # a tool set before the first motion holds from t = 0
         return solver
 
-    def _plan_state(self, settings: Settings, solver: Solver) -> PlanState:
+    def _plan_state(self, settings: Settings, solver: Solver, motion: MotionValues) -> PlanState:
         """Where the next motion starts: here, or at the pending segment's point."""
         q, tcp = self.blender.start_point()
         q = self.state.q.copy() if q is None else q
         if tcp is None:
             tcp = self._start_pose(solver, q)
-        dt, base = self._dt(settings), base_transform(settings)
-        return PlanState(q, tcp, dt, base, solver.kin.tool, self.state.t)
+        return PlanState(q, tcp, motion, base_transform(settings), solver.kin.tool, self.state.t)
 
     def _start_pose(self, solver: Solver, q: np.ndarray) -> np.ndarray:
         """The TCP a motion from ``q`` is planned from: the last Cartesian point as

@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from irlc.runtime.commands import ModalOptions, MotionCommand, Settings
+from irlc.runtime.commands import ModalOptions, MotionCommand
 from irlc.runtime.control.budget import RunBudget
 from irlc.runtime.control.cycles import CycleRunner
 from irlc.runtime.control.segment_run import Solver
@@ -49,13 +49,13 @@ class SelfMotion:
         self,
         target: JointTuple,
         line: int,
-        settings: Settings,
         options: ModalOptions,
         solver: Solver,
         plan: PlanState,
     ) -> None:
-        """Self-motion to ``target`` from ``plan`` (where the robot stands), the TCP held
-        by ``solver``'s inverse transformation."""
+        """Self-motion to ``target`` from ``plan`` (where the robot stands, with the
+        statement's settings checked once: ``plan.motion``), the TCP held by ``solver``'s
+        inverse transformation."""
         pre, st = self.pre, self.cycles.state
         lims = pre.limits((None, None, None), options, line)
         pre.check_inside(st.q, lims[0], line, "the limits exclude the current state")
@@ -64,7 +64,7 @@ class SelfMotion:
         cmd = MotionCommand("PTP", (target,), line)
         pre.check_inside(k, lims[0], line, "RECONFIGURATION target")
         dt = plan.dt
-        ref_seg = pre.joint_profile(cmd, settings, st.q, k, lims, dt)
+        ref_seg = pre.joint_profile(cmd, plan.motion, st.q, k, lims)
         hold = pre.hold("reconf", line, plan, 0, lims)
         cycle_opts = self.cycles.options_for(hold, options)
         cycle_opts.self_motion = True
@@ -80,7 +80,7 @@ class SelfMotion:
             stop = "exact"
         finally:
             limit = ref_seg.limiting
-            self.log.add("RECONFIGURATION", line, t0, st.t, stop, limit, settings.override)
+            self.log.add("RECONFIGURATION", line, t0, st.t, stop, limit, plan.motion.override)
 
     def _cycles(self, ref_seg: Segment, k, hold: Segment, cycle_opts, solver, dt, settle, line):
         """The self-motion's cycles: follow the reference, then settle (module doc)."""

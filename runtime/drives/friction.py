@@ -1,4 +1,4 @@
-"""Stick–slip friction on the motor side (Karnopp), with viscous friction.
+"""Stick–slip friction on the motor side [Karnopp 1985], with viscous friction.
 
 Sliding (``|ω| ≥ δ``):   τ_f = F_tr·sign(ω) + k_v·ω
 Sticking (``|ω| < δ``):  the axis holds (``ω := 0``) while the torque ``τ_s`` needed to

@@ -32,6 +32,7 @@ from irlc.runtime.drives.refresh import Refresh
 from irlc.runtime.drives.result import DriveRun, default_tolerance, summarise
 from irlc.runtime.drives.stepper import StepperBank
 from irlc.runtime.drives.transmission import Transmission
+from irlc.runtime.engine import compiled_loop
 from irlc.runtime.model.dynamics import Dynamics
 
 STEP_CAP = 1e-3  # the largest default step (s) of the averaged levels
@@ -65,7 +66,8 @@ def simulate_drives(
     ``record="ipo"`` decimates the arrays to the IPO times; ``dynamics_every`` refreshes
     ``M(q)``, ``C q̇ + G`` every that many steps (default ``None``: adaptive, when the
     configuration or speed has changed by more than :mod:`.refresh`'s bounds);
-    ``accel`` runs the loop through the optional compiled kernel (:mod:`.accel`: ``True``
+    ``accel`` runs the loop through the optional compiled kernels (:mod:`.compiled`,
+    chosen by :func:`irlc.runtime.engine.compiled_loop`: ``True``
     always, ``False`` never, ``None`` as ``IRLC_ENGINE`` says; numpy is the reference).
     """
     times, q_cmd = _check_inputs(model, times, q_cmd, level, record)
@@ -306,7 +308,7 @@ class _Simulation:
         moving_map = not diagonal and trans.matrix is None  # K(q) changes with q
         mech = self.mech
         refresh = Refresh(self.refresh, h, n)
-        compiled = None if accel is False else self._compiled_loop(accel)
+        compiled = None if accel is False else compiled_loop(self, accel)
         if compiled is not None:
             rec["q"], rec["qd"] = np.zeros((k, n)), np.zeros((k, n))
             rec_i, rec_u = np.zeros((k, m_ax)), np.zeros((k, m_ax))
@@ -393,17 +395,6 @@ class _Simulation:
         rec["q"], rec["qd"] = rec_x[:, :n].copy(), rec_x[:, n:].copy()
         rec_i, rec_u = rec_i.copy(), rec_u.copy()
         return self._result(tol, rec, rec_i, rec_u, sat_rec, energy, copper, bank, q)
-
-    def _compiled_loop(self, requested: bool | None):
-        """The compiled loop class to run (:class:`.accel.AcceleratedLoop` averaged,
-        :class:`.accel_pwm.PwmLoop` pwm) or ``None``: the numpy loop. (Not imported at
-        module level: ``python -m …accel``.)"""
-        from irlc.runtime.drives import accel, accel_pwm
-
-        for loop in (accel.AcceleratedLoop, accel_pwm.PwmLoop):
-            if loop.covers(self):
-                return loop if accel.use_accel(requested) else None
-        return None
 
     def _bank(self, q0):
         """The drives of the driven axes, at rest at ``q0`` holding the arm against gravity."""

@@ -32,10 +32,13 @@ import math
 
 import numpy as np
 from irlc.robots.model import RobotModel
-from irlc.runtime.errors import RunFailure
+from irlc.runtime.engine import compiled_cycle
 from irlc.runtime.ik.compact import CompactBasis
 from irlc.runtime.ik.coupled import CoupledRows
 from irlc.runtime.ik.cyclic import CyclicReference
+from irlc.runtime.ik.failure import IKFailure as IKFailure
+from irlc.runtime.ik.failure import full_rank as _full_rank
+from irlc.runtime.ik.failure import require_finite as _require_finite
 from irlc.runtime.ik.freeze import FreezeError, FrozenJoints
 from irlc.runtime.ik.limits import JointBox
 from irlc.runtime.ik.newton_step import NewtonStep, StepOutcome
@@ -49,10 +52,6 @@ from irlc.runtime.ik.weighted import WeightedDisplacement
 from irlc.runtime.model.chain import Chain, ChainPoint, JointLimits, SerialChain
 from irlc.runtime.model.kinematics import Kinematics
 from irlc.runtime.model.naming import JointNaming
-
-
-class IKFailure(RunFailure):
-    """The inverse transformation cannot produce a valid configuration."""
 
 
 class InverseTransformation:
@@ -113,14 +112,9 @@ class InverseTransformation:
         self._weighted_only = [self._weighted]
         self._cyclic = CyclicReference(self.weights, np.zeros(n))
         self._state = IterationState(np.zeros(n), np.zeros(n), np.zeros(n))
-        self._accel = None
         self._bodies_are_task_frames = chain.bodies.task_frames_are_world
-        p = self.params
-        if p.solver == "quadprog" and p.max_iter >= 1 and chain.compiled:
-            from irlc.runtime.ik import accel  # (not at import: `python -m …accel` runs it)
-
-            if accel.use_accel(p.accel):
-                self._accel = accel.AcceleratedCycle(self)
+        # None: this module's numpy path (engine.py); a chain with extra rows runs there
+        self._accel = compiled_cycle(self) if chain.compiled else None
 
     @property
     def naming(self) -> JointNaming | None:
@@ -478,13 +472,3 @@ def _finite(x: np.ndarray) -> bool:
 
 def _tiny(dtheta: np.ndarray, theta: np.ndarray) -> bool:
     return float(np.max(np.abs(dtheta))) <= 1e-13 * (1.0 + float(np.max(np.abs(theta))))
-
-
-def _full_rank(J: np.ndarray, m: int) -> bool:
-    s = np.linalg.svd(J, compute_uv=False)
-    return s.size >= m and s[m - 1] > 1e-10 * s[0]
-
-
-def _require_finite(what: str, x: np.ndarray) -> None:
-    if not np.all(np.isfinite(x)):
-        raise IKFailure(f"inverse transformation: non-finite {what}")

@@ -152,7 +152,7 @@ class NewtonStep:
         """Solve the compact QP in ``z`` (plus any coupled rows); ``Δθ = Δθ_p + N z``.
         ``free``: first try the unconstrained minimiser (:func:`_free_minimiser`)."""
         if ineq is not None:
-            Ct, bt = _with_rows(Ct, bt, ineq[0], ineq[1], dp, N)
+            Ct, bt = with_rows(Ct, bt, ineq[0], ineq[1], dp, N)
         z = _free_minimiser(Ht, gt, Ct, bt) if free else None
         if z is not None:
             return StepOutcome(dp + N @ z, False, False, _EMPTY_INT, _EMPTY)
@@ -287,7 +287,7 @@ def _free_minimiser(Ht, gt, Ct, bt) -> np.ndarray | None:
     return z if np.count_nonzero(slack > 1e-12) == slack.size else None
 
 
-def _with_rows(Ct, bt, A, b, dp, N):
+def with_rows(Ct, bt, A, b, dp, N):
     """Append the compact form of ``AΔθ ≥ b``: columns ``(AN)ᵀ``, right sides ``b − AΔθ_p``."""
     return np.hstack((Ct, (A @ N).T)), np.concatenate((bt, b - A @ dp))
 

@@ -50,7 +50,7 @@ class IKParams:
     solver: str = "quadprog"
     warm_start: bool = True  # first iterate θ_s + d (see newton); not for self-motion
     scalar_qp: bool = True  # one null-space dimension: closed-form QP (False: always solver)
-    accel: bool | None = None  # compiled cycle (numba): None = as IRLC_ENGINE says (ik.accel)
+    accel: bool | None = None  # compiled cycle (numba): None = as IRLC_ENGINE says (engine.py)
     obstacle: ObstacleParams = field(default_factory=ObstacleParams)
 
     @classmethod

@@ -13,12 +13,13 @@ the indices of the active inequality rows and their multipliers (``λ ≥ 0`` wi
 
 Backends:
 
-* :class:`QuadprogSolver` — Goldfarb–Idnani (1983), the method the seed prescribes.
+* :class:`QuadprogSolver` — Goldfarb–Idnani [Goldfarb & Idnani 1983], the method the seed
+  prescribes.
   ``quadprog.solve_qp(G, a, C, b, meq)`` minimises ``½xᵀGx − aᵀx`` s.t. ``Cᵀx ≥ b``
   with the first ``meq`` columns of ``C`` equalities, so ``a = −g``, ``C = [Eᵀ Aᵀ]``.
   It raises ``ValueError`` for inconsistent constraints and non-PD ``G``; both become
   a result with ``status="infeasible"`` / ``"error"`` here, never an exception.
-* :class:`DaqpSolver` — DAQP (Arnström et al. 2022), another dual active-set solver,
+* :class:`DaqpSolver` — DAQP [Arnström et al. 2022], another dual active-set solver,
   only if ``daqp`` is importable; used for side-by-side benchmarks.
 """
 

@@ -19,7 +19,13 @@ from __future__ import annotations
 
 from irlc.lang.file_access import shown_key, shown_names
 from irlc.lang.joint_kinds import kind_from_letter
-from irlc.lang.settings import ALL_KINDS, BY_WITH_WORD, PATH_KINDS, reconfiguration_counts
+from irlc.lang.settings import (
+    ALL_KINDS,
+    BY_WITH_WORD,
+    PATH_KINDS,
+    reconfiguration_counts,
+)
+from irlc.lang.settings import LIMIT_OPTIONS as LIMIT_ROWS
 from irlc.runtime import units
 from irlc.runtime import values as V
 from irlc.runtime.commands import MotionCommand, check_setting
@@ -31,11 +37,8 @@ from irlc.runtime.model.limit_check import first_outside, limit_failure, program
 from irlc.runtime.values import JointTuple, Pose
 
 MOVE_NUMBERS = {word: s.field for word, s in BY_WITH_WORD.items()}  # WITH word → field
-LIMIT_OPTIONS = {  # option → (field of MotionCommand / ModalOptions, derivative)
-    "JOINTLIMIT": ("joint_limits", 0),
-    "JOINTSPEEDLIMIT": ("speed_limits", 1),
-    "JOINTACCELLIMIT": ("accel_limits", 2),
-}
+# option → (field of MotionCommand / ModalOptions, derivative): the rows of lang/settings.py
+LIMIT_OPTIONS = {o.word: (o.field, o.derivative) for o in LIMIT_ROWS}
 LIMIT_TOLERANCE = 1e-6  # deg/s | mm/s (per derivative): how far a rate bound may exclude 0
 _POINT_COUNTS = {"CIRCLE": 2, "PTP": 1, "PTPINC": 1, "LININC": 1}  # LIN, LINPATH: any
 

@@ -7,7 +7,7 @@ two swept shapes is the distance between their cores minus both radii, along the
 direction, so three core problems suffice, each solved in closed form:
 
 * **segment–segment** (covers point and sphere): minimise ``‖p(s) − q(t)‖²`` over the
-  unit square; the unconstrained stationary point is clamped edge by edge (Ericson,
+  unit square; the unconstrained stationary point is clamped edge by edge ([Ericson 2005],
   *Real-Time Collision Detection*, §5.1.9), with the degenerate and parallel cases
   handled explicitly.
 * **segment–box** (oriented box, half extents ``h``, in the box frame): the squared
@@ -31,7 +31,7 @@ close, and the lowest part index wins; a deepest box point equally deep (within 
 below two faces escapes through the lower-indexed face (the deepest point of a segment
 that enters a box is usually such a point, on the crossing of two faces' depths). So
 rounding never decides which part or face is reported, and the compiled queries
-(:mod:`irlc.runtime.ik.accel_distance`), whose rounding differs, report the same ones.
+(:mod:`irlc.runtime.ik.compiled.distance`), whose rounding differs, report the same ones.
 
 Robots without collision geometry fall back to radius-0 segments between successive
 link-frame origins, the last one ending at the TCP.
@@ -269,7 +269,7 @@ def _fallback_direction(d1: np.ndarray, d2: np.ndarray) -> np.ndarray:
 # ---------------------------------------------------------------------- the robot side
 class RobotSegments:
     """The robot's parts as arrays (hot path; also the packed input of the compiled
-    queries, :mod:`irlc.runtime.ik.accel_distance`): ``links (k,)`` int64, the ends
+    queries, :mod:`irlc.runtime.ik.compiled.distance`): ``links (k,)`` int64, the ends
     ``a_local, b_local (k, 3)`` in their link frames (zeros for the fallback chain, whose
     ends are link origins and the TCP), ``radius (k,)``, ``fallback``. Built from the
     model's capsules/spheres, or the fallback chain; :meth:`world` gives the world ends."""

@@ -6,7 +6,7 @@ Equations of motion, joint space::
 
 ``J_r`` is the reflected rotor inertia ``J_m · i²`` of each axis (``i`` the gear ratio,
 motor rad per joint unit); it enters the diagonal only (the rotors' gyroscopic coupling is
-neglected, as in Yurevich's and Spong's reduced model).
+neglected, as in [Yurevich] and in Spong's reduced model [Spong 1987]).
 
 All vectors are world-frame. Link ``i`` has frame origin ``P_i``, rotation ``R_i``, mass
 ``m_i``, centre of mass ``c_i = P_i + R_i·com_i`` and inertia ``I_i = R_i·I_i^L·R_iᵀ`` about

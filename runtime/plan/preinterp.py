@@ -52,7 +52,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from irlc.lang.irdata import geometry_problem
-from irlc.lang.settings import BY_FIELD, reconfiguration_counts, setting_message
+from irlc.lang.settings import LIMIT_OPTIONS, reconfiguration_counts
 from irlc.robots.model import RobotModel
 from irlc.runtime import units, values
 from irlc.runtime.commands import ModalOptions, MotionCommand, Settings
@@ -72,13 +72,13 @@ from irlc.runtime.plan.interpolator import (
     ReferencePath,
     Segment,
 )
+from irlc.runtime.plan.motion_values import MotionValues
 from irlc.runtime.plan.profiles import (
     Trapezoid,
     cycles,
 )
 from irlc.runtime.plan.segment_timing import (
     motor_bounds,
-    override_factor,
     segment_bounds,
     segment_profile,
     split_time,
@@ -89,15 +89,6 @@ from irlc.runtime.values import JointTuple, Pose
 Limits3 = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
-def scurve_on(cmd: MotionCommand, settings: Settings) -> bool:
-    """``R_PROFILE = 'SCURVE'`` (checked against its row in lang/settings.py)."""
-    value = settings.profile
-    message = setting_message("profile", value, "R_PROFILE")
-    if message is not None:
-        raise RunFailure(message, cmd.line)
-    return value.upper() == "SCURVE"
-
-
 def check_coordinates(frame: np.ndarray, what: str, line: int | None) -> None:
     """:class:`RunFailure` unless the translation of ``frame`` (4×4, SI) is finite and
     inside the physical range of a coordinate (``irdata.geometry_problem``, ±1 km): beyond
@@ -105,25 +96,6 @@ def check_coordinates(frame: np.ndarray, what: str, line: int | None) -> None:
     for axis, v in zip("xyz", frame[:3, 3], strict=True):
         if problem := geometry_problem("point", (v / units.MM,)):
             raise RunFailure(f"{what}: {axis} = {problem}", line)
-
-
-def _setting(cmd: MotionCommand, settings: Settings, name: str) -> float:
-    """The statement's WITH value of setting ``name``, else the system variable's; checked
-    against the one range table (lang/settings.py) — the interpreter checks both when they
-    are set, this guards controllers driven directly with hand-made settings."""
-    row = BY_FIELD[name]
-    value, what = getattr(cmd, name, None), f"WITH {row.with_word}"  # None: no WITH form
-    if value is None:
-        value, what = getattr(settings, name), str(row.system_variable)
-    message = setting_message(name, value, what)
-    if message is not None:
-        raise RunFailure(message, cmd.line)
-    return float(value) * override_factor(settings) ** _OVERRIDE_POWER.get(name, 0)
-
-
-# How R_OVERRIDE scales a setting: value · k^power (a time scaling, see the module doc;
-# a jerk limit, where a profile has one, scales with k³).
-_OVERRIDE_POWER = {"speed": 1, "speed_ori": 1, "speed_ptp": 1, "acc": 2, "acc_ptp": 2, "jerk": 3}
 
 
 def tool_transform(model: RobotModel, settings: Settings) -> np.ndarray:
@@ -142,10 +114,15 @@ class PlanState:
 
     q: np.ndarray  # commanded configuration
     tcp: np.ndarray  # its world TCP pose (with the current tool)
-    dt: float  # IPO cycle
+    motion: MotionValues  # the motion's settings, checked and scaled (motion_values.py)
     base: np.ndarray  # R_BASE in the world (4×4)
     tool: np.ndarray  # the TCP in the flange frame (4×4): tool_transform(model, settings)
     time: float = 0.0  # s, the simulated time (of a failure while planning)
+
+    @property
+    def dt(self) -> float:
+        """The IPO cycle (s)."""
+        return self.motion.ipo
 
 
 def solve_ptp_pose(reach: Reach, target: np.ndarray, seed: np.ndarray, line: int,
@@ -202,7 +179,7 @@ class PreInterpolator:
         """Robot limits ∩ modal program limits ∩ this statement's WITH limits."""
         progs = []
         for modal, clause in zip(
-            (options.joint_limits, options.speed_limits, options.accel_limits),
+            tuple(getattr(options, o.field) for o in LIMIT_OPTIONS),
             cmd_limits,
             strict=True,
         ):
@@ -243,24 +220,21 @@ class PreInterpolator:
     def plan(
         self, cmd: MotionCommand, settings: Settings, options: ModalOptions, state: PlanState
     ) -> list[Segment]:
-        lims = self.limits(
-            (cmd.joint_limits, cmd.speed_limits, cmd.accel_limits), options, cmd.line
-        )
+        lims = self.limits(tuple(getattr(cmd, o.field) for o in LIMIT_OPTIONS), options, cmd.line)
         self.check_inside(state.q, lims[0], cmd.line, "the limits exclude the current state")
         check_coordinates(values.pose_to_matrix(settings.tool), "R_TOOL", cmd.line)
         check_coordinates(state.base, "R_BASE", cmd.line)
         kind = cmd.kind
         if kind in ("PTP", "PTPINC"):
-            segments = self._plan_ptp(cmd, settings, options, state, lims)
+            segments = self._plan_ptp(cmd, options, state, lims)
         elif kind in ("LIN", "LINPATH", "LININC"):
-            segments = self._plan_lin(cmd, settings, state, lims)
+            segments = self._plan_lin(cmd, state, lims)
         elif kind == "CIRCLE":
-            segments = self._plan_circle(cmd, settings, state, lims)
+            segments = self._plan_circle(cmd, state, lims)
         else:
             raise RunFailure(f"unknown motion kind {kind!r}", cmd.line)
-        k = override_factor(settings)
         for seg in segments:
-            seg.override = k
+            seg.override = state.motion.k
         return segments
 
     def hold(
@@ -280,12 +254,12 @@ class PreInterpolator:
         return Segment(kind, line, Hold(state.tcp.copy()), profile, n_cycles, lims, ref)
 
     # PTP ------------------------------------------------------------------
-    def _plan_ptp(self, cmd, settings, options, state: PlanState, lims: Limits3) -> list[Segment]:
+    def _plan_ptp(self, cmd, options, state: PlanState, lims: Limits3) -> list[Segment]:
         out = []
         q0 = state.q
         frozen = self.frozen_si(options)
         for target in cmd.targets:
-            q1 = self._ptp_target(cmd, settings, target, q0, frozen, lims, state)
+            q1 = self._ptp_target(cmd, target, q0, frozen, lims, state)
             self.check_inside(q1, lims[0], cmd.line, "PTP target")
             for j, v in frozen.items():
                 if abs(q1[j] - v) > 1e-9 * (1.0 + abs(v)):
@@ -296,47 +270,47 @@ class PreInterpolator:
                         f"{format_joint_value(self.model, j, q1[j], 0)})",
                         cmd.line,
                     )
-            seg = self.joint_profile(cmd, settings, q0, q1, lims, state.dt, len(cmd.targets))
+            seg = self.joint_profile(cmd, state.motion, q0, q1, lims, len(cmd.targets))
             out.append(seg)
             q0 = q1
         return out
 
-    def _ptp_target(self, cmd, settings, target, q0, frozen, lims, state) -> np.ndarray:
+    def _ptp_target(self, cmd, target, q0, frozen, lims, state) -> np.ndarray:
         if cmd.kind == "PTPINC":
             return q0 + self.joints_si(target)
         if isinstance(target, JointTuple):
             return self.joints_si(target)
         if isinstance(target, Pose):
             world = self.world(target, state, cmd.line)
-            reach = self.reach(lims[0], frozen, state.tool, settings.path_tol * units.MM)
+            reach = self.reach(lims[0], frozen, state.tool, state.motion.path_tol * units.MM)
             return solve_ptp_pose(reach, world, q0, cmd.line, state.time)
         raise RunFailure(f"MOVE PTP: unsupported target {type(target).__name__}", cmd.line)
 
-    def ptp_jerks(self, cmd, settings, accel: np.ndarray) -> np.ndarray:
+    def ptp_jerks(self, motion: MotionValues, accel: np.ndarray) -> np.ndarray:
         """Per-joint jerk bounds of an S-curve PTP (SI, before ``R_ACC_PTP``): the robot
         file's ``jerk`` where it gives one, else ``θ̈max_i · R_JERK / R_ACC`` — the joint
         builds up its (active) acceleration bound ``accel`` in the time ``R_ACC / R_JERK``
         the path takes for its own."""
-        ramp = _setting(cmd, settings, "acc") / _setting(cmd, settings, "jerk")
-        known = self.model.jerk_limits * override_factor(settings)  # × R_ACC_PTP: k³ in all
+        ramp = motion.acc / motion.jerk
+        known = self.model.jerk_limits * motion.k  # × R_ACC_PTP: k³ in all
         return np.where(np.isnan(known), accel / ramp, known)
 
     def joint_profile(
-        self, cmd: MotionCommand, settings: Settings, q0, q1, lims: Limits3, dt: float,
-        npts: int = 1,
-    ) -> Segment:  # fmt: skip
+        self, cmd: MotionCommand, motion: MotionValues, q0, q1, lims: Limits3, npts: int = 1
+    ) -> Segment:
         """The synchronised joint motion ``q0 → q1`` (SI) of a PTP (or of RECONFIGURATION's
         reference): joint ``i`` may use ``R_SPEED_PTP % · θ̇max_i`` and ``R_ACC_PTP % ·
         θ̈max_i`` of the active limits ``lims``, the slowest joint sets the time (module
         doc); ``npts`` is the number of points of the statement (``WITH TIME`` needs one)."""
         _, spd, acc = lims
         delta = q1 - q0
-        pct_v = _setting(cmd, settings, "speed_ptp") / 100.0
-        pct_a = _setting(cmd, settings, "acc_ptp") / 100.0
+        dt = motion.ipo
+        pct_v = motion.speed_ptp / 100.0
+        pct_a = motion.acc_ptp / 100.0
         vmax = np.where(delta >= 0.0, spd[:, 1], -spd[:, 0]) * pct_v
         accel = np.minimum(acc[:, 1], -acc[:, 0])
         amax = accel * pct_a
-        jmax = self.ptp_jerks(cmd, settings, accel) * pct_a if scurve_on(cmd, settings) else None
+        jmax = self.ptp_jerks(motion, accel) * pct_a if motion.scurve else None
         for j in np.flatnonzero(np.abs(delta) > 0.0):
             if not (vmax[j] > 0.0 and amax[j] > 0.0):
                 name = self.naming.label(j)
@@ -351,7 +325,7 @@ class PreInterpolator:
                 b, self.motors, self.motors.ptp_rates(q0, q1), pct_v, pct_a, self.model.n
             )
         slowest = b.slowest
-        duration = with_time(cmd, settings, npts)
+        duration = with_time(motion, npts, cmd.line)
         profile = segment_profile(b, duration, dt, cmd.line, self.max_duration)
         limiting = ""
         if slowest >= 0:
@@ -380,11 +354,11 @@ class PreInterpolator:
         )
         return seg
 
-    def _path_motor_rates(self, path, q, lims, settings, state: PlanState, line):
+    def _path_motor_rates(self, path, q, lims, state: PlanState, line):
         """``(D_m, q_end)`` of a Cartesian path (:meth:`MotorLimits.path_rates`, solved
         with the PTP pose solver); ``(None, q)`` where a point of the path has no solution
         (the IK's motor rows still bound every cycle; the run reports it)."""
-        reach = self.reach(lims[0], {}, state.tool, settings.path_tol * units.MM)
+        reach = self.reach(lims[0], {}, state.tool, state.motion.path_tol * units.MM)
         try:
             return self.motors.path_rates(
                 path.at, q, lambda pose, seed: solve_ptp_pose(reach, pose, seed, line, state.time)
@@ -393,7 +367,7 @@ class PreInterpolator:
             return None, q
 
     # LIN ------------------------------------------------------------------
-    def _plan_lin(self, cmd, settings, state: PlanState, lims) -> list[Segment]:
+    def _plan_lin(self, cmd, state: PlanState, lims) -> list[Segment]:
         if cmd.kind == "LININC":
             poses = [state.tcp @ values.pose_to_matrix(t) for t in cmd.targets]
             for p in poses:
@@ -404,9 +378,9 @@ class PreInterpolator:
         for p in poses:
             paths.append(CartesianLine(start.copy(), p))
             start = p
-        return self._cartesian_segments(cmd, settings, state, lims, paths, "lin")
+        return self._cartesian_segments(cmd, state, lims, paths, "lin")
 
-    def _plan_circle(self, cmd, settings, state: PlanState, lims) -> list[Segment]:
+    def _plan_circle(self, cmd, state: PlanState, lims) -> list[Segment]:
         if len(cmd.targets) != 2:
             raise RunFailure("MOVE CIRCLE needs a via point and a target", cmd.line)
         via, target = (self.world(t, state, cmd.line) for t in cmd.targets)
@@ -414,12 +388,13 @@ class PreInterpolator:
             arc = CartesianArc(state.tcp.copy(), via[:3, 3].copy(), target)
         except CircleError as exc:
             raise RunFailure(f"MOVE CIRCLE: {exc}", cmd.line) from None
-        return self._cartesian_segments(cmd, settings, state, lims, [arc], "circle")
+        return self._cartesian_segments(cmd, state, lims, [arc], "circle")
 
-    def _cartesian_segments(self, cmd, settings, state, lims, paths, kind) -> list[Segment]:
-        speed = _setting(cmd, settings, "speed") * units.MM
-        acc = _setting(cmd, settings, "acc") * units.MM
-        w = _setting(cmd, settings, "speed_ori") * units.DEG
+    def _cartesian_segments(self, cmd, state, lims, paths, kind) -> list[Segment]:
+        motion = state.motion
+        speed = motion.speed * units.MM
+        acc = motion.acc * units.MM
+        w = motion.speed_ori * units.DEG
         if not (speed > 0.0 and acc > 0.0 and w > 0.0):  # a denormal setting underflowed in SI
             raise RunFailure(
                 "the path speed, acceleration or orientation speed is too small to move "
@@ -428,8 +403,8 @@ class PreInterpolator:
             )
         w_acc = w * acc / speed
         jerks = None
-        if scurve_on(cmd, settings):
-            jerk = _setting(cmd, settings, "jerk") * units.MM
+        if motion.scurve:
+            jerk = motion.jerk * units.MM
             jerks = [jerk, w * jerk / speed]
         bounds = []
         q = state.q
@@ -437,12 +412,12 @@ class PreInterpolator:
             angle = path.angle if self.timed_orientation else 0.0
             b = segment_bounds([path.length, angle], [speed, w], [acc, w_acc], jerks)
             if self.motors is not None and b.slowest >= 0:
-                rates, q = self._path_motor_rates(path, q, lims, settings, state, cmd.line)
+                rates, q = self._path_motor_rates(path, q, lims, state, cmd.line)
                 if rates is not None:
-                    k = override_factor(settings)
+                    k = motion.k
                     b = motor_bounds(b, self.motors, rates, k, k * k, axes=2)
             bounds.append(b)
-        times = split_time(cmd, settings, [b.t_min for b in bounds])
+        times = split_time(motion, [b.t_min for b in bounds], cmd.line)
         refs = self._references(cmd, state.q, paths)
         out = []
         for path, b, t, ref in zip(paths, bounds, times, refs, strict=True):

@@ -16,12 +16,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from irlc.lang.settings import setting_message
 from irlc.runtime import units
-from irlc.runtime.commands import MotionCommand, Settings
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.model.motor_limits import MotorLimits
 from irlc.runtime.plan import scurve as sc
+from irlc.runtime.plan.motion_values import MotionValues
 from irlc.runtime.plan.profiles import (
     ProfileError,
     Trapezoid,
@@ -56,14 +55,6 @@ def segment_bounds(distances, speeds, accels, jerks=None) -> Bounds:
     return Bounds(v, a, j, slowest, sc.minimum_time(v, a, j) if slowest >= 0 else 0.0)
 
 
-def override_factor(settings: Settings) -> float:
-    """``k = R_OVERRIDE / 100`` (checked against its row of lang/settings.py)."""
-    message = setting_message("override", settings.override, "R_OVERRIDE")
-    if message is not None:
-        raise RunFailure(message)
-    return float(settings.override) / 100.0
-
-
 def motor_bounds(
     b: Bounds, motors: MotorLimits, rates: np.ndarray, pct_v: float, pct_a: float, axes: int
 ) -> Bounds:
@@ -82,29 +73,30 @@ def motor_bounds(
     return Bounds(speed, accel, b.jerk, slowest, t_min)
 
 
-def with_time(cmd: MotionCommand, settings: Settings, npts: int) -> float | None:
+def with_time(values: MotionValues, npts: int, line: int) -> float | None:
     """``WITH TIME`` stretched by the override (``t / k``), or ``None``."""
-    if cmd.time is None:
+    if values.time is None:
         return None
     if npts > 1:
-        raise RunFailure("WITH TIME on a multi-target PTP is not supported", cmd.line)
-    return float(cmd.time) / override_factor(settings)
+        raise RunFailure("WITH TIME on a multi-target PTP is not supported", line)
+    return values.time
 
 
-def split_time(cmd: MotionCommand, settings: Settings, tmins: list[float]) -> list[float | None]:
-    """``WITH TIME`` over consecutive segments in proportion to their minimum times
-    ``tmins`` (each ``None`` without it); shorter than their sum is a RunFailure."""
-    if cmd.time is None:
+def split_time(values: MotionValues, tmins: list[float], line: int) -> list[float | None]:
+    """``WITH TIME`` (stretched by the override) over consecutive segments in proportion
+    to their minimum times ``tmins`` (each ``None`` without it); shorter than their sum is
+    a RunFailure."""
+    if values.time is None:
         return [None] * len(tmins)
-    k = override_factor(settings)
-    total = float(cmd.time) / k
+    k = values.k
+    total = values.time
     tsum = sum(tmins)
     if total < tsum * (1.0 - 1e-12):
-        at = "" if k == 1.0 else f" at R_OVERRIDE {settings.override:g} %"
+        at = "" if k == 1.0 else f" at R_OVERRIDE {values.override:g} %"
         raise RunFailure(
-            f"WITH TIME := {float(cmd.time):g} s{at} is shorter than the {tsum * k:.6g} s "
+            f"WITH TIME := {values.written_time:g} s{at} is shorter than the {tsum * k:.6g} s "
             "the speed and acceleration limits allow",
-            cmd.line,
+            line,
         )
     if tsum == 0.0:
         return [None] * len(tmins)

@@ -186,9 +186,9 @@ def _scene():
 
 
 def _compiled_available() -> bool:
-    from irlc.runtime.ik import accel
+    from irlc.runtime import accel_support
 
-    return accel.AVAILABLE
+    return accel_support.AVAILABLE
 
 
 @pytest.mark.parametrize("compiled", [False, True])

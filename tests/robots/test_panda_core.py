@@ -14,8 +14,7 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 from irlc.cli import cli
-from irlc.robots import ROBOTS_DIR, RobotFileError, load_robot
-from irlc.robots import _cache as robot_cache
+from irlc.robots import ROBOTS_DIR, RobotFileError, clear_cache, load_robot
 from irlc.robots.loader import MissingExtraError, load_toml
 from irlc.robots.toml_export import generated_header, model_to_toml
 
@@ -27,9 +26,9 @@ URDF_BACKED = ROBOTS_DIR / "urdf" / "panda.toml"
 def no_yourdfpy(monkeypatch):
     """A core install: ``import yourdfpy`` fails (``sys.modules[name] = None``)."""
     monkeypatch.setitem(sys.modules, "yourdfpy", None)
-    robot_cache.clear()
+    clear_cache()
     yield
-    robot_cache.clear()
+    clear_cache()
 
 
 def _same_transform(a: np.ndarray, b: np.ndarray) -> bool:

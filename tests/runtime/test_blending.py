@@ -408,11 +408,11 @@ def _write(tmp_path: Path, text: str, name: str) -> Path:
 
 
 def test_summary_lists_the_approximated_points(exact_and_blended):
-    from irlc.summary import _approximations
+    from irlc.summary import approximations_text
 
     exact, blended = exact_and_blended
-    assert _approximations(exact.report) == ""
-    assert _approximations(blended.report) == "1 blended (used 20 mm, saved 0.2 s)"
+    assert approximations_text(exact.report) == ""
+    assert approximations_text(blended.report) == "1 blended (used 20 mm, saved 0.2 s)"
 
 
 @pytest.mark.parametrize(

@@ -147,11 +147,11 @@ def test_library_noise_does_not_reach_stderr(capsys, caplog) -> None:
     import warnings
 
     import numpy as np
-    from irlc.cli import _quiet_libraries
+    from irlc.cli import quiet_libraries
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # a warning that got through would raise here
-        with _quiet_libraries():
+        with quiet_libraries():
             assert np.isinf(np.float64(1e308) * np.float64(10.0))
             logging.getLogger("yourdfpy.urdf").warning("unknown tag <bogus>")
     assert "unknown tag" not in caplog.text + capsys.readouterr().err

@@ -10,7 +10,6 @@ from pathlib import Path
 
 import pytest
 from irlc.runtime.control import ptp_activity
-from irlc.runtime.ik import accel
 from irlc.runtime.ik.limits import SOURCE_NAMES
 from irlc.runtime.ik.newton import InverseTransformation
 from irlc.runtime.run import run_file
@@ -39,8 +38,6 @@ def test_report_limit_activity_matches_the_box_of_every_cycle(program, monkeypat
         for j, label in (activity or {}).items():
             expected[(j, label)] = expected.get((j, label), 0.0) + dt
 
-    if accel.use_accel(None):  # IRLC_ENGINE=compiled: the kernels' warm-up runs one tiny
-        accel.warm_up()  # cycle of its own through step; it must not count as the program's
     step, at_bounds = InverseTransformation.step, ptp_activity.at_bounds
 
     def observed_step(self, q_start, q_prev, target, dt, options=None):

@@ -137,6 +137,7 @@ def test_ptp_jerks_scale_with_k_cubed():
     for the fallback ``θ̈max · R_JERK / R_ACC`` (planar3, none in its file)."""
     from irlc.robots import load_robot
     from irlc.runtime.commands import MotionCommand, Settings
+    from irlc.runtime.plan.motion_values import motion_values
     from irlc.runtime.plan.preinterp import PreInterpolator
 
     cmd = MotionCommand("PTP", (), 1)
@@ -144,7 +145,7 @@ def test_ptp_jerks_scale_with_k_cubed():
         model = load_robot(name)
         pre = PreInterpolator(model)
         accel = np.full(model.n, 3.0)
-        full = pre.ptp_jerks(cmd, Settings(profile="SCURVE"), accel)
-        half = pre.ptp_jerks(cmd, Settings(profile="SCURVE", override=50.0), accel)
+        full = pre.ptp_jerks(motion_values(cmd, Settings(profile="SCURVE")), accel)
+        half = pre.ptp_jerks(motion_values(cmd, Settings(profile="SCURVE", override=50.0)), accel)
         assert np.all(np.isfinite(full)) and half == pytest.approx(0.5 * full, rel=1e-12)
     assert not np.isnan(load_robot("panda").jerk_limits).any()

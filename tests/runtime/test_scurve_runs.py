@@ -14,6 +14,7 @@ import pytest
 from irlc.api import compile_program, load_robot
 from irlc.lang.diagnostics import CompileError
 from irlc.runtime.commands import MotionCommand, Settings
+from irlc.runtime.plan.motion_values import motion_values
 from irlc.runtime.plan.preinterp import PreInterpolator
 from irlc.runtime.run import run_code
 
@@ -126,12 +127,12 @@ def test_ptp_jerk_bounds_come_from_the_robot_file_where_it_has_them():
     accel = np.minimum(panda.accel_limits[:, 1], -panda.accel_limits[:, 0])
     # Franka's published jerk limits (rad/s³), whatever R_JERK says
     expected = [7500, 3750, 5000, 6250, 7500, 10000, 10000]
-    assert np.allclose(pre.ptp_jerks(cmd, settings, accel), expected, rtol=1e-12)
+    assert np.allclose(pre.ptp_jerks(motion_values(cmd, settings), accel), expected, rtol=1e-12)
     irb6 = load_robot("irb6")
     pre = PreInterpolator(irb6)
     accel = np.minimum(irb6.accel_limits[:, 1], -irb6.accel_limits[:, 0])
     assert np.isnan(irb6.jerk_limits).all()  # none published: derived, ramp time 500/4000 s
-    assert np.allclose(pre.ptp_jerks(cmd, settings, accel), accel * 8.0, rtol=1e-12)
+    assert np.allclose(pre.ptp_jerks(motion_values(cmd, settings), accel), accel * 8.0, rtol=1e-12)
 
 
 def test_profile_setting_is_checked_and_reads_back_in_upper_case(tmp_path):

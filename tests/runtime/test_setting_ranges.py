@@ -10,10 +10,21 @@ import math
 
 import numpy as np
 import pytest
-from irlc.runtime.commands import SETTING_RANGES, check_setting, setting_error
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from irlc.lang.settings import SETTINGS, SettingChoices, setting_message
+from irlc.runtime.commands import (
+    SETTING_RANGES,
+    MotionCommand,
+    Settings,
+    check_setting,
+    setting_error,
+)
 from irlc.runtime.errors import RunFailure
-from irlc.runtime.run import RunSetupError, run_code
+from irlc.runtime.plan.motion_values import motion_values
+from irlc.runtime.run import RunSetupError, check_run_option, run_code
 
+from ..lang.conftest import compile_text
 from .conftest import Ird
 
 
@@ -124,3 +135,118 @@ def test_language_doc_lists_the_table():
 
     doc = Path(__file__).resolve().parents[2] / "docs" / "language.md"
     assert ranges_table() in doc.read_text(encoding="utf-8")
+
+
+def _row_values(row):
+    """Values for a row: around and between its bounds (the bounds, their neighbours,
+    negatives, huge), or words for a choice."""
+    if isinstance(row.range, SettingChoices):
+        words = [*row.range.words, *(w.lower() for w in row.range.words), "SMOOTH", ""]
+        return st.sampled_from(words)
+    r = row.range
+    edges = [r.low, r.high] if math.isfinite(r.high) else [r.low, 1e300]
+    near = [math.nextafter(e, d) for e in edges for d in (-math.inf, math.inf)]
+    return st.one_of(
+        st.sampled_from([*edges, *near, 0.0, -1.0]),
+        st.floats(min_value=-2 * edges[1], max_value=2 * edges[1], allow_nan=False),
+    )
+
+
+def _literal(value) -> str:
+    return "'" + value + "'" if isinstance(value, str) else repr(float(value))
+
+
+@pytest.mark.parametrize("row", SETTINGS, ids=lambda r: r.field)
+def test_every_row_has_one_range_check_for_compiler_interpreter_controller_and_options(row):
+    """Property: for any value, the compiler (a constant), the interpreter (an assignment or
+    a WITH clause), the controller (the motion's values) and the command-line options
+    (``--ipo``, ``--override``, ``--path-tolerance``) accept exactly the values of the
+    row's range, and refuse the others in the table's words."""
+    what = row.system_variable or f"WITH {row.with_word}"
+    option = {"ipo": "ipo", "override": "override", "path_tol": "path_tolerance"}.get(row.field)
+
+    @settings(max_examples=40, deadline=None, database=None)
+    @given(_row_values(row))
+    def check(value):
+        error = setting_error(row.field, value)
+        try:  # the interpreter's check (POPSYS, a WITH clause)
+            check_setting(row.field, value, what)
+            refused = None
+        except RunFailure as exc:
+            refused = exc.message
+        assert refused == (None if error is None else setting_message(row.field, value, what))
+        kind = row.kinds[0] if row.kinds else "PTP"  # the controller's one check per motion
+        with_value = {row.field: value} if row.with_word else {}
+        cmd = MotionCommand(kind, (), 7, **with_value)
+        held = Settings(**({row.field: value} if not row.with_word else {}))
+        try:
+            motion_values(cmd, held)
+            refused = None
+        except RunFailure as exc:
+            refused = exc.message
+            assert exc.line == 7
+        said = f"WITH {row.with_word}" if row.with_word else what
+        assert refused == (None if error is None else setting_message(row.field, value, said))
+        if option is not None:  # run_code's options and a study's [run] values
+            assert (check_run_option(option, value) is None) == (error is None)
+        if row.system_variable:  # the compiler, on a constant
+            statement = f"{row.system_variable} := {_literal(value)};"
+        else:
+            statement = f"MOVE PTP (0, 0, 0) WITH {row.with_word} := {_literal(value)};"
+        result = compile_text(
+            f"PROGRAM p;\nROBOT r := planar3;\nBEGIN\n  {statement}\nENDPROGRAM\n"
+        )
+        errors = [d.message for d in result.errors]
+        if error is None:
+            assert errors == []
+        else:
+            assert len(errors) == 1 and errors[0].endswith(": " + error), errors
+
+    check()
+
+
+def test_each_value_is_checked_once_per_motion(planar3, monkeypatch):
+    """The controller checks each setting once per motion (motion_values.py): R_IPO was
+    checked three times per motion (the blend context, the plan state, every segment run),
+    R_OVERRIDE once per scaled setting. Every check reads the range table, so counting its
+    reads counts the checks."""
+    from irlc.lang import settings as table
+
+    reads: dict[str, int] = {}
+
+    class Counting(dict):
+        def __getitem__(self, key):
+            reads[key] = reads.get(key, 0) + 1
+            return super().__getitem__(key)
+
+    monkeypatch.setattr(table, "SETTING_RANGES", Counting(table.SETTING_RANGES))
+    p = Ird("planar3t", "RRR")
+    p.move(3, "LIN", p.pose(1800, 900, 0))
+    p.move(4, "PTP", p.joints(10.0, 80.0, -80.0))
+    p.move(5, "LIN", p.pose(1700, 900, 0), p.pose(1700, 800, 0))  # two segments
+    run = run_code(p.code_object(), robot=planar3)
+    assert run.status == "ok", run.error
+    assert reads == {row.field: 3 for row in SETTINGS if row.system_variable}
+
+
+def test_limit_options_are_one_table():
+    """The joint-limit options are the rows of lang/settings.py: the grammar's words (on,
+    off) and tuple types are the table's, and every layer keeps them in the row's field."""
+    import dataclasses
+
+    from irlc.lang.grammar import lark_parser
+    from irlc.lang.irdata_model import JOINT_TUPLE_TYPES, MODAL_OPTIONS
+    from irlc.lang.settings import LIMIT_OPTIONS, LIMIT_TUPLE_TYPES
+    from irlc.runtime.commands import ModalOptions
+    from irlc.runtime.interpreter import motion
+
+    terminals = {t.name for t in lark_parser().terminals}
+    grammar_words = {t for t in terminals if t.startswith("JOINT") and "LIMIT" in t}
+    assert grammar_words == {w for o in LIMIT_OPTIONS for w in (o.word, o.end_word)}
+    grammar_types = {t for t in terminals if t.startswith("MAIN_JOINT_")}
+    assert grammar_types == set(LIMIT_TUPLE_TYPES)
+    assert ("MAIN_JOINT", *LIMIT_TUPLE_TYPES) == JOINT_TUPLE_TYPES
+    assert MODAL_OPTIONS[: len(LIMIT_OPTIONS)] == tuple(o.word for o in LIMIT_OPTIONS)
+    for cls in (MotionCommand, ModalOptions):
+        assert {o.field for o in LIMIT_OPTIONS} <= {f.name for f in dataclasses.fields(cls)}
+    assert {o.word: (o.field, o.derivative) for o in LIMIT_OPTIONS} == motion.LIMIT_OPTIONS

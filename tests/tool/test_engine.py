@@ -78,6 +78,31 @@ def test_default_engine_never_imports_numba():
     assert "compiling" not in out.stderr
 
 
+def test_irlc_engine_numpy_overrides_accel_true():
+    """IRLC_ENGINE=numpy wins over a caller's ``accel=True``: the solver and the drive loop
+    run the numpy reference, and numba is not even imported."""
+    code = textwrap.dedent(
+        """
+        import sys
+        import numpy as np
+        from irlc.robots import load_robot
+        from irlc.runtime.accel_support import AVAILABLE
+        from irlc.runtime.drives import simulate_drives
+        from irlc.runtime.ik import IKParams, InverseTransformation
+        from irlc.runtime.model.kinematics import Kinematics
+        m = load_robot('koch11')
+        ik = InverseTransformation(m, Kinematics(m), IKParams(accel=True))
+        q = np.tile(m.home_q(), (2, 1))
+        r = simulate_drives(m, np.array([0.0, 0.01]), q, level='coupled', accel=True)
+        print(AVAILABLE, ik.accelerated, 'numba' in sys.modules, r.could_follow)
+        """
+    )
+    env = dict(os.environ, IRLC_ENGINE="numpy")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["False", "False", "False", "True"]
+
+
 KERNEL = """
 from numba import njit
 

@@ -12,7 +12,7 @@ import pytest
 from irlc.animate import animation_data
 from irlc.cli import main
 from irlc.export import run_data
-from irlc.plots import _axis_label
+from irlc.plots import axis_label
 from irlc.repl import Session
 from irlc.robots import load_robot
 from irlc.runtime.run import run_file
@@ -82,7 +82,7 @@ def test_plots_and_animation_label_joints_by_the_rule(tmp_path):
     run = run_file(_program(tmp_path, "panda", PROGRAMS["panda"]))
     assert run.status == "ok", run.error
     d = run_data(run)
-    assert _axis_label(d, 3, 0) == "a4 (panda_joint4) [deg]"
+    assert axis_label(d, 3, 0) == "a4 (panda_joint4) [deg]"
     data = animation_data(run)
     assert data["joint_labels"] == _labels("panda")
     assert data["units"] == {"length": "mm", "angle": "deg", "time": "s"}

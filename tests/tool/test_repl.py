@@ -470,3 +470,34 @@ def test_program_names_an_entry_that_failed_part_way():
     assert len(left) == 1 and "failed at t = " in left[0] and left[0].endswith("}")
     assert program.index(left[0]) < program.index("MOVE LIN (1500, 900, 0, 0, 0, 0);")
     assert not any("9000" in line for line in program)
+
+
+@needs_runtime
+def test_options_lists_every_row_of_the_settings_table():
+    """`:options` is generated from lang/settings.py: every system variable of the table
+    with the session's value and unit (R_ACC_PTP and R_APPROX included), and every limit
+    option of the table while it is on."""
+    from irlc.lang.settings import LIMIT_OPTIONS, SETTINGS
+    from irlc.repl import Session
+
+    s = Session("planar3")
+    for text in ("R_ACC_PTP := 30;", "R_APPROX := 5;", "R_IPO := 0.00002;"):
+        assert s.enter(text).failure == 0, text
+    text = "\n".join(s.enter(":options").lines)
+    assert text.startswith("no modal options active")
+    expected = {"acc_ptp": "30", "approx": "5", "ipo": "2e-05"}
+    for row in SETTINGS:
+        if row.system_variable:
+            value = expected.get(row.field, f"{row.default:g}" if row.unit else row.default)
+            unit = f" {row.unit}" if row.unit else ""
+            assert f"{row.system_variable} {value}{unit}" in text, row.system_variable
+    bounds = {0: ("(-90, -90, -90)", "(90, 90, 90)"), 1: ("(-10, -10, -10)", "(10, 10, 10)"),
+              2: ("(-50, -50, -50)", "(50, 50, 50)")}  # fmt: skip
+    for option in LIMIT_OPTIONS:
+        lo, hi = bounds[option.derivative]
+        assert s.enter(f"{option.word} {lo}, {hi};").failure == 0, option.word
+    lines = s.enter(":options").lines
+    for option in LIMIT_OPTIONS:
+        lo, hi = bounds[option.derivative]
+        assert f"{option.word} min {lo} max {hi}" in lines, option.word
+    assert "no modal options active" not in lines

@@ -10,7 +10,7 @@ from irlc.robots import load_robot
 from irlc.runtime import units
 from irlc.runtime.ik.limits import format_joint_value
 from irlc.runtime.outputs.results import rnd
-from irlc.summary import _num
+from irlc.summary import shown_number
 
 
 def test_values_below_the_threshold_are_zero_without_a_sign():
@@ -33,7 +33,7 @@ def test_fixed_decimals_never_print_a_negative_zero():
 
 def test_report_summary_and_limit_messages_snap():
     assert rnd(1.99e-32) == 0.0 and rnd(-3e-20) == 0.0 and rnd(-0.5) == -0.5
-    assert _num(-1e-17, ".2f") == "0.00" and _num(1.99e-32) == "0"
+    assert shown_number(-1e-17, ".2f") == "0.00" and shown_number(1.99e-32) == "0"
     model = load_robot("irb6")
     assert format_joint_value(model, 0, 1.99e-32 * units.DEG, 0) == "0 deg"
 

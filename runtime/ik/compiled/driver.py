@@ -1,116 +1,53 @@
-"""Optional compiled accelerator of the IPO cycle (``pip install irlc[fast]``: numba).
-
-The numpy path of :mod:`newton` is the reference and the default without numba. With
-numba, :class:`AcceleratedCycle` runs the same cycle through the fused kernel
-:func:`accel_kernels.newton_cycle` (on one :class:`Workspace`) — FK, task error,
-Jacobian, joint box, compact split, closed-form 1-D QP, the compact QP's unconstrained
-minimiser when nothing binds, QP data — and calls quadprog from Python only when a
-compact-QP constraint binds and for the relaxed QP. Results equal the numpy path to
-rounding (tested in ``tests/ik/test_accel.py``; each kernel alone in
-``tests/ik/test_accel_kernels.py``).
+"""The Python side of the compiled IK cycle: :class:`CompiledCycle` runs
+:meth:`InverseTransformation.step`'s numbers through :func:`.cycle.newton_cycle` on one
+:class:`Workspace` — FK, task error, Jacobian, joint box, compact split, closed-form 1-D
+QP, the compact QP's unconstrained minimiser when nothing binds, QP data — and calls
+quadprog from Python only when a compact-QP constraint binds and for the relaxed QP.
+Results equal the numpy path to rounding (``tests/ik/test_compiled_cycle.py``; each kernel
+alone in ``tests/ik/test_compiled_kernels.py``).
 
 Covered: every cycle option — the default criterion, CYCLIC / WITH RECONFIGURATION,
 RECONFIGURATION (self-motion), position/speed/acceleration limits with braking, coupled
 joint limits, any task rows, FREEZE (the step over the free joints, the frozen ones
 stepping to their held values), reported and avoided obstacles (OBSTACLE: the criterion's
 terms — any number of critical points — are computed once per cycle, at the first
-iterate, from the kernel's frames by the compiled queries of :mod:`accel_distance`, and
+iterate, from the kernel's frames by the compiled queries of :mod:`.distance`, and
 passed in as arrays; the full ``H`` then goes through the general compact QP; the
-reported clearances at the result come from the same queries). Not covered (the numpy path runs):
-``solver="daqp"``, ``max_iter < 1``. The kernels read only public packed data:
-:attr:`Kinematics.chain_data`, the box constants' ``data`` (:class:`BoxData`), the
+reported clearances at the result come from the same queries). Not covered (the numpy
+path runs): ``solver="daqp"``, ``max_iter < 1``. The kernels read only public packed
+data: :attr:`Kinematics.chain_data`, the box constants' ``data`` (:class:`BoxData`), the
 coupled rows' ``A`` / ``bound_d`` and the cycle's options.
 
-**When it is used** (:func:`use_accel`): ``IKParams.accel`` ``True`` (always, compiling
-if needed), ``False`` (never) or ``None`` (default: as the environment switch
-``IRLC_ENGINE=numpy|compiled|auto`` says, numpy when unset — the choice never depends on
-numba's cache, so one installation always gives the same bytes; see
-:mod:`irlc.runtime.accel_support`). ``IRLC_ENGINE=numpy`` disables it whatever the
-parameter says. Compiling takes
-≈ 10–15 s, once: numba caches the machine code in ``__pycache__`` next to this module (or
-in the user cache dir when that is read-only), and later processes load it in ≈ 0.3 s.
-``irlc warmup`` (or ``python -m irlc.runtime.ik.accel``) compiles ahead of the first run.
+**When it is used**: :func:`irlc.runtime.engine.compiled_cycle` decides (``IKParams.accel``
+and ``IRLC_ENGINE``; numpy when unset — the choice never depends on numba's cache, so one
+installation always gives the same bytes: :mod:`irlc.runtime.accel_support`). Compiling
+takes ≈ 10–15 s, once: numba caches the machine code in ``__pycache__`` next to the kernel
+modules (or in the user cache dir when that is read-only), and later processes load it in
+≈ 0.3 s. ``irlc warmup`` (:mod:`irlc.runtime.warmup`) compiles ahead of the first run.
 """
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import quadprog
 from irlc.runtime import accel_support
+from irlc.runtime.ik.compiled import layout as L
+from irlc.runtime.ik.failure import IKFailure, full_rank, require_finite
+from irlc.runtime.ik.freeze import FreezeError
+from irlc.runtime.ik.limits import BoxSnapshot
 from irlc.runtime.model.distance import robot_segments
 
-AVAILABLE = accel_support.AVAILABLE  # numba importable and not IRLC_ENGINE=numpy
-compile_seconds: float | None = None  # first kernel call of this process (compile or load)
-
-_KERNELS = accel_support.Kernels("irlc.runtime.ik.accel_kernels", "newton_cycle")
-_module = _KERNELS.load
-_OBSTACLE_KERNELS = accel_support.Kernels(
-    "irlc.runtime.ik.accel_distance", "critical_points", "IK obstacle kernels"
+KERNELS = accel_support.Kernels("irlc.runtime.ik.compiled.cycle", "newton_cycle")
+"""The cycle kernel (loaded, and compiled when numba's cache lacks it, on first use)."""
+OBSTACLE_KERNELS = accel_support.Kernels(
+    "irlc.runtime.ik.compiled.distance", "critical_points", "IK obstacle kernels"
 )
+"""The obstacle queries (compiled on the first cycle with obstacles, ≈ 8 s of CPU)."""
 
 
 def cache_warm() -> bool:
     """True when numba's cache holds the cycle and the obstacle queries."""
-    return _KERNELS.cache_warm() and _OBSTACLE_KERNELS.cache_warm()
-
-
-def use_accel(requested: bool | None) -> bool:
-    """Decide whether a solver uses the accelerator (:func:`accel_support.decide`)."""
-    return accel_support.decide(requested)
-
-
-def warm_up(obstacles: bool = True) -> float:
-    """Compile (or load from the cache) every kernel by running tiny cycles; returns the
-    seconds it took (all calls of this process). Called on the first accelerated cycle of
-    a process with ``obstacles=False``: the obstacle queries (:mod:`accel_distance`, ≈ 8
-    s of CPU to compile) then wait for the first cycle that has obstacles; ``irlc warmup``
-    compiles them too."""
-    global compile_seconds, _obstacles_warm
-    if compile_seconds is None:
-        t0 = time.perf_counter()
-        compile_seconds = -1.0  # (the cycles below must not recurse into warm_up)
-        ik, q, target = _tiny_cycle()
-        ik.step(q, q, target, 0.01)
-        compile_seconds = time.perf_counter() - t0
-    if obstacles and not _obstacles_warm:
-        t0 = time.perf_counter()
-        from irlc.runtime.ik.params import CycleOptions
-        from irlc.runtime.model.obstacles import PointObstacle
-
-        ik, q, target = _tiny_cycle()
-        near = PointObstacle("near", target[:3, 3] + (0.0, 0.0, 0.3))
-        avoid = CycleOptions(obstacles=(near,), active_obstacles=frozenset({"near"}))
-        ik.step(q, q, target, 0.01, avoid)
-        _obstacles_warm = True
-        compile_seconds += time.perf_counter() - t0
-    return compile_seconds
-
-
-_obstacles_warm = False
-
-
-def _tiny_cycle():
-    """A 3-joint planar arm's solver on the accelerator, a configuration and a target."""
-    from irlc.robots.model import Joint, Limits, RobotModel
-    from irlc.runtime.ik.newton import InverseTransformation
-    from irlc.runtime.ik.params import IKParams
-    from irlc.runtime.model.kinematics import Kinematics
-
-    link = np.eye(4)
-    link[0, 3] = 1.0
-    limits = Limits((-3.0, 3.0), (-3.0, 3.0), (-20.0, 20.0))
-    axis = np.array([0.0, 0.0, 1.0])
-    joints = tuple(
-        Joint(f"J{i}", "revolute", link if i else np.eye(4), axis, limits) for i in range(3)
-    )
-    model = RobotModel(name="warmup", joints=joints, flange=link)
-    ik = InverseTransformation(model, Kinematics(model), IKParams(task_rows=(0, 1), accel=True))
-    q = np.array([0.1, 0.2, 0.3])
-    target = ik.kin.tcp(q)
-    target[0, 3] += 1e-3
-    return ik, q, target
+    return KERNELS.cache_warm() and OBSTACLE_KERNELS.cache_warm()
 
 
 _NO_ROWS = np.zeros(0, dtype=np.int64)  # a cycle without active QP rows (shared, never written)
@@ -120,7 +57,8 @@ _NO_ROWS.flags.writeable = _NO_MULT.flags.writeable = False
 
 class Workspace:
     """The cycle's arrays in two buffers (``fw`` float, ``iw`` int) and the layout ``lay``
-    that :func:`accel_kernels.newton_cycle` cuts them with; the same views as attributes here.
+    that :func:`.cycle.newton_cycle` cuts them with (slots: :mod:`.layout`, ``k``); the
+    same views as attributes here.
 
     The step's (reduced) problem has its own region, sized for all ``n`` joints: under
     FREEZE (:meth:`use`) its views cover the free joints; otherwise the layout points them
@@ -204,12 +142,12 @@ class Workspace:
             f(k.F_FTARGET, nfz)[:] = frozen.targets
 
 
-class AcceleratedCycle:
+class CompiledCycle:
     """Buffers of one :class:`InverseTransformation` for the compiled cycle."""
 
     def __init__(self, ik):
-        k = _module()
-        self.k = k
+        self.run = KERNELS.load().newton_cycle
+        self.k = k = L
         self.ik = ik
         self.n, self.m = n, m = ik.n, ik.rows.size
         self.chain = ik.kin.chain_data  # packed, read-only (re-read per cycle: R_TOOL)
@@ -307,10 +245,10 @@ class AcceleratedCycle:
 
     def _obstacle_terms(self, opts, active: list) -> None:
         """At the first iterate: the obstacle criterion's terms (the compiled
-        :func:`accel_distance.obstacle_terms` at the kernel's frames, as
+        :func:`.distance.obstacle_terms` at the kernel's frames, as
         :func:`obstacle.obstacle_terms` gives them) as arrays, and the cost's form."""
         k, ist, ik = self.k, self.ist, self.ik
-        d = _OBSTACLE_KERNELS.load()
+        d = OBSTACLE_KERNELS.load()
         bufs = self._term_bufs.get(len(active))
         if bufs is None:  # (params, cps, ow, opush, ojac, ojtj), then the first-cnt views
             m, n = len(active), self.n
@@ -334,12 +272,12 @@ class AcceleratedCycle:
 
     def _packed_rows(self, obstacles) -> tuple:
         """``(obstacles, rows, names, out)``: the packed rows of ``obstacles``
-        (:func:`accel_distance.pack_obstacles`), their names and an output buffer of
+        (:func:`.distance.pack_obstacles`), their names and an output buffer of
         their critical points, kept while the same shapes come back (cycle after cycle)."""
         key = tuple(map(id, obstacles))
         hit = self._packed.get(key)
         if hit is None:  # (the shapes are kept with their rows: their ids stay theirs)
-            d = _OBSTACLE_KERNELS.load()
+            d = OBSTACLE_KERNELS.load()
             hit = (tuple(obstacles), d.pack_obstacles(obstacles),
                    [o.name for o in obstacles], np.empty((len(obstacles), d.N_CP)))  # fmt: skip
             self._packed[key] = hit
@@ -348,7 +286,7 @@ class AcceleratedCycle:
     def clearances(self, obstacles) -> dict[str, tuple[float, int]]:
         """``{name: (distance, link)}`` of the reported ``obstacles`` at the cycle's result
         (the kernel's last frames; ``InverseTransformation._clearances``)."""
-        d = _OBSTACLE_KERNELS.load()
+        d = OBSTACLE_KERNELS.load()
         seg = robot_segments(self.ik.kin)
         _, rows, names, out = self._packed_rows(obstacles)
         d.critical_points(self.frames, self.tcp, seg.links, seg.a_local, seg.b_local,
@@ -361,14 +299,12 @@ class AcceleratedCycle:
     def step(self, q_start, q_prev, target, dt, opts, frozen=None, active=()):
         """The numbers of ``InverseTransformation.step``; ``frozen``: the cycle's
         ``FrozenJoints`` (or None), ``active``: the avoided obstacles. The kernel tests
-        the inputs' finiteness first (``S_NOT_FINITE``: ``newton._require_finite``
+        the inputs' finiteness first (``S_NOT_FINITE``: :func:`.failure.require_finite`
         raises, as the numpy path's first test). Returns ``(theta, limits,
         outcome_active, outcome_mult, codes, iterations, pe, oe, relaxed, singular)``
         (``codes``: as ``limits.active_codes``; Python numbers from one ``tolist`` of the
         state arrays); :meth:`snapshot` and :meth:`jacobian` copy the reused buffers only
         when the caller keeps them."""
-        if compile_seconds is None:
-            warm_up(obstacles=False)
         k, ik, ws = self.k, self.ik, self.ws
         lim = ik.limits
         position = lim[0] if opts.position is None else opts.position
@@ -399,7 +335,7 @@ class AcceleratedCycle:
         self._criteria(opts, active)
         chain = self.chain = ik.kin.chain_data
         self._sync_basis()
-        run, fw, iw, lay = k.newton_cycle, ws.fw, ws.iw, ws.lay
+        run, fw, iw, lay = self.run, ws.fw, ws.iw, ws.lay
         while True:
             status = run(chain.basis, chain.joints, chain.ends, self.boxc, *self.terms, fw, iw,
                          lay)  # fmt: skip
@@ -448,29 +384,21 @@ class AcceleratedCycle:
             ist[k.BOX_READY] = 1
             ist[k.PHASE] = k.P_START_CHECKED
         elif status == k.S_NOT_FINITE:
-            from irlc.runtime.ik.newton import _require_finite
-
-            _require_finite("start configuration", q_start)  # raises, as the numpy path
-            _require_finite("target pose", target)
+            require_finite("start configuration", q_start)  # raises, as the numpy path
+            require_finite("target pose", target)
             ist[k.PHASE] = k.P_START_CHECKED  # (finite: ‖q‖² overflowed)
         elif status == k.S_FROZEN_FAR:
-            from irlc.runtime.ik.newton import IKFailure
-
             raise IKFailure(
                 "frozen joints are away from their held values by more than the "
                 "joint box allows in one cycle"
             )
         else:  # S_BAD_STEP
-            from irlc.runtime.ik.newton import IKFailure
-
             raise IKFailure(
                 f"inverse transformation produced a non-finite step: {self.V[k.DTHETA].copy()}"
             )
 
     def snapshot(self, limits):
         """The cycle's box for reports (copies the reused bounds and candidates)."""
-        from irlc.runtime.ik.limits import BoxSnapshot
-
         bounds = self.ws.bounds.copy()
         return BoxSnapshot(bounds[0], bounds[1], self.cand.copy(), limits)
 
@@ -503,8 +431,6 @@ class AcceleratedCycle:
         except ValueError as exc:
             if self.ws.r == 0:
                 raise FloatingPointError(f"relaxed QP failed ({exc})") from None
-            from irlc.runtime.ik.newton import IKFailure
-
             raise IKFailure(
                 "the joint box and the coupled joint limits leave no admissible step "
                 "(the coupled combination moves too fast to stop before its bound)"
@@ -522,11 +448,8 @@ class AcceleratedCycle:
     def _check_freeze(self, frozen) -> None:
         """``InverseTransformation._solve``: a singular free problem while the whole J
         has full rank means FREEZE made the task impossible."""
-        from irlc.runtime.ik.freeze import FreezeError
-        from irlc.runtime.ik.newton import _full_rank
-
         ik, m = self.ik, self.m
-        if m <= frozen.free.size and _full_rank(self.Jt, m):
+        if m <= frozen.free.size and full_rank(self.Jt, m):
             raise FreezeError(frozen.describe_impossible(ik.model, m, ik.naming))
 
     def _set_active(self, rows, mult) -> None:
@@ -550,11 +473,3 @@ class AcceleratedCycle:
         ist[k.BASIS_STAGE] = stage
         fst[k.COND_LIMIT] = fst[k.COND_MAX] if stage == 0 else fst[k.SINGULAR_COND]
         ist[k.PHASE] = k.P_SPLIT
-
-
-if __name__ == "__main__":  # python -m irlc.runtime.ik.accel: fill numba's cache once
-    if not AVAILABLE:
-        raise SystemExit("numba is not installed (pip install 'irlc[fast]') or IRLC_ENGINE=numpy")
-    warm = cache_warm()
-    seconds = warm_up()
-    print(f"irlc IK accelerator: {'loaded' if warm else 'compiled'} in {seconds:.2f} s")

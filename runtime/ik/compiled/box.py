@@ -1,19 +1,19 @@
-"""Compiled joint box of one IK cycle (numba; :mod:`accel_kernels` lists the numpy
+"""Compiled joint box of one IK cycle (numba; the package doc lists the numpy
 reference of each): the signed candidates of the per-cycle box of displacements with the
-braking bound ``2R/(1 + √(1 + 2R/ε))`` (``_box``: ``JointBox.prepare``) and the code of the
-bound each joint ends on (``_active_codes``: ``limits.active_codes``).
+braking bound ``2R/(1 + √(1 + 2R/ε))`` (``joint_box``: ``JointBox.prepare``) and the code of the
+bound each joint ends on (``active_codes``: ``limits.active_codes``).
 """
 
 from __future__ import annotations
 
 import math
 
-from irlc.runtime.ik.accel_layout import _BIG, _TOL
+from irlc.runtime.ik.compiled.layout import BIG, TOL
 from numba import njit
 
 
 @njit(cache=True)
-def _box(boxc, accel_bounded, dtol, q_start, q_prev, cand, bounds):
+def joint_box(boxc, accel_bounded, dtol, q_start, q_prev, cand, bounds):
     """``JointBox.prepare`` without the error path: False when the state needs the
     Python check (outside the limits, or an empty box)."""
     n = q_start.shape[0]
@@ -26,7 +26,7 @@ def _box(boxc, accel_bounded, dtol, q_start, q_prev, cand, bounds):
         cand[1, 0, j] = boxc[1, 0, j]
         cand[1, 1, j] = boxc[1, 1, j]
         d = q_start[j] - q_prev[j]
-        if lo_pos < -_TOL or hi_pos < -_TOL:
+        if lo_pos < -TOL or hi_pos < -TOL:
             ok = False
         if -d - boxc[1, 0, j] > dtol or d - boxc[1, 1, j] > dtol:
             ok = False
@@ -40,8 +40,8 @@ def _box(boxc, accel_bounded, dtol, q_start, q_prev, cand, bounds):
                 cand[3, side, j] = b + b
         else:
             for s in range(2, 4):
-                cand[s, 0, j] = _BIG
-                cand[s, 1, j] = _BIG
+                cand[s, 0, j] = BIG
+                cand[s, 1, j] = BIG
         lo = min(cand[0, 0, j], cand[1, 0, j])
         hi = min(cand[0, 1, j], cand[1, 1, j])
         if accel_bounded:
@@ -55,7 +55,7 @@ def _box(boxc, accel_bounded, dtol, q_start, q_prev, cand, bounds):
 
 
 @njit(cache=True)
-def _active_codes(theta, q_start, bounds, cand, codes):
+def active_codes(theta, q_start, bounds, cand, codes):
     """``limits.active_codes``: per joint 0 inside, else ``1 + 2·source + side`` (the
     candidate that sets the bound; a joint at both bounds counts as max); True when any
     joint is at a bound."""

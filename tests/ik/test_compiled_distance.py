@@ -1,4 +1,4 @@
-"""The compiled obstacle queries (runtime/ik/accel_distance.py) against the numpy
+"""The compiled obstacle queries (runtime/ik/compiled/distance.py) against the numpy
 reference (runtime/model/distance.py, runtime/ik/obstacle.py) on random configurations: the
 same part, distances, points and directions to 1e-12, and the same criterion terms."""
 
@@ -10,7 +10,7 @@ import pytest
 pytest.importorskip("numba")
 
 from irlc.robots import load_robot
-from irlc.runtime.ik import accel_distance as ad
+from irlc.runtime.ik.compiled import distance as ad
 from irlc.runtime.ik.obstacle import obstacle_terms
 from irlc.runtime.ik.params import ObstacleParams
 from irlc.runtime.model import spatial

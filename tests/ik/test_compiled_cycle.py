@@ -1,4 +1,4 @@
-"""The compiled cycle (runtime/ik/accel.py, numba) equals the numpy reference path.
+"""The compiled cycle (runtime/ik/compiled/, numba) equals the numpy reference path.
 
 Both solvers get the same inputs every cycle (the numpy result is fed to both), so each
 cycle's mapping is compared on its own: q and the TCP to 1e-10, the same iteration
@@ -8,18 +8,14 @@ decision), relaxed / converged / singular flags and the same binding text.
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 
 pytest.importorskip("numba")
 
 from irlc.robots import load_robot
+from irlc.runtime import accel_support
 from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation, intersect_limits
-from irlc.runtime.ik import accel as accel_mod
 from irlc.runtime.ik.coupled import CoupledRows
 from irlc.runtime.ik.freeze import FreezeError
 from irlc.runtime.model import spatial
@@ -27,7 +23,7 @@ from irlc.runtime.model.distance import critical_points, robot_parts, segment_ob
 from irlc.runtime.model.kinematics import Kinematics
 from irlc.runtime.model.obstacles import BoxObstacle, SphereObstacle
 
-pytestmark = pytest.mark.skipif(not accel_mod.AVAILABLE, reason="no numba or IRLC_ENGINE=numpy")
+pytestmark = pytest.mark.skipif(not accel_support.AVAILABLE, reason="no numba or IRLC_ENGINE=numpy")
 
 
 def _pair(model, **params):
@@ -336,35 +332,28 @@ def test_irb6_coupled_with_freeze_and_obstacles_equal(robots):
     _compare(model, avoid, seed=36, start=start, starts=3, jump=0.1)
 
 
-def test_use_accel_decision(monkeypatch):
-    assert accel_mod.use_accel(False) is False
-    assert accel_mod.use_accel(True) is True
+def test_the_factory_picks_the_engine(robots, monkeypatch):
+    """engine.compiled_cycle: IKParams.accel and IRLC_ENGINE decide (accel_support.decide);
+    the default is numpy whatever numba's cache holds (fast first run, same bytes); daqp
+    and max_iter < 1 are not covered."""
+    model = robots["panda"]
+
+    def compiled(**params) -> bool:
+        return InverseTransformation(model, Kinematics(model), IKParams(**params)).accelerated
+
+    assert compiled(accel=False) is False
+    assert compiled(accel=True) is True
     monkeypatch.delenv("IRLC_ENGINE", raising=False)
-    # the default is numpy whatever numba's cache holds (fast first run, same bytes)
-    assert accel_mod.use_accel(None) is False
+    assert compiled(accel=None) is False
     monkeypatch.setenv("IRLC_ENGINE", "numpy")
-    assert accel_mod.use_accel(None) is False
-    assert accel_mod.use_accel(True) is False  # numpy wins over the parameter
+    assert compiled(accel=None) is False
+    assert compiled(accel=True) is False  # numpy wins over the parameter
     monkeypatch.setenv("IRLC_ENGINE", "compiled")
-    assert accel_mod.use_accel(None) is True
-    assert accel_mod.use_accel(False) is False
+    assert compiled(accel=None) is True
+    assert compiled(accel=False) is False
+    assert compiled(accel=None, max_iter=0) is False
     monkeypatch.setenv("IRLC_ENGINE", "auto")
-    assert accel_mod.use_accel(None) is True
-
-
-def test_irlc_engine_numpy_disables_it():
-    code = (
-        "from irlc.robots import load_robot\n"
-        "from irlc.runtime.ik import IKParams, InverseTransformation, accel\n"
-        "from irlc.runtime.model.kinematics import Kinematics\n"
-        "m = load_robot('panda')\n"
-        "ik = InverseTransformation(m, Kinematics(m), IKParams(accel=True))\n"
-        "print(accel.AVAILABLE, ik.accelerated)\n"
-    )
-    env = dict(os.environ, IRLC_ENGINE="numpy")
-    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
-    assert out.returncode == 0, out.stderr
-    assert out.stdout.split() == ["False", "False"]
+    assert compiled(accel=None) is True
 
 
 def test_every_option_runs_compiled(robots, monkeypatch):

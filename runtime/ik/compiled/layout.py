@@ -1,10 +1,10 @@
-"""The shared state of the compiled IK kernels (:mod:`accel_kernels`): the phase and
-status codes of :func:`accel_cycle.newton_cycle`, the slots of its integer / float state
-arrays ``ist`` / ``fst``, the rows of the vector workspace ``V``, the slots of the one-buffer
-layout ``lay`` (``accel.Workspace`` cuts the same views) and the kernels' tolerances.
+"""The shared state of the compiled IK kernels: the phase and status codes of
+:func:`.cycle.newton_cycle`, the slots of its integer / float state arrays ``ist`` /
+``fst``, the rows of the vector workspace ``V``, the slots of the one-buffer layout
+``lay`` (:class:`.driver.Workspace` cuts the same views) and the kernels' tolerances.
 
 Plain module constants: numba freezes them into the machine code of every kernel that
-reads them (a change here must touch :data:`accel_cycle.SOURCES_DIGEST`, see there).
+reads them (a change here must touch :data:`.cycle.SOURCES_DIGEST`, see there).
 """
 
 # phases (ist[PHASE]) the caller resumes with (P_START_CHECKED: start a cycle whose
@@ -46,16 +46,16 @@ N_FST = E0 + 6
 # cost; CFZ: the fixed steps θ⁰ − θ_k of the frozen joints, first n_frozen entries)
 Q_START, Q_PREV, THETA, DTHETA, SIGMA, G, W, REF, DP, LOWER, UPPER, Z, WC, CFZ, NV = range(15)
 
-_BIG = 1e30
-_TOL = 1e-9
-_BOX_TOL = 1e-12
+BIG = 1e30
+TOL = 1e-9
+BOX_TOL = 1e-12
 
 
 # ---------------------------------------------------------------------- one-buffer entry
 # Slots of the layout ``lay`` (int64): offsets of each array in the float workspace ``fw``
 # or the int workspace ``iw``, then the sizes. One Python→numba call unboxes every array
 # argument (≈ 0.15–0.3 µs each), so the cycle passes two buffers and a layout instead of
-# forty arrays; :func:`newton_cycle` cuts the same views the driver (``accel.Workspace``)
+# forty arrays; :func:`.cycle.newton_cycle` cuts the same views the driver's Workspace
 # uses.
 (
     F_V, F_FRAMES, F_TCP, F_J6, F_JT, F_F, F_H, F_A, F_BOUND_D, F_BOUNDS, F_CAND, F_TARGET,

@@ -1,9 +1,9 @@
-"""Compiled compact QP of one IK cycle (numba; :mod:`accel_kernels` lists the numpy
+"""Compiled compact QP of one IK cycle (numba; the package doc lists the numpy
 reference of each): the basis split ``−J_m⁻¹[J_free F]`` by LU with partial pivoting
-(``_split``), the scalar QP of a one-dimensional null space (``_scalar_qp``, ``_checked``),
-the hard and relaxed QP data in the compact variables (``_hard_data``,
-``_hard_data_general``, ``_compact_rest``, ``_relaxed_data``) and the QP's answer when no
-constraint binds (``_unconstrained_qp``; else quadprog is called from Python).
+(``split``), the scalar QP of a one-dimensional null space (``scalar_qp``, ``square_step``),
+the hard and relaxed QP data in the compact variables (``hard_data``,
+``hard_data_general``, ``compact_rest``, ``relaxed_data``) and the QP's answer when no
+constraint binds (``unconstrained_qp``; else quadprog is called from Python).
 """
 
 from __future__ import annotations
@@ -11,8 +11,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from irlc.runtime.ik.accel_layout import (
-    _BOX_TOL,
+from irlc.runtime.ik.compiled.layout import (
+    BOX_TOL,
     COND,
     COND_LIMIT,
     DP,
@@ -30,7 +30,7 @@ from numba import njit
 
 
 @njit(cache=True)
-def _split(Jt, F, perm, aug, N, dp, fst):
+def split(Jt, F, perm, aug, N, dp, fst):
     """``CompactBasis._solve`` + ``split``: ``Δθ_p`` and ``N`` in joint order; False when
     ``J_m`` is singular or its pivot spread exceeds ``fst[COND_LIMIT]``."""
     m, n = Jt.shape
@@ -82,7 +82,7 @@ def _split(Jt, F, perm, aug, N, dp, fst):
 
 
 @njit(cache=True)
-def _row_terms(A, r, dp, sigma):
+def row_terms(A, r, dp, sigma):
     """Coupled row ``r``: ``(A_r·Δθ_p, A_r·Σ)``."""
     s_dp = 0.0
     s_sig = 0.0
@@ -93,25 +93,25 @@ def _row_terms(A, r, dp, sigma):
 
 
 @njit(cache=True)
-def _checked(V, A, bound_d, active, mult, ist):
+def square_step(V, A, bound_d, active, mult, ist):
     """``n = m``: ``Δθ_p`` if inside the box (and the coupled rows)."""
     n = V.shape[1]
     dp, lower, upper = V[DP], V[LOWER], V[UPPER]
     for j in range(n):
-        if not (dp[j] >= lower[j] - _BOX_TOL and dp[j] <= upper[j] + _BOX_TOL):
+        if not (dp[j] >= lower[j] - BOX_TOL and dp[j] <= upper[j] + BOX_TOL):
             return False
     for r in range(A.shape[0]):
-        s_dp, s_sig = _row_terms(A, r, dp, V[SIGMA])
-        if not s_dp >= (bound_d[r] - s_sig) - _BOX_TOL:  # AΔθ_p ≥ b_k
+        s_dp, s_sig = row_terms(A, r, dp, V[SIGMA])
+        if not s_dp >= (bound_d[r] - s_sig) - BOX_TOL:  # AΔθ_p ≥ b_k
             return False
     cnt = 0
     for j in range(n):
-        if dp[j] <= lower[j] + _BOX_TOL:
+        if dp[j] <= lower[j] + BOX_TOL:
             active[cnt] = j
             mult[cnt] = 0.0
             cnt += 1
     for j in range(n):
-        if dp[j] >= upper[j] - _BOX_TOL:
+        if dp[j] >= upper[j] - BOX_TOL:
             active[cnt] = j + n
             mult[cnt] = 0.0
             cnt += 1
@@ -121,7 +121,7 @@ def _checked(V, A, bound_d, active, mult, ist):
 
 
 @njit(cache=True)
-def _scalar_qp(V, N, active, mult, ist):
+def scalar_qp(V, N, active, mult, ist):
     """``NewtonStep._scalar_qp``: 1 step found, 0 infeasible, −1 a zero entry of N."""
     n = V.shape[1]
     dp, w, g, lower, upper = V[DP], V[W], V[G], V[LOWER], V[UPPER]
@@ -172,7 +172,7 @@ def _scalar_qp(V, N, active, mult, ist):
 
 
 @njit(cache=True)
-def _hard_data(V, N, perm, m, A, bound_d, Ht, gt, Ct, bt, fst):
+def hard_data(V, N, perm, m, A, bound_d, Ht, gt, Ct, bt, fst):
     """The compact QP for quadprog (``hard_diagonal``), cost scaled to max diag H̃ = 1:
     ``H̃ = NᵀWN``, ``g̃ = Nᵀ(g + WΔθ_p)``, columns ``[N, −N, (AN)ᵀ]``."""
     n = V.shape[1]
@@ -192,12 +192,12 @@ def _hard_data(V, N, perm, m, A, bound_d, Ht, gt, Ct, bt, fst):
                 s += N[j, a] * w[j] * N[j, b]
             Ht[a, b] = s
             Ht[b, a] = s
-    _compact_rest(V, N, A, bound_d, Ht, gt, Ct, bt, fst)
+    compact_rest(V, N, A, bound_d, Ht, gt, Ct, bt, fst)
 
 
 @njit(cache=True)
-def _hard_data_general(V, N, H, A, bound_d, Ht, gt, Ct, bt, fst):
-    """The compact QP for a full ``H`` (``compact.compact_box_qp`` + ``_with_rows``, as
+def hard_data_general(V, N, H, A, bound_d, Ht, gt, Ct, bt, fst):
+    """The compact QP for a full ``H`` (``compact.compact_box_qp`` + ``newton_step.with_rows``, as
     ``NewtonStep.hard``): ``H̃ = Nᵀ(HN)``, ``g̃ = Nᵀ(g + HΔθ_p)``, scaled as ``solve_ct``."""
     n, nz = N.shape
     dp, g = V[DP], V[G]
@@ -224,11 +224,11 @@ def _hard_data_general(V, N, H, A, bound_d, Ht, gt, Ct, bt, fst):
             for j in range(n):
                 s += N[j, a] * hn[j, b]
             Ht[a, b] = s
-    _compact_rest(V, N, A, bound_d, Ht, gt, Ct, bt, fst)
+    compact_rest(V, N, A, bound_d, Ht, gt, Ct, bt, fst)
 
 
 @njit(cache=True)
-def _compact_rest(V, N, A, bound_d, Ht, gt, Ct, bt, fst):
+def compact_rest(V, N, A, bound_d, Ht, gt, Ct, bt, fst):
     """Scale ``(H̃, g̃)`` to max diag H̃ = 1 (``QuadprogSolver.solve_ct``; ``fst[SCALE]``)
     and write the box columns ``[N, −N]`` and coupled columns ``(AN)ᵀ`` with their right
     sides ``[lower − Δθ_p; Δθ_p − upper; b − AΣ − AΔθ_p]``."""
@@ -250,7 +250,7 @@ def _compact_rest(V, N, A, bound_d, Ht, gt, Ct, bt, fst):
         bt[j] = V[LOWER, j] - dp[j]
         bt[n + j] = dp[j] - V[UPPER, j]
     for r in range(A.shape[0]):
-        s_dp, s_sig = _row_terms(A, r, dp, V[SIGMA])
+        s_dp, s_sig = row_terms(A, r, dp, V[SIGMA])
         bt[2 * n + r] = bound_d[r] - s_sig - s_dp
         for a in range(nz):
             s = 0.0
@@ -260,7 +260,7 @@ def _compact_rest(V, N, A, bound_d, Ht, gt, Ct, bt, fst):
 
 
 @njit(cache=True)
-def _unconstrained_qp(H, a, C, b, z):
+def unconstrained_qp(H, a, C, b, z):
     """The compact QP's answer when no constraint binds: ``z = H⁻¹a`` (quadprog's
     ``½zᵀHz − aᵀz``) if it satisfies every column, ``Cᵀz ≥ b``, with a margin
     ``1e-12·(1 + |b_i|)`` — the Goldfarb–Idnani method starts from this point and stops
@@ -300,7 +300,7 @@ def _unconstrained_qp(H, a, C, b, z):
 
 
 @njit(cache=True)
-def _relaxed_data(V, Jt, F, A, bound_d, H, general, Hr, gr, bt, fst):
+def relaxed_data(V, Jt, F, A, bound_d, H, general, Hr, gr, bt, fst):
     """Relaxed QP data. Diagonal cost, box only (``relaxed_diagonal``): ``JᵀJ + W/ρ``,
     ``−(JᵀF + g/ρ)``, multipliers ×ρ. With coupled rows or a full ``H`` (``general``;
     ``relaxed``): ``(H + ρJᵀJ)·s``, ``−(g + ρJᵀF)·s``, ``s = 1/max diag``, multipliers

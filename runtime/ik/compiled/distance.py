@@ -5,7 +5,7 @@ The numpy reference is :mod:`irlc.runtime.model.distance` (closest pairs) and
 :mod:`irlc.runtime.ik.obstacle` (the terms); every function here is the same arithmetic
 written as loops over scalars, with the same choices (which part is closest, ties, the
 escape direction of touching cores), so results agree to rounding (tested against the
-numpy path on random configurations in ``tests/ik/test_accel_distance.py``):
+numpy path on random configurations in ``tests/ik/test_compiled_distance.py``):
 
 * segment–segment (point, sphere and capsule obstacles): Ericson's clamped stationary
   point (``distance.closest_segment_segment``); the part by the point–segment distance

@@ -1,4 +1,4 @@
-"""The optional compiled ``pwm`` loop (runtime/drives/accel_pwm.py) against the numpy
+"""The optional compiled ``pwm`` loop (runtime/drives/compiled/pwm_loop.py) against the numpy
 reference (power_stage.PwmStage): same trajectories, currents, voltages, torques, friction,
 energies and flags to rounding, on two robots, with the current limit reached inside PWM
 intervals, duty saturation, Karnopp sticking and both refresh policies."""
@@ -11,11 +11,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 from irlc.robots.loader import load_toml
-from irlc.runtime.drives import accel, accel_pwm, simulate_drives
+from irlc.runtime.accel_support import AVAILABLE
+from irlc.runtime.drives import simulate_drives
+from irlc.runtime.drives.compiled.pwm_loop import PwmLoop
 from irlc.runtime.drives.params import drive_params
 
 ROBOTS = Path(__file__).resolve().parents[2] / "robots"
-needs_numba = pytest.mark.skipif(not accel.AVAILABLE, reason="numba not installed / disabled")
+needs_numba = pytest.mark.skipif(not AVAILABLE, reason="numba not installed / disabled")
 FIELDS = ("q_actual", "qd_actual", "current", "voltage", "torque", "friction")
 
 
@@ -121,8 +123,8 @@ def test_state_carried_across_refreshes():
 def test_interval_against_first_order():
     """The kernel's switching interval (closed form and the limit flag) against
     ``motor.first_order`` on one axis: inside the limit, reaching it, starting at it."""
-    from irlc.runtime.drives import accel_pwm_kernels as kp
     from irlc.runtime.drives import motor
+    from irlc.runtime.drives.compiled import pwm_kernels as kp
 
     r, ell, ks, i_max = 1.2, 1e-3, 0.1, 10.0
     rng = np.random.default_rng(7)
@@ -131,7 +133,7 @@ def test_interval_against_first_order():
     hits = 0
     for i0, volts, omega, tau in cases:
         res = np.empty(4)
-        hit = kp._interval(i0, volts, omega, r, ell, ks, tau, i_max, res)
+        hit = kp.switching_interval(i0, volts, omega, r, ell, ks, tau, i_max, res)
         ref = motor.first_order(np.array([i0]), volts, omega, r, ell, ks, tau, i_max)
         assert np.allclose(res, [ref[0][0], ref[1][0], ref[2][0], ref[3][0]], rtol=1e-12,
                            atol=1e-15)  # fmt: skip
@@ -146,19 +148,20 @@ def test_covers_pwm_only():
         driven = np.ones(3, dtype=bool)
         axes = np.arange(3)
 
-    assert accel_pwm.PwmLoop.covers(Sim)
+    assert PwmLoop.covers(Sim)
     Sim.pwm = False
-    assert not accel_pwm.PwmLoop.covers(Sim)
+    assert not PwmLoop.covers(Sim)
     Sim.pwm, Sim.is_dc = True, False
-    assert not accel_pwm.PwmLoop.covers(Sim)
+    assert not PwmLoop.covers(Sim)
     Sim.is_dc, Sim.driven = True, np.array([True, False, True])
-    assert not accel_pwm.PwmLoop.covers(Sim)
+    assert not PwmLoop.covers(Sim)
 
 
 @needs_numba
 def test_sources_digest_recorded():
-    """The kernel's machine code includes accel_kernels' helpers; their digest must be the
-    recorded one (a change there must change accel_pwm_kernels.py, numba's cache key)."""
-    from irlc.runtime.drives import accel_pwm_kernels as kp
+    """The kernel's machine code includes the helpers of compiled/kernels.py; their digest
+    must be the recorded one (a change there must change compiled/pwm_kernels.py, numba's
+    cache key)."""
+    from irlc.runtime.drives.compiled import pwm_kernels as kp
 
     assert kp.sources_digest() == kp.SOURCES_DIGEST

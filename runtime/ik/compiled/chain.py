@@ -1,8 +1,8 @@
-"""Compiled kinematics of one IK cycle (numba; :mod:`accel_kernels` lists the numpy
+"""Compiled kinematics of one IK cycle (numba; the package doc lists the numpy
 reference of each): the chain ``T_i = T_{i−1}·L_i``, ``L_i = A0 + cos v·A1 + sin v·A2 +
-v·A3`` (``_chain``), the TCP Jacobian ``[z_i × (p − o_i); z_i]`` (revolute), ``[z_i; 0]``
-(prismatic) (``_jacobian``), the pose error with its near-π branch (``_pose_error``) and the
-evaluation at ``θ`` of FK, task error and its norms (``_evaluate``).
+v·A3`` (``forward_chain``), the TCP Jacobian ``[z_i × (p − o_i); z_i]`` (revolute), ``[z_i; 0]``
+(prismatic) (``tcp_jacobian``), the pose error with its near-π branch (``pose_error``) and the
+evaluation at ``θ`` of FK, task error and its norms (``evaluate``).
 """
 
 from __future__ import annotations
@@ -10,12 +10,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from irlc.runtime.ik.accel_layout import E0, NPOS, OE, PE, THETA
+from irlc.runtime.ik.compiled.layout import E0, NPOS, OE, PE, THETA
 from numba import njit
 
 
 @njit(cache=True)
-def _chain(basis, joint, base, q, frames, local):
+def forward_chain(basis, joint, base, q, frames, local):
     """FK into ``frames`` (n+1, 4, 4); ``joint[i] = (offset, kx, ky, kz, revolute)``."""
     n = q.shape[0]
     frames[0, :, :] = base
@@ -42,7 +42,7 @@ def _chain(basis, joint, base, q, frames, local):
 
 
 @njit(cache=True)
-def _matmul44(a, b, out):
+def matmul44(a, b, out):
     for r in range(4):
         for col in range(4):
             out[r, col] = (
@@ -54,7 +54,7 @@ def _matmul44(a, b, out):
 
 
 @njit(cache=True)
-def _jacobian(frames, joint, p, out):
+def tcp_jacobian(frames, joint, p, out):
     """6×n TCP Jacobian at the world point ``p`` (``Kinematics.tcp_jacobian``)."""
     n = joint.shape[0]
     for i in range(n):
@@ -83,7 +83,7 @@ def _jacobian(frames, joint, p, out):
 
 
 @njit(cache=True)
-def _pose_error(t, d, e):
+def pose_error(t, d, e):
     """``spatial.pose_error(t, d)`` into ``e`` (6): position, rotation vector of R·R_dᵀ."""
     e[0] = t[0, 3] - d[0, 3]
     e[1] = t[1, 3] - d[1, 3]
@@ -124,12 +124,12 @@ def _pose_error(t, d, e):
 
 
 @njit(cache=True)
-def _evaluate(kb, kj, ends, target, frames, local, tcp, rows, V, ist, fst):
+def evaluate(kb, kj, ends, target, frames, local, tcp, rows, V, ist, fst):
     """FK, TCP, task error (``fst[E0:E0 + 6]``) and its norms at ``θ``."""
     e6 = fst[E0 : E0 + 6]
-    _chain(kb, kj, ends[0], V[THETA], frames, local)
-    _matmul44(frames[frames.shape[0] - 1], ends[1], tcp)
-    _pose_error(tcp, target, e6)
+    forward_chain(kb, kj, ends[0], V[THETA], frames, local)
+    matmul44(frames[frames.shape[0] - 1], ends[1], tcp)
+    pose_error(tcp, target, e6)
     npos = ist[NPOS]
     pe = 0.0
     oe = 0.0

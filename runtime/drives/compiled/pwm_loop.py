@@ -1,39 +1,34 @@
-"""Optional compiled loop of the ``pwm`` drive level (``pip install irlc[fast]``: numba).
+"""The Python side of the compiled loop of the ``pwm`` drive level (``pip install
+'irlc[fast]'``: numba).
 
-The numpy loop of :mod:`.simulate` with :class:`.power_stage.PwmStage` is the reference and
-the default. With numba, :class:`PwmLoop` runs the same PWM periods through
-:func:`.accel_pwm_kernels.run_pwm_segment` and returns to Python only to refresh
-``M(q)``, ``C q̇ + G`` (the refresh of :class:`.accel.AcceleratedLoop`, which it extends).
-Results equal the numpy path to rounding (``tests/drives/test_accel_pwm.py``).
+The numpy loop of :mod:`..simulate` with :class:`..power_stage.PwmStage` is the reference
+and the default. With the compiled engine, :class:`PwmLoop` runs the same PWM periods
+through :func:`.pwm_kernels.run_pwm_segment` and returns to Python only to refresh
+``M(q)``, ``C q̇ + G`` (the refresh of :class:`.loop.CompiledLoop`, which it extends).
+Results equal the numpy path to rounding (``tests/drives/test_compiled_pwm.py``).
 
 Covered: DC drives at ``pwm`` on robots whose joints are all driven, any transmission,
-friction, both refresh policies. When it is used: :func:`.accel.use_accel` (``IRLC_ENGINE``;
-numpy by default). ``python -m irlc.runtime.drives.accel_pwm`` (or ``irlc warmup``)
-compiles ahead of the first run.
+friction, both refresh policies. When it is used: :func:`irlc.runtime.engine.compiled_loop`
+(``IRLC_ENGINE``; numpy by default). ``irlc warmup`` compiles ahead of the first run.
 """
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 from irlc.runtime import accel_support
-from irlc.runtime.drives import accel
+from irlc.runtime.drives.compiled import loop
+from irlc.runtime.drives.compiled.loop import CompiledLoop
 
-compile_seconds: float | None = None  # warm_up() of this process (compile or load)
-
-_KERNELS = accel_support.Kernels("irlc.runtime.drives.accel_pwm_kernels", "run_pwm_segment")
-cache_warm = _KERNELS.cache_warm
+KERNELS = accel_support.Kernels("irlc.runtime.drives.compiled.pwm_kernels", "run_pwm_segment")
+"""The PWM kernel (loaded, and compiled when numba's cache lacks it, on first use)."""
 
 
-class PwmLoop(accel.AcceleratedLoop):
-    """The constant arrays of one ``pwm`` :class:`~.simulate._Simulation` for the kernel."""
+class PwmLoop(CompiledLoop):
+    """The constant arrays of one ``pwm`` drive simulation for the kernel."""
 
     def __init__(self, sim, bank, static_j, running_j, sticky: bool, sliding: bool):
-        if accel.compile_seconds is None:  # the drive kernels (the refresh's), as on any
-            accel.warm_up()  # accelerated drive run: compiled once, then loaded
         super().__init__(sim, bank, static_j, running_j, sticky, sliding)  # the refresh
-        kp = self.kp = _KERNELS.load()
+        kp = self.kp = KERNELS.load()
         c, frc = sim.p.chain, sim.p.friction
         par = np.zeros((len(sim.axes), kp.N_PAR))
         for idx, value in (
@@ -48,6 +43,12 @@ class PwmLoop(accel.AcceleratedLoop):
         self.pwm_fst = np.zeros(kp.N_FST)
         self.pwm_fst[kp.H] = sim.h
         self.pwm_ist[kp.STICKY], self.pwm_ist[kp.SLIDING] = int(sticky), int(sliding)
+
+    @staticmethod
+    def layout_module():
+        """The averaged loop's module, for the ``ist``/``fst`` layout the PWM kernel shares
+        (its ``run_segment`` never runs here: nothing of it compiles)."""
+        return loop.KERNELS.module()
 
     @staticmethod
     def covers(sim) -> bool:
@@ -87,29 +88,3 @@ class PwmLoop(accel.AcceleratedLoop):
             refresh.mark(s, q, qd)
             fresh = 1
         bank.pi.x, stage.i, stage.u_c = xv, xi, xc
-
-
-def warm_up() -> float:
-    """Compile (or load from the cache) the PWM kernel by running a tiny ``pwm`` simulation
-    on the irb6_track (screw levers, friction: every branch's types); returns the seconds."""
-    global compile_seconds
-    if compile_seconds is not None:
-        return compile_seconds
-    t0 = time.perf_counter()
-    from irlc.robots import load_robot
-    from irlc.runtime.drives.simulate import simulate_drives
-
-    model = load_robot("irb6_track")
-    q0 = np.asarray(model.home_q(), dtype=float)
-    times = np.array([0.0, 0.005])
-    simulate_drives(model, times, np.stack([q0, q0]), level="pwm", hold=0.0, accel=True)
-    compile_seconds = time.perf_counter() - t0
-    return compile_seconds
-
-
-if __name__ == "__main__":  # python -m irlc.runtime.drives.accel_pwm: fill numba's cache once
-    if not accel.AVAILABLE:
-        raise SystemExit("numba is not installed (pip install 'irlc[fast]') or IRLC_ENGINE=numpy")
-    warm = cache_warm()
-    seconds = warm_up()
-    print(f"irlc PWM drive accelerator: {'loaded' if warm else 'compiled'} in {seconds:.2f} s")

@@ -1,40 +1,35 @@
-"""Optional compiled drive loop (``pip install irlc[fast]``: numba).
+"""The Python side of the compiled drive loop (``pip install 'irlc[fast]'``: numba).
 
-The numpy loop of :mod:`.simulate` is the reference and the default without numba. With
-numba, :class:`AcceleratedLoop` runs the same steps through the kernels: at the coupled
-level the whole run is one call of :func:`.accel_kernels.run_segment`, which refreshes
+The numpy loop of :mod:`..simulate` is the reference and the default. With the compiled
+engine, :class:`CompiledLoop` runs the same steps through the kernels: at the coupled
+level the whole run is one call of :func:`.kernels.run_segment`, which refreshes
 ``M(q)``, ``C q̇ + G``, the transmission's rotor matrix and ``M⁻¹`` inside
-(:mod:`.refresh`'s policy) from the packed public data (``Kinematics.chain_data``,
+(:mod:`..refresh`'s policy) from the packed public data (``Kinematics.chain_data``,
 ``Dynamics.data``, ``Transmission.data``); at the decoupled level
-:func:`.accel_kernels.run_segment` runs from one refresh of ``G(q)`` to the next and
+:func:`.kernels.run_segment` runs from one refresh of ``G(q)`` to the next and
 numpy refreshes it. Results equal the numpy path to rounding (tested in
-``tests/drives/test_accel.py``).
+``tests/drives/test_compiled_loop.py``).
 
 Covered: DC drives with the averaged power stage (``decoupled``, ``coupled``) on robots
 whose joints are all driven, any transmission (plain ratios, linear couplings, screw
-levers), friction, both refresh policies. Not covered (the numpy loop runs): ``pwm``,
-stepper drives, joints without drive data (prescribed motion).
+levers), friction, both refresh policies. Not covered (the numpy loop runs): ``pwm``
+(:mod:`.pwm_loop`), stepper drives, joints without drive data (prescribed motion).
 
-When it is used: :func:`irlc.runtime.accel_support.decide` — ``simulate_drives(...,
-accel=True)`` always (compiling if needed, ≈ 5 s once per install; numba caches the
-machine code), ``False`` never, ``None`` (default) as
-``IRLC_ENGINE=numpy|compiled|auto`` says (numpy when unset), as for the IK accelerator.
-``python -m irlc.runtime.drives.accel`` compiles ahead of the first run.
+When it is used: :func:`irlc.runtime.engine.compiled_loop` — ``simulate_drives(...,
+accel=True)`` always (compiling if needed, ≈ 10–20 s once per install; numba caches the
+machine code), ``False`` never, ``None`` (default) as ``IRLC_ENGINE=numpy|compiled|auto``
+says (numpy when unset), as for the IK cycle. ``irlc warmup`` compiles ahead of the first
+run.
 """
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 from irlc.runtime import accel_support
+from irlc.runtime.model.kinematics import Kinematics
 
-AVAILABLE = accel_support.AVAILABLE
-compile_seconds: float | None = None  # first kernel call of this process (compile or load)
-
-_KERNELS = accel_support.Kernels("irlc.runtime.drives.accel_kernels", "run_segment")
-_module = _KERNELS.load
-cache_warm = _KERNELS.cache_warm
+KERNELS = accel_support.Kernels("irlc.runtime.drives.compiled.kernels", "run_segment")
+"""The drive kernels (loaded, and compiled when numba's cache lacks them, on first use)."""
 
 
 def _read_only(a: np.ndarray) -> np.ndarray:
@@ -42,32 +37,38 @@ def _read_only(a: np.ndarray) -> np.ndarray:
     return a
 
 
-def use_accel(requested: bool | None) -> bool:
-    """Decide whether a run uses the compiled loop (:func:`accel_support.decide`)."""
-    return accel_support.decide(requested)
+def axis_parameters(k, c, frc, band) -> np.ndarray:
+    """The per-axis constants ``par`` (m, ``k.N_PAR``) of the averaged kernel (module ``k``):
+    the DC chain ``c`` (``DcDrives``), the motor-side friction ``frc`` and the stick band."""
+    par = np.zeros((len(c.kz), k.N_PAR))
+    for idx, value in (
+        (k.KZ, c.kz), (k.KE, c.ke), (k.KP, c.kp), (k.KI, c.ki), (k.ULIM, c.u_ref_max),
+        (k.R, c.R), (k.L, c.L), (k.KS, c.ks), (k.U, c.U), (k.IMAX, c.i_max),
+        (k.RUN_M, frc.running), (k.VISC_M, frc.viscous), (k.BAND, band),
+    ):  # fmt: skip
+        par[:, idx] = value
+    return par
 
 
-class AcceleratedLoop:
-    """The constant arrays of one :class:`~.simulate._Simulation` for the kernel."""
+class CompiledLoop:
+    """The constant arrays of one drive simulation (``simulate._Simulation``) for the
+    kernel."""
 
     def __init__(self, sim, bank, static_j, running_j, sticky: bool, sliding: bool):
-        k = _module()
+        k = self.layout_module()
         self.k, self.sim, self.bank = k, sim, bank
-        c, frc, trans = sim.p.chain, sim.p.friction, sim.trans
-        m = len(sim.axes)
-        par = np.zeros((m, k.N_PAR))
-        for idx, value in (
-            (k.KZ, c.kz), (k.KE, c.ke), (k.KP, c.kp), (k.KI, c.ki), (k.ULIM, c.u_ref_max),
-            (k.R, c.R), (k.L, c.L), (k.KS, c.ks), (k.U, c.U), (k.IMAX, c.i_max),
-            (k.RUN_M, frc.running), (k.VISC_M, frc.viscous), (k.BAND, sim.band),
-        ):  # fmt: skip
-            par[:, idx] = value
-        self.par = par
-        self.trans = trans.data  # the packed motor map (public, read-only)
+        self.par = axis_parameters(k, sim.p.chain, sim.p.friction, sim.band)
+        self.trans = sim.trans.data  # the packed motor map (public, read-only)
         self.static_j, self.running_j = static_j, running_j
         self.ist = np.zeros(k.N_IST, dtype=np.int64)
         self.fst = np.array([sim.h, 0.0, 0.0])
         self.ist[k.STICKY], self.ist[k.SLIDING] = int(sticky), int(sliding)
+
+    @staticmethod
+    def layout_module():
+        """The module of the kernel this loop runs and of the ``ist``/``fst`` layout (says
+        on stderr that it compiles, when numba's cache lacks it)."""
+        return KERNELS.load()
 
     def _refresh(self, q, qd, mm, hb, m_inv) -> None:
         """``D``, ``G(q)`` and ``D⁻¹`` of the decoupled level (``Mechanics.terms``; the
@@ -81,14 +82,12 @@ class AcceleratedLoop:
             m_inv[:] = np.linalg.inv(m_new)
 
     def _terms(self) -> tuple:
-        """``(chain, dyn, J_m)`` for the refresh inside :func:`accel_kernels.run_segment`:
+        """``(chain, dyn, J_m)`` for the refresh inside :func:`.kernels.run_segment`:
         the packed chain (``Kinematics.chain_data``: basis, joints, base), the packed
         inertial data (``Dynamics.data``, rotors of plain ratios on its diagonal) and the
         motor inertias of the rotor matrix ``Kᵀ diag(J_m) K``. Without inertial data
         (decoupled with ``load_inertia``; never refreshed inside) empty read-only arrays
         of the same kinds (one compiled specialisation)."""
-        from irlc.runtime.model.kinematics import Kinematics
-
         mech = self.sim.mech
         c = Kinematics(self.sim.model).chain_data
         if mech.dyn is not None:
@@ -111,7 +110,7 @@ class AcceleratedLoop:
 
     def _start(self, ist, fst, refresh) -> tuple[int, tuple]:
         """The run's steps and refresh policy into the packed ``ist``/``fst`` (the layout of
-        :mod:`.accel_kernels`, which the PWM kernel shares) and zeroed ``(M, h, M⁻¹)``
+        :mod:`.kernels`, which the PWM kernel shares) and zeroed ``(M, h, M⁻¹)``
         buffers for the kernel to fill."""
         k, n = self.k, self.sim.n
         steps = len(self.sim.t)
@@ -123,8 +122,6 @@ class AcceleratedLoop:
 
     def run(self, q, qd, theta_ref, refresh, rec, rec_i, rec_u, sat_rec, energy, copper):
         """All steps; ``q``, ``qd``, the records and the bank's state are updated in place."""
-        if compile_seconds is None:
-            warm_up()
         k, sim, bank = self.k, self.sim, self.bank
         ist, fst = self.ist, self.fst
         steps, (mm, hb, m_inv) = self._start(ist, fst, refresh)
@@ -152,31 +149,3 @@ class AcceleratedLoop:
             refresh.s0, refresh.count = int(ist[k.S0]), refresh.count + int(ist[k.COUNT])
         bank.loop.x[:, 0], bank.loop.x[:, 1] = xi, xu
         bank.pi.x = xv
-
-
-def warm_up() -> float:
-    """Compile (or load from the cache) the kernel by running a tiny simulation; returns
-    the seconds it took. Called on the first accelerated run of a process."""
-    global compile_seconds
-    if compile_seconds is not None:
-        return compile_seconds
-    t0 = time.perf_counter()
-    compile_seconds = -1.0  # (the run below must not recurse into warm_up)
-    from irlc.robots import load_robot
-    from irlc.runtime.drives.simulate import simulate_drives
-
-    model = load_robot("irb6_track")  # screw levers, friction: every branch's types
-    q0 = np.asarray(model.home_q(), dtype=float)
-    times = np.array([0.0, 0.01])
-    for level in ("coupled", "decoupled"):  # (the same kernel; decoupled: no compile)
-        simulate_drives(model, times, np.stack([q0, q0]), level=level, hold=0.0, accel=True)
-    compile_seconds = time.perf_counter() - t0
-    return compile_seconds
-
-
-if __name__ == "__main__":  # python -m irlc.runtime.drives.accel: fill numba's cache once
-    if not AVAILABLE:
-        raise SystemExit("numba is not installed (pip install 'irlc[fast]') or IRLC_ENGINE=numpy")
-    warm = cache_warm()
-    seconds = warm_up()
-    print(f"irlc drive accelerator: {'loaded' if warm else 'compiled'} in {seconds:.2f} s")

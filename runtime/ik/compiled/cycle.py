@@ -1,11 +1,11 @@
-"""The fused IK cycle (numba): :func:`newton_cycle`, the resumable state machine of
-:mod:`accel_kernels`, with the general cost (``_general_cost``: CYCLIC, ``a_conf·W``,
-obstacle terms) and the FREEZE reduction (``_reduce``) it applies between the kernels of
-:mod:`accel_chain`, :mod:`accel_box` and :mod:`accel_qp`.
+"""The fused IK cycle (numba): :func:`newton_cycle`, the resumable state machine of the
+compiled engine (package doc), with the general cost (``general_cost``: CYCLIC,
+``a_conf·W``, obstacle terms) and the FREEZE reduction (``reduce_frozen``) it applies
+between the kernels of :mod:`.chain`, :mod:`.box` and :mod:`.qp`.
 
 numba keys the on-disk cache of :func:`newton_cycle` by this file's source only, while
 its machine code includes the kernels it calls from the other modules (and the constants
-of :mod:`accel_layout`). :data:`SOURCES_DIGEST` is the digest of those modules' sources
+of :mod:`.layout`). :data:`SOURCES_DIGEST` is the digest of those modules' sources
 (:func:`sources_digest`); a test compares them, so a change there must be recorded here,
 which changes this file and with it the cache key: the cycle is never run from stale
 machine code.
@@ -18,9 +18,9 @@ import math
 from pathlib import Path
 
 import numpy as np
-from irlc.runtime.ik.accel_box import _active_codes, _box
-from irlc.runtime.ik.accel_chain import _evaluate, _jacobian
-from irlc.runtime.ik.accel_layout import (
+from irlc.runtime.ik.compiled.box import active_codes, joint_box
+from irlc.runtime.ik.compiled.chain import evaluate, tcp_jacobian
+from irlc.runtime.ik.compiled.layout import (
     ACCEL_BOUNDED,
     ANY_CODE,
     BASIS_REASON,
@@ -123,20 +123,20 @@ from irlc.runtime.ik.accel_layout import (
     W,
     Z,
 )
-from irlc.runtime.ik.accel_qp import (
-    _checked,
-    _hard_data,
-    _hard_data_general,
-    _relaxed_data,
-    _scalar_qp,
-    _split,
-    _unconstrained_qp,
+from irlc.runtime.ik.compiled.qp import (
+    hard_data,
+    hard_data_general,
+    relaxed_data,
+    scalar_qp,
+    split,
+    square_step,
+    unconstrained_qp,
 )
 from numba import njit
 
 # the modules whose code or constants newton_cycle's machine code includes
-CALLEES = ("accel_layout", "accel_chain", "accel_box", "accel_qp")
-SOURCES_DIGEST = "23e65527a989d62c"  # sources_digest() when this file was last updated
+CALLEES = ("layout", "chain", "box", "qp")
+SOURCES_DIGEST = "4f5b82d654dbad33"  # sources_digest() when this file was last updated
 
 
 def sources_digest() -> str:
@@ -148,7 +148,7 @@ def sources_digest() -> str:
 
 
 @njit(cache=True)
-def _general_cost(V, H, ow, opush, ojac, ojtj):
+def general_cost(V, H, ow, opush, ojac, ojtj):
     """The full cost of ``InverseTransformation._cost`` (after the criterion's ``g`` in
     ``V[G]``): ``g += a_conf·W∘Σ`` (``V[WC]``), ``H = diag(W + a_conf·W)``, and per
     obstacle term ``t`` (:class:`obstacle.ObstacleTerm`, weight ``ω_t ≠ 0``):
@@ -177,7 +177,7 @@ def _general_cost(V, H, ow, opush, ojac, ojtj):
 
 
 @njit(cache=True)
-def _reduce(V, Jt, F, H, A, bound_d, free, fz, ftarget, Vr, Jr, Fr, Hr, Ar, bound_r):
+def reduce_frozen(V, Jt, F, H, A, bound_d, free, fz, ftarget, Vr, Jr, Fr, Hr, Ar, bound_r):
     """FREEZE (``InverseTransformation._solve``): the frozen joints' fixed steps
     ``c = θ⁰ − θ_k`` (into ``V[CFZ]``; False when one leaves its box by more than 1e-12)
     and the problem over the free joints: ``F + J_fz c``, ``J_free``, ``g_free +
@@ -222,7 +222,7 @@ def _reduce(V, Jt, F, H, A, bound_d, free, fz, ftarget, Vr, Jr, Fr, Hr, Ar, boun
 
 
 @njit(cache=True)
-def _apply_z(Vr, N, nf, nz):
+def apply_z(Vr, N, nf, nz):
     """The step from the QP's solution: ``Δθ = Δθ_p + N z`` (particular plus null space)."""
     for j in range(nf):
         s = Vr[DP, j]
@@ -247,7 +247,7 @@ def _v3(buf, off, a, b, c):
 
 
 @njit(cache=True)
-def _inputs_finite(q_start, target):
+def inputs_finite(q_start, target):
     """``InverseTransformation.step``'s first test: ``q_start·q_start`` and the sum of the
     target's first three rows are finite (an overflow of ``‖q‖²`` is no configuration:
     the caller then runs the exact check)."""
@@ -265,10 +265,10 @@ def _inputs_finite(q_start, target):
 def newton_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
     """Run Newton iterations of one cycle from ``ist[PHASE]`` until done or Python is
     needed (returns the status; see the module docstring). At ``P_START`` the cycle's
-    inputs (``V[Q_START]``, the target) are first tested (:func:`_inputs_finite`;
+    inputs (``V[Q_START]``, the target) are first tested (:func:`inputs_finite`;
     ``S_NOT_FINITE``: Python checks them exactly and resumes with ``P_START_CHECKED``).
     The arrays are views of the workspaces ``fw`` (float) and ``iw`` (int) cut by the
-    layout ``lay`` (the driver's ``accel.Workspace`` cuts the same). The step is solved
+    layout ``lay`` (the driver's ``Workspace`` cuts the same). The step is solved
     on the reduced problem ``Vr, Jr, Fr, Hr, Ar, bound_r`` (the free joints under FREEZE;
     without frozen joints the layout points them at the full arrays). When the cycle is
     done, also the active codes (``iw`` at ``I_CODES``, ``ist[ANY_CODE]``)."""
@@ -302,9 +302,9 @@ def newton_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
     phase = ist[PHASE]
     stage = 0  # 0 evaluate, 1 split, 2 relax, 3 apply, 4 build the step's data
     if phase in (P_START, P_START_CHECKED):
-        if phase == P_START and not _inputs_finite(V[Q_START], target):
+        if phase == P_START and not inputs_finite(V[Q_START], target):
             return S_NOT_FINITE
-        if ist[BOX_READY] == 0 and not _box(
+        if ist[BOX_READY] == 0 and not joint_box(
             boxc, ist[ACCEL_BOUNDED] != 0, fst[DTOL], V[Q_START], V[Q_PREV], cand, bounds
         ):
             return S_BOX_CHECK
@@ -325,7 +325,7 @@ def newton_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
         ist[HAVE_J] = 0
         ist[N_ACTIVE] = 0
     elif phase == P_APPLY_Z:
-        _apply_z(Vr, N, nf, nz)
+        apply_z(Vr, N, nf, nz)
         stage = 3
     elif phase == P_APPLY:
         stage = 3
@@ -338,10 +338,10 @@ def newton_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
     while True:
         if stage == 0:
             k = ist[K]
-            _evaluate(kb, kj, ends, target, frames, local, tcp, rows, V, ist, fst)
+            evaluate(kb, kj, ends, target, frames, local, tcp, rows, V, ist, fst)
             if k >= 1:
                 if (fst[PE] < fst[TOL_P] and fst[OE] < fst[TOL_O]) or k >= ist[MAX_ITER]:
-                    ist[ANY_CODE] = _active_codes(V[THETA], V[Q_START], bounds, cand, codes)
+                    ist[ANY_CODE] = active_codes(V[THETA], V[Q_START], bounds, cand, codes)
                     return S_DONE
                 if ist[RELAXED] != 0:
                     dmax = 0.0
@@ -350,7 +350,7 @@ def newton_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
                         dmax = max(dmax, abs(V[DTHETA, j]))
                         tmax = max(tmax, abs(V[THETA, j]))
                     if dmax <= 1e-13 * (1.0 + tmax):
-                        ist[ANY_CODE] = _active_codes(V[THETA], V[Q_START], bounds, cand, codes)
+                        ist[ANY_CODE] = active_codes(V[THETA], V[Q_START], bounds, cand, codes)
                         return S_DONE
             elif ist[NEED_TERMS] != 0:  # obstacle terms at the first iterate: Python
                 ist[PHASE] = P_TERMS
@@ -362,7 +362,7 @@ def newton_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
             zero_f = k == 0 and ist[SELF_MOTION] != 0
             for i in range(m):
                 F[i] = 0.0 if zero_f else fst[E0 + rows[i]]
-            _jacobian(frames, kj, tcp[:3, 3], J6)
+            tcp_jacobian(frames, kj, tcp[:3, 3], J6)
             for i in range(m):
                 for j in range(n):
                     Jt[i, j] = J6[rows[i], j]
@@ -377,8 +377,8 @@ def newton_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
                 V[LOWER, j] = bounds[0, j] - sig
                 V[UPPER, j] = bounds[1, j] - sig
             if general:
-                _general_cost(V, H, ow, opush, ojac, ojtj)
-            if nfz > 0 and not _reduce(
+                general_cost(V, H, ow, opush, ojac, ojtj)
+            if nfz > 0 and not reduce_frozen(
                 V, Jt, F, H, A, bound_d, free, fz, ftarget, Vr, Jr, Fr, Hr, Ar, bound_r
             ):
                 return S_FROZEN_FAR
@@ -390,7 +390,7 @@ def newton_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
             if ist[BASIS_VALID] == 0:
                 ist[BASIS_REASON] = 0
                 return S_NEED_BASIS
-            if not _split(Jr, Fr, perm, aug, N, Vr[DP], fst):
+            if not split(Jr, Fr, perm, aug, N, Vr[DP], fst):
                 if ist[BASIS_STAGE] == 0:
                     ist[BASIS_REASON] = 1
                     return S_NEED_BASIS
@@ -399,24 +399,24 @@ def newton_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
                 continue
             res = 2
             if nz == 0:
-                res = 1 if _checked(Vr, Ar, bound_r, active, mult, ist) else 0
+                res = 1 if square_step(Vr, Ar, bound_r, active, mult, ist) else 0
             elif nz == 1 and Ar.shape[0] == 0 and ist[SCALAR] != 0 and not general:
-                res = _scalar_qp(Vr, N, active, mult, ist)
+                res = scalar_qp(Vr, N, active, mult, ist)
                 if res < 0:
                     res = 2
             if res == 2:
                 if general:
-                    _hard_data_general(Vr, N, Hr, Ar, bound_r, Ht, gt, Ct, bt, fst)
+                    hard_data_general(Vr, N, Hr, Ar, bound_r, Ht, gt, Ct, bt, fst)
                 else:
-                    _hard_data(Vr, N, perm, m, Ar, bound_r, Ht, gt, Ct, bt, fst)
-                if not _unconstrained_qp(Ht, gt, Ct, bt, Vr[Z]):
+                    hard_data(Vr, N, perm, m, Ar, bound_r, Ht, gt, Ct, bt, fst)
+                if not unconstrained_qp(Ht, gt, Ct, bt, Vr[Z]):
                     return S_NEED_QP
                 ist[N_ACTIVE] = 0
-                _apply_z(Vr, N, nf, nz)
+                apply_z(Vr, N, nf, nz)
                 res = 1
             stage = 3 if res == 1 else 2
         elif stage == 2:
-            _relaxed_data(Vr, Jr, Fr, Ar, bound_r, Hr, general, Hrel, grel, bt, fst)
+            relaxed_data(Vr, Jr, Fr, Ar, bound_r, Hr, general, Hrel, grel, bt, fst)
             return S_NEED_RELAXED
         else:  # apply the step in Vr[DTHETA] (scattered to V[DTHETA] under FREEZE)
             if nfz > 0:

@@ -1,23 +1,23 @@
 """Compiled kernel (numba) of the averaged DC drive loop — the numbers of the numpy path,
 fused.
 
-Imported only through :mod:`.accel` when numba is available. :func:`run_segment` runs the
+Loaded by :mod:`.loop` when the compiled engine runs. :func:`run_segment` runs the
 steps of :meth:`irlc.runtime.drives.simulate._Simulation.run` from ``start`` until the
-held ``M``, ``C q̇ + G`` are due for a refresh (:mod:`.refresh`) or the run ends, and
+held ``M``, ``C q̇ + G`` are due for a refresh (:mod:`..refresh`) or the run ends, and
 returns that step, or (coupled level, ``ist[INNER]``) refreshes them itself with
-:func:`coupled_terms` — link frames (``ik.accel_chain._chain``), :func:`mass_and_bias`,
-the rotor matrix ``Kᵀ diag(J_m) K``, ``M⁻¹`` (:func:`_invert`) — and goes on, so that the
+:func:`coupled_terms` — link frames (``ik.compiled.chain.forward_chain``), :func:`mass_and_bias`,
+the rotor matrix ``Kᵀ diag(J_m) K``, ``M⁻¹`` (:func:`invert`) — and goes on, so that the
 whole run is one call; at the decoupled level the caller refreshes ``G(q)`` in numpy and
 resumes. Per step, the same arithmetic as its numpy reference
 (named in each docstring), written as loops over the axes:
 
-* transmission (:meth:`.transmission.Transmission.motor_and_jacobian`): ``θ_m = L q`` plus
+* transmission (:meth:`..transmission.Transmission.motor_and_jacobian`): ``θ_m = L q`` plus
   the screw-lever rows, ``K`` likewise, ``ω_m = K q̇``;
-* the cascade (:class:`.cascade.DcBank`): the fused linear map ``G`` when no limit is
+* the cascade (:class:`..cascade.DcBank`): the fused linear map ``G`` when no limit is
   reached, else P → PI (conditional integration) → current loop → averaged stage with
-  the closed-form armature at ``±U`` (:func:`.motor.first_order`) and the current clamp
-  (:func:`.power_stage.averaged`), per axis;
-* friction and mechanics (:meth:`.mechanics.Mechanics.accel`): ``q̈ = M⁻¹ (T − f − h)``,
+  the closed-form armature at ``±U`` (:func:`..motor.first_order`) and the current clamp
+  (:func:`..power_stage.averaged`), per axis;
+* friction and mechanics (:meth:`..mechanics.Mechanics.accel`): ``q̈ = M⁻¹ (T − f − h)``,
   or Karnopp's two passes with the reduced system ``M_ff q̈_f = T_f − f_f − h_f`` solved by
   Gaussian elimination with partial pivoting (numpy: the cached inverse of ``M_ff``);
 * semi-implicit Euler ``q̇ += h q̈`` (stuck axes ``q̇ := 0``), ``q += h q̇``.
@@ -38,21 +38,22 @@ from irlc.runtime.drives.transmission import (
     LEVER_S0,
     LEVER_SQ,
 )
-from irlc.runtime.ik.accel_chain import _chain
+from irlc.runtime.ik.compiled.chain import forward_chain
 from numba import njit
 
 # numba's cache of a function is keyed by its own source file: run_segment's machine code
-# includes ik/accel_chain._chain, so this digest of _chain's source (chain_source_digest(),
-# checked by tests/drives/test_accel_kernels.py) changes this file when _chain changes.
-CHAIN_SOURCE_DIGEST = "a9fece99e4e4cf85"
+# includes ik/compiled/chain.forward_chain, so this digest of its source
+# (chain_source_digest(), checked by tests/drives/test_compiled_kernels.py) changes this file
+# when forward_chain changes.
+CHAIN_SOURCE_DIGEST = "8dbd1c064aac15bf"
 
 
 def chain_source_digest() -> str:
-    """SHA-256 (first 16 hex digits) of the source of ``ik.accel_chain._chain``."""
+    """SHA-256 (first 16 hex digits) of the source of ``ik.compiled.chain.forward_chain``."""
     import hashlib
     import inspect
 
-    return hashlib.sha256(inspect.getsource(_chain.py_func).encode()).hexdigest()[:16]
+    return hashlib.sha256(inspect.getsource(forward_chain.py_func).encode()).hexdigest()[:16]
 
 
 # ist (INNER: 1 = refresh the coupled terms inside run_segment, ROTOR: add Kᵀ diag(J_m) K,
@@ -72,17 +73,17 @@ LEV_SQ, LEV_AB2, LEV_PHI0, LEV_GAIN, LEV_S0 = (
 
 
 @njit(cache=True)
-def _sign(x):
+def sign(x):
     return (x > 0.0) - (x < 0.0)
 
 
 @njit(cache=True)
-def _clip(x, lo, hi):
+def clip(x, lo, hi):
     return min(max(x, lo), hi)
 
 
 @njit(cache=True)
-def _first_order(i0, volts, omega, r, ell, ks, tau, i_max, res):
+def first_order(i0, volts, omega, r, ell, ks, tau, i_max, res):
     """``motor.first_order`` for one axis: ``res = [i(τ), ∫i, ∫i², ∫u i]``."""
     a = (volts - ks * omega) / r
     big_t = ell / r
@@ -97,11 +98,11 @@ def _first_order(i0, volts, omega, r, ell, ks, tau, i_max, res):
         res[2] = a * a * tau + 2.0 * a * d * one + d * d * 0.5 * big_t * (1.0 - decay * decay)
         res[3] = volts * area
         return
-    side = _sign(a)
+    side = sign(a)
     ratio = 0.0
     if abs(a) > i_max and d != 0.0:
         ratio = (side * i_max - a) / d
-    t1 = min(tau, -big_t * math.log(_clip(ratio, 1e-300, 1.0)))
+    t1 = min(tau, -big_t * math.log(clip(ratio, 1e-300, 1.0)))
     t2 = tau - t1
     decay = math.exp(-t1 / big_t)
     one = big_t * (1.0 - decay)
@@ -115,7 +116,7 @@ def _first_order(i0, volts, omega, r, ell, ks, tau, i_max, res):
 
 
 @njit(cache=True)
-def _axis_step(a, d, omega, p, fused, lim5, big, xv, xi, xu, h, out, res):
+def axis_step(a, d, omega, p, fused, lim5, big, xv, xi, xu, h, out, res):
     """One DC axis: ``out = [τ_m, ī, ū, saturated, ∫u i, ∫R i²]``; updates ``xv, xi, xu``."""
     z0, z1, z2, z3, z4 = d, omega, xv[a], xi[a], xu[a]
     g = fused[a]
@@ -134,14 +135,14 @@ def _axis_step(a, d, omega, p, fused, lim5, big, xv, xi, xu, h, out, res):
         return
     lim = p[a, ULIM]
     raw = p[a, KZ] * d  # position.position_p
-    u_w = _clip(raw, -lim, lim)
+    u_w = clip(raw, -lim, lim)
     sat = u_w != raw
     e = u_w - p[a, KE] * omega  # velocity.VelocityPI.step
     raw = p[a, KP] * e + p[a, KI] * xv[a]
-    u_i = _clip(raw, -lim, lim)
+    u_i = clip(raw, -lim, lim)
     if u_i != raw:
         sat = True
-        if _sign(e) != _sign(raw):
+        if sign(e) != sign(raw):
             xv[a] += h * e
     else:
         xv[a] += h * e
@@ -154,13 +155,13 @@ def _axis_step(a, d, omega, p, fused, lim5, big, xv, xi, xu, h, out, res):
     i_max, r_a = p[a, IMAX], p[a, R]
     over = abs(x_u) > p[a, U]
     if over:
-        volts = _sign(x_u) * p[a, U]
-        _first_order(i0, volts, omega, r_a, p[a, L], p[a, KS], h, i_max, res)
+        volts = sign(x_u) * p[a, U]
+        first_order(i0, volts, omega, r_a, p[a, L], p[a, KS], h, i_max, res)
         x_i, x_u, i_mean, u_mean = res[0], volts, res[1] / h, volts
     limit = abs(x_i) > i_max or abs(i_mean) > i_max
     if limit:
-        x_i = _clip(x_i, -i_max, i_max)
-        i_mean = _clip(i_mean, -i_max, i_max)
+        x_i = clip(x_i, -i_max, i_max)
+        i_mean = clip(i_mean, -i_max, i_max)
         u_mean = r_a * i_mean + p[a, KS] * omega + p[a, L] * (x_i - i0) / h
     xi[a], xu[a] = x_i, x_u
     energy = u_mean * i_mean * h
@@ -173,7 +174,7 @@ def _axis_step(a, d, omega, p, fused, lim5, big, xv, xi, xu, h, out, res):
 
 
 @njit(cache=True)
-def _pivot(work, c, rows, width):
+def pivot(work, c, rows, width):
     """Partial pivoting at column ``c`` of ``work[:rows, :width]``: the row of ``c`` … ``rows
     − 1`` with the largest ``|work[r, c]|`` swapped into row ``c`` (columns ``c`` on)."""
     piv = c
@@ -186,7 +187,7 @@ def _pivot(work, c, rows, width):
 
 
 @njit(cache=True)
-def _solve_free(mm, free, nf, rhs, qdd, work):
+def solve_free(mm, free, nf, rhs, qdd, work):
     """``q̈_f = M_ff⁻¹ rhs_f`` (Gaussian elimination, partial pivoting), ``q̈`` 0 elsewhere."""
     n = mm.shape[0]
     for i in range(n):
@@ -196,7 +197,7 @@ def _solve_free(mm, free, nf, rhs, qdd, work):
             work[i, j] = mm[free[i], free[j]]
         work[i, nf] = rhs[free[i]]
     for c in range(nf):
-        _pivot(work, c, nf, nf + 1)
+        pivot(work, c, nf, nf + 1)
         for r in range(c + 1, nf):
             f = work[r, c] / work[c, c]
             for j in range(c, nf + 1):
@@ -209,7 +210,7 @@ def _solve_free(mm, free, nf, rhs, qdd, work):
 
 
 @njit(cache=True)
-def _karnopp(mm, hb, drive, slide, stuck, static, running, qdd, fric, free, work, base, rhs):
+def karnopp(mm, hb, drive, slide, stuck, static, running, qdd, fric, free, work, base, rhs):
     """``Mechanics._karnopp``: two passes; ``stuck`` becomes the final held set."""
     n = mm.shape[0]
     for i in range(n):
@@ -222,7 +223,7 @@ def _karnopp(mm, hb, drive, slide, stuck, static, running, qdd, fric, free, work
             if not stuck[i]:
                 free[nf] = i
                 nf += 1
-        _solve_free(mm, free, nf, rhs, qdd, work)
+        solve_free(mm, free, nf, rhs, qdd, work)
         broke = False
         for i in range(n):
             if stuck[i]:
@@ -232,7 +233,7 @@ def _karnopp(mm, hb, drive, slide, stuck, static, running, qdd, fric, free, work
                 if abs(need) <= static[i]:
                     fric[i] = need
                 else:
-                    fric[i] = running[i] * _sign(need)
+                    fric[i] = running[i] * sign(need)
                     rhs[i] = 1.0  # (marks a break-away)
                     broke = True
                     continue
@@ -245,7 +246,7 @@ def _karnopp(mm, hb, drive, slide, stuck, static, running, qdd, fric, free, work
 
 
 @njit(cache=True)
-def _due(s, q, qd, q0, qd0, ist, fst):
+def refresh_due(s, q, qd, q0, qd0, ist, fst):
     """``Refresh.due``."""
     if ist[EVERY] > 0:
         return s % ist[EVERY] == 0
@@ -260,7 +261,7 @@ def _due(s, q, qd, q0, qd0, ist, fst):
 
 
 @njit(cache=True)
-def _transmission(lin, rows, coef, lev, q, theta, kmat):
+def motor_and_jacobian(lin, rows, coef, lev, q, theta, kmat):
     """``Transmission.motor_and_jacobian`` on :class:`TransmissionData`'s arrays:
     ``θ_m = L q`` and ``K = L``, then the screw-lever rows ``θ_m = gain (s − s0)``,
     ``K = gain·½·2ab·sin(φ + φ0)/s · C``."""
@@ -442,7 +443,7 @@ def run_segment(
     tau_m = np.empty(m)
     f_m = np.zeros(m)
     stuck = np.zeros(n, dtype=np.bool_)
-    scratch = _joint_scratch(n)
+    scratch = joint_scratch(n)
     rec = (rec_q, rec_qd, rec_tau, rec_f)
     out = np.empty(6)
     res = np.empty(4)
@@ -452,7 +453,7 @@ def run_segment(
     # (θ_m and K are recomputed right after a refresh: the step's buffers serve it too)
     buf = (np.empty((n + 1, 4, 4)), np.empty((4, 4)), theta, kmat, np.empty((n, 2 * n)))
     for s in range(ist[START], ist[STEPS]):
-        if not (s == ist[START] and ist[FRESH] != 0) and _due(s, q, qd, q0, qd0, ist, fst):
+        if not (s == ist[START] and ist[FRESH] != 0) and refresh_due(s, q, qd, q0, qd0, ist, fst):
             if not inner:
                 return s
             coupled_terms(chain, dyn, trans, j_m, ist[ROTOR] != 0, q, qd, mm, hb, m_inv, buf)
@@ -460,14 +461,14 @@ def run_segment(
                 q0[j], qd0[j] = q[j], qd[j]
             ist[S0] = s
             ist[COUNT] += 1
-        _transmission(lin, rows, coef, lev, q, theta, kmat)  # θ_m, K(q)
+        motor_and_jacobian(lin, rows, coef, lev, q, theta, kmat)  # θ_m, K(q)
         any_stuck = False
         for a in range(m):
             acc = 0.0
             for j in range(n):
                 acc += kmat[a, j] * qd[j]
             omega[a] = acc
-            _axis_step(
+            axis_step(
                 a, theta_ref[s, a] - theta[a], acc, par, fused, lim5, big, xv, xi, xu, h,
                 out, res,
             )  # fmt: skip
@@ -476,11 +477,11 @@ def run_segment(
             energy[a] += out[4]
             copper[a] += out[5]
             if sliding:
-                f_m[a] = par[a, RUN_M] * _sign(acc) + par[a, VISC_M] * acc
+                f_m[a] = par[a, RUN_M] * sign(acc) + par[a, VISC_M] * acc
             if sticky:
                 stuck[a] = abs(acc) < par[a, BAND]
                 any_stuck = any_stuck or stuck[a]
-        _joint_step(
+        joint_step(
             s, h, kmat, tau_m, f_m, sliding, any_stuck, stuck, mm, hb, m_inv, static_j,
             running_j, q, qd, rec, scratch,
         )  # fmt: skip
@@ -488,8 +489,8 @@ def run_segment(
 
 
 @njit(cache=True)
-def _joint_scratch(n):
-    """The buffers of :func:`_joint_step`: ``(drive, slide, q̈, friction, free, work, base,
+def joint_scratch(n):
+    """The buffers of :func:`joint_step`: ``(drive, slide, q̈, friction, free, work, base,
     rhs)``."""
     return (
         np.empty(n), np.zeros(n), np.empty(n), np.empty(n), np.empty(n, dtype=np.int64),
@@ -498,13 +499,13 @@ def _joint_scratch(n):
 
 
 @njit(cache=True)
-def _joint_step(
+def joint_step(
     s, h, kmat, tau_m, f_m, sliding, any_stuck, stuck, mm, hb, m_inv, static_j, running_j,
     q, qd, rec, scratch,
 ):  # fmt: skip
     """The joint side of step ``s``, shared by every drive level's kernel: ``T = Kᵀ τ_m``,
     sliding friction ``f = Kᵀ f_m``; ``q̈ = M⁻¹ (T − f − h)``, or Karnopp's two passes when
-    an axis sticks (:func:`_karnopp`); the record row ``rec = (q, q̇, T, friction)[s]``; then
+    an axis sticks (:func:`karnopp`); the record row ``rec = (q, q̇, T, friction)[s]``; then
     semi-implicit Euler ``q̇ += h q̈`` (stuck: ``q̇ := 0``), ``q += h q̇``.
     ``scratch = (drive, slide, q̈, friction, free, work, base, rhs)``."""
     rec_q, rec_qd, rec_tau, rec_f = rec
@@ -521,7 +522,7 @@ def _joint_step(
         if sliding:
             slide[j] = acc_f
     if any_stuck:
-        _karnopp(mm, hb, drive, slide, stuck, static_j, running_j, qdd, fric, free, work, base, rhs)
+        karnopp(mm, hb, drive, slide, stuck, static_j, running_j, qdd, fric, free, work, base, rhs)
     else:
         for i in range(n):
             base[i] = drive[i] - slide[i] - hb[i]
@@ -541,7 +542,7 @@ def _joint_step(
 
 
 @njit(cache=True)
-def _invert(a, out, work):
+def invert(a, out, work):
     """``out = a⁻¹`` (``np.linalg.inv``): Gauss–Jordan elimination with partial pivoting on
     ``work = [a | I]`` (n × 2n)."""
     n = a.shape[0]
@@ -550,7 +551,7 @@ def _invert(a, out, work):
             work[i, j] = a[i, j]
             work[i, n + j] = 1.0 if i == j else 0.0
     for c in range(n):
-        _pivot(work, c, n, 2 * n)
+        pivot(work, c, n, 2 * n)
         inv_p = 1.0 / work[c, c]
         for j in range(c, 2 * n):
             work[c, j] *= inv_p
@@ -572,17 +573,17 @@ def coupled_terms(chain, dyn, trans, j_m, rotor_matrix, q, qd, mm, hb, m_inv, bu
     ``chain = (basis, joints, base)``), ``M(q)`` and ``h = C q̇ + G`` (:func:`mass_and_bias`
     on :class:`DynamicsData` ``dyn``), with ``rotor_matrix`` the rotors of a coupled or
     non-linear transmission ``M += Kᵀ diag(J_m) K`` (``Transmission.rotor_matrix``, ``K``
-    from :func:`_transmission` on :class:`TransmissionData` ``trans``), then ``M⁻¹``
-    (:func:`_invert`). ``buf = (frames (n+1, 4, 4), local (4, 4), θ_m (m,), K (m, n),
+    from :func:`motor_and_jacobian` on :class:`TransmissionData` ``trans``), then ``M⁻¹``
+    (:func:`invert`). ``buf = (frames (n+1, 4, 4), local (4, 4), θ_m (m,), K (m, n),
     work (n, 2n))``."""
     basis, joints, base = chain
     axes, revolute, rotor, mass, com, inertia, gravity = dyn
     frames, local, theta, kmat, work = buf
-    _chain(basis, joints, base, q, frames, local)
+    forward_chain(basis, joints, base, q, frames, local)
     mass_and_bias(frames, axes, revolute, rotor, mass, com, inertia, gravity, qd, mm, hb)
     if rotor_matrix:
         lin, rows, coef, lev = trans
-        _transmission(lin, rows, coef, lev, q, theta, kmat)
+        motor_and_jacobian(lin, rows, coef, lev, q, theta, kmat)
         n, m = mm.shape[0], kmat.shape[0]
         for i in range(n):
             for j in range(n):
@@ -590,4 +591,4 @@ def coupled_terms(chain, dyn, trans, j_m, rotor_matrix, q, qd, mm, hb, m_inv, bu
                 for a in range(m):
                     acc += kmat[a, i] * j_m[a] * kmat[a, j]
                 mm[i, j] += acc
-    _invert(mm, m_inv, work)
+    invert(mm, m_inv, work)

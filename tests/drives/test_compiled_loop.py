@@ -1,23 +1,24 @@
-"""The optional compiled drive loop (runtime/drives/accel.py) against the numpy reference:
+"""The optional compiled drive loop (runtime/drives/compiled/) against the numpy reference:
 same trajectories, currents, voltages, friction, energies and flags to rounding, on every
 transmission kind it covers, both refresh policies, friction sticking and the saturation
 branches; the numpy loop where it does not cover; the use/skip decision."""
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
 import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
 from irlc.robots.loader import load_toml
-from irlc.runtime.drives import accel, motor, simulate_drives
+from irlc.runtime import accel_support, engine
+from irlc.runtime.drives import motor, simulate_drives
+from irlc.runtime.drives.compiled.loop import CompiledLoop
 
 ROBOTS = Path(__file__).resolve().parents[2] / "robots"
-needs_numba = pytest.mark.skipif(not accel.AVAILABLE, reason="numba not installed / disabled")
+needs_numba = pytest.mark.skipif(
+    not accel_support.AVAILABLE, reason="numba not installed / disabled"
+)
 FIELDS = ("q_actual", "qd_actual", "current", "voltage", "torque", "friction")
 
 
@@ -103,11 +104,10 @@ def test_decoupled_without_inertial_data(monkeypatch):
     arrays (never refreshed inside) and equals the numpy loop."""
     from .drive_models import dc_drives, planar
 
-    accel.warm_up()  # (its own runs are not counted below)
     calls = []
-    kernel_run = accel.AcceleratedLoop.run
+    kernel_run = CompiledLoop.run
     monkeypatch.setattr(
-        accel.AcceleratedLoop, "run", lambda self, *a: calls.append(1) or kernel_run(self, *a)
+        CompiledLoop, "run", lambda self, *a: calls.append(1) or kernel_run(self, *a)
     )
 
     model = planar(2, drives=dict(dc_drives(2, 30.0), load_inertia=0.5))
@@ -122,7 +122,7 @@ def test_decoupled_without_inertial_data(monkeypatch):
 @needs_numba
 def test_steppers_run_the_numpy_loop():
     """Outside the kernels' scope ``accel=True`` is the numpy loop: identical results
-    (pwm has its own compiled loop: tests/drives/test_accel_pwm.py)."""
+    (pwm has its own compiled loop: tests/drives/test_compiled_pwm.py)."""
     l1 = load_toml(ROBOTS / "l1.toml")
     times, q = move(l1, np.full(l1.n, 0.05), 0.3)
     ref, fast = both(l1, times, q, level="coupled")
@@ -130,33 +130,31 @@ def test_steppers_run_the_numpy_loop():
         assert np.array_equal(getattr(ref, name), getattr(fast, name))
 
 
-def test_use_decision(monkeypatch):
-    assert accel.use_accel(False) is False
-    assert accel.use_accel(True) is accel.AVAILABLE
+def test_the_factory_picks_the_loop(monkeypatch):
+    """engine.compiled_loop: the run's accel flag and IRLC_ENGINE decide; the default is
+    numpy whatever numba's cache holds (fast first run, same bytes); stepper drives are
+    not covered."""
+    from irlc.runtime.drives.compiled.pwm_loop import PwmLoop
+
+    class Sim:
+        is_dc, pwm, n = True, False, 3
+        driven = np.ones(3, dtype=bool)
+        axes = np.arange(3)
+
+    available = accel_support.AVAILABLE
+    assert engine.compiled_loop(Sim, False) is None
+    assert engine.compiled_loop(Sim, True) is (CompiledLoop if available else None)
     monkeypatch.delenv("IRLC_ENGINE", raising=False)
-    # the default is numpy whatever numba's cache holds (fast first run, same bytes)
-    assert accel.use_accel(None) is False
+    assert engine.compiled_loop(Sim, None) is None
     monkeypatch.setenv("IRLC_ENGINE", "numpy")
-    assert accel.use_accel(None) is False
-    assert accel.use_accel(True) is False
+    assert engine.compiled_loop(Sim, None) is None
+    assert engine.compiled_loop(Sim, True) is None
     monkeypatch.setenv("IRLC_ENGINE", "auto")
-    assert accel.use_accel(None) is accel.AVAILABLE
-
-
-def test_irlc_engine_numpy_runs_numpy():
-    code = (
-        "import numpy as np\n"
-        "from irlc.robots import load_robot\n"
-        "from irlc.runtime.drives import accel, simulate_drives\n"
-        "m = load_robot('koch11')\n"
-        "q = np.tile(m.home_q(), (2, 1))\n"
-        "r = simulate_drives(m, np.array([0.0, 0.01]), q, level='coupled', accel=True)\n"
-        "print(accel.AVAILABLE, accel.compile_seconds, r.could_follow)\n"
-    )
-    env = dict(os.environ, IRLC_ENGINE="numpy")
-    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
-    assert out.returncode == 0, out.stderr
-    assert out.stdout.split() == ["False", "None", "True"]
+    assert engine.compiled_loop(Sim, None) is (CompiledLoop if available else None)
+    Sim.pwm = True
+    assert engine.compiled_loop(Sim, None) is (PwmLoop if available else None)
+    Sim.is_dc = False  # stepper drives
+    assert engine.compiled_loop(Sim, True) is None
 
 
 def test_first_order_mixed_axes_equal_single_axes():
