@@ -120,6 +120,9 @@ def overview_table(report: dict) -> Table:
             f"min clearance {_num(o.get('min_distance_mm'), '.1f')} mm"
             + (f" at t = {o['at_time_s']:.2f} s" if o.get("at_time_s") is not None else ""),
         )
+    collisions = _collisions(report)
+    if collisions is not None:
+        table.add_row("collisions", collisions)
     approximated = _approximations(report)
     if approximated:
         table.add_row("approximated points", approximated)
@@ -141,6 +144,23 @@ def overview_table(report: dict) -> Table:
         where = f"line {error.get('line')}, t = {_num(error.get('time_s'), '.3f')} s"
         table.add_row("error", Text(f"{where}: {error['message']}", style="red"))
     return table
+
+
+def _collisions(report: dict) -> Text | None:
+    """``allowed (--allow-collisions): slup 119.9 mm deep (link 6) at t = 2.31 s, line 13``;
+    ``None`` when collisions fail the run (the default) and none happened."""
+    c = report.get("collisions") or {}
+    hits = [
+        f"{p['obstacle']} {_num(p['depth_mm'], '.4g')} mm deep (link {p['link']}) at "
+        f"t = {_num(p['time_s'], '.2f')} s, line {p['line']}"
+        for p in c.get("penetrations") or []
+    ]
+    if c.get("allowed"):
+        text = "; ".join(hits) if hits else "none"
+        return Text(f"allowed (--allow-collisions): {text}", style="yellow" if hits else "")
+    if hits:
+        return Text(f"fail the run: {'; '.join(hits)}", style="red")
+    return None
 
 
 def _approximations(report: dict) -> str:
@@ -168,7 +188,8 @@ def _approximations(report: dict) -> str:
 
 
 def _path_error(report: dict) -> str:
-    """``max … mm, … deg``; with drives ``(actual motion; ideal …)`` and the tolerances."""
+    """``max … mm, … deg``; with drives ``(actual motion; ideal …)`` and the tolerance that
+    judged the path (the verdict's), if one did."""
     text = (
         f"max {_num(report['max_path_error_mm'], '.3g')} mm, "
         f"{_num(report['max_orientation_error_deg'], '.3g')} deg"
@@ -180,30 +201,33 @@ def _path_error(report: dict) -> str:
         f" (actual motion; ideal {_num(ideal.get('max_path_error_mm'), '.3g')} mm, "
         f"{_num(ideal.get('max_orientation_error_deg'), '.3g')} deg)"
     )
-    tol = report.get("tolerances") or {}
-    if tol:
-        path, loosest = tol.get("path_mm"), tol.get("path_mm_loosest")
-        span = (
-            _num(path, "g")
-            if loosest in (None, path)
-            else f"{_num(path, 'g')}–{_num(loosest, 'g')}"
-        )
-        text += f", tolerance {span} mm, {_num(tol.get('orientation_deg'), 'g')} deg"
-    return text
+    criteria = (report.get("verdict") or {}).get("criteria") or {}
+    path = criteria.get("path_tolerance_mm")
+    if path is None:
+        return text + ", not judged (no path tolerance stated)"
+    return text + f", tolerance {_num(path, 'g')} mm ({criteria.get('path_tolerance_from')})"
 
 
 def _criteria(verdict: dict) -> str:
-    """The drive verdict's criteria in one line: tolerances, bounds, ratings."""
+    """What judged the drive run, in one line: the following-error bounds and where they
+    come from, the path and orientation tolerances (and theirs), collisions, ratings."""
     c = verdict.get("criteria") or {}
+    bounds: dict[str, set[str]] = {}
+    for b in c.get("following_error_bound") or []:
+        bounds.setdefault(b.get("from") or "", set()).add(f"{_num(b['bound'], '.3g')} {b['unit']}")
     parts = [
-        f"path ≤ {_num(c.get('path_tolerance_mm'), 'g')} mm",
-        f"orientation ≤ {_num(c.get('orientation_tolerance_deg'), 'g')} deg",
+        f"following error ≤ {' | '.join(sorted(v))}" + (f" ({src})" if src else "")
+        for src, v in sorted(bounds.items())
     ]
-    bounds = {
-        f"{_num(b['bound'], '.3g')} {b['unit']}" for b in c.get("following_error_bound") or []
-    }
-    if bounds:
-        parts.append(f"following error ≤ {' | '.join(sorted(bounds))}")
+    for key, what, unit in (("path", "path", "mm"), ("orientation", "orientation", "deg")):
+        value = c.get(f"{key}_tolerance_{unit}")
+        if value is None:
+            parts.append(f"{what} not judged (no tolerance stated)")
+        else:
+            source = c.get(f"{key}_tolerance_from")
+            parts.append(f"{what} ≤ {_num(value, 'g')} {unit}" + (f" ({source})" if source else ""))
+    if c.get("collisions") == "allowed":
+        parts.append("collisions allowed")
     for key, what in (("current_peak_A", "peak current"), ("torque_rating", "gear torque")):
         rated = [r for r in c.get(key) or [] if r.get("value") is not None]
         parts.append(f"{what} {'rated' if rated else 'not rated'}")

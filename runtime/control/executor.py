@@ -46,6 +46,7 @@ from irlc.runtime.commands import (
 )
 from irlc.runtime.control import ptp_activity
 from irlc.runtime.control.approximation import ApproximatePositioning, PendingSegment, SegmentRun
+from irlc.runtime.control.collision import CollisionRule
 from irlc.runtime.control.reconfiguration import Reconfiguration
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik import cause
@@ -103,6 +104,9 @@ class ExecutionOptions:
     progress_every: int = 200  # cycles between progress callbacks
     manipulability_every: int = 10  # cycles between manipulability samples (an SVD each)
     ik: IKParams | None = None
+    allow_collisions: bool = False  # a penetration of an obstacle does not fail (collision.py)
+    path_tolerance_stated: bool = False  # --path-tolerance was given (judges a drive run)
+    orientation_tolerance_stated: bool = False  # --orientation-tolerance was given
 
 
 @dataclass
@@ -143,7 +147,7 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
         self._granted_cycles = 0  # cycles the cycle budget granted so far (_grant_cycles)
         self._line = 0
         self._manip_every = max(1, self.opts.manipulability_every)
-        self._collision_warned: set[str] = set()
+        self.collisions = CollisionRule(self.opts.allow_collisions)  # per-cycle hook
         self._last_reference: np.ndarray | None = None  # θ⁰ of the last IK cycle
         self._segment_start = self.q.copy()
         self._active_obstacles: frozenset[str] = frozenset()
@@ -429,28 +433,9 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
         self._tick()
 
     def _check_collisions(self, clearances, active, line: int, t: float) -> None:
-        """A negative clearance is a collision: a failure for an avoided (active) obstacle,
-        a warning (once per obstacle) for the others."""
-        if not clearances:
-            return
-        for name, (distance, link) in clearances.items():
-            if distance >= 0.0:
-                continue
-            depth = f"{-distance / units.MM:.4g} mm deep, link {link}"
-            if name in active:
-                raise RunFailure(
-                    f"the arm collides with obstacle {name} ({depth})",
-                    line,
-                    t,
-                    f"obstacle {name}",
-                    cause="obstacle",
-                )
-            if name not in self._collision_warned:
-                self._collision_warned.add(name)
-                self.recorder.warnings.append(
-                    f"line {line}: the arm touches obstacle {name} at t = {t:.3f} s ({depth}); "
-                    "it is not avoided (no OBSTACLE statement active)"
-                )
+        """The collision rule on the cycle's clearances (:mod:`collision`: a penetration
+        of any obstacle fails the run unless collisions are allowed)."""
+        self.collisions.check(clearances, active, line, t)
 
     def _record_initial(self) -> None:
         """The sample at t = 0 (with the clearances of the start configuration), with the
