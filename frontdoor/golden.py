@@ -229,6 +229,7 @@ RUN_OPTIONS = (  # docs/golden.md
     "max_cycles",
     "override",
     "allow_any_path",
+    "allow_collisions",
 )
 
 

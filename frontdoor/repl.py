@@ -442,6 +442,8 @@ class Session:
         out: list[str] = []
         t0, q0, motions = self.controller.time, self.controller.q.copy(), self.controller.motions
         self.controller.restart_cycle_budget()  # each entry has the whole cycle budget
+        # an obstacle the arm is inside (a collision failed the last entry) may be left
+        self.controller.collisions.tolerate(self.controller.recorder.last_clearances())
         self.controller.naming = JointNaming.for_model(self.model, code.joint_names)
         result = Interpreter(code, self.controller, state=self.state, output=out.append).run(
             check=False

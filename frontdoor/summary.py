@@ -121,6 +121,9 @@ def overview_table(report: dict) -> Table:
             f"min clearance {shown_number(o.get('min_distance_mm'), '.1f')} mm"
             + (f" at t = {o['at_time_s']:.2f} s" if o.get("at_time_s") is not None else ""),
         )
+    collisions = _collisions(report)
+    if collisions is not None:
+        table.add_row("collisions", collisions)
     approximated = approximations_text(report)
     if approximated:
         table.add_row("approximated points", approximated)
@@ -142,6 +145,23 @@ def overview_table(report: dict) -> Table:
         where = f"line {error.get('line')}, t = {shown_number(error.get('time_s'), '.3f')} s"
         table.add_row("error", Text(f"{where}: {error['message']}", style="red"))
     return table
+
+
+def _collisions(report: dict) -> Text | None:
+    """``allowed (--allow-collisions): slup 119.9 mm deep (link 6) at t = 2.31 s, line 13``;
+    ``None`` when collisions fail the run (the default) and none happened."""
+    c = report.get("collisions") or {}
+    hits = [
+        f"{p['obstacle']} {shown_number(p['depth_mm'], '.4g')} mm deep (link {p['link']}) at "
+        f"t = {shown_number(p['time_s'], '.2f')} s, line {p['line']}"
+        for p in c.get("penetrations") or []
+    ]
+    if c.get("allowed"):
+        text = "; ".join(hits) if hits else "none"
+        return Text(f"allowed (--allow-collisions): {text}", style="yellow" if hits else "")
+    if hits:
+        return Text(f"fail the run: {'; '.join(hits)}", style="red")
+    return None
 
 
 def approximations_text(report: dict) -> str:
@@ -169,7 +189,8 @@ def approximations_text(report: dict) -> str:
 
 
 def _path_error(report: dict) -> str:
-    """``max … mm, … deg``; with drives ``(actual motion; ideal …)`` and the tolerances."""
+    """``max … mm, … deg``; with drives ``(actual motion; ideal …)`` and the tolerance that
+    judged the path (the verdict's), if one did."""
     text = (
         f"max {shown_number(report['max_path_error_mm'], '.3g')} mm, "
         f"{shown_number(report['max_orientation_error_deg'], '.3g')} deg"
@@ -181,31 +202,39 @@ def _path_error(report: dict) -> str:
         f" (actual motion; ideal {shown_number(ideal.get('max_path_error_mm'), '.3g')} mm, "
         f"{shown_number(ideal.get('max_orientation_error_deg'), '.3g')} deg)"
     )
-    tol = report.get("tolerances") or {}
-    if tol:
-        path, loosest = tol.get("path_mm"), tol.get("path_mm_loosest")
-        span = (
-            shown_number(path, "g")
-            if loosest in (None, path)
-            else f"{shown_number(path, 'g')}–{shown_number(loosest, 'g')}"
-        )
-        text += f", tolerance {span} mm, {shown_number(tol.get('orientation_deg'), 'g')} deg"
-    return text
+    criteria = (report.get("verdict") or {}).get("criteria") or {}
+    path = criteria.get("path_tolerance_mm")
+    if path is None:
+        return text + ", not judged (no path tolerance stated)"
+    return (
+        text + f", tolerance {shown_number(path, 'g')} mm ({criteria.get('path_tolerance_from')})"
+    )
 
 
 def _criteria(verdict: dict) -> str:
-    """The drive verdict's criteria in one line: tolerances, bounds, ratings."""
+    """What judged the drive run, in one line: the following-error bounds and where they
+    come from, the path and orientation tolerances (and theirs), collisions, ratings."""
     c = verdict.get("criteria") or {}
+    bounds: dict[str, set[str]] = {}
+    for b in c.get("following_error_bound") or []:
+        bounds.setdefault(b.get("from") or "", set()).add(
+            f"{shown_number(b['bound'], '.3g')} {b['unit']}"
+        )
     parts = [
-        f"path ≤ {shown_number(c.get('path_tolerance_mm'), 'g')} mm",
-        f"orientation ≤ {shown_number(c.get('orientation_tolerance_deg'), 'g')} deg",
+        f"following error ≤ {' | '.join(sorted(v))}" + (f" ({src})" if src else "")
+        for src, v in sorted(bounds.items())
     ]
-    bounds = {
-        f"{shown_number(b['bound'], '.3g')} {b['unit']}"
-        for b in c.get("following_error_bound") or []
-    }
-    if bounds:
-        parts.append(f"following error ≤ {' | '.join(sorted(bounds))}")
+    for key, what, unit in (("path", "path", "mm"), ("orientation", "orientation", "deg")):
+        value = c.get(f"{key}_tolerance_{unit}")
+        if value is None:
+            parts.append(f"{what} not judged (no tolerance stated)")
+        else:
+            source = c.get(f"{key}_tolerance_from")
+            parts.append(
+                f"{what} ≤ {shown_number(value, 'g')} {unit}" + (f" ({source})" if source else "")
+            )
+    if c.get("collisions") == "allowed":
+        parts.append("collisions allowed")
     for key, what in (("current_peak_A", "peak current"), ("torque_rating", "gear torque")):
         rated = [r for r in c.get(key) or [] if r.get("value") is not None]
         parts.append(f"{what} {'rated' if rated else 'not rated'}")

@@ -12,7 +12,7 @@ decided from the solver's state, not from the last bound the relaxed step touche
 ``speed_limit``    a joint speed bound: a lower path speed resolves it (suggested)
 ``accel_limit``    a joint acceleration bound: a lower speed / acceleration resolves it
 ``freeze``         the frozen joints leave too few free joints for the task or target
-``obstacle``       the arm collides with an avoided obstacle
+``obstacle``       the arm collides with an obstacle of the cell (avoided or not)
 ``limits``         the active limits exclude the current state
 =================  ===========================================================
 """

@@ -149,6 +149,25 @@ def start_configuration(code: Code, model: RobotModel, seed_config) -> np.ndarra
     return np.zeros(model.n)
 
 
+def start_origin(code: Code, model: RobotModel, seed_config) -> str:
+    """Where :func:`start_configuration` takes the start from, in words (messages)."""
+    if seed_config is not None:
+        return "--seed-config"
+    if model.home is not None:
+        return "the robot's home"
+    first = _first_ptp_target(code)
+    if first is not None and len(first) == model.n:
+        return "the target of the program's first MOVE PTP"
+    return "all joints at zero"
+
+
+def first_line(code: Code) -> int:
+    """The source line of the main routine's first instruction that records one (0: none)."""
+    main = next((r for r in code.routines if r.kind == "MAIN"), None)
+    start = main.entry if main is not None else 0
+    return next((ins.line for ins in code.code[start:] if ins.line > 0), 0)
+
+
 def _first_ptp_target(code: Code) -> tuple[float, ...] | None:
     """The constant MAIN_JOINT target of the main routine's first motion, if it is a
     one-point ``MOVE PTP`` without clauses."""
@@ -195,6 +214,8 @@ def run_code(
     override: float | None = None,
     allow_any_path: bool = False,
     stream: bool = False,
+    allow_collisions: bool = False,
+    phase: Callable[[str], None] | None = None,
 ) -> RunResult:
     """Execute compiled ``code`` (see the module doc). ``path_tolerance`` (mm, the start
     value of ``R_PATH_TOL``) and ``orientation_tolerance`` (deg) override ``options``'
@@ -213,7 +234,14 @@ def run_code(
     run): the recorder spills its samples to a temporary file
     (:meth:`~irlc.runtime.outputs.recorder.Recorder.spill`), the report is summed up piece by piece
     and the trace is built piece by piece when written (:meth:`RunResult.trace_tables`);
-    the same bytes as without it.
+    the same bytes as without it. ``allow_collisions``: a penetration of an obstacle does
+    not fail the run (:mod:`irlc.runtime.control.collision`; the report lists them).
+    ``phase``: called with a line of text when a stage of the run that does not report
+    progress by cycle starts (the drive simulation).
+
+    With drives the program's output is handed to ``output`` after the drive stage, up to
+    the failure when the drives fail (:mod:`irlc.runtime.outputs.stop`: a failed drive run
+    stops where it failed — trace, output, statements, report).
 
     The pipeline, one call per stage: the setup (robot, start, options), the interpreter
     with the simulated controller (the set points, :mod:`recorder`), the drives
@@ -224,24 +252,72 @@ def run_code(
 
     setup = _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolerance,
                    orientation_tolerance, instruction_budget, max_time, max_cycles,
-                   override, allow_any_path)  # fmt: skip
+                   override, allow_any_path, allow_collisions)  # fmt: skip
     controller = SimulatedController(setup.model, setup.q0, obstacles=setup.obstacles,
                                      options=setup.options, progress=progress,
                                      naming=setup.naming)  # fmt: skip
     streamed = stream and drives == "ideal"
     if streamed:
         controller.recorder.spill(SPILL_ROWS)
-    execution = _interpret(code, controller, setup.settings, output, setup.budget)
+    held = None if drives == "ideal" else _HeldOutput(controller)  # judged by the drives first
+    start = controller.collisions.start_failure(
+        controller.recorder.last_clearances(), first_line(code),
+        start_origin(code, setup.model, seed_config),
+    )  # fmt: skip
+    execution = _interpret(code, controller, setup.settings, held or output, setup.budget, start)
     samples, verdict = None, None
     if not streamed:
         samples = Samples.of(controller.recorder.arrays())
     if drives != "ideal" and len(samples.recorded.times) > 0:
+        if phase is not None:
+            phase(f"simulating the drives ({drives}) over {samples.recorded.times[-1]:.2f} s")
+        until = None if execution.error is None else execution.error.time_s
         samples, verdict = run_drives(samples, setup.model, drives, trace_every_step,
                                       controller.obstacles, controller.recorder.task_rows,
-                                      setup.naming.program, setup.options)  # fmt: skip
+                                      setup.naming.program, setup.options, until)  # fmt: skip
+        if verdict.failure is not None and (until is None or verdict.failure.time_s < until):
+            execution = _stopped(execution, controller, held, verdict.failure)
+    if held is not None:
+        held.release(output, execution.output)
     run = RunData(code, setup.model, controller, execution, setup.options, samples, drives,
                   verdict, setup.base_dir, streamed)  # fmt: skip
     return assemble(run)
+
+
+class _HeldOutput:
+    """The program's output lines with the simulated time each was written at, held until
+    the drive stage has judged the run (:func:`run_code`)."""
+
+    def __init__(self, controller: SimulatedController):
+        self.controller = controller
+        self.lines: list[tuple[float, str]] = []
+
+    def __call__(self, text: str) -> None:
+        self.lines.append((float(self.controller.time), text))
+
+    def release(self, output: Callable[[str], None] | None, kept: list[str]) -> None:
+        """Hand the ``kept`` lines (the first ones, those before a failure) to ``output``."""
+        if output is not None:
+            for text in kept:
+                output(text)
+
+
+def _stopped(execution, controller: SimulatedController, held: _HeldOutput | None, failure):
+    """The interpreter's result and the controller's tables cut at a drive failure
+    (:mod:`irlc.runtime.outputs.stop`): the run's error is the failure."""
+    from dataclasses import replace
+
+    from irlc.runtime.outputs import stop
+
+    t_f = float(failure.time_s)
+    controller.log.spans = stop.statements_until(controller.statements, t_f)
+    blender = controller.blender
+    blender.blends = [b for b in blender.blends if (b.get("start_s") or 0.0) < t_f]
+    rec = controller.recorder
+    rec.relaxed_spans = [s for s in rec.relaxed_spans if s.t_start <= t_f + stop.SLACK]
+    output = stop.before(held.lines if held is not None else [], t_f)
+    events = stop.before(((e["time_s"], e) for e in execution.events), t_f)
+    return replace(execution, status="failed", output=output, events=events, error=failure)
 
 
 SPILL_ROWS = 8192  # samples a streamed run keeps in memory (≈ 3.5 MB on koch11)
@@ -264,7 +340,7 @@ class RunSetup:
 
 def _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolerance,
            orientation_tolerance, instruction_budget, max_time, max_cycles, override,
-           allow_any_path=False) -> RunSetup:  # fmt: skip
+           allow_any_path=False, allow_collisions=False) -> RunSetup:  # fmt: skip
     """:func:`run_code`'s arguments checked (:class:`RunSetup`); a bad one is a
     :class:`RunSetupError`."""
     if drives not in DRIVE_LEVELS:
@@ -298,9 +374,13 @@ def _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolera
     if path_tolerance is not None:
         tol_mm = _path_tolerance("--path-tolerance", path_tolerance)
         opts.tol_position = tol_mm * units.MM
+        opts.path_tolerance_stated = True  # it judges a drive run's path (verdict.py)
     if orientation_tolerance is not None:
         deg = _positive("--orientation-tolerance", orientation_tolerance, "deg")
         opts.tol_orientation = deg * units.DEG
+        opts.orientation_tolerance_stated = True
+    if allow_collisions:
+        opts.allow_collisions = True
     settings = Settings(path_tol=tol_mm)  # R_PATH_TOL's start value, as given
     if opts.ipo is not None:
         settings.ipo = opts.ipo
@@ -349,12 +429,15 @@ def check_run_option(key: str, value) -> str | None:
     not, naming ``key`` (a study's ``[run]`` values: :mod:`irlc.study.paths`). The checks
     are run_code's: the drive levels, the settings table's ranges for ``ipo`` and
     ``override`` (R_IPO, R_OVERRIDE), :func:`_budget`, :func:`_whole`, :func:`_positive`;
-    ``seed_config`` is a list of finite numbers (deg | mm; its length is the robot's)."""
+    ``seed_config`` is a list of finite numbers (deg | mm; its length is the robot's);
+    ``allow_collisions`` true or false."""
     if key == "drives":
         ok = isinstance(value, str) and value in DRIVE_LEVELS
         return None if ok else f"expected one of {', '.join(DRIVE_LEVELS)}, got {describe(value)}"
     if key in ("ipo", "override"):
         return setting_error(key, value)
+    if key == "allow_collisions":
+        return None if isinstance(value, bool) else f"expected true or false, got {describe(value)}"
     if key == "seed_config":
         if not (isinstance(value, list) and all(is_finite_real(v) for v in value)):
             return f"expected a list of finite numbers (deg | mm), got {describe(value)}"
@@ -392,13 +475,19 @@ def _whole(option: str, value) -> int:
     return value
 
 
-def _interpret(code, controller, settings, output: Callable[[str], None] | None, budget: int):
-    """Run the interpreter; its result carries output, events, warnings and the error."""
-    from irlc.runtime.interpreter import Interpreter
+def _interpret(
+    code, controller, settings, output: Callable[[str], None] | None, budget: int, start=None
+):
+    """Run the interpreter; its result carries output, events, warnings and the error.
+    ``start``: the failure of the start configuration (a collision): the program does not
+    run."""
+    from irlc.runtime.interpreter import ExecutionResult, Interpreter
 
     interp = Interpreter(
         code, controller, settings=settings, output=output, instruction_budget=budget
     )
+    if start is not None:
+        return ExecutionResult("failed", [], [], [], start, interp.state, 0)
     result = interp.run(check=False)
     if result.error is not None and result.error.time_s is None:
         result.error.time_s = controller.time

@@ -152,6 +152,13 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
     type=click.Path(path_type=Path, dir_okay=False),
     help="Write the run as MCAP with ROS 2 messages (Foxglove; extra irlc[mcap]).",
 )
+@click.option(
+    "--allow-collisions",
+    "allow_collisions",
+    is_flag=True,
+    help="A penetration of an obstacle of the cell does not fail the run (the summary and "
+    "the report list them).",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON on stdout.")
 @click.option("--quiet", "-q", is_flag=True, help="No summary, no progress, no program output.")
 @click.option(
@@ -181,6 +188,7 @@ def run_cmd(
     compare_path,
     export_path,
     mcap_path,
+    allow_collisions,
     as_json,
     quiet,
     seed_config,
@@ -218,6 +226,7 @@ def run_cmd(
             max_time=max_time,
             max_cycles=max_cycles,
             allow_any_path=allow_any_path,
+            allow_collisions=allow_collisions,
             stream=True,  # bounded memory: the trace is written piece by piece
         ),
         seed,
@@ -258,28 +267,32 @@ def _run(program, robot, datalist_path, options, seed, every_step, show_progress
     from irlc.runtime.errors import DriveSetupError
     from irlc.runtime.run import RunSetupError, run_file
 
-    progress, stop = _progress(show_progress)
+    progress = Progress(echo) if show_progress else None
     try:
         return run_file(
             program,
             robot=robot,
             datalist_path=datalist_path,
             seed_config=seed,
-            progress=progress,
-            output=echo,
+            progress=progress.update if progress else None,
+            phase=progress.phase if progress else None,
+            output=progress.say if progress else echo,
             trace_every_step=every_step,
             **options,
         )
     except CompileError as exc:
-        stop()
+        if progress:
+            progress.stop()
         for d in exc.diagnostics:
             err.print(_render_diag(d), markup=False)
         return EXIT_COMPILE
     except (RunSetupError, DriveSetupError, RobotFileError) as exc:
-        stop()
+        if progress:
+            progress.stop()
         raise UsageError(str(exc)) from None
     finally:
-        stop()
+        if progress:
+            progress.stop()
 
 
 def _render_diag(d) -> str:
@@ -397,38 +410,58 @@ def _load_compare(path: Path):
         raise UsageError(f"--compare: {exc}") from None
 
 
-def _progress(show: bool):
-    """A transient rich progress line (simulated time, program line) on stderr."""
-    if not show:
-        return None, lambda: None
-    from irlc.cli.console import Console
-    from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+class Progress:
+    """A transient progress line on a terminal — the simulated time and program line, then
+    the run's later stages (the drive simulation) — for runs longer than a moment. The
+    program's output (``say``) is printed above it, never onto the same line; a line
+    printed before the progress line shows goes out at once (``echo``)."""
 
-    bar = Progress(
-        SpinnerColumn(),
-        TextColumn("{task.description}"),
-        TimeElapsedColumn(),
-        console=Console(stderr=True),
-        transient=True,
-    )
-    task = bar.add_task("simulating", total=None)
-    started = False
-    wall0 = time.monotonic()
+    DELAY_S = 0.5  # only runs longer than this show it
 
-    def update(t: float, line: int) -> None:
-        nonlocal started
-        if not started:
-            if time.monotonic() - wall0 < 0.5:  # only for runs longer than a moment
+    def __init__(self, echo, console=None):
+        from irlc.cli.console import Console
+        from rich.progress import Progress as Bar
+        from rich.progress import SpinnerColumn, TextColumn, TimeElapsedColumn
+
+        self.echo = echo
+        self.bar = Bar(
+            SpinnerColumn(),
+            TextColumn("{task.description}"),
+            TimeElapsedColumn(),
+            console=console or Console(highlight=False),  # the output's: lines go above it
+            transient=True,
+        )
+        self.task = self.bar.add_task("simulating", total=None)
+        self.started = False
+        self.wall0 = time.monotonic()
+
+    def _show(self, description: str, now: bool = False) -> None:
+        if not self.started:
+            if not now and time.monotonic() - self.wall0 < self.DELAY_S:
                 return
-            bar.start()
-            started = True
-        bar.update(task, description=f"simulating: line {line}, t = {t:.2f} s")
+            self.bar.start()
+            self.started = True
+        self.bar.update(self.task, description=description)
 
-    def stop() -> None:
-        if started:
-            bar.stop()
+    def update(self, t: float, line: int) -> None:
+        """The kinematic run's progress (the controller's callback)."""
+        self._show(f"simulating: line {line}, t = {t:.2f} s")
 
-    return update, stop
+    def phase(self, text: str) -> None:
+        """A later stage of the run starts (``run_file(phase=…)``): shown at once."""
+        self._show(text, now=True)
+
+    def say(self, text: str) -> None:
+        """One line of the program's output, above the progress line."""
+        if self.started:
+            self.bar.console.print(text, markup=False, highlight=False, soft_wrap=True)
+        else:
+            self.echo(text)
+
+    def stop(self) -> None:
+        if self.started:
+            self.bar.stop()
+            self.started = False
 
 
 __all__ = ["parse_seed_config", "run_cmd"]

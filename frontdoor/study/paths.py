@@ -47,6 +47,7 @@ RUN_KEYS = (
     "max_time",
     "max_cycles",
     "override",
+    "allow_collisions",
 )
 
 

@@ -12,8 +12,9 @@ records one sample:
   (``R_PATH_TOL``) or the orientation tolerance it is a :class:`RunFailure` with its
   cause (:mod:`~irlc.runtime.ik.cause`).
 
-A negative clearance is a collision: a failure for an avoided obstacle, a warning (once
-per obstacle) for the others. A segment's θ⁰(s) starts from the previous cycle's
+A negative clearance is a collision, judged by the controller's
+:class:`~irlc.runtime.control.collision.CollisionRule` (a run failure unless collisions are
+allowed). A segment's θ⁰(s) starts from the previous cycle's
 reference, so switching the criterion does not jerk the joints (:meth:`CycleRunner.start`).
 """
 
@@ -26,6 +27,7 @@ import numpy as np
 from irlc.runtime import units
 from irlc.runtime.commands import ModalOptions
 from irlc.runtime.control import ptp_activity
+from irlc.runtime.control.collision import CollisionRule
 from irlc.runtime.control.segment_run import SegmentRun, Solver
 from irlc.runtime.control.state import ControllerState
 from irlc.runtime.errors import RunFailure
@@ -57,8 +59,10 @@ class CycleRunner:
         progress: Callable[[float, int], None] | None = None,
         progress_every: int = 200,
         manipulability_every: int = 10,
+        collisions: CollisionRule | None = None,
     ):
         self.state, self.recorder, self.pre, self.obstacles = state, recorder, pre, obstacles
+        self.collisions = collisions or CollisionRule()  # the rule on every cycle
         self.tol_orientation = tol_orientation
         self.progress, self.progress_every = progress, progress_every
         self.manip_every = max(1, manipulability_every)
@@ -208,29 +212,9 @@ class CycleRunner:
         return {cp.name: (cp.distance, cp.link) for cp in cps}
 
     def check_collisions(self, clearances, active, line: int, t: float) -> None:
-        """A negative clearance is a collision: a failure for an avoided (active) obstacle,
-        a warning (once per obstacle) for the others."""
-        if not clearances:
-            return
-        st = self.state
-        for name, (distance, link) in clearances.items():
-            if distance >= 0.0:
-                continue
-            depth = f"{-distance / units.MM:.4g} mm deep, link {link}"
-            if name in active:
-                raise RunFailure(
-                    f"the arm collides with obstacle {name} ({depth})",
-                    line,
-                    t,
-                    f"obstacle {name}",
-                    cause="obstacle",
-                )
-            if name not in st.collision_warned:
-                st.collision_warned = st.collision_warned | {name}
-                self.recorder.warnings.append(
-                    f"line {line}: the arm touches obstacle {name} at t = {t:.3f} s ({depth}); "
-                    "it is not avoided (no OBSTACLE statement active)"
-                )
+        """The collision rule on the cycle's clearances (:mod:`collision`: a penetration
+        of any obstacle fails the run unless collisions are allowed)."""
+        self.collisions.check(clearances, active, line, t)
 
     # ------------------------------------------------------------------ failures
     def reach(self, position: np.ndarray, frozen: dict[int, float], solver: Solver) -> Reach:

@@ -48,6 +48,7 @@ from irlc.runtime.control.budget import DEFAULT_MAX_CYCLES as DEFAULT_MAX_CYCLES
 from irlc.runtime.control.budget import DRIVE_STEPS_PER_CYCLE as DRIVE_STEPS_PER_CYCLE
 from irlc.runtime.control.budget import MOTION_MIN_CYCLES as MOTION_MIN_CYCLES
 from irlc.runtime.control.budget import RunBudget
+from irlc.runtime.control.collision import CollisionRule
 from irlc.runtime.control.cycles import CycleRunner, advance, located
 from irlc.runtime.control.reconfiguration import SelfMotion
 from irlc.runtime.control.segment_run import SegmentRun, Solver
@@ -91,6 +92,9 @@ class ExecutionOptions:
     progress_every: int = 200  # cycles between progress callbacks
     manipulability_every: int = 10  # cycles between manipulability samples (an SVD each)
     ik: IKParams | None = None
+    allow_collisions: bool = False  # a penetration of an obstacle does not fail (collision.py)
+    path_tolerance_stated: bool = False  # --path-tolerance was given (judges a drive run)
+    orientation_tolerance_stated: bool = False  # --orientation-tolerance was given
 
 
 class SimulatedController:
@@ -130,6 +134,7 @@ class SimulatedController:
             progress=progress,
             progress_every=opts.progress_every,
             manipulability_every=opts.manipulability_every,
+            collisions=CollisionRule(opts.allow_collisions),
         )
         self.blender = ApproximatePositioning(self.state, self.recorder, self.cycles, self.log)
         self.self_motion = SelfMotion(
@@ -147,6 +152,12 @@ class SimulatedController:
         self._record_initial()
 
     # ------------------------------------------------------------------ protocol
+    @property
+    def collisions(self) -> CollisionRule:
+        """The collision rule the cycles apply (run setup: the start configuration; the
+        REPL: an obstacle the arm may back out of)."""
+        return self.cycles.collisions
+
     @property
     def naming(self) -> JointNaming:
         """How failure messages name joints (the program's names; the REPL may set it

@@ -9,7 +9,7 @@ field is covered without touching the undo (tests/runtime/test_controller_parts.
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from irlc.runtime.control.segment_run import PendingSegment
@@ -22,8 +22,7 @@ class ControllerState:
     ``last_reference``: θ⁰ of the last IK cycle (``None`` after joint motion);
     ``segment_start``: the joints where the current segment started (a failure's cause);
     ``active_obstacles``: the avoided obstacles of the current segment; ``pending``: an
-    approximated segment waiting for the next motion; ``collision_warned``: the obstacles
-    a touch was already reported for."""
+    approximated segment waiting for the next motion."""
 
     q: np.ndarray
     q_prev: np.ndarray
@@ -34,7 +33,6 @@ class ControllerState:
     segment_start: np.ndarray | None = None
     active_obstacles: frozenset[str] = frozenset()
     pending: PendingSegment | None = None
-    collision_warned: frozenset[str] = field(default_factory=frozenset)
 
     @classmethod
     def at(cls, q: np.ndarray) -> ControllerState:

@@ -60,6 +60,12 @@ RATING_KEYS = {
     "torque_max": "gear's rated output torque | force, joint side N·m | N (a warning beyond)",
 }
 DC_RATING_KEYS = {"i_peak": "motor's peak current rating, A (a warning beyond)"}
+# The robot's stated path accuracy (ISO 9283 AT_p), one value for the robot: with drives and
+# no tolerance of the user's, the actual path is judged by it (docs/drives.md, "The verdict")
+ACCURACY_KEYS = {
+    "path_accuracy": "path accuracy, m: the largest deviation of the actual TCP path",
+    "orientation_accuracy": "orientation path accuracy, rad",
+}
 TOP_KEYS = {
     "type",
     "axes",
@@ -70,6 +76,7 @@ TOP_KEYS = {
     "friction",
     "slave",
     *RATING_KEYS,
+    *ACCURACY_KEYS,
 }
 OPTIONAL_DC = {"u_ref_max": 5.0, "pwm_frequency": 8000.0}
 
@@ -143,6 +150,8 @@ class DriveParams:
     assumed: dict[str, str] = field(default_factory=dict)  # key → reason
     following_error_max: np.ndarray | None = None  # joint side rad | m, per driven axis
     torque_max: np.ndarray | None = None  # gear rating, joint side N·m | N, per driven axis
+    path_accuracy: float | None = None  # m (ISO 9283 AT_p), judges a drive run's path
+    orientation_accuracy: float | None = None  # rad, judges its orientation
 
     @property
     def count(self) -> int:
@@ -186,6 +195,19 @@ class DriveReader(Reader):
         for i, v in enumerate(items):
             out[i] = read(v, f"{key}[{i + 1}]" if isinstance(raw, list) else key)
         return out
+
+    def scalar(self, raw: Any, key: str) -> float:
+        """One positive number for the robot (not per axis), or ``{value, assumed,
+        reason}``."""
+        if isinstance(raw, dict):
+            self.table(raw, key, {"value", "assumed", "reason"})
+            if "value" not in raw:
+                raise self.fail(f"{key}.value", "missing")
+            assumed, reason = self.assumption(raw, key)
+            if assumed:
+                self.assumed[key] = reason
+            raw = raw["value"]
+        return self.positive(raw, key)
 
     def group(self, t: dict, key: str, spec: dict, optional: dict, zero_ok=()) -> dict:
         self.table(t, key, set(spec))
@@ -253,7 +275,11 @@ def drive_params(model: RobotModel) -> DriveParams | None:
     rated = {
         key: rd.values(raw[key], f"drives.{key}") if key in raw else None for key in RATING_KEYS
     }
-    return DriveParams(kind, axes, chain, friction, ratio, load, slave, dict(rd.assumed), **rated)
+    stated = {key: rd.scalar(raw[key], f"drives.{key}") if key in raw else None
+              for key in ACCURACY_KEYS}  # fmt: skip
+    return DriveParams(
+        kind, axes, chain, friction, ratio, load, slave, dict(rd.assumed), **rated, **stated
+    )
 
 
 def _axes(raw: dict, model: RobotModel, rd: DriveReader) -> tuple[int, ...]:

@@ -56,6 +56,8 @@ class DriveRun:
     notes: list[str] = field(default_factory=list)
     electrical_energy: np.ndarray | None = None  # (n,) J delivered by the power stages
     copper_energy: np.ndarray | None = None  # (n,) J lost in the windings (∫ R i² dt)
+    # (k, n) s: the saturation time up to each row (a run cut at a failure: its share)
+    saturation_cum: np.ndarray | None = None
 
     @property
     def could_follow(self) -> bool:

@@ -437,6 +437,8 @@ class _Simulation:
             lost = dict(
                 zip(axes.tolist(), bank.lost_steps(self.trans.to_motor(q)).tolist(), strict=True)
             )
+        dt = np.diff(self.t, prepend=self.t[0])
+        run.saturation_cum = np.cumsum(np.where(saturated, dt[:, None], 0.0), axis=0)
         drives = [self.p.type if self.driven[j] else "ideal" for j in range(n)]
         run.axes = summarise(
             run, self.model, self.t, self.q_ref, saturated, tol, drives, lost, self.violations
@@ -462,6 +464,8 @@ def _decimate(run: DriveRun, times: np.ndarray) -> DriveRun:
         "torque",
         "voltage",
         "friction",
+        "saturation_cum",
     ):
-        setattr(run, name, getattr(run, name)[idx])
+        if getattr(run, name) is not None:
+            setattr(run, name, getattr(run, name)[idx])
     return run

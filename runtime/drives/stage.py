@@ -4,7 +4,8 @@
 on the commanded joints of the IPO samples, interpolates the actual joints to the sample
 times once, measures the actual motion there once (TCP, path errors, clearances:
 :mod:`irlc.runtime.outputs.actual_motion`), and judges it
-(:mod:`irlc.runtime.outputs.verdict`). With one
+(:mod:`irlc.runtime.outputs.verdict`); a verdict that fails stops the run where it failed
+(:mod:`irlc.runtime.outputs.stop`). With one
 trace row per drive step (``every_step``) the actual motion is also measured at the drive's
 own times (the trace's rows). It returns the samples with the drive's part filled in and
 the verdict; bad or missing drive data is a :class:`~irlc.runtime.errors.DriveSetupError`
@@ -13,13 +14,13 @@ the verdict; bad or missing drive data is a :class:`~irlc.runtime.errors.DriveSe
 
 from __future__ import annotations
 
-from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
 from irlc.runtime.errors import DriveSetupError
+from irlc.runtime.outputs import stop
 from irlc.runtime.outputs.recorder import RecordedRun
-from irlc.runtime.outputs.samples import Samples, measured
+from irlc.runtime.outputs.samples import Samples, commanded, measured
 
 if TYPE_CHECKING:
     from irlc.robots.model import RobotModel
@@ -37,10 +38,14 @@ def run_drives(
     task_rows: tuple[int, ...],
     names: tuple[str, ...],
     opts: ExecutionOptions,
+    until: float | None = None,
 ) -> tuple[Samples, Verdict]:
-    """``(samples with the actual motion, verdict)`` (module doc)."""
+    """``(samples with the actual motion, verdict)`` (module doc). A verdict that fails
+    before ``until`` (the kinematic run's failure time, if it failed) stops the run
+    there: samples, drive rows and verdict end at the failure
+    (:mod:`~irlc.runtime.outputs.stop`)."""
     from irlc.runtime.outputs.actual_motion import measure
-    from irlc.runtime.outputs.verdict import judge
+    from irlc.runtime.outputs.verdict import following_bound, judge
 
     rec = samples.recorded
     params = drive_data(model)
@@ -48,10 +53,21 @@ def run_drives(
     at_samples = measure(model, rec, rec.times, at_times(drive, rec.times), task_rows, obstacles)
     actual = measured(rec, at_samples)
     verdict = judge(model, names, rec, drive, actual, opts, params)
+    first = verdict.failure
+    if first is not None and (until is None or first.time_s < until):
+        t_f = float(first.time_s)
+        drive = stop.drive_until(drive, t_f, following_bound(model, params, rec.q[0]).bound)
+        rec, at_samples = stop.recorded_until(rec, t_f), stop.actual_until(at_samples, t_f)
+        actual = measured(rec, at_samples)
+        cut = judge(model, names, rec, drive, actual, opts, params)
+        if cut.failure is not None:  # (judged on the same samples up to t_f: the same one)
+            verdict = cut
+        else:
+            verdict.violations = [v for v in verdict.violations if v["time_s"] <= t_f]
     steps = None
     if every_step:
         steps = measured(rec, measure(model, rec, drive.t, drive.q_actual, task_rows, obstacles))
-    return replace(samples, actual=actual, steps=steps, drive=drive), verdict
+    return Samples(rec, commanded(rec), actual, steps, drive), verdict
 
 
 def drive_data(model):
@@ -85,7 +101,7 @@ def simulate(model, rec: RecordedRun, level: str, every_step: bool, params=None)
             rec.q,
             level=level,
             params=params,
-            tolerance=following_bound(model, params),
+            tolerance=following_bound(model, params, rec.q[0]).bound,
             record="step" if every_step else "ipo",
         )
     except ValueError as exc:

@@ -23,7 +23,8 @@ controlled task components (a planar arm's task is ``x, y``).
 PTP motion and standing still command no TCP path: their path error is 0, as in ideal
 runs; there the drives are judged by their following error.
 
-**Clearances** are those of the actual link frames ``F(θ̂)`` (``runtime.distance``).
+**Clearances** are those of the actual link frames ``F(θ̂)`` (``runtime.distance``), with
+the nearest link per obstacle.
 """
 
 from __future__ import annotations
@@ -48,6 +49,7 @@ class ActualMotion:
     ori_error: np.ndarray  # (m,) rad
     on_path: np.ndarray  # (m,) bool
     clearance: dict[str, np.ndarray]  # name → (m,) m
+    clearance_link: dict[str, np.ndarray] | None = None  # name → (m,) the nearest link
 
 
 def measure(
@@ -66,6 +68,7 @@ def measure(
     program_tool: dict[int, np.ndarray] = {}  # K(θ_k)⁻¹·T_k per IPO sample, once each
     shapes = tuple(obstacles.values())
     clearance = {name: np.empty(m) for name in obstacles}
+    links = {name: np.zeros(m, dtype=int) for name in obstacles}
     for i in range(m):
         k = int(idx[i])
         if k not in program_tool:
@@ -75,6 +78,7 @@ def measure(
         if shapes:
             for cp in critical_points(kin, frames, shapes):
                 clearance[cp.name][i] = cp.distance
+                links[cp.name][i] = cp.link
     on_path = rec.on_path[idx].copy()
     rows = np.array(tuple(task_rows), dtype=int)
     pos_rows, ori_rows = rows[rows < 3], rows[rows >= 3]
@@ -83,7 +87,7 @@ def measure(
     path = _CommandedPath(rec)
     for i in np.flatnonzero(on_path):
         pos[i], ori[i] = path.contour_error(times[i], tcp[i], pos_rows, ori_rows)
-    return ActualMotion(times, idx, q, tcp, pos, ori, on_path, clearance)
+    return ActualMotion(times, idx, q, tcp, pos, ori, on_path, clearance, links)
 
 
 WINDOW_BACK_S = 2.0  # how far back along the path the nearest point is searched

@@ -80,6 +80,7 @@ class Recorder:
         self._spill: _SpillFile | None = None
         self._alloc(max(1, capacity))
         self._last_clearance = [float("inf")] * len(self.obstacle_names)
+        self._last_link = [0] * len(self.obstacle_names)  # the robot link nearest each obstacle
         self.tol_position = 5e-5  # m, the path tolerance in effect (R_PATH_TOL), per sample
 
     def _alloc(self, cap: int) -> None:
@@ -99,6 +100,7 @@ class Recorder:
             "dt": np.zeros(cap),
             "active": np.zeros((cap, n), dtype=np.int8),  # codes of ik.limits.active_codes
             "clearance": np.empty((cap, m)),
+            "clearance_link": np.zeros((cap, m), dtype=np.int16),  # link of the clearance
             "desired": np.empty((cap, 4, 4)),  # x_d(t_k) where on_path
             "on_path": np.zeros(cap, dtype=bool),  # a Cartesian path is commanded
             "tol": np.empty(cap),  # m
@@ -222,6 +224,7 @@ class Recorder:
             self._desired[0] = tcp
         if self.obstacle_names:
             self._last_clearance = [float("inf")] * len(self.obstacle_names)
+            self._last_link = [0] * len(self.obstacle_names)
             self._add_clearances(0, clearances)
 
     @property
@@ -237,13 +240,22 @@ class Recorder:
         return out
 
     def _add_clearances(self, k: int, clearances: dict[str, tuple[float, int]] | None) -> None:
-        last = self._last_clearance
+        last, link = self._last_clearance, self._last_link
         if clearances:
             for i, name in enumerate(self.obstacle_names):
                 if name in clearances:
                     last[i] = float(clearances[name][0])
+                    link[i] = int(clearances[name][1])
         # not measured this cycle (robot standing): the last value is repeated
         self._clearance[k] = last
+        self._clearance_link[k] = link
+
+    def last_clearances(self) -> dict[str, tuple[float, int]]:
+        """Obstacle → (clearance m, link) of the last sample (infinite before any)."""
+        return {
+            name: (self._last_clearance[i], self._last_link[i])
+            for i, name in enumerate(self.obstacle_names)
+        }
 
     def path_error(self, tcp: np.ndarray, desired: np.ndarray) -> tuple[float, float]:
         """Norms of the position and orientation parts of ``tcp ⊖ desired`` on the
@@ -273,16 +285,16 @@ class Recorder:
         spans = [dataclasses.replace(s) for s in self.relaxed_spans]
         self._pins.append(self._k)  # its samples stay in memory until release(mark)
         return (self._k, spans, len(self.warnings), len(self.events), self.ik_cycles,
-                list(self._last_clearance))  # fmt: skip
+                list(self._last_clearance), list(self._last_link))  # fmt: skip
 
     def rewind(self, mark: tuple) -> None:
         """Drop every sample, span, warning and event recorded after :meth:`mark`."""
         if mark[0] < self._base:
             raise RuntimeError("rewind to samples that were spilled (a mark not held)")
-        self._k, spans, n_warn, n_events, self.ik_cycles, clearance = mark
+        self._k, spans, n_warn, n_events, self.ik_cycles, clearance, link = mark
         self.relaxed_spans = [dataclasses.replace(s) for s in spans]
         del self.warnings[n_warn:], self.events[n_events:]
-        self._last_clearance = list(clearance)
+        self._last_clearance, self._last_link = list(clearance), list(link)
 
     def release(self, mark: tuple) -> None:
         """The caller of :meth:`mark` will not :meth:`rewind` to it any more: its samples
@@ -332,7 +344,7 @@ class Recorder:
         times, q = piece["times"], piece["q"]
         args = (times, q) if carry is None else (times, q, carry)
         speed, accel = finite_differences(*args)
-        clearance = piece["clearance"]
+        clearance, link = piece["clearance"], piece["clearance_link"]
         return RecordedRun(
             times=times,
             lines=piece["lines"],
@@ -350,11 +362,15 @@ class Recorder:
             desired=piece["desired"],
             on_path=piece["on_path"],
             tol_position=piece["tol"],
+            clearance_link={
+                name: link[:, i].astype(int) for i, name in enumerate(self.obstacle_names)
+            },
         )
 
 
 _FIELDS = ("times", "lines", "q", "tcp", "pos_error", "ori_error", "iterations", "relaxed",
-           "manipulability", "dt", "active", "clearance", "desired", "on_path", "tol")  # fmt: skip
+           "manipulability", "dt", "active", "clearance", "clearance_link", "desired", "on_path",
+           "tol")  # fmt: skip
 
 
 class _SpillFile:
@@ -414,6 +430,7 @@ class RecordedRun:
     desired: np.ndarray | None = None  # (k, 4, 4) x_d(t_k); the sample's TCP off the path
     on_path: np.ndarray | None = None  # (k,) bool: a Cartesian path is commanded
     tol_position: np.ndarray | None = None  # (k,) m, the path tolerance in effect
+    clearance_link: dict[str, np.ndarray] | None = None  # the link nearest each obstacle
 
 
 def encode_label(label: str) -> int:

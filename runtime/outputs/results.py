@@ -245,6 +245,13 @@ def build_report(run: RunData) -> dict:
     for samples in run.pieces():
         tally.add(samples)
     k = tally.k
+    penetrations = tally.shown.penetrations()
+    warnings = run.warnings + [
+        "collisions allowed (--allow-collisions): the arm penetrates obstacle "
+        f"{p['obstacle']} {p['depth_mm']:.4g} mm deep (link {p['link']}) at t = "
+        f"{p['time_s']:.3f} s, line {p['line']}"
+        for p in (penetrations if opts.allow_collisions else ())
+    ]
     strictest, loosest = tally.path_tolerances(opts.tol_position)  # R_PATH_TOL may change
     activity = controller.recorder.active_time  # (joint, label) → s, built once here
     active_time = _active_time(activity, model.n)
@@ -292,7 +299,8 @@ def build_report(run: RunData) -> dict:
             "min_manipulability": rnd(tally.manipulability) if tally.manip_seen else None,
         },
         "output": list(execution.output),
-        "warnings": run.warnings,
+        "warnings": warnings,
+        "collisions": {"allowed": opts.allow_collisions, "penetrations": penetrations},
         "events": [_clean(e) for e in sorted(execution.events, key=lambda e: e["time_s"])],
         "approximations": list(getattr(controller, "blends", ())),
         "tolerances": {
@@ -333,33 +341,52 @@ def build_report(run: RunData) -> dict:
 
 class _Extrema:
     """The largest path errors (m, rad) and, per obstacle, the smallest clearance (m) and
-    the time of the first sample at the smallest one, over pieces of a motion."""
+    the time, line and robot link of the first sample at the smallest one, over pieces of
+    a motion."""
 
     def __init__(self, obstacles):
         self.pos = self.ori = -math.inf
-        # name → [finite min, argmin value, its time]
-        self.clearance: dict[str, list] = {name: [None, None, None] for name in obstacles}
+        # name → [finite min, argmin value, its time, its line, its link]
+        self.clearance: dict[str, list] = {name: [None] * 5 for name in obstacles}
 
-    def add(self, times: np.ndarray, pos: np.ndarray, ori: np.ndarray, clearance: dict) -> None:
-        self.pos, self.ori = max(self.pos, float(pos.max())), max(self.ori, float(ori.max()))
-        for name, d in clearance.items():
+    def add(self, motion) -> None:
+        """One piece of a :class:`~irlc.runtime.outputs.samples.Motion`."""
+        times, links = motion.times, motion.clearance_link or {}
+        self.pos = max(self.pos, float(motion.pos_error.max()))
+        self.ori = max(self.ori, float(motion.ori_error.max()))
+        for name, d in motion.clearance.items():
             best = self.clearance[name]
             finite = d[np.isfinite(d)]
             if finite.size and (best[0] is None or finite.min() < best[0]):
                 best[0] = finite.min()
             i = int(np.argmin(d))
             if best[1] is None or d[i] < best[1]:  # the first sample at the minimum
-                best[1], best[2] = d[i], times[i]
+                link = int(links[name][i]) if name in links else 0
+                best[1:] = [d[i], times[i], int(motion.lines[i]), link]
 
     def obstacles(self) -> dict:
         """The report's ``obstacles`` section."""
         out = {}
         for name in sorted(self.clearance):
-            low, _, at = self.clearance[name]
+            low, _, at, line, link = self.clearance[name]
             out[name] = {
                 "min_distance_mm": rnd(float(low) / units.MM) if low is not None else None,
                 "at_time_s": rnd(float(at)) if low is not None else None,
+                "line": line if low is not None else None,
+                "link": link if low is not None else None,
             }
+        return out
+
+    def penetrations(self) -> list[dict]:
+        """Per obstacle with a negative clearance its deepest penetration (collision.py)."""
+        from irlc.runtime.control.collision import Collision
+
+        out = []
+        for name in sorted(self.clearance):
+            low, _, at, line, link = self.clearance[name]
+            if low is not None and low < 0.0:
+                hit = Collision(name, link, -float(low), float(at), line)
+                out.append(_clean(hit.as_dict()))
         return out
 
 
@@ -407,9 +434,9 @@ class _Tally:
             self.top_accel = np.maximum(self.top_accel, accel.max(axis=0))
             self.top_jerk = np.maximum(self.top_jerk, jerk.max(axis=0))
         self.q_last, self.end_time, self.k = q[-1], float(rec.times[-1]), self.k + len(rec.times)
-        self.shown.add(rec.times, shown.pos_error, shown.ori_error, shown.clearance)
+        self.shown.add(shown)
         if self.ideal is not None:
-            self.ideal.add(rec.times, rec.pos_error, rec.ori_error, rec.clearance)
+            self.ideal.add(samples.commanded)
         self._add_ik(rec)
         tol = None if rec.tol_position is None else rec.tol_position[rec.on_path]
         if tol is not None and tol.size:  # (on a Cartesian path: a PTP has no path to keep)

@@ -44,13 +44,14 @@ class Motion:
     ori_error: np.ndarray  # (m,) rad
     on_path: np.ndarray  # (m,) bool: a Cartesian path is commanded
     clearance: dict[str, np.ndarray]  # obstacle → (m,) m
+    clearance_link: dict[str, np.ndarray] | None = None  # obstacle → (m,) the nearest link
 
 
 def commanded(rec: RecordedRun) -> Motion:
     """The recorded set points as a :class:`Motion` (derivatives: the recorder's)."""
     on_path = rec.on_path if rec.on_path is not None else np.zeros(len(rec.times), dtype=bool)
     return Motion(rec.times, rec.lines, rec.q, rec.speed, rec.accel, rec.tcp, rec.pos_error,
-                  rec.ori_error, on_path, rec.clearance)  # fmt: skip
+                  rec.ori_error, on_path, rec.clearance, rec.clearance_link)  # fmt: skip
 
 
 def measured(rec: RecordedRun, actual: ActualMotion) -> Motion:
@@ -60,8 +61,10 @@ def measured(rec: RecordedRun, actual: ActualMotion) -> Motion:
     clearance = {
         name: actual.clearance.get(name, v[actual.sample]) for name, v in rec.clearance.items()
     }
+    links = actual.clearance_link or {}
     return Motion(actual.times, rec.lines[actual.sample], actual.q, speed, accel, actual.tcp,
-                  actual.pos_error, actual.ori_error, actual.on_path, clearance)  # fmt: skip
+                  actual.pos_error, actual.ori_error, actual.on_path, clearance,
+                  links)  # fmt: skip
 
 
 @dataclass(frozen=True)

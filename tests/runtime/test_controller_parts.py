@@ -107,7 +107,6 @@ def test_state_snapshot_is_a_copy_and_restore_covers_every_field():
         "segment_start": np.full(3, 4.0),
         "active_obstacles": frozenset({"box"}),
         "pending": object(),
-        "collision_warned": frozenset({"wall"}),
     }
     assert set(values) == {f.name for f in dataclasses.fields(ControllerState)}
     for name, value in values.items():

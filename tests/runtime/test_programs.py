@@ -152,8 +152,9 @@ def test_planar4_obstacle_clearance_with_and_without_avoidance(ipo, tmp_path):
     plain.write_text(src.replace("  OBSTACLE box;\n", "").replace("  OBSTACLEEND box;\n", ""))
     (tmp_path / "planar4_cell.toml").write_text((PROGRAMS / "planar4_cell.toml").read_text())
     avoid = run_file(PROGRAMS / "planar4_obstacle.irl", robot=robot, ipo=ipo)
-    free = run_file(plain, robot=robot, ipo=ipo)
+    free = run_file(plain, robot=robot, ipo=ipo, allow_collisions=True)
     assert avoid.status == free.status == "ok"
+    assert run_file(plain, robot=robot, ipo=ipo).status == "failed"  # a collision (issue 24)
     c_avoid = _clearance_from_joints(avoid, "box")
     c_free = _clearance_from_joints(free, "box")
     assert c_avoid.min() > 0.0
@@ -167,12 +168,16 @@ def test_planar4_obstacle_clearance_with_and_without_avoidance(ipo, tmp_path):
 @pytest.mark.parametrize("ipo", [0.01, 0.004])
 def test_koch11_obstacle_line_clearance(ipo):
     avoid = run_file(PROGRAMS / "obstacle_line_avoid.irl", ipo=ipo)
-    free = run_file(PROGRAMS / "obstacle_line.irl", ipo=ipo)
+    free = run_file(PROGRAMS / "obstacle_line.irl", ipo=ipo, allow_collisions=True)
     assert avoid.status == free.status == "ok"
     c_avoid = _clearance_from_joints(avoid, "slup")
     c_free = _clearance_from_joints(free, "slup")
     assert c_avoid.min() > 0.0 and c_avoid.min() > c_free.min()
-    assert any("touches obstacle slup" in w for w in free.report["warnings"])
+    assert any("collisions allowed" in w and "slup" in w for w in free.report["warnings"])
+    # without --allow-collisions the run fails where arm 6 first enters the post
+    stopped = run_file(PROGRAMS / "obstacle_line.irl", ipo=ipo)
+    assert stopped.status == "failed" and stopped.error.line == 13
+    assert stopped.error.cause == "obstacle" and stopped.recorded.clearance["slup"][-1] < 0
 
 
 @pytest.mark.scenario

@@ -8,6 +8,7 @@ the 0.05 m link capsules), and a 2-row task (x, y) cannot be followed with 1 fre
 
 from __future__ import annotations
 
+import pytest
 from irlc.runtime.run import run_code
 
 from .conftest import Ird
@@ -25,12 +26,21 @@ def _program(obstacle_x_mm: float, wait_first: bool) -> Ird:
 
 
 def test_obstacle_the_arm_is_inside_fails_at_the_obstacle_statement(planar3):
+    """With collisions allowed (else the start inside the ball fails first, below), an
+    OBSTACLE switched on inside its obstacle still fails at its own statement."""
     for wait_first in (False, True):
-        run = run_code(_program(500.0, wait_first).code_object(), robot=planar3)
+        code = _program(500.0, wait_first).code_object()
+        run = run_code(code, robot=planar3, allow_collisions=True)
         assert run.status == "failed"
         assert run.error.line == 4, run.error
         assert "already inside" in run.error.message and "ball" in run.error.message
         assert run.times[-1] == 0.0  # nothing ran after the OBSTACLE statement
+        # by default the start configuration inside the ball is a collision (issue 24),
+        # at the first statement, t = 0: 150 mm deep (ball 100 mm + link capsule 50 mm)
+        run = run_code(code, robot=planar3)
+        assert run.error.line == 4 and run.error.time_s == 0.0
+        assert "starts inside obstacle ball" in run.error.message
+        assert run.error.details == {"obstacle": "ball", "link": 1, "depth_mm": pytest.approx(150)}
 
 
 def test_obstacle_clear_of_the_arm_switches_on_normally(planar3):
