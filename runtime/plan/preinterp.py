@@ -76,6 +76,7 @@ from irlc.runtime.plan.profiles import (
     cycles,
 )
 from irlc.runtime.plan.segment_timing import (
+    Bounds,
     motor_bounds,
     override_factor,
     segment_bounds,
@@ -345,8 +346,6 @@ class PreInterpolator:
                 b, self.motors, self.motors.ptp_rates(q0, q1), pct_v, pct_a, self.model.n
             )
         slowest = b.slowest
-        duration = with_time(cmd, settings, npts)
-        profile = segment_profile(b, duration, dt, cmd.line, self.max_duration)
         limiting = ""
         if slowest >= 0:
             jerk = "/jerk" if b.jerk is not None else ""
@@ -356,6 +355,8 @@ class PreInterpolator:
             if slowest >= n:
                 limiting = f"motor of {axis} speed/acceleration"
                 slowest -= n
+        duration = with_time(cmd, settings, npts)
+        profile = segment_profile(b, duration, dt, cmd.line, self.max_duration, limiting)
         seg = Segment(
             "ptp",
             cmd.line,
@@ -434,19 +435,14 @@ class PreInterpolator:
                     k = override_factor(settings)
                     b = motor_bounds(b, self.motors, rates, k, k * k, axes=2)
             bounds.append(b)
-        times = split_time(cmd, settings, [b.t_min for b in bounds])
+        whats = [self._path_limiting(b, jerks is not None) for b in bounds]
+        times = split_time(cmd, settings, [b.t_min for b in bounds], whats)
         refs = self._references(cmd, state.q, paths)
         out = []
-        for path, b, t, ref in zip(paths, bounds, times, refs, strict=True):
+        for path, b, t, ref, what in zip(paths, bounds, times, refs, whats, strict=True):
             if b.slowest < 0:  # zero-length segment: nothing to interpolate
                 continue
-            profile = segment_profile(b, t, state.dt, cmd.line, self.max_duration)
-            if b.slowest >= 2:  # a motor (_motor_bounds)
-                what = f"motor of {self.naming.label(b.slowest - 2)} speed/acceleration"
-            elif jerks is not None:
-                what = ("path speed/acceleration/jerk", "orientation speed")[b.slowest]
-            else:
-                what = ("path speed/acceleration", "orientation speed")[b.slowest]
+            profile = segment_profile(b, t, state.dt, cmd.line, self.max_duration, what)
             out.append(
                 Segment(
                     kind,
@@ -457,9 +453,21 @@ class PreInterpolator:
                     lims,
                     ref,
                     what,
+                    info={"with_time_s": None if cmd.time is None else float(cmd.time)},
                 )
             )
         return out
+
+    def _path_limiting(self, b: Bounds, jerk: bool) -> str:
+        """What sets a path segment's time: the path speed, the orientation speed or a
+        motor (``""`` for a zero-length segment)."""
+        if b.slowest < 0:
+            return ""
+        if b.slowest >= 2:  # a motor (_motor_bounds)
+            return f"motor of {self.naming.label(b.slowest - 2)} speed/acceleration"
+        if jerk:
+            return ("path speed/acceleration/jerk", "orientation speed")[b.slowest]
+        return ("path speed/acceleration", "orientation speed")[b.slowest]
 
     def _references(self, cmd, q_start, paths) -> list[ReferencePath | None]:
         """Per-segment θ⁰(s) for WITH RECONFIGURATION (``None`` without it)."""
