@@ -62,14 +62,22 @@ class ApproximatePositioning:
             return
         self._run_cycles(pending.run, pending.run.seg.cycles)
         self.blends.append(pending.entry(None, self.dt_used, reason or "exact stop"))
-        self._extend_span(pending.run.seg.line)
+        self._end_span_at(pending, self._t, "exact")
 
-    def _extend_span(self, line: int) -> None:
-        """The cycle-time span of the statement whose point was pending ends where the
-        exact stop ends (the spans keep tiling the run: cycle_time.py)."""
-        if self.statements and self.statements[-1].line == line:
-            last = self.statements[-1]
-            self.statements[-1] = dataclasses.replace(last, end=self._t, stop="exact")
+    def _end_span_at(self, pending: PendingSegment, t: float, stop: str | None = None) -> None:
+        """The cycle-time span of the statement whose point was pending ends at ``t``: where
+        the exact stop ends, or where the next motion starts (after the cycles of its tail
+        that run alone: a blend shorter than its tail leaves some), so the next statement's
+        span is its own time (a ``WITH TIME := 3`` shows 3 s). Statements logged after it
+        that took no time (a zero-length move) move to ``t``: the spans keep tiling the
+        run (cycle_time.py)."""
+        index = pending.span
+        if index >= len(self.statements):  # its statement is still running (its points)
+            return
+        own = self.statements[index]
+        self.statements[index] = dataclasses.replace(own, end=t, stop=stop or own.stop)
+        for k in range(index + 1, len(self.statements)):
+            self.statements[k] = dataclasses.replace(self.statements[k], start=t, end=t)
 
     def _approx(self, cmd: MotionCommand, settings: Settings) -> float:
         """The statement's blend distance (m): WITH APPROX, else R_APPROX."""
@@ -99,9 +107,11 @@ class ApproximatePositioning:
         if pending is not None:
             overlap = self._blend(pending, run, length, reserve)
             self.blends.append(pending.entry(overlap, self.dt_used, pending.limit_reason))
+            self._end_span_at(pending, pending.handover)  # A's span ends where B starts
         if approx > 0.0:
             self._run_cycles(run, max(run.done, seg.cycles - reserve))
-            self._pending = PendingSegment(run, approx, length, context, point)
+            span = len(self.statements)  # where its statement's span will be logged
+            self._pending = PendingSegment(run, approx, length, context, point, span)
         else:
             self._run_cycles(run, seg.cycles)
 
@@ -143,6 +153,7 @@ class ApproximatePositioning:
         state = self._mark(pending.run, run)
         try:
             self._run_cycles(pending.run, pending.run.seg.cycles - overlap.cycles)
+            pending.handover = self._t  # B's first cycle follows
             self._blend_cycles(pending, run, overlap.cycles)
         except RunFailure as exc:
             if overlap.cycles == 0:
@@ -449,11 +460,13 @@ class PendingSegment:
     length: float  # m, TCP path length (chord for PTP)
     context: tuple  # what must not change for a blend (kind family, options, tool, base, Δt)
     point: int  # 1-based point of its statement
+    span: int  # the index of its statement's span in ``statements`` (cycle_time.py)
     limit: float = 0.0  # m, d = min(APPROX, L_A/2, L_B/2)
     limit_reason: str = ""
     min_speed: float = 0.0  # m/s, lowest TCP speed during the blend
     chain: dict = field(default_factory=dict)  # cycle → joints (Cartesian A before a PTP)
     start_time: float = 0.0  # s, the blend's first sample's predecessor
+    handover: float = 0.0  # s, where the next motion starts (cycle_time.py spans)
 
     def entry(self, overlap: Overlap | None, dt: float, reason: str) -> dict:
         """The point's report entry (mm, s): ``overlap`` None is an exact stop."""

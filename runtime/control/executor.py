@@ -219,7 +219,8 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
             if segments:  # the next motion is planned from this point (plan_start.py)
                 end = self._programmed_point(cmd, segments[-1], state)
                 self._programmed_end = None if end is None else (solver.kin.tool.tobytes(), end)
-            stop = "approximated" if self._pending is not None else "exact"
+            own = self._pending is not None and self._pending.span == len(self.statements)
+            stop = "approximated" if own else "exact"  # (a zero-length move blends nothing)
         finally:
             self._log_motion(cmd, segments, t0, stop, settings.override)
 
@@ -238,7 +239,9 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
         """The motion's span of the cycle-time table, with what set its time."""
         limit = motion_limit([s.limiting for s in segments], cmd.time is not None)
         kind = KIND_WORDS.get(cmd.kind, cmd.kind)
-        self._log_statement(kind, cmd.line, t0, stop, limit, override)
+        if self.statements:  # after a blend the span starts where the one before ends
+            t0 = max(t0, self.statements[-1].end)
+        self._log_statement(kind, cmd.line, t0, stop, limit, override, cmd.call)
 
     def wait(self, seconds: float, line: int, settings: Settings, options: ModalOptions) -> None:
         if not (seconds >= 0.0 and math.isfinite(seconds)):
@@ -269,9 +272,11 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
             self._tick()
         self._log_statement("WAIT", line, t0, None, "")
 
-    def _log_statement(self, kind, line: int, t0: float, stop, limit: str, override=None) -> None:
+    def _log_statement(
+        self, kind, line: int, t0: float, stop, limit: str, override=None, call=None
+    ) -> None:
         """One span of the cycle-time table (``statements`` of the report)."""
-        span = StatementSpan(line, kind, t0, self._t, stop, limit, override)
+        span = StatementSpan(line, kind, t0, self._t, stop, limit, override, call)
         self.statements.append(span)
 
     def check_switch_on(

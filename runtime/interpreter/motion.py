@@ -68,9 +68,17 @@ class MotionOps:
             fields[name] = self._move_clause(word, operands, kind, npts)
         targets = tuple(self._move_target(kind, t) for t in self._pop_n(npts))
         _check_point_count(kind, npts)
-        cmd = MotionCommand(kind, targets, self._line(), **fields)
+        cmd = MotionCommand(kind, targets, self._line(), call=self._call_site(), **fields)
         self._ctl(self.controller.move, cmd, *self._snapshot())
         self._progress()
+
+    def _call_site(self) -> tuple[str, int] | None:
+        """``(routine, line of its call)`` when the current instruction is in a routine
+        (the cycle-time table shows a routine's motion with its call site)."""
+        frame = self.frames[-1] if self.frames else None
+        if frame is None or frame.routine.kind == "MAIN":
+            return None
+        return frame.routine.name, self._nearest_line(frame.return_pc - 1)
 
     def _move_target(self, kind: str, t: object) -> object:
         if kind in PATH_KINDS:  # a Cartesian path goes to POSE targets
