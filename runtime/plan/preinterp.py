@@ -72,6 +72,7 @@ from irlc.runtime.plan.interpolator import (
     Segment,
 )
 from irlc.runtime.plan.profiles import (
+    ProfileError,
     Trapezoid,
     cycles,
 )
@@ -250,12 +251,15 @@ class PreInterpolator:
         check_coordinates(values.pose_to_matrix(settings.tool), "R_TOOL", cmd.line)
         check_coordinates(state.base, "R_BASE", cmd.line)
         kind = cmd.kind
-        if kind in ("PTP", "PTPINC"):
-            return self._plan_ptp(cmd, settings, options, state, lims)
-        if kind in ("LIN", "LINPATH", "LININC"):
-            return self._plan_lin(cmd, settings, state, lims)
-        if kind == "CIRCLE":
-            return self._plan_circle(cmd, settings, state, lims)
+        try:
+            if kind in ("PTP", "PTPINC"):
+                return self._plan_ptp(cmd, settings, options, state, lims)
+            if kind in ("LIN", "LINPATH", "LININC"):
+                return self._plan_lin(cmd, settings, state, lims)
+            if kind == "CIRCLE":
+                return self._plan_circle(cmd, settings, state, lims)
+        except ProfileError as exc:  # bounds no profile can be planned with: at the line
+            raise RunFailure(f"the motion cannot be planned: {exc}", cmd.line) from None
         raise RunFailure(f"unknown motion kind {kind!r}", cmd.line)
 
     def hold(
@@ -312,9 +316,19 @@ class PreInterpolator:
         file's ``jerk`` where it gives one, else ``θ̈max_i · R_JERK / R_ACC`` — the joint
         builds up its (active) acceleration bound ``accel`` in the time ``R_ACC / R_JERK``
         the path takes for its own."""
-        ramp = _setting(cmd, settings, "acc") / _setting(cmd, settings, "jerk")
+        r_acc, r_jerk = _setting(cmd, settings, "acc"), _setting(cmd, settings, "jerk")
         known = self.model.jerk_limits * override_factor(settings)  # × R_ACC_PTP: k³ in all
-        return np.where(np.isnan(known), accel / ramp, known)
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+            jerks = np.where(np.isnan(known), accel * r_jerk / r_acc, known)
+        for j in np.flatnonzero(~(np.isfinite(jerks) & (jerks > 0.0))):
+            raise RunFailure(  # a subnormal R_JERK, or an R_ACC so small the jerk overflows
+                f"the motion cannot be planned: joint {self.naming.label(int(j))}'s jerk "
+                f"bound θ̈max·R_JERK/R_ACC is {float(jerks[j]):.3g} in SI units (R_JERK "
+                f"{r_jerk:.3g} mm/s³, R_ACC {r_acc:.3g} mm/s²): an S-curve needs a positive, "
+                "finite jerk",
+                cmd.line,
+            )
+        return jerks
 
     def joint_profile(
         self, cmd: MotionCommand, settings: Settings, q0, q1, lims: Limits3, dt: float,
@@ -413,17 +427,23 @@ class PreInterpolator:
         speed = _setting(cmd, settings, "speed") * units.MM
         acc = _setting(cmd, settings, "acc") * units.MM
         w = _setting(cmd, settings, "speed_ori") * units.DEG
+        w_acc = w * acc / speed if speed > 0.0 else 0.0
+        jerks = None
+        if scurve_on(cmd, settings):
+            jerk = _setting(cmd, settings, "jerk") * units.MM
+            jerks = [jerk, w * jerk / speed if speed > 0.0 else 0.0]
         if not (speed > 0.0 and acc > 0.0 and w > 0.0):  # a denormal setting underflowed in SI
             raise RunFailure(
                 "the path speed, acceleration or orientation speed is too small to move "
                 "(it underflows to zero in SI units)",
                 cmd.line,
             )
-        w_acc = w * acc / speed
-        jerks = None
-        if scurve_on(cmd, settings):
-            jerk = _setting(cmd, settings, "jerk") * units.MM
-            jerks = [jerk, w * jerk / speed]
+        if jerks is not None and not all(0.0 < b < math.inf for b in jerks):
+            raise RunFailure(
+                "the path jerk (R_JERK, and R_SPEED_ORI·R_JERK/R_SPEED for the orientation) is "
+                "too small to plan an S-curve with (it underflows to zero in SI units)",
+                cmd.line,
+            )
         bounds = []
         q = state.q
         for path in paths:
