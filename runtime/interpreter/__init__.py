@@ -14,7 +14,6 @@ controller. One file per concept:
 
 from irlc.runtime.interpreter.machine import (
     DEFAULT_INSTRUCTION_BUDGET,
-    WAIT_CYCLE_COST,
     Interpreter,
 )
 from irlc.runtime.interpreter.state import UNSET, ExecutionResult, MachineState, Ref
@@ -22,7 +21,6 @@ from irlc.runtime.interpreter.state import UNSET, ExecutionResult, MachineState,
 __all__ = [
     "DEFAULT_INSTRUCTION_BUDGET",
     "UNSET",
-    "WAIT_CYCLE_COST",
     "ExecutionResult",
     "Interpreter",
     "MachineState",
