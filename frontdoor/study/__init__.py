@@ -64,7 +64,7 @@ def run_study(
     from irlc.study.runner import connect, run_dask, run_local
     from irlc.study.spec import count_variants
 
-    study = read_study(path)
+    study = read_study(path, allow_any_path)
     folder = Path(out) if out is not None else study.file.with_suffix(".results")
     plan = build_plan(study, folder / "variants", allow_any_path)
     cols = columns(plan)

@@ -603,9 +603,11 @@ def test_the_study_file_shown_in_docs_studies_md_is_valid(tmp_path):
     text = (root / "docs" / "studies.md").read_text(encoding="utf-8")
     block = text.split("```toml\n", 1)[1].split("```", 1)[0]
     assert 'program = "../square_accel.irl"' in block  # as if in programs/studies/
-    program = root / "programs" / "square_accel.irl"
-    path = tmp_path / "every_table.toml"
-    path.write_text(block.replace('"../square_accel.irl"', f'"{program}"'))
+    for name in ("square_accel.irl", "square_cell.toml"):  # a copy: programs/ beside it
+        shutil.copy(root / "programs" / name, tmp_path / name)
+    (tmp_path / "studies" / "cells").mkdir(parents=True)  # its datalist_path folder
+    path = tmp_path / "studies" / "every_table.toml"
+    path.write_text(block)
     example = read_study(path)
     plan = build_plan(example)
     assert len(list(variants(example))) == 400 and plan.drives and not example.reports
@@ -668,3 +670,88 @@ def test_the_speed_override_scales_the_motion_time(cell):
     report = run_program(cell / "p3.irl", override=50).report
     assert half["duration_s"] == repr(report["duration_s"])
     assert float(half["duration_s"]) == pytest.approx(2 * float(full["duration_s"]), abs=0.02)
+
+
+# --------------------------------------------------------------------------- confinement
+
+
+def _study_in(folder: Path, head: str) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / "s.toml"
+    path.write_text(head + '\n[grid]\n"run.ipo" = [0.01]\n')
+    return path
+
+
+def test_a_study_file_reads_only_what_the_user_allows(cell, capsys, monkeypatch):
+    """A study file is input: ``program = "/proc/self/environ"`` echoed the environment,
+    an absolute path to a program elsewhere ran it. Relative paths (as the docs write
+    them) stay; absolute paths outside the working folder and the study's folder, and
+    system files however written, are refused — unless the command line allows any path."""
+    studies = cell / "studies"
+    elsewhere = cell.parent / f"{cell.name}_elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    robot = cell / "arm.toml"
+    robot.write_text((Path(__file__).resolve().parents[2] / "robots" / "planar3.toml").read_text())
+    assert read_study(_study_in(studies, 'program = "../p3.irl"')).program == cell / "p3.irl"
+    refused = [
+        (f'program = "{cell / "p3.irl"}"', "an absolute path outside the working folder"),
+        ('program = "/proc/self/environ"', "a system file (under /proc)"),
+        ('program = "' + "../" * 30 + 'proc/self/environ"', "a system file (under /proc)"),
+        (f'program = "../p3.irl"\nrobot = "{robot}"', "robot: "),
+        ('program = "../p3.irl"\ndatalist_path = ["/etc"]', "a system file (under /etc)"),
+    ]
+    for head, words in refused:
+        path = _study_in(studies, head)
+        assert main(["study", str(path), "-q", "--out", str(cell / "out")]) == 3
+        err = capsys.readouterr().err
+        assert words in err and "--allow-any-path" in err, err
+        assert "SHELL" not in err and "PATH=" not in err
+        if "system file" not in words:
+            assert read_study(path, allow_any_path=True).file == path  # the user's word
+    monkeypatch.chdir(cell)  # the absolute path is inside the working folder now
+    assert read_study(_study_in(studies, f'program = "{cell / "p3.irl"}"')).program.is_file()
+
+
+def test_a_missing_datalist_folder_and_random_n_are_named(cell, capsys):
+    path = write_study(cell, 'datalist_path = ["nope"]\n[grid]\n"run.ipo" = [0.01]\n')
+    assert main(["study", str(path), "-q"]) == 3
+    assert "s.toml:3: datalist_path: nope: no such folder" in capsys.readouterr().err
+    body = '[random]\nseed = 1\n"run.ipo" = { uniform = [0.01, 0.02] }\n'
+    assert main(["study", str(write_study(cell, body)), "-q"]) == 3
+    err = capsys.readouterr().err
+    assert "random.n: required: the number of samples" in err and "None" not in err
+
+
+def test_a_large_study_is_planned_in_bounded_memory(cell):
+    """The variants are made as they are sent: a 10-million-sample study held ≈ 1.1 GB of
+    sample tuples before its first row. With 2 million samples of two keys (≈ 220 MB of
+    tuples at once), planning and the first variant now stay below 50 MB, and the values
+    are the documented draws (one PCG64 stream, keys in file order, n values per key)."""
+    import tracemalloc
+
+    from irlc.study.plan import build_plan
+
+    n = 2_000_000
+    body = (
+        f'[random]\nn = {n}\nseed = 7\n"run.path_tolerance" = {{ uniform = [0.05, 0.1] }}\n'
+        '"robot.joints.2.weight" = { normal = [2, 0.1] }\n'
+    )
+    tracemalloc.start()
+    try:
+        study = read_study(write_study(cell, body))
+        build_plan(study)
+        stream = variants(study)
+        first = next(stream)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 50e6, f"{peak / 1e6:.0f} MB before the first variant"
+    rng = np.random.Generator(np.random.PCG64(7))
+    tol = rng.uniform(0.05, 0.1, n)
+    weight = rng.normal(2, 0.1, n)
+    assert first == (0, (float(tol[0]), float(weight[0])))
+    for index, values in stream:  # a piece boundary (65,536 samples) further on
+        if index == 70_000:
+            assert values == (float(tol[index]), float(weight[index]))
+            break
