@@ -503,7 +503,7 @@ def test_ctrl_c_keeps_the_finished_rows_and_resume_completes_them(cell):
 
 def test_plot_draws_a_line_or_a_heat_map(tmp_path):
     pytest.importorskip("matplotlib")
-    from irlc.study.summary import plot
+    from irlc.study.figure import plot
 
     rows = [
         {"variant": str(i), "a": repr(a), "b": repr(b), "m": repr(a * b), "status": "ok"}
@@ -755,3 +755,63 @@ def test_a_large_study_is_planned_in_bounded_memory(cell):
         if index == 70_000:
             assert values == (float(tol[index]), float(weight[index]))
             break
+
+
+def _grid_random_rows(failed_at=()):
+    """Two grid keys (g, h) × a random key (r); the metric depends on all three."""
+    rows, i = [], 0
+    for g in (1.0, 2.0, 3.0):
+        for h in (10.0, 20.0):
+            for k in range(6):
+                r = 0.37 * k
+                status = "failed" if i in failed_at else "ok"
+                rows.append({"variant": str(i), "g": repr(g), "h": repr(h), "r": repr(r),
+                             "m": repr(g * h + r * r), "status": status})  # fmt: skip
+                i += 1
+    return rows
+
+
+@pytest.mark.parametrize(
+    ("keys", "grid"),
+    [
+        (["g", "r"], {"g"}), (["r", "g"], {"g"}), (["g", "h"], {"g", "h"}),
+        (["g", "h", "r"], {"g", "h"}), (["r"], set()), (["g", "r", "h"], {"g", "h"}),
+    ],
+)  # fmt: skip
+def test_the_plot_hides_no_key_that_changes_the_metric(keys, grid):
+    """Every key with more than one value is on an axis, a series or a panel, and a heat
+    map cell holds one variant: over grid × random keys the heat map of the two grid keys
+    overwrote (hid) the random key, and a constant key is no axis."""
+    from irlc.study.figure import layout
+
+    rows = _grid_random_rows()
+    if keys == ["g", "h"]:  # one variant per (g, h): a heat map is exact there
+        rows = [r for r in rows if r["r"] == "0.0"]
+    panels = layout(rows, keys, grid)
+    shown = {k for p in panels for k in p.keys}
+    assert shown == set(keys), panels
+    for p in panels:
+        if p.kind == "heat":
+            assert len({(r[p.x], r[p.y]) for r in rows}) == len(rows)
+    constant = [dict(r, c="5") for r in rows]
+    assert "c" not in {k for p in layout(constant, [*keys, "c"], grid) for k in p.keys}
+
+
+def test_a_failed_variant_is_drawn_as_failed_not_by_its_metric(tmp_path):
+    """Marking a variant failed changes the figure; its metric (a failed run's numbers
+    stop where it stopped) then changes nothing: it is drawn at its parameters, not by
+    its value — not coloured, not placed on the metric axis."""
+    pytest.importorskip("matplotlib")
+    from irlc.study.figure import plot
+
+    for keys, grid in ((["g", "r"], {"g"}), (["r", "g", "h"], {"g", "h"})):
+        ok = _grid_random_rows()
+        bad = _grid_random_rows(failed_at={3, 17})
+        worse = [dict(r, m="1e6") if r["status"] == "failed" else r for r in bad]
+        images = [plot(rows, keys, "m", tmp_path / f"{n}.png", grid).read_bytes()
+                  for n, rows in (("ok", ok), ("bad", bad), ("worse", worse))]  # fmt: skip
+        assert images[0] != images[1] and images[1] == images[2]
+    two_random = [dict(r, s=repr(float(r["variant"]) * 0.1)) for r in _grid_random_rows({5})]
+    scatter = plot(two_random, ["r", "s"], "m", tmp_path / "a.png", set()).read_bytes()
+    moved = [dict(r, m="-3") if r["variant"] == "5" else r for r in two_random]
+    assert plot(moved, ["r", "s"], "m", tmp_path / "b.png", set()).read_bytes() == scatter
