@@ -34,7 +34,7 @@ from irlc.lang.irdata import Code
 from irlc.lang.joint_kinds import kind_letters
 from irlc.lang.textfile import read_user_text
 from irlc.robots.model import RobotModel
-from irlc.runtime import units
+from irlc.runtime import engine_policy, units
 from irlc.runtime.commands import Settings, setting_error
 from irlc.runtime.control.executor import ExecutionOptions, SimulatedController
 from irlc.runtime.drives.levels import LEVELS as DRIVE_LEVELS
@@ -182,6 +182,7 @@ def run_code(
     override: float | None = None,
     allow_any_path: bool = False,
     stream: bool = False,
+    engine: str | None = None,
 ) -> RunResult:
     """Execute compiled ``code`` (see the module doc). ``path_tolerance`` (mm, the start
     value of ``R_PATH_TOL``) and ``orientation_tolerance`` (deg) override ``options``'
@@ -200,7 +201,10 @@ def run_code(
     run): the recorder spills its samples to a temporary file
     (:meth:`~irlc.runtime.outputs.recorder.Recorder.spill`), the report is summed up piece by piece
     and the trace is built piece by piece when written (:meth:`RunResult.trace_tables`);
-    the same bytes as without it.
+    the same bytes as without it. ``engine``: ``"compiled"`` runs the compiled kernels
+    from the start (a study's choice); ``None`` — the engine policy
+    (:mod:`irlc.runtime.engine_policy`: with numba installed and ``IRLC_ENGINE`` unset, a
+    long run goes on on the kernels, a long drive run's loop is compiled).
 
     The pipeline, one call per stage: the setup (robot, start, options), the interpreter
     with the simulated controller (the set points, :mod:`recorder`), the drives
@@ -212,6 +216,9 @@ def run_code(
     setup = _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolerance,
                    orientation_tolerance, instruction_budget, max_time, max_cycles,
                    override, allow_any_path)  # fmt: skip
+    ik = setup.options.ik
+    if setup.options.engine is None and (ik is None or ik.accel is None):  # not the caller's
+        setup.options.engine = engine_policy.for_run(engine)
     controller = SimulatedController(setup.model, setup.q0, obstacles=setup.obstacles,
                                      options=setup.options, progress=progress,
                                      naming=setup.naming)  # fmt: skip

@@ -30,6 +30,7 @@ which the controller includes as it includes approximate positioning.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -47,6 +48,7 @@ from irlc.runtime.commands import (
 from irlc.runtime.control import ptp_activity
 from irlc.runtime.control.approximation import ApproximatePositioning, PendingSegment, SegmentRun
 from irlc.runtime.control.reconfiguration import Reconfiguration
+from irlc.runtime.engine_policy import EngineChoice
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik import cause
 from irlc.runtime.ik.freeze import FrozenJoints
@@ -103,6 +105,7 @@ class ExecutionOptions:
     progress_every: int = 200  # cycles between progress callbacks
     manipulability_every: int = 10  # cycles between manipulability samples (an SVD each)
     ik: IKParams | None = None
+    engine: EngineChoice | None = None  # when the kernels take over (engine_policy.py)
 
 
 @dataclass
@@ -574,6 +577,10 @@ class SimulatedController(ApproximatePositioning, Reconfiguration):
         return self.dt_used
 
     def _solver(self, settings: Settings) -> _Solver:
+        switch = self.opts.engine.ik_from if self.opts.engine is not None else None
+        if switch is not None and self.recorder.ik_cycles >= switch and not self.ik_params.accel:
+            self.ik_params = dataclasses.replace(self.ik_params, accel=True)  # engine_policy
+            self._solvers.clear()  # the next motion's solver runs the compiled cycle
         tool = tool_transform(self.model, settings)
         key = tool.tobytes()
         solver = self._solvers.get(key)
