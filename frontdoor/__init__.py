@@ -16,8 +16,9 @@ from __future__ import annotations
 if __name__ != "irlc":  # this folder imported by its own name (from the repository root)
     raise ImportError(f"import irlc, not {__name__}: this folder is irlc")
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from irlc.lang.lazy import lazy_names
 
 if TYPE_CHECKING:
     from irlc.api import compile_program, load_robot, run_program
@@ -65,14 +66,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    if name not in _HOME_OF:
-        raise AttributeError(f"module 'irlc' has no attribute {name!r}")
-    value = getattr(importlib.import_module(_HOME_OF[name]), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    """The public names (and the module's own dunders), not the helpers of this file."""
-    return sorted({*__all__, *(name for name in globals() if name.startswith("__"))})
+__getattr__, __dir__ = lazy_names("irlc", _HOME_OF, globals())
