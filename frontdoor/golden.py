@@ -233,6 +233,13 @@ RUN_OPTIONS = (  # docs/golden.md
 )
 
 
+LIFT_REFUSED = (
+    "options.allow_any_path: an expectation file cannot lift the file confinement (the "
+    "program's robot file and data lists); allow it on the command line: irlc test "
+    "--allow-any-path"
+)
+
+
 def load_expectation(path: Path) -> dict:
     """Read and validate ``NAME.expected.json``: an object whose ``options`` is an object of
     run options and whose ``tolerances`` maps keys to non-negative numbers."""
@@ -360,8 +367,10 @@ def run_case(
     except ExpectationError as e:
         return CaseResult(program, "error", message=str(e))
     user = {k: expected[k] for k in USER_KEYS if expected and k in expected}
+    options = dict(user.get("options", {}))
+    if options.get("allow_any_path") and not allow_any_path:  # the file is input too
+        return CaseResult(program, "error", message=f"{json_path.name}: {LIFT_REFUSED}")
     try:
-        options = dict(user.get("options", {}))
         if allow_any_path:
             options["allow_any_path"] = True
         report = runner(program, options)

@@ -25,6 +25,7 @@ import numpy as np
 from irlc.errors import UsageError
 from irlc.export import RunData, atomic_write_bytes, run_data
 from irlc.runtime import units
+from irlc.summary import statement_text
 
 JOINTS_PER_FIGURE = 6
 MARKERS_PER_CURVE = 60  # crosses of the compared run per subplot
@@ -260,18 +261,19 @@ _STOP_COLOURS = {"exact": "C0", "approximated": "C9", "failed": "C3", None: "0.6
 
 
 def _cycle_time(plt, d: RunData, statements: list[dict]):
-    """Gantt chart: per program line (rows, in order of first execution) a bar per
-    execution of its statement, from ``start_s`` for ``duration_s``."""
-    order = list(dict.fromkeys(r["line"] for r in statements))
-    texts = {r["line"]: r["statement"] for r in statements}
-    row = {line: i for i, line in enumerate(order)}
+    """Gantt chart: per statement (rows, in order of first execution: its line and text,
+    so statements sharing a line and a routine's calls are rows of their own) a bar per
+    execution, from ``start_s`` for ``duration_s``."""
+    keys = [(r["line"], statement_text(r)) for r in statements]
+    order = list(dict.fromkeys(keys))
+    row = {key: i for i, key in enumerate(order)}
     height = min(12.0, 1.5 + 0.3 * len(order))
     fig, ax = plt.subplots(figsize=(9, height))
-    for r in statements:
+    for r, key in zip(statements, keys, strict=True):
         colour = _STOP_COLOURS.get(r["stop"], "C0")
-        ax.broken_barh([(r["start_s"], r["duration_s"])], (row[r["line"]] - 0.4, 0.8),
+        ax.broken_barh([(r["start_s"], r["duration_s"])], (row[key] - 0.4, 0.8),
                        facecolors=colour, edgecolor="k", linewidth=0.3)  # fmt: skip
-    labels = [f"{line}: {texts[line][:40]}" for line in order]
+    labels = [f"{line}: {text}" for line, text in order]
     ax.set_yticks(range(len(order)), labels, fontsize=7)
     ax.invert_yaxis()
     ax.set_xlabel("t [s]")

@@ -262,6 +262,14 @@ def _short(text: str, width: int = 40) -> str:
     return text if len(text) <= width else text[: width - 1] + "…"
 
 
+def statement_text(row: dict, width: int = 40) -> str:
+    """A row's statement as the table shows it: its text, cut to ``width``, and for a
+    motion in a routine the routine and its call site, ``MOVE LIN p; (corner, called at
+    line 12)``."""
+    call = f" ({row['routine']}, called at line {row['called_at']})" if row.get("routine") else ""
+    return _short(row["statement"], max(width - len(call), 12)) + call
+
+
 def statements_table(report: dict) -> Table | None:
     """Cycle time per statement (``statements`` of the report): line, statement, start,
     duration, stop, binding limit, and the sum (the run's duration). More executions
@@ -278,7 +286,7 @@ def statements_table(report: dict) -> Table | None:
     table = _table("cycle time per statement (s)", columns + (("override %",) if shown else ()))
     for r in rows:
         cells = [
-            str(r["line"]), _short(r["statement"]), shown_number(r["start_s"], ".3f"),
+            str(r["line"]), statement_text(r), shown_number(r["start_s"], ".3f"),
             shown_number(r["duration_s"], ".3f"), r["stop"] or "—", r["limit"] or "—",
         ]  # fmt: skip
         table.add_row(*cells, *([shown_number(r.get("override_percent"), "g")] if shown else []))
@@ -290,20 +298,21 @@ def statements_table(report: dict) -> Table | None:
 
 
 def _statement_lines_table(rows: list[dict], total: float) -> Table:
-    """Per program line: its statement, how often it ran, its total time and share."""
-    per_line: dict[int, list] = {}
+    """Per statement (its line and text: the statements sharing a line apart, a routine's
+    motion per call site): how often it ran, its total time and share."""
+    per_statement: dict[tuple[int, str], list] = {}
     for r in rows:
-        entry = per_line.setdefault(r["line"], [r["statement"], 0, 0.0])
-        entry[1] += 1
-        entry[2] += r["duration_s"] or 0.0
-    title = f"cycle time per line (s), {len(rows)} runs"
+        entry = per_statement.setdefault((r["line"], statement_text(r)), [0, 0.0])
+        entry[0] += 1
+        entry[1] += r["duration_s"] or 0.0
+    title = f"cycle time per statement, summed (s), {len(rows)} runs"
     table = _table(title, ("line", "statement", "runs", "total", "share"))
-    shown = list(per_line.items())[:MAX_STATEMENT_ROWS]
-    for line, (text, runs, t) in shown:
+    shown = list(per_statement.items())[:MAX_STATEMENT_ROWS]
+    for (line, text), (runs, t) in shown:
         share = f"{100.0 * t / total:.1f} %" if total > 0 else "—"
-        table.add_row(str(line), _short(text), str(runs), shown_number(t, ".3f"), share)
-    more = len(per_line) - len(shown)
-    label = f"… {more} more lines (report: statements)" if more > 0 else "sum"
+        table.add_row(str(line), text, str(runs), shown_number(t, ".3f"), share)
+    more = len(per_statement) - len(shown)
+    label = f"… {more} more statements (report: statements)" if more > 0 else "sum"
     table.add_row(
         "", Text(label, style="dim"), "", Text(shown_number(total, ".3f"), style="bold"), ""
     )

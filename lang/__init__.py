@@ -12,8 +12,9 @@ from __future__ import annotations
 if __name__ != "irlc.lang":  # this folder imported by its own name (from the repository root)
     raise ImportError(f"import irlc.lang, not {__name__}: this folder is irlc.lang")
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from irlc.lang.lazy import lazy_names
 
 if TYPE_CHECKING:
     from irlc.lang.compiler import CompileResult, compile_file, compile_source
@@ -45,13 +46,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    if name not in _HOME_OF:
-        raise AttributeError(f"module 'irlc.lang' has no attribute {name!r}")
-    value = getattr(importlib.import_module(_HOME_OF[name]), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted([*globals(), *_HOME_OF])
+__getattr__, __dir__ = lazy_names("irlc.lang", _HOME_OF, globals())

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import re
 
-from irlc.lang import ast
+from irlc.lang import ast, foreign
 from irlc.lang.diagnostics import Diagnostic, Span
 from irlc.lang.errors import IrlcError
 from irlc.lang.settings import LIMIT_OPTIONS
@@ -57,10 +57,13 @@ _NUMBER_RE = re.compile(r"(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
 
 
 def _malformed_number(tok: Token) -> SourceError:
+    number = _NUMBER_RE.match(tok.value)
+    unit = foreign.unit_hint(tok.value[number.end() :], number[0]) if number else None
     return SourceError(
         token_span(tok),
         f"malformed number '{tok.value}'",
-        "numbers look like 12, 180., .5, 1e-3 or 2.5E+2; put a space between a number and "
+        unit
+        or "numbers look like 12, 180., .5, 1e-3 or 2.5E+2; put a space between a number and "
         "a following word",
     )
 

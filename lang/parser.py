@@ -11,7 +11,7 @@ from irlc.lang import ast
 from irlc.lang.ast_builder import SourceError
 from irlc.lang.diagnostics import Diagnostic
 from irlc.lang.grammar import keywords, lark_parser
-from irlc.lang.syntax_errors import syntax_diagnostic
+from irlc.lang.syntax_errors import source_error_diagnostic, syntax_diagnostic
 from lark.exceptions import UnexpectedInput
 
 __all__ = ["keywords", "parse"]
@@ -22,6 +22,6 @@ def parse(text: str, filename: str) -> tuple[ast.Program | None, list[Diagnostic
     try:
         return lark_parser().parse(text), []
     except SourceError as e:
-        return None, [e.diagnostic(filename)]
+        return None, [source_error_diagnostic(e, text, filename)]
     except UnexpectedInput as e:
         return None, [syntax_diagnostic(e, text, filename)]

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import re
 
-from irlc.lang.ast_builder import token_span
+from irlc.lang import foreign
+from irlc.lang.ast_builder import SourceError, token_span
 from irlc.lang.diagnostics import Diagnostic, Span
 from irlc.lang.grammar import keywords, lark_parser
 from irlc.lang.settings import BY_LIMIT_WORD, approximation_hint
@@ -229,6 +230,9 @@ def syntax_diagnostic(e: UnexpectedInput, text: str, filename: str) -> Diagnosti
             )
         if ch == "}":
             return Diagnostic("error", "'}' without an opening '{'", filename, span)
+        habit = _foreign_character(text, e.pos_in_stream, span, filename)
+        if habit is not None:
+            return habit
         shown = repr(ch) if ch.isprintable() else f"U+{ord(ch):04X}" if ch else "end of file"
         return Diagnostic("error", f"unexpected character {shown}", filename, span)
     if isinstance(e, UnexpectedEOF) or (isinstance(e, UnexpectedToken) and e.token.type == "$END"):
@@ -256,6 +260,10 @@ def syntax_diagnostic(e: UnexpectedInput, text: str, filename: str) -> Diagnosti
             _eof_hint(expected),
         )
     span = token_span(tok)
+    prev = _previous_token(text, span.line, span.column)
+    habit = _foreign_word(tok, prev, expected, text, filename)
+    if habit is not None:
+        return habit
     if "NAME" in expected and tok.type != "NAME" and tok.value.upper() in keywords():
         return Diagnostic(
             "error",
@@ -264,7 +272,6 @@ def syntax_diagnostic(e: UnexpectedInput, text: str, filename: str) -> Diagnosti
             span,
             "choose another name (keywords cannot name variables, routines or labels)",
         )
-    prev = _previous_token(text, span.line, span.column)
     if prev is not None and (typo := misspelled_keyword(*prev, filename)) is not None:
         return typo
     if (
@@ -295,20 +302,115 @@ def syntax_diagnostic(e: UnexpectedInput, text: str, filename: str) -> Diagnosti
     ):
         p = prev[1]
         where = Span(p.line, p.end_column, p.line, p.end_column + 1)
-        return Diagnostic(
-            "error",
-            f"expected ';' after '{prev[0]}'",
-            filename,
-            where,
-            f"found {_token_text(tok)} on line {span.line}" if p.line < span.line else None,
-        )
+        if p.line < span.line:
+            hint = f"found {_token_text(tok)} on line {span.line}"
+        elif tok.type == "__ANON_0":  # RAPID's VAR num x := 0;
+            hint = "a variable takes no value where it is declared: assign it after BEGIN"
+        else:
+            hint = None
+        return Diagnostic("error", f"expected ';' after '{prev[0]}'", filename, where, hint)
     return Diagnostic(
         "error",
         f"unexpected {_token_text(tok)}; expected {_describe_expected(expected)}",
         filename,
         span,
-        approximation_hint(str(tok.value)) or _token_hint(tok, expected),
+        approximation_hint(str(tok.value)) or _token_hint(tok, expected, text),
     )
+
+
+def source_error_diagnostic(e: SourceError, text: str, filename: str) -> Diagnostic:
+    """The diagnostic of an error found while lexing: a keyword used as a name, unless it is
+    another language's motion word at the start of a statement (KRL's ``PTP left;``)."""
+    span = e.span
+    lines = text.split("\n")
+    if e.message.endswith("is a reserved word") and 0 < span.line <= len(lines):
+        row = lines[span.line - 1]
+        word = row[span.column - 1 : span.end_column - 1]
+        prev = _previous_token(text, span.line, span.column)
+        hint = foreign.motion_hint(word, _statement_rest(row, span.end_column - 1))
+        if hint is not None and _statement_starts_after(prev):
+            return Diagnostic("error", foreign.statement_message(word), filename, span, hint)
+        if word.upper() == "SEC" and prev is not None and prev[0].upper() == "WAIT":
+            return _wait_sec_first(row, span, filename)  # KRL: WAIT SEC 1
+    return e.diagnostic(filename)
+
+
+def _wait_sec_first(row: str, span: Span, filename: str) -> Diagnostic:
+    after = _statement_rest(row, span.end_column - 1) or "t"
+    message = "the time of a WAIT comes before SEC"
+    return Diagnostic("error", message, filename, span, f"write WAIT {after} SEC;")
+
+
+def _statement_starts_after(prev: tuple[str, Span] | None) -> bool:
+    """Whether a statement starts after the word ``prev`` (``None``: the text's start)."""
+    return prev is None or prev[0].upper() in (";", "BEGIN", "THEN", "ELSE", "DO", "REPEAT")
+
+
+def _statement_rest(row: str, start: int) -> str:
+    """The text of a line from ``start`` (0-based) to the statement's ``;``."""
+    rest = row[start:]
+    return rest.split(";", 1)[0].strip()
+
+
+def _foreign_word(
+    tok: Token, prev: tuple[str, Span] | None, expected: set[str], text: str, filename: str
+) -> Diagnostic | None:
+    """Habits of KRL and RAPID (lang/foreign.py) at an unexpected token: a motion or other
+    statement word of theirs before it (``MoveL left, …``: the error is at ``left``), one of
+    their motion words where a statement starts, a unit after a number, KRL's ``WAIT SEC 1``."""
+    row = text.split("\n")[tok.line - 1] if tok.line else ""
+    word = str(tok.value)
+    if (
+        tok.type != "NAME"
+        and word.upper() in foreign.KRL_MOTIONS
+        and "NAME" in expected
+        and _statement_starts_after(prev)
+    ):
+        hint = foreign.motion_hint(word, _statement_rest(row, tok.end_column - 1))
+        return Diagnostic("error", foreign.statement_message(word), filename, token_span(tok), hint)
+    if prev is None:
+        return None
+    prev_word, prev_span = prev
+    if prev_span.line == tok.line:
+        args = _statement_rest(row, prev_span.end_column - 1)
+        hint = foreign.statement_hint(prev_word, args)
+        if hint is not None and prev_word.upper() not in keywords():
+            message = foreign.statement_message(prev_word)
+            return Diagnostic("error", message, filename, prev_span, hint)
+        if word.upper() == "SEC" and prev_word.upper() == "WAIT":  # KRL: WAIT SEC 1
+            return _wait_sec_first(row, token_span(tok), filename)
+    number = prev_word if _NUMBER.fullmatch(prev_word) else None
+    if tok.type == "NAME" and number is not None:
+        hint = foreign.unit_hint(word, number)
+        if hint is not None and "SEC" in expected and word.upper() in ("S", "SECONDS"):
+            hint = f"write WAIT {number} SEC"
+        if hint is not None:
+            message = f"unexpected {_token_text(tok)} after the number {number}"
+            return Diagnostic("error", message, filename, token_span(tok), hint)
+    return None
+
+
+_NUMBER = re.compile(r"(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
+
+
+def _foreign_character(text: str, pos: int, span: Span, filename: str) -> Diagnostic | None:
+    """KRL's ``$`` system variables, a ``%`` after a number, C's ``!=``."""
+    ch = text[pos]
+    if ch == "$":
+        found = foreign.system_variable(text[pos:].split("\n", 1)[0])
+        if found is not None:
+            end = pos + len(re.match(r"\$[\w.]*", text[pos:])[0])
+            where = Span(span.line, span.column, span.line, span.column + end - pos)
+            return Diagnostic("error", found[0], filename, where, found[1])
+    if ch == "%":
+        return Diagnostic(
+            "error", "unexpected character '%'", filename, span, foreign.percent_hint()
+        )
+    if text.startswith("!=", pos):
+        return Diagnostic(
+            "error", "unexpected character '!'", filename, span, foreign.operator_hint("!=")
+        )
+    return None
 
 
 def _misspelled_last_word(text: str, filename: str) -> Diagnostic | None:
@@ -327,9 +429,21 @@ def _eof_hint(expected: set[str]) -> str | None:
     return None
 
 
-def _token_hint(tok: Token, expected: set[str]) -> str | None:
+def _token_hint(tok: Token, expected: set[str], text: str) -> str | None:
+    pos = tok.start_pos if tok.start_pos is not None else 0
+    for written in (text[pos : pos + 2], text[max(pos - 1, 0) : pos + 1]):
+        if written != "!=" and (hint := foreign.operator_hint(written)) is not None:
+            return hint  # ==, +=, …
+    if expected == {"SEC"}:
+        return "a wait is written WAIT t SEC;"
+    if tok.type == "EQUAL" and text[pos - 1 : pos] == ":":  # ':=' read as ':' then '='
+        if "NUMBER" in expected:
+            return "':=' assigns; a comparison is written with '=', e.g. IF x = 5 THEN"
+        return "a constant or type is declared with '=' (':=' assigns a variable)"
+    if tok.type == "__ANON_0" and "EQUAL" in expected:
+        return "a constant or type is declared with '=' (':=' assigns a variable)"
     if tok.type == "EQUAL" and "__ANON_0" in expected:
-        return "assignment is written ':='"
+        return "assignment is written ':=' (KRL's x = 5 is x := 5)"
     if tok.type in ("RELOP", "EQUAL") and not expected & {"RELOP", "EQUAL"}:
         return (
             "comparisons bind looser than AND/OR (Pascal precedence) and do not chain: "

@@ -45,6 +45,7 @@ class MotionCommand:
     speed_limits: tuple[JointTuple, JointTuple] | None = None
     accel_limits: tuple[JointTuple, JointTuple] | None = None
     reconfiguration: tuple[JointTuple, ...] | None = None  # one, or one per point
+    call: tuple[str, int] | None = None  # in a routine: (its name, the line of its call)
 
 
 def _default(name: str) -> float:

@@ -12,6 +12,8 @@ decided from the solver's state, not from the last bound the relaxed step touche
 ``speed_limit``    a joint speed bound: a lower path speed resolves it (suggested)
 ``accel_limit``    a joint acceleration bound: a lower speed / acceleration resolves it
 ``freeze``         the frozen joints leave too few free joints for the task or target
+``freeze_jointlimit`` FREEZE and the active JOINTLIMIT together: each alone leaves the
+                   target or path reachable
 ``obstacle``       the arm collides with an obstacle of the cell (avoided or not)
 ``limits``         the active limits exclude the current state
 =================  ===========================================================
@@ -28,6 +30,7 @@ CAUSES = (
     "speed_limit",
     "accel_limit",
     "freeze",
+    "freeze_jointlimit",
     "obstacle",
     "limits",
 )

@@ -34,7 +34,7 @@ from irlc.lang.irdata import Code
 from irlc.lang.joint_kinds import kind_letters
 from irlc.lang.textfile import read_user_text
 from irlc.robots.model import RobotModel
-from irlc.runtime import units
+from irlc.runtime import engine_policy, units
 from irlc.runtime.commands import Settings, setting_error
 from irlc.runtime.control.executor import ExecutionOptions, SimulatedController
 from irlc.runtime.drives.levels import LEVELS as DRIVE_LEVELS
@@ -216,6 +216,7 @@ def run_code(
     stream: bool = False,
     allow_collisions: bool = False,
     phase: Callable[[str], None] | None = None,
+    engine: str | None = None,
 ) -> RunResult:
     """Execute compiled ``code`` (see the module doc). ``path_tolerance`` (mm, the start
     value of ``R_PATH_TOL``) and ``orientation_tolerance`` (deg) override ``options``'
@@ -242,6 +243,10 @@ def run_code(
     With drives the program's output is handed to ``output`` after the drive stage, up to
     the failure when the drives fail (:mod:`irlc.runtime.outputs.stop`: a failed drive run
     stops where it failed — trace, output, statements, report).
+    ``engine``: ``"compiled"`` runs the compiled kernels from the start (a study's
+    choice); ``None`` — the engine policy (:mod:`irlc.runtime.engine_policy`: with numba
+    installed and ``IRLC_ENGINE`` unset, a long run goes on on the kernels, a long drive
+    run's loop is compiled).
 
     The pipeline, one call per stage: the setup (robot, start, options), the interpreter
     with the simulated controller (the set points, :mod:`recorder`), the drives
@@ -253,6 +258,9 @@ def run_code(
     setup = _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolerance,
                    orientation_tolerance, instruction_budget, max_time, max_cycles,
                    override, allow_any_path, allow_collisions)  # fmt: skip
+    ik = setup.options.ik
+    if setup.options.engine is None and (ik is None or ik.accel is None):  # not the caller's
+        setup.options.engine = engine_policy.for_run(engine)
     controller = SimulatedController(setup.model, setup.q0, obstacles=setup.obstacles,
                                      options=setup.options, progress=progress,
                                      naming=setup.naming)  # fmt: skip

@@ -40,3 +40,29 @@ def test_run_program_on_a_small_program(tmp_path):
     assert run.status == "ok", run.error
     end = units.joints_from_si(run.q[-1], run.model.joint_kinds)
     assert np.allclose(end, (30, 40, 50), atol=1e-9)
+
+
+def test_public_names_are_exported_and_listed():
+    """``from irlc import CompileError`` (what compile_program raises, as the README says)
+    and the other public names work, resolve to their home modules, and ``dir(irlc)``
+    lists them without the package's helpers."""
+    from irlc import CompileError as exported
+    from irlc import IrlcError, RunFailure, RunResult, RunSetupError
+
+    assert exported is CompileError
+    public = {
+        "compile_program", "run_program", "load_robot", "CompileError", "RunFailure",
+        "RunResult", "RunSetupError", "RobotFileError", "UnknownRobotError",
+        "DriveSetupError", "IrlcError", "RobotModel", "Code", "Diagnostic",
+    }  # fmt: skip
+    assert public <= set(irlc.__all__) and public <= set(dir(irlc))
+    assert not {"importlib", "Any", "TYPE_CHECKING", "annotations"} & set(dir(irlc))
+    for name in irlc.__all__:
+        assert getattr(irlc, name).__module__.startswith("irlc."), name
+    for error in (CompileError, RunFailure, RunSetupError, irlc.RobotFileError):
+        assert issubclass(error, IrlcError)
+    run = irlc.run_program(PROGRAMS / "square.irl", ipo=0.05, max_cycles=5)
+    assert isinstance(run, RunResult) and isinstance(run.error, RunFailure)
+    with pytest.raises(AttributeError, match="no_such_name"):
+        irlc.no_such_name  # noqa: B018
+    assert sorted(irlc.__all__) == sorted(irlc._HOME_OF)

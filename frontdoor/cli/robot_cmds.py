@@ -205,6 +205,32 @@ def robot_cmd(name: str) -> None:
     assumed = model.extra.get("assumed", {})
     if assumed:
         console.print(f"assumed values ({len(assumed)}): {', '.join(assumed)} — see the file")
+    refused = _drive_data_refusal(model)
+    if refused:
+        click.echo(f"irlc: warning: {refused}", err=True)
+
+
+def _drive_data_refusal(model: RobotModel) -> str | None:
+    """What ``irlc run`` would refuse in the robot's drive data, said where the robot is
+    shown: every run reads the motor limits of a coupled transmission from it; only a run
+    with ``--drives`` reads the rest."""
+    from irlc.runtime.drives.params import drive_params
+    from irlc.runtime.model.motor_limits import motor_limits
+
+    try:
+        motor_limits(model)
+    except (RobotFileError, ValueError) as e:
+        return (
+            f"{e} — irlc run refuses this robot, even with ideal drives: its coupled "
+            "transmission takes the motor limits from the drive data"
+        )
+    if "drives" not in model.extra:
+        return None
+    try:
+        drive_params(model)
+    except (RobotFileError, ValueError) as e:
+        return f"{e} — irlc run --drives refuses this robot (an ideal run does not read them)"
+    return None
 
 
 def _closed_form_line(console: Console, model: RobotModel) -> None:

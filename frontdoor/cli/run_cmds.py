@@ -71,8 +71,8 @@ def parse_seed_config(values: tuple[str, ...]) -> list[float] | None:
     "instruction_budget",
     type=int,
     default=None,
-    help="Endless-loop guard: instructions without motion before the run fails "
-    "(a cycle of waiting counts as 25, a motion that does not move as 250).  "
+    help="Endless-loop guard: instructions without motion or waiting before the run fails "
+    "(a motion that does not move counts as 250).  "
     "[default: 500000]",
 )
 @click.option(

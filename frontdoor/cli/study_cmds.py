@@ -38,9 +38,9 @@ def study_cmd(study_file, workers, cluster, out, resume, sort, plot, quiet, allo
     from irlc.robots import RobotFileError
     from irlc.runtime.run import RunSetupError
     from irlc.study import run_study
+    from irlc.study.figure import plot as draw
     from irlc.study.runner import ClusterError
     from irlc.study.summary import check_metric, split_sort, summary_table
-    from irlc.study.summary import plot as draw
 
     require_file(study_file)
     from irlc.summary import MAX_WIDTH

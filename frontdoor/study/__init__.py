@@ -57,6 +57,7 @@ def run_study(
     passed, ``progress(done, todo)`` after every variant; ``check(columns, keys)`` before
     anything is written (the caller's own checks, e.g. of a metric name);
     ``allow_any_path``: ``--allow-any-path`` (``irlc.lang.file_access``)."""
+    from irlc.runtime import engine_policy
     from irlc.study.expand import variants
     from irlc.study.metrics import columns
     from irlc.study.plan import build_plan
@@ -64,7 +65,7 @@ def run_study(
     from irlc.study.runner import connect, run_dask, run_local
     from irlc.study.spec import count_variants
 
-    study = read_study(path)
+    study = read_study(path, allow_any_path)
     folder = Path(out) if out is not None else study.file.with_suffix(".results")
     plan = build_plan(study, folder / "variants", allow_any_path)
     cols = columns(plan)
@@ -95,6 +96,8 @@ def run_study(
         if client is not None:
             run_dask(plan, todo, client, on_row, todo_count)
         else:
+            if plan.engine == "compiled" and todo_count:  # its workers load, not compile
+                engine_policy.compile_once(bool(plan.obstacles), plan.drives)
             run_local(plan, todo, workers or default_workers(), on_row, todo_count)
     finally:
         results.finish()

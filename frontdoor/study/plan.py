@@ -23,9 +23,10 @@ from irlc.lang.errors import IrlcError
 from irlc.lang.file_access import describe
 from irlc.lang.irdata import Code
 from irlc.lang.joint_kinds import kind_letters
+from irlc.runtime import engine_policy
 from irlc.study import paths
 from irlc.study.expand import axis_values
-from irlc.study.spec import Study, StudyError
+from irlc.study.spec import Study, StudyError, count_variants
 
 
 @dataclass(frozen=True)
@@ -50,6 +51,7 @@ class Plan:
     reports: bool = False
     traces: bool = False
     allow_any_path: bool = False  # the program's robot file and data lists may lie anywhere
+    engine: str | None = None  # "compiled": every variant on the kernels (engine_policy.py)
 
     @property
     def program_dir(self) -> Path:
@@ -85,7 +87,9 @@ def build_plan(
     values = axis_values(study)
     if "run.drives" in values:
         drives = drives or any(v != "ideal" for v in values["run.drives"])
+    engine = engine_policy.for_study(count_variants(study))  # the installation's, per study
     inputs = [study.text, text, json.dumps([robot_doc, datalists], sort_keys=True, default=str)]
+    inputs.append(f"engine={engine}")  # --resume with another engine: another study's bytes
     plan = Plan(
         token=hashlib.sha256("\0".join(inputs).encode()).hexdigest()[:16],
         program=str(study.program),
@@ -105,6 +109,7 @@ def build_plan(
         obstacles=tuple(o.name for o in code.obstacles),
         drives=drives,
         allow_any_path=allow_any_path,
+        engine=engine,
         variants_dir=str(variants_dir) if variants_dir is not None else None,
         reports=study.reports,
         traces=study.traces,

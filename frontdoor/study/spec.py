@@ -47,6 +47,7 @@ from irlc.errors import UsageError
 from irlc.files import read_user_text
 from irlc.lang.file_access import describe, is_finite_real
 from irlc.lang.toml_keys import TomlError, parse_toml
+from irlc.study import confine
 from irlc.study.paths import RUN_KEYS, check_run_value
 
 TOP_KEYS = ("program", "robot", "datalist_path", "name", "run", "grid", "random", "output")
@@ -148,9 +149,10 @@ def key_line(text: str, key: str) -> int | None:
 # --------------------------------------------------------------------------- reading
 
 
-def read_study(path: str | Path) -> Study:
+def read_study(path: str | Path, allow_any_path: bool = False) -> Study:
     """Parse and check the study file's own structure (not yet the values' meaning: that
-    needs the program and the robot, :func:`irlc.study.plan.build_plan`)."""
+    needs the program and the robot, :func:`irlc.study.plan.build_plan`); the files it
+    names are confined (:mod:`irlc.study.confine`) unless ``allow_any_path``."""
     path = Path(path)
     text = read_user_text(path, lambda f, reason: StudyError(f, None, "", reason))
     try:
@@ -161,7 +163,7 @@ def read_study(path: str | Path) -> Study:
     for key in doc:
         if key not in TOP_KEYS:
             raise study.error(key, f"unknown key; a study file has {', '.join(TOP_KEYS)}")
-    _read_top(study, doc)
+    _read_top(study, doc, allow_any_path)
     study.run = _read_run(study, doc.get("run", {}))
     if "grid" in doc:
         study.grid = _read_grid(study, _table(study, doc["grid"], "grid"))
@@ -208,11 +210,19 @@ def _show(v: Any) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-def _read_top(study: Study, doc: dict) -> None:
+def _read_top(study: Study, doc: dict, allow_any_path: bool) -> None:
+    def named(key: str, written: str) -> Path:
+        """``written`` relative to the study file, resolved, and allowed (confine.py)."""
+        resolved = (study.file.parent / written).resolve()
+        problem = None if allow_any_path else confine.refusal(written, resolved, study.file)
+        if problem:
+            raise study.error(key, problem)
+        return resolved
+
     program = doc.get("program")
     if not isinstance(program, str) or not program:
         raise study.error("program", "required: the program's path, relative to the study file")
-    study.program = (study.file.parent / program).resolve()
+    study.program = named("program", program)
     if not study.program.is_file():
         raise study.error("program", f"{program}: no such file (relative to the study file)")
     robot = doc.get("robot")
@@ -221,12 +231,17 @@ def _read_top(study: Study, doc: dict) -> None:
     from irlc.robots import is_robot_path
 
     if robot is not None and is_robot_path(robot):  # a file: relative to the study file
-        robot = str((study.file.parent / robot).resolve())
+        robot = str(named("robot", robot))
     study.robot = robot
     dl = doc.get("datalist_path", [])
     if not isinstance(dl, list) or not all(isinstance(p, str) for p in dl):
         raise study.error("datalist_path", f"expected a list of folders, got {_show(dl)}")
-    study.datalist_path = tuple((study.file.parent / p).resolve() for p in dl)
+    study.datalist_path = tuple(named("datalist_path", p) for p in dl)
+    for written, folder in zip(dl, study.datalist_path, strict=True):
+        if not folder.is_dir():  # as irlc run --datalist-path: a misspelt folder is an error
+            raise study.error(
+                "datalist_path", f"{written}: no such folder (relative to the study file)"
+            )
     name = doc.get("name", study.file.stem)
     if not isinstance(name, str):
         raise study.error("name", f"expected a string, got {_show(name)}")
@@ -278,10 +293,12 @@ def _read_grid(study: Study, table: dict) -> list[Axis]:
 
 
 def _read_random(study: Study, table: dict) -> None:
-    for k in ("n", "seed"):
-        v = table.get(k)
+    for k, what in (("n", "the number of samples"), ("seed", "the random generator's seed")):
+        if k not in table:
+            raise study.error(k, f"required: {what}, a whole number ([random] {k} = …)", "random")
+        v = table[k]
         if isinstance(v, bool) or not isinstance(v, int):
-            raise study.error(k, f"required: a whole number, got {_show(v)}", "random")
+            raise study.error(k, f"{what}: expected a whole number, got {_show(v)}", "random")
     if not 1 <= table["n"] <= MAX_VARIANTS:
         raise study.error(
             "n", f"must be 1 to {MAX_VARIANTS:,}, got {describe(table['n'])}", "random"

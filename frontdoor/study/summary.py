@@ -1,26 +1,14 @@
-"""After a study: the best and worst variants by a metric (rich table) and a figure of the
-metric against one or two parameters (a line per … or a heat map; matplotlib, extra
-``plot``). Both read only the rows of results.csv (text), so they show a resumed study the
-same way as a fresh one."""
+"""After a study: the best and worst variants by a metric (rich table; the figure is
+:mod:`irlc.study.figure`). It reads only the rows of results.csv (text), so it shows a
+resumed study the same way as a fresh one."""
 
 from __future__ import annotations
 
-import io
-import math
-from pathlib import Path
-
 from irlc.errors import UsageError
+from irlc.study.figure import number
 from rich.table import Table
 
 DEFAULT_SORT = "max_path_error_mm"
-
-
-def _number(text: str) -> float | None:
-    try:
-        x = float(text)
-    except (TypeError, ValueError):
-        return None
-    return x if math.isfinite(x) else None
 
 
 def split_sort(sort: str) -> tuple[str, bool]:
@@ -48,7 +36,7 @@ def ranked(rows: list[dict[str, str]], sort: str) -> list[dict[str, str]]:
     scored = [
         (sign * v, int(r["variant"]), r)
         for r in rows
-        if r.get("status", "ok") == "ok" and (v := _number(r.get(metric, ""))) is not None
+        if r.get("status", "ok") == "ok" and (v := number(r.get(metric, ""))) is not None
     ]
     return [r for _, _, r in sorted(scored, key=lambda t: (t[0], t[1]))]
 
@@ -89,103 +77,3 @@ def summary_table(
                 r["variant"], *(r[key] for key in keys), r["status"], r[metric],
             )  # fmt: skip
     return table
-
-
-def plot(
-    rows: list[dict[str, str]],
-    keys: list[str],
-    metric: str,
-    path: Path,
-    grid: frozenset[str] | set[str] = frozenset(),
-) -> Path:
-    """``metric`` against the varied keys: one key — a line over a ``[grid]`` key's values
-    (dots for a random key); two ``[grid]`` keys with few values — a heat map; otherwise —
-    the first key on x, one line per value of a second grid key, or for a second random
-    key the samples as dots coloured by the metric. Text values (``run.drives``) are
-    categories, in the order they appear."""
-    from irlc.plots import pyplot
-
-    plt = pyplot("--plot figures")
-    from irlc.files import atomic_write_bytes
-
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    kx = keys[0]
-    ky = keys[1] if len(keys) > 1 else None
-    xs, xticks = _axis([r[kx] for r in rows])
-    ms = [_number(r.get(metric, "")) for r in rows]
-    if ky is not None and kx in grid and ky in grid and _few(rows, kx, 30) and _few(rows, ky, 12):
-        _heat(ax, fig, rows, kx, ky, metric)
-    elif ky is not None and ky not in grid:
-        ys, yticks = _axis([r[ky] for r in rows])
-        pts = [(x, y, m) for x, y, m in zip(xs, ys, ms, strict=True) if m is not None]
-        sc = ax.scatter([p[0] for p in pts], [p[1] for p in pts], c=[p[2] for p in pts], s=14)
-        fig.colorbar(sc, ax=ax, label=metric)
-        ax.set_xlabel(kx)
-        ax.set_ylabel(ky)
-        if yticks:
-            ax.set_yticks(range(len(yticks)), yticks)
-    else:
-        levels = _ordered([r[ky] for r in rows]) if ky else [None]
-        for level in levels:
-            pts = sorted(
-                (x, m)
-                for x, m, r in zip(xs, ms, rows, strict=True)
-                if m is not None and (ky is None or r[ky] == level)
-            )
-            single = len({p[0] for p in pts}) == len(pts)  # one point per x: a line
-            style = "o-" if kx in grid and single else "o" if kx in grid else "."
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], style,
-                    label=f"{ky} = {level}" if ky else None)  # fmt: skip
-        ax.set_xlabel(kx)
-        ax.set_ylabel(metric)
-        if ky:
-            ax.legend(fontsize=8)
-        ax.grid(True, alpha=0.3)
-    if xticks and not (ky is not None and kx in grid and ky in grid):
-        ax.set_xticks(range(len(xticks)), xticks)
-    fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=110, metadata={"Software": None})
-    plt.close(fig)
-    return atomic_write_bytes(path, buf.getvalue())
-
-
-def _ordered(values: list[str]) -> list[str]:
-    """Distinct values: numbers ascending, then texts in order of appearance."""
-    return sorted(dict.fromkeys(values), key=_sort_key)
-
-
-def _few(rows, key: str, limit: int) -> bool:
-    return len({r[key] for r in rows}) <= limit
-
-
-def _axis(values: list[str]) -> tuple[list[float], list[str]]:
-    """Positions on an axis: the numbers themselves, or category indices (and their
-    labels) when some value is not a number."""
-    nums = [_number(v) for v in values]
-    if all(n is not None for n in nums):
-        return [float(n) for n in nums], []  # type: ignore[arg-type]
-    cats = list(dict.fromkeys(values))
-    return [float(cats.index(v)) for v in values], cats
-
-
-def _sort_key(text: str):
-    x = _number(text)
-    return (0, x) if x is not None else (1, 0.0)  # texts keep their order (stable sort)
-
-
-def _heat(ax, fig, rows, kx, ky, metric) -> None:
-    import numpy as np
-
-    xs, ys = _ordered([r[kx] for r in rows]), _ordered([r[ky] for r in rows])
-    grid = np.full((len(ys), len(xs)), np.nan)
-    for r in rows:
-        v = _number(r.get(metric, ""))
-        if v is not None:
-            grid[ys.index(r[ky]), xs.index(r[kx])] = v
-    im = ax.imshow(grid, origin="lower", aspect="auto", cmap="viridis")
-    ax.set_xticks(range(len(xs)), xs, rotation=45, fontsize=7)
-    ax.set_yticks(range(len(ys)), ys, fontsize=7)
-    ax.set_xlabel(kx)
-    ax.set_ylabel(ky)
-    fig.colorbar(im, ax=ax, label=metric)

@@ -69,7 +69,9 @@ def run_variant(plan: Plan, index: int, values: tuple) -> dict[str, str]:
         model = _model(plan, groups["robot"])
         code = _code(plan, groups["datalist"])
         options = {**plan.run, **groups["run"]}
-        result = run_code(code, robot=model, base_dir=plan.program_dir, **options)
+        result = run_code(
+            code, robot=model, base_dir=plan.program_dir, engine=plan.engine, **options
+        )
     except CompileError as e:
         first = next((d for d in e.diagnostics if d.is_error), None)
         line = first.line if first is not None else None

@@ -9,7 +9,7 @@ setting is range-checked when constant, as ``WITH`` is.
 
 from __future__ import annotations
 
-from irlc.lang import ast
+from irlc.lang import ast, foreign
 from irlc.lang import types as T
 from irlc.lang.builtins import BUILTINS
 from irlc.lang.checker.constants import number
@@ -146,7 +146,8 @@ class StatementChecker:
                 self.report.error(
                     s.span,
                     f"unknown procedure '{s.name}'",
-                    self.scope.suggest(s.name, kinds=("routine",)),
+                    self.scope.suggest(s.name, kinds=("routine",))
+                    or foreign.statement_hint(s.name, ""),
                 )
             else:
                 self.report.error(s.span, f"'{sym.name}' is not a procedure")

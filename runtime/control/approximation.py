@@ -95,7 +95,7 @@ class ApproximatePositioning:
             return
         self.cycles.run(pending.run, pending.run.seg.cycles)
         self.blends.append(pending.entry(None, pending.run.dt, reason or "exact stop"))
-        self.log.exact_stop(pending.run.seg.line, st.t)
+        self.log.end_at(pending.span, st.t, "exact")
 
     def before_move(self, cmd: MotionCommand, context: tuple) -> None:
         """Before a motion is planned: an exact stop when what a blend needs changed
@@ -144,9 +144,11 @@ class ApproximatePositioning:
         if pending is not None:
             overlap = self._blend(pending, run, length, reserve)
             self.blends.append(pending.entry(overlap, run.dt, pending.limit_reason))
+            self.log.end_at(pending.span, pending.handover)  # A's span ends where B starts
         if approx > 0.0:
             self.cycles.run(run, max(run.done, seg.cycles - reserve))
-            st.pending = PendingSegment(run, approx, length, context, point)
+            span = len(self.log.spans)  # where its statement's span will be logged
+            st.pending = PendingSegment(run, approx, length, context, point, span)
         else:
             self.cycles.run(run, seg.cycles)
 
@@ -188,6 +190,7 @@ class ApproximatePositioning:
         mark = self._mark(pending.run, run)
         try:
             self.cycles.run(pending.run, pending.run.seg.cycles - overlap.cycles)
+            pending.handover = self.state.t  # B's first cycle follows
             self._blend_cycles(pending, run, overlap.cycles)
         except RunFailure as exc:
             if overlap.cycles == 0:

@@ -29,6 +29,7 @@ as :class:`~irlc.runtime.control.segment_run.SegmentRun` records carrying their 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -54,6 +55,7 @@ from irlc.runtime.control.reconfiguration import SelfMotion
 from irlc.runtime.control.segment_run import SegmentRun, Solver
 from irlc.runtime.control.state import ControllerState
 from irlc.runtime.control.statement_log import StatementLog
+from irlc.runtime.engine_policy import EngineChoice
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik.freeze import FrozenJoints
 from irlc.runtime.ik.newton import InverseTransformation
@@ -95,6 +97,7 @@ class ExecutionOptions:
     allow_collisions: bool = False  # a penetration of an obstacle does not fail (collision.py)
     path_tolerance_stated: bool = False  # --path-tolerance was given (judges a drive run)
     orientation_tolerance_stated: bool = False  # --orientation-tolerance was given
+    engine: EngineChoice | None = None  # when the kernels take over (engine_policy.py)
 
 
 class SimulatedController:
@@ -240,11 +243,14 @@ class SimulatedController:
             if segments:  # the next motion is planned from this point (plan_start.py)
                 end = self._programmed_point(cmd, segments[-1], plan)
                 self._programmed_end = None if end is None else (solver.kin.tool.tobytes(), end)
-            stop = "approximated" if st.pending is not None else "exact"
+            own = st.pending is not None and st.pending.span == len(self.log.spans)
+            stop = "approximated" if own else "exact"  # (a zero-length move blends nothing)
         finally:
             limit = motion_limit([s.limiting for s in segments], cmd.time is not None)
             kind = KIND_WORDS.get(cmd.kind, cmd.kind)
-            self.log.add(kind, cmd.line, t0, st.t, stop, limit, settings.override)
+            if self.log.spans:  # after a blend the span starts where the one before ends
+                t0 = max(t0, self.log.spans[-1].end)
+            self.log.add(kind, cmd.line, t0, st.t, stop, limit, settings.override, cmd.call)
 
     def _programmed_point(self, cmd: MotionCommand, last: Segment, plan) -> np.ndarray | None:
         """The world TCP pose the motion's last point was programmed at: a Cartesian
@@ -371,7 +377,12 @@ class SimulatedController:
         return self.dt_used
 
     def _solver(self, settings: Settings) -> Solver:
-        """The chain and inverse transformation of the settings' tool (one per tool)."""
+        """The chain and inverse transformation of the settings' tool (one per tool); from
+        the engine policy's switch on (engine_policy.py) the compiled cycle's."""
+        switch = self.opts.engine.ik_from if self.opts.engine is not None else None
+        if switch is not None and self.recorder.ik_cycles >= switch and not self.ik_params.accel:
+            self.ik_params = dataclasses.replace(self.ik_params, accel=True)  # engine_policy
+            self._solvers.clear()  # the next motion's solver runs the compiled cycle
         tool = tool_transform(self.model, settings)
         key = tool.tobytes()
         solver = self._solvers.get(key)

@@ -88,11 +88,13 @@ class PendingSegment:
     length: float  # m, TCP path length (chord for PTP)
     context: tuple  # what must not change for a blend (options, tool, base, Δt)
     point: int  # 1-based point of its statement
+    span: int  # the index of its statement's span in the statement log (cycle_time.py)
     limit: float = 0.0  # m, d = min(APPROX, L_A/2, L_B/2)
     limit_reason: str = ""
     min_speed: float = 0.0  # m/s, lowest TCP speed during the blend
     chain: dict = field(default_factory=dict)  # cycle → joints (Cartesian A before a PTP)
     start_time: float = 0.0  # s, the blend's first sample's predecessor
+    handover: float = 0.0  # s, where the next motion starts (cycle_time.py spans)
 
     def entry(self, overlap: Overlap | None, dt: float, reason: str) -> dict:
         """The point's report entry (mm, s): ``overlap`` None is an exact stop."""

@@ -16,12 +16,21 @@ class StatementLog:
         self.spans: list[StatementSpan] = []
 
     def add(self, kind: str, line: int, start: float, end: float, stop, limit: str,
-            override=None) -> None:  # fmt: skip
-        self.spans.append(StatementSpan(line, kind, start, end, stop, limit, override))
+            override=None, call=None) -> None:  # fmt: skip
+        """A statement's span (``call``: the routine and the line of its call, for a
+        motion in a routine)."""
+        self.spans.append(StatementSpan(line, kind, start, end, stop, limit, override, call))
 
-    def exact_stop(self, line: int, t: float) -> None:
-        """The span of the statement whose point was pending (approximated) ends where its
-        exact stop ends, at ``t`` (the spans keep tiling the run)."""
-        if self.spans and self.spans[-1].line == line:
-            last = self.spans[-1]
-            self.spans[-1] = dataclasses.replace(last, end=t, stop="exact")
+    def end_at(self, index: int, t: float, stop: str | None = None) -> None:
+        """The span at ``index`` — a statement whose point was pending (approximated) —
+        ends at ``t``: where its exact stop ends, or where the next motion starts (after
+        the cycles of its tail that run alone: a blend shorter than its tail leaves some),
+        so the next statement's span is its own time (a ``WITH TIME := 3`` shows 3 s).
+        Spans logged after it that took no time (a zero-length move) move to ``t``: the
+        spans keep tiling the run (cycle_time.py)."""
+        if index >= len(self.spans):  # its statement is still running (its points)
+            return
+        own = self.spans[index]
+        self.spans[index] = dataclasses.replace(own, end=t, stop=stop or own.stop)
+        for k in range(index + 1, len(self.spans)):
+            self.spans[k] = dataclasses.replace(self.spans[k], start=t, end=t)

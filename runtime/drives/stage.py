@@ -17,6 +17,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
+from irlc.runtime import engine_policy
 from irlc.runtime.errors import DriveSetupError
 from irlc.runtime.outputs import stop
 from irlc.runtime.outputs.recorder import RecordedRun
@@ -49,7 +50,9 @@ def run_drives(
 
     rec = samples.recorded
     params = drive_data(model)
-    drive = simulate(model, rec, level, every_step, params)
+    steps = (rec.times[-1] - rec.times[0]) / opts.drive_step_s if opts.drive_step_s else 0.0
+    accel = engine_policy.drive_kernels(opts.engine, steps)  # when the drive kernels pay
+    drive = simulate(model, rec, level, every_step, params, accel)
     at_samples = measure(model, rec, rec.times, at_times(drive, rec.times), task_rows, obstacles)
     actual = measured(rec, at_samples)
     verdict = judge(model, names, rec, drive, actual, opts, params)
@@ -87,9 +90,10 @@ def drive_data(model):
     return params
 
 
-def simulate(model, rec: RecordedRun, level: str, every_step: bool, params=None):
+def simulate(model, rec: RecordedRun, level: str, every_step: bool, params=None, accel=None):
     """The drive simulation of the recorded set points (``record`` per drive step or per
-    IPO sample); its input errors are :class:`DriveSetupError`."""
+    IPO sample; ``accel``: the compiled drive loop, :mod:`irlc.runtime.engine_policy`);
+    its input errors are :class:`DriveSetupError`."""
     from irlc.runtime.drives import simulate_drives
     from irlc.runtime.outputs.verdict import following_bound
 
@@ -103,6 +107,7 @@ def simulate(model, rec: RecordedRun, level: str, every_step: bool, params=None)
             params=params,
             tolerance=following_bound(model, params, rec.q[0]).bound,
             record="step" if every_step else "ipo",
+            accel=accel,
         )
     except ValueError as exc:
         raise DriveSetupError(f"drive simulation: {exc}") from None

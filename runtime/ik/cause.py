@@ -51,7 +51,7 @@ from dataclasses import dataclass
 import numpy as np
 from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
-from irlc.runtime.ik import unreachable
+from irlc.runtime.ik import freeze_with_limits, unreachable
 from irlc.runtime.ik.limits import format_joint_value
 from irlc.runtime.ik.reach import Reach, walk
 from irlc.runtime.model.kinematics import Kinematics
@@ -98,7 +98,9 @@ def classify(
     at_limit = _at_position_limit(res.q, reach)
     by_position = bool(constraint) and of_bound(constraint) == "position_limit"
     if at_limit and by_position:
-        return _position_failure(message, reach, res.q, at_limit, constraint, line, time_s)
+        return _with_freeze(message, reach, seg, q_start, kin, at_limit, line, time_s) or (
+            _position_failure(message, reach, res.q, at_limit, constraint, line, time_s)
+        )
     held = _survey(reach, seg, q_start, kin, frozen=True)
     if held.failed is not None:
         return _off_workspace(message, reach, seg.path, held, q_start, line, time_s)
@@ -119,7 +121,9 @@ def classify(
     if pressed and by_position:
         # the walk itself needs a joint at its limit: the cycles, which cannot jump to the
         # walk's configurations, would need it beyond; slower does not help
-        return _position_failure(message, reach, res.q, pressed, constraint, line, time_s)
+        return _with_freeze(message, reach, seg, q_start, kin, pressed, line, time_s) or (
+            _position_failure(message, reach, res.q, pressed, constraint, line, time_s)
+        )
     return _speed_failure(message, seg, held, constraint, line, time_s, override)
 
 
@@ -203,6 +207,29 @@ def _position_failure(message, reach: Reach, q, at_limit, constraint, line, time
         cause="position_limit",
         details={"joints": [naming.name(j) for j, _ in at_limit]},
     )
+
+
+def _with_freeze(message, reach: Reach, seg, q_start, kin, at_limit, line, time_s):
+    """A position limit a JOINTLIMIT narrowed, pressed while joints are frozen, on a path
+    the walk follows as programmed with the frozen joints free: FREEZE and JOINTLIMIT
+    together are the cause (freeze_with_limits.py); else ``None``."""
+    own = reach.model.position_limits
+    narrowed = [j for j, side in at_limit if reach.position[j, side] != own[j, side]]
+    if not reach.frozen or not narrowed:
+        return None
+    freed = _survey(reach, seg, q_start, kin, frozen=False)
+    if freed.failed is not None or not freed.feasible:
+        return None
+    model = reach.model
+    bounds = ", ".join(
+        f"{reach.naming.label(j)} beyond its JOINTLIMIT {('min', 'max')[side]} "
+        f"{format_joint_value(model, j, reach.position[j, side], 0)}"
+        for j, side in at_limit
+        if j in narrowed
+    )
+    head = f"{message}; cause: the path needs {bounds}"
+    tail = "; with the frozen joints free the path can be followed as programmed"
+    return freeze_with_limits.failure(reach, sorted(set(narrowed)), head, tail, line, time_s, {})
 
 
 def _free(reach: Reach, frozen: bool) -> np.ndarray:
@@ -290,6 +317,12 @@ def _off_workspace(message, reach, path, survey: _Survey, q_start, line, time_s)
     }
     seed = survey.q[-1]
     if reach.frozen and reach.reached(reach.search(path.at(s_bad), seed, frozen=False)):
+        narrowed = freeze_with_limits.narrowed_joints(reach, path.at(s_bad), seed, failed.q)
+        if narrowed:  # the JOINTLIMIT is part of the cause: each alone follows the path
+            head = f"{message}; cause: the path {where} is out of reach"
+            closest = f": the closest pose found is {failed.position_error / units.MM:.4g} mm away"
+            tail = closest + freeze_with_limits.EACH_ALONE
+            return freeze_with_limits.failure(reach, narrowed, head, tail, line, time_s, details)
         names = reach.naming.labels(sorted(reach.frozen))
         details["joints"] = [reach.naming.name(j) for j in sorted(reach.frozen)]
         return RunFailure(
@@ -379,19 +412,32 @@ def _speed_failure(
     message, seg, survey: _Survey, constraint, line, time_s, override: float
 ) -> RunFailure:
     c_v, c_a, k_a = survey.c_v, survey.c_a, survey.k_a
-    cause = "speed_limit" if c_v <= c_a and k_a == 1.0 else "accel_limit"
-    size, unit, name, key = _speed_setting(seg)
-    now, suggested = seg.profile.cruise * size, _suggested(seg, survey, override)
+    estimate = "speed_limit" if c_v <= c_a and k_a == 1.0 else "accel_limit"
+    bound = of_bound(constraint) if constraint else None
+    # the bound the failing cycle met names the cause where it is one of the two: the
+    # estimate's other factor only shapes the suggestion (one cause, not two)
+    cause = bound if bound in ("speed_limit", "accel_limit") else estimate
     what = "speed" if cause == "speed_limit" else "acceleration"
-    peak = f"the segment peaks at {now:.4g} {unit} now"
-    text = (
-        f"{message}; cause: a joint {what} bound; a lower speed resolves it: "
-        f"{_speed_text(seg, survey, override)} {_now(peak, suggested, override, unit, override)}"
-    )
-    details = {f"suggested_{key}": suggested}
-    if k_a < 1.0:
-        acc_now = seg.profile.accel * size
-        acc_ok = _round_down(acc_now * k_a * SAFETY / override**2)
+    which = "that joint" if bound == cause else "a joint"
+    size, unit, name, key = _speed_setting(seg)
+    acc_now = seg.profile.accel * size
+    acc_ok = _round_down(acc_now * k_a * SAFETY / override**2) if k_a < 1.0 else None
+    fixed = seg.with_time_s
+    if fixed is not None:  # WITH TIME fixes the speed: a longer time resolves it
+        acc_scale = 1.0 if acc_ok is None else acc_ok * override**2 / acc_now
+        longer = _longer_time(seg, survey, fixed, acc_scale)
+        how = f"a longer time resolves it: WITH TIME := {longer:g} s or more (now {fixed:g} s)"
+        details = {"suggested_time_s": longer}
+    else:
+        now, suggested = seg.profile.cruise * size, _suggested(seg, survey, override)
+        peak = f"the segment peaks at {now:.4g} {unit} now"
+        how = (
+            f"a lower speed resolves it: {_speed_text(seg, survey, override)} "
+            f"{_now(peak, suggested, override, unit, override)}"
+        )
+        details = {f"suggested_{key}": suggested}
+    text = f"{message}; cause: {which} {what} bound; {how}"
+    if acc_ok is not None:
         acc_name = "R_ACC" if name == "R_SPEED" else "the orientation acceleration"
         acc_unit = f"{unit}²"
         acc_peak = f"now {acc_now:.4g} {acc_unit}"
@@ -402,6 +448,29 @@ def _speed_failure(
         if name == "R_SPEED":
             details["suggested_acc_mm_s2"] = acc_ok
     return RunFailure(text, line, time_s, constraint, cause=cause, details=details)
+
+
+def _longer_time(seg, survey: _Survey, fixed: float, acc_scale: float) -> float:
+    """The ``WITH TIME`` (s, programmed) at which the segment's joints can follow: a
+    longer time keeps the ramps' acceleration ``a`` (× ``acc_scale`` where the message
+    also suggests a lower R_ACC) and lowers the cruise ``v`` (normalised, 1/s) to
+    ``v' = SAFETY·min(c_v, c_a)·v``, so the segment takes ``T' = 1/v' + v'/a'`` instead of
+    its ``T``; the statement's time scales alike: ``fixed·T'/T``, rounded up to two
+    significant digits."""
+    prof = seg.profile
+    v_new = prof.cruise * SAFETY * min(survey.factor, 1.0)
+    a_new = prof.accel * acc_scale
+    if not (v_new > 0.0 and a_new > 0.0 and prof.duration > 0.0):
+        return fixed
+    return _round_up(fixed * (1.0 / v_new + v_new / a_new) / prof.duration)
+
+
+def _round_up(x: float) -> float:
+    """Two significant digits, rounded up (a time that is at least ``x``)."""
+    if x <= 0.0 or not math.isfinite(x):
+        return x
+    step = 10.0 ** (math.floor(math.log10(x)) - 1)
+    return round(math.ceil(x / step - 1e-9) * step, 12)
 
 
 def _round_down(x: float) -> float:

@@ -37,7 +37,7 @@ import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime import units
 from irlc.runtime.errors import RunFailure
-from irlc.runtime.ik import closed_form, unreachable
+from irlc.runtime.ik import closed_form, freeze_with_limits, unreachable
 from irlc.runtime.ik.pose import PoseSolution, solve_pose
 from irlc.runtime.model.kinematics import Kinematics
 from irlc.runtime.model.naming import JointNaming
@@ -311,6 +311,15 @@ def unreachable_failure(
         "distance_deg": sol.orientation_error / units.DEG,
     }
     if reach.frozen and reach.reached(reach.search(target, seed, frozen=False)):
+        narrowed = freeze_with_limits.narrowed_joints(reach, target, seed, sol.q)
+        if narrowed:  # the JOINTLIMIT is part of the cause: each alone reaches the pose
+            closest = (
+                f": the closest pose found is {sol.position_error / units.MM:.4g} mm and "
+                f"{sol.orientation_error / units.DEG:.4g} deg away"
+            )
+            head = f"{what}: the {point} is out of reach"
+            tail = closest + freeze_with_limits.EACH_ALONE
+            return freeze_with_limits.failure(reach, narrowed, head, tail, line, time_s, details)
         names = reach.naming.labels(sorted(reach.frozen))
         details["joints"] = [reach.naming.name(j) for j in sorted(reach.frozen)]
         return RunFailure(

@@ -10,9 +10,11 @@ the limits reaches the pose (:func:`proof`; then :data:`NOT_REACHABLE`):
   enumerates every configuration reaching the pose; none exists, or every one lies
   outside the position or coupled limits (the first such limit is named);
 * **reach**: the controlled position components of the target lie farther from the
-  robot's base than the chain can stretch. Between consecutive link origins ``o_i``
-  (``o_0`` the base, ``o_{n+1}`` the TCP) the distance depends on joint ``i+1`` only:
-  fixed for a revolute joint, convex in the value of a prismatic one, so
+  robot's base than its links laid end to end (the message's number: not the reach of
+  the arm, which is shorter where joint offsets cannot line up, but a bound of it).
+  Between consecutive link origins ``o_i`` (``o_0`` the base, ``o_{n+1}`` the TCP) the
+  distance depends on joint ``i+1`` only: fixed for a revolute joint, convex in the value
+  of a prismatic one, so
   ``Σ_i max |o_{i+1} − o_i|`` over the prismatic ranges' ends bounds ``|TCP − o_0|``
   (an infinite prismatic range: no bound).
 """
@@ -101,5 +103,6 @@ def _beyond_reach(model, target, tool, box, task_rows) -> str | None:
         return None
     return (
         f"it lies {gap / units.MM:.6g} mm from the robot's base, beyond the "
-        f"{bound / units.MM:.6g} mm the arm can stretch"
+        f"{bound / units.MM:.6g} mm of its links laid end to end, which no configuration "
+        "exceeds"
     )

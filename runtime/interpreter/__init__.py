@@ -15,7 +15,6 @@ controller. One file per concept:
 
 from irlc.runtime.interpreter.machine import (
     DEFAULT_INSTRUCTION_BUDGET,
-    WAIT_CYCLE_COST,
     Interpreter,
 )
 from irlc.runtime.interpreter.state import UNSET, ExecutionResult, MachineState, Ref
@@ -23,7 +22,6 @@ from irlc.runtime.interpreter.state import UNSET, ExecutionResult, MachineState,
 __all__ = [
     "DEFAULT_INSTRUCTION_BUDGET",
     "UNSET",
-    "WAIT_CYCLE_COST",
     "ExecutionResult",
     "Interpreter",
     "MachineState",

@@ -55,7 +55,7 @@ from collections.abc import Callable
 from irlc.lang.irdata import Code, Routine, Slot, Target
 from irlc.lang.value_ranges import MAX_LIVE_ELEMENTS
 from irlc.runtime import values as V
-from irlc.runtime.commands import WAIT_SAMPLED_CYCLES, Controller, ModalOptions, Settings
+from irlc.runtime.commands import Controller, ModalOptions, Settings
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.interpreter import builtins as B
 from irlc.runtime.interpreter.data import ELEMENTS_PER_STEP, DataInstructions
@@ -71,14 +71,15 @@ from irlc.runtime.interpreter.state import (
     Ref,
 )
 
-# The endless-loop guard: at most this many instructions without motion (about 0.3 s of
-# CPython); a recorded cycle of waiting counts as WAIT_CYCLE_COST instructions and a motion
-# statement that does not move (its target is where the robot is) as STILL_MOTION_COST
-# (about their run times: planning a motion costs what ~250 instructions do), so a loop that
-# only waits or only "moves" in place is caught as fast, while one long WAIT (at most
-# WAIT_SAMPLED_CYCLES recorded cycles) never exhausts it. Users raise it: --instruction-budget.
+# The endless-loop guard: at most this many instructions without motion or waiting (about
+# 0.3 s of CPython); a motion statement that does not move (its target is where the robot
+# is) counts as STILL_MOTION_COST (planning a motion costs what ~250 instructions do), so a
+# loop that only "moves" in place is caught as fast. Waiting advances simulated time like
+# motion and restarts the count: a loop of WAITs is bounded by the run's cycle and time
+# budgets (each recorded cycle counts), not taken for an endless loop (a valid
+# FOR i := 1 TO 3600 DO WAIT 1 SEC; ENDFOR; was stopped at t = 200 s as "endless loop?").
+# Users raise it: --instruction-budget.
 DEFAULT_INSTRUCTION_BUDGET = 500_000
-WAIT_CYCLE_COST = 25
 STILL_MOTION_COST = 250
 # A run executes at most RUN_BUDGETS instruction budgets in all (20 M instructions by default,
 # ≈ 10–25 s of CPython): motion restarts the guard's count, so without this a loop with a
@@ -206,16 +207,12 @@ class Interpreter:
             self._steps += STILL_MOTION_COST
 
     def waited(self, t_before: float) -> None:
-        """Charge the budget for the cycles a WAIT (or a WAIT FOR) stood still; fail at the
-        waiting statement once it is used up."""
+        """A WAIT (or a WAIT FOR) that advanced simulated time is progress, as motion is:
+        the count restarts (the controller's cycle and time budgets bound the waiting)."""
         t = self.time()
         if t > t_before:
-            cycles = math.ceil((t - t_before) / self.state.settings.ipo - 1e-9)
-            cycles = min(cycles, WAIT_SAMPLED_CYCLES)  # what the wait costs to simulate
-            self._progress_at -= WAIT_CYCLE_COST * cycles
             self._progress_time = max(self._progress_time, t)
-            if self._steps - self._progress_at > self.budget:
-                raise self._budget_failure()
+            self._progress_at = min(self._steps, (RUN_BUDGETS - 1) * self.budget)
 
     def _budget_failure(self) -> RunFailure:
         if self._steps > RUN_BUDGETS * self.budget:
@@ -226,9 +223,9 @@ class Interpreter:
                 " (Python: instruction_budget=N)"
             )
         return RunFailure(
-            f"more than {self.budget} instructions without motion (a cycle of waiting counts "
-            f"as {WAIT_CYCLE_COST}, a motion that does not move as {STILL_MOTION_COST}"
-            f"{self._array_work()}) — endless loop? If not, raise the budget: "
+            f"more than {self.budget} instructions without motion or waiting (a motion that "
+            f"does not move counts as {STILL_MOTION_COST}{self._array_work()}) — endless "
+            "loop? If not, raise the budget: "
             "--instruction-budget N (Python: instruction_budget=N)"
         )
 
@@ -251,6 +248,14 @@ class Interpreter:
     def line(self) -> int:
         """The source line of the instruction being executed."""
         return self._lines[self.cur]
+
+    def call_site(self) -> tuple[str, int] | None:
+        """``(routine, line of its call)`` when the current instruction is in a routine
+        (the cycle-time table shows a routine's motion with its call site)."""
+        frame = self.frames[-1] if self.frames else None
+        if frame is None or frame.routine.kind == "MAIN":
+            return None
+        return frame.routine.name, self._nearest_line(frame.return_pc - 1)
 
     def _nearest_line(self, index: int) -> int:
         """The source line of instruction ``index``, else of the nearest instruction before

@@ -79,9 +79,17 @@ class MotionInstructions:
         targets = tuple(self._move_target(kind, t) for t in self.pop_n(npts))
         _check_point_count(kind, npts)
         m = self.m
-        cmd = MotionCommand(kind, targets, m.line(), **fields)
+        cmd = MotionCommand(kind, targets, m.line(), call=m.call_site(), **fields)
         m.call(m.controller.move, cmd, *m.snapshot())
         m.moved()
+
+    def _call_site(self) -> tuple[str, int] | None:
+        """``(routine, line of its call)`` when the current instruction is in a routine
+        (the cycle-time table shows a routine's motion with its call site)."""
+        frame = self.frames[-1] if self.frames else None
+        if frame is None or frame.routine.kind == "MAIN":
+            return None
+        return frame.routine.name, self._nearest_line(frame.return_pc - 1)
 
     def _move_target(self, kind: str, t: object) -> object:
         if kind in PATH_KINDS:  # a Cartesian path goes to POSE targets

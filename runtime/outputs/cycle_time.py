@@ -10,11 +10,16 @@ that is blended into the next (approximate positioning) ``"approximated"``; a sp
 cut short by a run failure ``"failed"``; WAITs have no stop (``None``).
 
 The report lists them under ``statements`` (docs/interfaces.md), with the statement's
-source line where the program's source file is at hand.
+source text where the program's source file is at hand (:class:`StatementTexts`): its
+line, or — where several statements that take time share the line
+(``MOVE LIN p1;  MOVE LIN p2;``) — its own statement on it; a motion inside a routine
+also names the routine and the line of its call.
 """
 
 from __future__ import annotations
 
+import re
+from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -36,6 +41,7 @@ class StatementSpan:
     stop: str | None  # "exact" | "approximated" | "failed" | None (no motion)
     limit: str = ""  # what set the motion's time ("path speed/acceleration", "WITH TIME", …)
     override: float | None = None  # R_OVERRIDE (%) the motion ran at; None for a WAIT
+    call: tuple[str, int] | None = None  # (routine, line of its call) for a motion in one
 
     @property
     def duration(self) -> float:
@@ -90,20 +96,110 @@ def _comment_start(text: str) -> int | None:
 def statement_rows(spans: Sequence[StatementSpan], lines: Sequence[str], rnd) -> list[dict]:
     """The report's ``statements``: one object per span (``rnd`` rounds the numbers; a
     joint in ``limit`` is named by the pre-interpolator's naming, runtime/model/naming.py)."""
+    texts = StatementTexts(lines)
     rows = []
     for s in spans:
-        text = code_text(lines[s.line - 1]) if 0 < s.line <= len(lines) else ""
         limit = s.limit
         rows.append(
             {
                 "line": s.line,
-                "statement": text or s.kind,
+                "statement": texts.text(s) or s.kind,
                 "kind": s.kind,
                 "start_s": rnd(s.start),
                 "duration_s": rnd(s.duration),
                 "stop": s.stop,
                 "limit": limit or None,
                 "override_percent": rnd(s.override),
+                "routine": s.call[0] if s.call else None,
+                "called_at": s.call[1] if s.call else None,
             }
         )
     return rows
+
+
+_TIMED = re.compile(r"\b(MOVE_INC|MOVE|RECONFIGURATION|WAIT)\b", re.IGNORECASE)
+_CONTROL = re.compile(
+    r"\b(IF|ELSIF|ELSE|CASE|FOR|WHILE|REPEAT|UNTIL|GOTO|RETURN|HALT)\b", re.IGNORECASE
+)
+
+
+class StatementTexts:
+    """The text a span shows: its source line; where several statements that take time
+    share the line, the one of the span's kind — the k-th execution of that kind on the
+    line is its (k mod count)-th statement, as straight-line code runs them. A line with
+    control flow (IF, a loop, GOTO …) and several statements of one kind is shown whole:
+    which one ran is not known from the line alone."""
+
+    def __init__(self, lines: Sequence[str]):
+        self.lines = lines
+        self._pieces: dict[int, tuple[str, list[tuple[str, str]]]] = {}
+        self._runs: Counter = Counter()
+
+    def text(self, span: StatementSpan) -> str:
+        if not 0 < span.line <= len(self.lines):
+            return ""
+        code, pieces = self._line(span.line)
+        same = [text for kind, text in pieces if kind == span.kind]
+        if len(pieces) > 1 and len(same) == 1:
+            return same[0]
+        if len(pieces) > 1 and same and not _CONTROL.search(code):
+            key = (span.line, span.kind)
+            shown = same[self._runs[key] % len(same)]
+            self._runs[key] += 1
+            return shown
+        return code
+
+    def _line(self, line: int) -> tuple[str, list[tuple[str, str]]]:
+        found = self._pieces.get(line)
+        if found is None:
+            code = code_text(self.lines[line - 1])
+            found = self._pieces[line] = (code, timed_statements(code))
+        return found
+
+
+def timed_statements(code: str) -> list[tuple[str, str]]:
+    """``(kind, text)`` of each statement of a source line that takes time (a motion,
+    RECONFIGURATION, WAIT), in order: ``"MOVE LIN p1;  MOVE LIN p2;"`` →
+    ``[("MOVE LIN", "MOVE LIN p1;"), ("MOVE LIN", "MOVE LIN p2;")]``."""
+    out = []
+    for piece, blanked in _statements(code):
+        match = _TIMED.search(blanked)  # not a word in a string or comment
+        if match is not None:
+            text = piece[match.start() :].strip()
+            out.append((_kind(text), text + ";"))
+    return out
+
+
+def _statements(code: str) -> list[tuple[str, str]]:
+    """``code`` split at the ``;`` outside strings and comments (linear): each piece and
+    the piece with its strings and comments blanked."""
+    blanked = list(code)
+    cuts, i, n = [], 0, len(code)
+    closers = {"'": "'", '"': '"', "{": "}", "(*": "*)"}
+    while i < n:
+        opener = "(*" if code.startswith("(*", i) else code[i]
+        if opener in closers:
+            end = code.find(closers[opener], i + len(opener))
+            stop = n if end < 0 else end + len(closers[opener])
+            blanked[i:stop] = " " * (stop - i)
+            i = stop
+            continue
+        if code[i] == ";":
+            cuts.append(i)
+        i += 1
+    flat = "".join(blanked)
+    bounds = zip([-1, *cuts], [*cuts, n], strict=True)
+    return [(code[a + 1 : b], flat[a + 1 : b]) for a, b in bounds if flat[a + 1 : b].strip()]
+
+
+def _kind(text: str) -> str:
+    """A statement's kind as the spans name it (KIND_WORDS, ``RECONFIGURATION``,
+    ``WAIT``): ``MOVE CIRC …`` is ``MOVE CIRCLE``, ``MOVE LIN PATH(…)`` ``MOVE LIN PATH``."""
+    words = re.findall(r"[A-Za-z_]+", text.upper())[:3]
+    if words[0] in ("RECONFIGURATION", "WAIT") or len(words) < 2:
+        return words[0]
+    if words[1] == "CIRC":
+        words[1] = "CIRCLE"
+    if words[:2] == ["MOVE", "LIN"] and words[2:3] == ["PATH"]:
+        return "MOVE LIN PATH"
+    return f"{words[0]} {words[1]}"

@@ -260,7 +260,8 @@ class Segment:
     ``reconf`` or ``wait``. Limits are ``(n, 2)`` SI arrays (program ∩ robot).
     ``peaks``: a PTP segment's joint peaks; ``override``: the factor
     ``k = R_OVERRIDE/100`` it was planned with (a failure's suggested speeds are values to
-    program: ik.cause)."""
+    program: ik.cause); ``with_time_s``: the statement's WITH TIME as written (a failure
+    suggests a longer one)."""
 
     kind: str
     line: int
@@ -273,6 +274,7 @@ class Segment:
     limiting_joint: int = -1  # PTP: the joint whose bound sets the time
     peaks: JointPeaks | None = None
     override: float = 1.0
+    with_time_s: float | None = None  # a path segment's WITH TIME as written (ik.cause)
 
     @property
     def duration(self) -> float:

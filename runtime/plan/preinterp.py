@@ -74,10 +74,12 @@ from irlc.runtime.plan.interpolator import (
 )
 from irlc.runtime.plan.motion_values import MotionValues
 from irlc.runtime.plan.profiles import (
+    ProfileError,
     Trapezoid,
     cycles,
 )
 from irlc.runtime.plan.segment_timing import (
+    Bounds,
     motor_bounds,
     segment_bounds,
     segment_profile,
@@ -225,14 +227,17 @@ class PreInterpolator:
         check_coordinates(values.pose_to_matrix(settings.tool), "R_TOOL", cmd.line)
         check_coordinates(state.base, "R_BASE", cmd.line)
         kind = cmd.kind
-        if kind in ("PTP", "PTPINC"):
-            segments = self._plan_ptp(cmd, options, state, lims)
-        elif kind in ("LIN", "LINPATH", "LININC"):
-            segments = self._plan_lin(cmd, state, lims)
-        elif kind == "CIRCLE":
-            segments = self._plan_circle(cmd, state, lims)
-        else:
-            raise RunFailure(f"unknown motion kind {kind!r}", cmd.line)
+        try:
+            if kind in ("PTP", "PTPINC"):
+                segments = self._plan_ptp(cmd, options, state, lims)
+            elif kind in ("LIN", "LINPATH", "LININC"):
+                segments = self._plan_lin(cmd, state, lims)
+            elif kind == "CIRCLE":
+                segments = self._plan_circle(cmd, state, lims)
+            else:
+                raise RunFailure(f"unknown motion kind {kind!r}", cmd.line)
+        except ProfileError as exc:  # bounds no profile can be planned with: at the line
+            raise RunFailure(f"the motion cannot be planned: {exc}", cmd.line) from None
         for seg in segments:
             seg.override = state.motion.k
         return segments
@@ -286,14 +291,24 @@ class PreInterpolator:
             return solve_ptp_pose(reach, world, q0, cmd.line, state.time)
         raise RunFailure(f"MOVE PTP: unsupported target {type(target).__name__}", cmd.line)
 
-    def ptp_jerks(self, motion: MotionValues, accel: np.ndarray) -> np.ndarray:
+    def ptp_jerks(self, motion: MotionValues, accel: np.ndarray, line: int = 0) -> np.ndarray:
         """Per-joint jerk bounds of an S-curve PTP (SI, before ``R_ACC_PTP``): the robot
         file's ``jerk`` where it gives one, else ``θ̈max_i · R_JERK / R_ACC`` — the joint
         builds up its (active) acceleration bound ``accel`` in the time ``R_ACC / R_JERK``
         the path takes for its own."""
-        ramp = motion.acc / motion.jerk
+        r_acc, r_jerk = motion.acc, motion.jerk
         known = self.model.jerk_limits * motion.k  # × R_ACC_PTP: k³ in all
-        return np.where(np.isnan(known), accel / ramp, known)
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+            jerks = np.where(np.isnan(known), accel * r_jerk / r_acc, known)
+        for j in np.flatnonzero(~(np.isfinite(jerks) & (jerks > 0.0))):
+            raise RunFailure(  # a subnormal R_JERK, or an R_ACC so small the jerk overflows
+                f"the motion cannot be planned: joint {self.naming.label(int(j))}'s jerk "
+                f"bound θ̈max·R_JERK/R_ACC is {float(jerks[j]):.3g} in SI units (R_JERK "
+                f"{r_jerk:.3g} mm/s³, R_ACC {r_acc:.3g} mm/s²): an S-curve needs a positive, "
+                "finite jerk",
+                line,
+            )
+        return jerks
 
     def joint_profile(
         self, cmd: MotionCommand, motion: MotionValues, q0, q1, lims: Limits3, npts: int = 1
@@ -310,7 +325,7 @@ class PreInterpolator:
         vmax = np.where(delta >= 0.0, spd[:, 1], -spd[:, 0]) * pct_v
         accel = np.minimum(acc[:, 1], -acc[:, 0])
         amax = accel * pct_a
-        jmax = self.ptp_jerks(motion, accel) * pct_a if motion.scurve else None
+        jmax = self.ptp_jerks(motion, accel, cmd.line) * pct_a if motion.scurve else None
         for j in np.flatnonzero(np.abs(delta) > 0.0):
             if not (vmax[j] > 0.0 and amax[j] > 0.0):
                 name = self.naming.label(j)
@@ -325,8 +340,6 @@ class PreInterpolator:
                 b, self.motors, self.motors.ptp_rates(q0, q1), pct_v, pct_a, self.model.n
             )
         slowest = b.slowest
-        duration = with_time(motion, npts, cmd.line)
-        profile = segment_profile(b, duration, dt, cmd.line, self.max_duration)
         limiting = ""
         if slowest >= 0:
             jerk = "/jerk" if b.jerk is not None else ""
@@ -336,6 +349,8 @@ class PreInterpolator:
             if slowest >= n:
                 limiting = f"motor of {axis} speed/acceleration"
                 slowest -= n
+        duration = with_time(motion, npts, cmd.line)
+        profile = segment_profile(b, duration, dt, cmd.line, self.max_duration, limiting)
         seg = Segment(
             "ptp",
             cmd.line,
@@ -406,6 +421,12 @@ class PreInterpolator:
         if motion.scurve:
             jerk = motion.jerk * units.MM
             jerks = [jerk, w * jerk / speed]
+            if not all(0.0 < b < math.inf for b in jerks):
+                raise RunFailure(
+                    "the path jerk (R_JERK, and R_SPEED_ORI·R_JERK/R_SPEED for the orientation)"
+                    " is too small to plan an S-curve with (it underflows to zero in SI units)",
+                    cmd.line,
+                )
         bounds = []
         q = state.q
         for path in paths:
@@ -417,19 +438,14 @@ class PreInterpolator:
                     k = motion.k
                     b = motor_bounds(b, self.motors, rates, k, k * k, axes=2)
             bounds.append(b)
-        times = split_time(motion, [b.t_min for b in bounds], cmd.line)
+        whats = [self._path_limiting(b, jerks is not None) for b in bounds]
+        times = split_time(motion, [b.t_min for b in bounds], whats, cmd.line)
         refs = self._references(cmd, state.q, paths)
         out = []
-        for path, b, t, ref in zip(paths, bounds, times, refs, strict=True):
+        for path, b, t, ref, what in zip(paths, bounds, times, refs, whats, strict=True):
             if b.slowest < 0:  # zero-length segment: nothing to interpolate
                 continue
-            profile = segment_profile(b, t, state.dt, cmd.line, self.max_duration)
-            if b.slowest >= 2:  # a motor (_motor_bounds)
-                what = f"motor of {self.naming.label(b.slowest - 2)} speed/acceleration"
-            elif jerks is not None:
-                what = ("path speed/acceleration/jerk", "orientation speed")[b.slowest]
-            else:
-                what = ("path speed/acceleration", "orientation speed")[b.slowest]
+            profile = segment_profile(b, t, state.dt, cmd.line, self.max_duration, what)
             out.append(
                 Segment(
                     kind,
@@ -440,9 +456,21 @@ class PreInterpolator:
                     lims,
                     ref,
                     what,
+                    with_time_s=motion.written_time,
                 )
             )
         return out
+
+    def _path_limiting(self, b: Bounds, jerk: bool) -> str:
+        """What sets a path segment's time: the path speed, the orientation speed or a
+        motor (``""`` for a zero-length segment)."""
+        if b.slowest < 0:
+            return ""
+        if b.slowest >= 2:  # a motor (_motor_bounds)
+            return f"motor of {self.naming.label(b.slowest - 2)} speed/acceleration"
+        if jerk:
+            return ("path speed/acceleration/jerk", "orientation speed")[b.slowest]
+        return ("path speed/acceleration", "orientation speed")[b.slowest]
 
     def _references(self, cmd, q_start, paths) -> list[ReferencePath | None]:
         """Per-segment θ⁰(s) for WITH RECONFIGURATION (``None`` without it)."""

@@ -41,6 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from irlc.runtime.plan.profiles import ProfileError, shared_bounds
+from irlc.runtime.plan.profiles import minimum_time as trapezoid_time
 
 
 @dataclass(frozen=True)
@@ -155,8 +156,11 @@ def fastest(speed: float, accel: float, jerk: float) -> tuple[float, float, floa
 
 
 def minimum_time(speed: float, accel: float, jerk: float) -> float:
-    """Time-optimal duration of a unit distance under normalised bounds (s)."""
-    return fastest(speed, accel, jerk)[0]
+    """Time-optimal duration of a unit distance under normalised bounds (s): never less
+    than the trapezoid's under the same speed and acceleration (a jerk bound only adds
+    time), which also holds where a subnormal acceleration makes the closed form underflow
+    (``4/a`` overflows: it gave 0 s, and a motion that never arrives was skipped)."""
+    return max(fastest(speed, accel, jerk)[0], trapezoid_time(speed, accel))
 
 
 def _cruise_for(duration: float, vmax: float, a: float, j: float) -> float:

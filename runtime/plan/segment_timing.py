@@ -82,10 +82,13 @@ def with_time(values: MotionValues, npts: int, line: int) -> float | None:
     return values.time
 
 
-def split_time(values: MotionValues, tmins: list[float], line: int) -> list[float | None]:
+def split_time(
+    values: MotionValues, tmins: list[float], limiting: list[str], line: int
+) -> list[float | None]:
     """``WITH TIME`` (stretched by the override) over consecutive segments in proportion
     to their minimum times ``tmins`` (each ``None`` without it); shorter than their sum is
-    a RunFailure."""
+    a RunFailure naming what sets the longest segment's time (``limiting``, one per
+    segment)."""
     if values.time is None:
         return [None] * len(tmins)
     k = values.k
@@ -93,19 +96,30 @@ def split_time(values: MotionValues, tmins: list[float], line: int) -> list[floa
     tsum = sum(tmins)
     if total < tsum * (1.0 - 1e-12):
         at = "" if k == 1.0 else f" at R_OVERRIDE {values.override:g} %"
+        slowest = limiting[int(np.argmax(tmins))] if limiting else ""
         raise RunFailure(
             f"WITH TIME := {values.written_time:g} s{at} is shorter than the {tsum * k:.6g} s "
-            "the speed and acceleration limits allow",
+            f"the limits allow{_sets_it(slowest)}",
             line,
+            constraint=slowest or None,
         )
     if tsum == 0.0:
         return [None] * len(tmins)
     return [total * t / tsum for t in tmins]
 
 
-def segment_profile(b: Bounds, duration, dt: float, line, max_duration: float) -> Profile:
+def _sets_it(limiting: str) -> str:
+    """`` (joint a1 (J1) speed/acceleration sets it)``: what sets a motion's shortest time,
+    for a ``WITH TIME`` that is shorter."""
+    return f" ({limiting} sets it)" if limiting else ""
+
+
+def segment_profile(
+    b: Bounds, duration, dt: float, line, max_duration: float, limiting: str = ""
+) -> Profile:
     """The trapezoid or the S-curve (stretched to ``duration`` if given), rounded up to
-    whole cycles.
+    whole cycles; ``limiting`` names what sets the shortest time (a joint, the path speed),
+    for the failure of a ``WITH TIME`` shorter than that.
 
     A motion longer than the run's simulated-time budget (``max_duration``; a speed or
     acceleration so small that the motion never arrives has ``T_min = ∞``; the
@@ -137,5 +151,8 @@ def segment_profile(b: Bounds, duration, dt: float, line, max_duration: float) -
         base = trapezoid(v, a, duration)
         return trapezoid(v, a, cycles(base.duration, dt) * dt)
     except ProfileError as exc:
-        prefix = "WITH TIME: " if duration is not None else ""
-        raise RunFailure(f"{prefix}{exc}", line) from None
+        if duration is None:
+            raise RunFailure(str(exc), line) from None
+        raise RunFailure(
+            f"WITH TIME: {exc}{_sets_it(limiting)}", line, constraint=limiting or None
+        ) from None

@@ -232,3 +232,36 @@ def test_ik_five_axis_out_of_plane_explains_why(capsys):
     data = json.loads(out)
     assert code == 2 and data["converged"] is False
     assert "vertical plane" in data["message"]
+
+
+ROBOTS = __import__("pathlib").Path(__file__).resolve().parents[2] / "robots"
+
+
+@pytest.mark.parametrize(
+    ("robot", "old", "new", "who"),
+    [  # l1's transmission couples its wrist: every run reads the steppers' data
+        ("l1", "\nR = 1.0\n", "\nR = -1.0\n", "even with ideal drives"),
+        ("koch11", "R = { value = 0.06", "R = { value = -0.06", "irlc run --drives refuses"),
+    ],
+)
+def test_robot_warns_about_drive_data_run_would_refuse(tmp_path, capsys, robot, old, new, who):
+    """irlc robot showed a robot whose drive data irlc run then refused (l1: even with
+    ideal drives): it now says so, with the file, line and key; the library's robots have
+    no such warning."""
+    text = (ROBOTS / f"{robot}.toml").read_text()
+    assert old in text
+    path = tmp_path / f"{robot}_bad.toml"
+    path.write_text(text.replace(old, new, 1))
+    code, _, err = run(capsys, "robot", str(path))
+    assert code == 0 and "irlc: warning:" in err and who in err, err
+    assert f"{path.name}:" in err and "drives." in err
+    program = tmp_path / "p.irl"
+    program.write_text(
+        f"PROGRAM p;\nROBOT r := '{path.name}';\nBEGIN\n  WAIT 0.1 SEC;\nENDPROGRAM\n"
+    )
+    drives = [] if "ideal" in who else ["--drives", "decoupled"]
+    code, _, err = run(capsys, "run", "-q", str(program), *drives)
+    assert code == 3 and "drives." in err, err  # what the warning foretold
+    for name in ("l1", "koch11", "irb6"):
+        code, _, err = run(capsys, "robot", name)
+        assert code == 0 and "warning" not in err

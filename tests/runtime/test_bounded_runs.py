@@ -281,7 +281,7 @@ def test_motions_that_do_not_move_are_charged_to_the_loop_guard(tmp_path, capsys
     )  # fmt: skip
     assert code == 2, err
     assert "more than 500000 instructions without motion" in err
-    assert "a motion that does not move as 250" in err
+    assert "a motion that does not move counts as 250" in err
     assert cpu < 10
 
 

@@ -112,7 +112,102 @@ def test_summary_of_a_loop_sums_per_line(tmp_path):
     buf = io.StringIO()
     render_summary(run.report, Console(file=buf, width=200, no_color=True))
     text = " ".join(buf.getvalue().replace("│", " ").split())
-    assert "cycle time per line (s), 23 runs" in text
+    assert "cycle time per statement, summed (s), 23 runs" in text
     share = 100 * per_line[12] / run.report["duration_s"]
     assert f"12 MOVE PTP (10, 90, -90); 10 {per_line[12]:.3f} {share:.1f} %" in text
     assert f"sum {run.report['duration_s']:.3f}" in text
+
+
+SHARED = """PROGRAM sh;
+ROBOT r := planar3;
+VAR POSE: p1, p2;  INTEGER: i;
+PROCEDURE corner(POSE: p);
+BEGIN
+  MOVE LIN p;
+ENDPROC;
+BEGIN
+  p1 := (1500, 1000, 0, 0, 0, 0);  p2 := (1000, 1500, 0, 0, 0, 0);
+  MOVE LIN p1;  MOVE LIN p2;  WAIT 0.25 SEC;  MOVE LIN p1;  { three moves, one line }
+  corner(p2);
+  corner(p1);
+  FOR i := 1 TO 2 DO MOVE LIN p2; WRITELN('MOVE LIN x; WAIT'); MOVE LIN p1; ENDFOR;
+  IF i > 0 THEN MOVE LIN p2; ELSE MOVE LIN p1; ENDIF;
+ENDPROGRAM
+"""
+
+
+def test_a_shared_line_shows_each_move_and_a_routine_its_call_site(tmp_path, capsys):
+    """Statements sharing a line are shown one each (not the whole line for every one); a
+    routine's motion names the routine and the line it was called at. A line with control
+    flow and several moves of one kind is shown whole (which one ran is not known)."""
+    path = tmp_path / "sh.irl"
+    path.write_text(SHARED, encoding="utf-8")
+    run = run_file(path)
+    assert run.ok, run.error
+    rows = [(r["line"], r["statement"], r["routine"], r["called_at"]) for r in
+            run.report["statements"]]  # fmt: skip
+    loop = "FOR i := 1 TO 2 DO MOVE LIN p2; WRITELN('MOVE LIN x; WAIT'); MOVE LIN p1; ENDFOR;"
+    branch = "IF i > 0 THEN MOVE LIN p2; ELSE MOVE LIN p1; ENDIF;"
+    assert rows == [
+        (10, "MOVE LIN p1;", None, None),
+        (10, "MOVE LIN p2;", None, None),
+        (10, "WAIT 0.25 SEC;", None, None),
+        (10, "MOVE LIN p1;", None, None),
+        (6, "MOVE LIN p;", "corner", 11),
+        (6, "MOVE LIN p;", "corner", 12),
+        *[(13, loop, None, None)] * 4,
+        (14, branch, None, None),
+    ]
+    assert main([str(path)]) == 0
+    out = " ".join(capsys.readouterr().out.replace("│", " ").split())
+    assert "6 MOVE LIN p; (corner, called at line 11)" in out
+    assert "6 MOVE LIN p; (corner, called at line 12)" in out
+    assert "10 MOVE LIN p2; 1.500" in out  # the second move of line 10 starts at 1.5 s
+
+
+def test_with_time_after_a_blend_is_its_own_time(tmp_path):
+    """APPROX 300 on a 500 mm side is shrunk to 250 mm and the blend to 0.5 s of the
+    0.75 s tail: the next statement's span starts where it starts (not where the tail
+    did), so its WITH TIME := 3 shows 3 s, and the spans still tile the run."""
+    path = tmp_path / "bl.irl"
+    path.write_text(
+        "PROGRAM bl;\nROBOT r := planar3;\nBEGIN\n  MOVE LIN (1500, 1000, 0, 0, 0, 0);\n"
+        "  MOVE LIN (1500, 1500, 0, 0, 0, 0) WITH APPROX := 300;\n"
+        "  MOVE LIN (1000, 1500, 0, 0, 0, 0) WITH TIME := 3;\nENDPROGRAM\n",
+        encoding="utf-8",
+    )
+    run = run_file(path)
+    assert run.ok, run.error
+    rows = run.report["statements"]
+    (blend,) = run.report["approximations"]
+    assert blend["blended"] and blend["saved_s"] == pytest.approx(0.5)
+    assert rows[2]["limit"] == "WITH TIME" and rows[2]["duration_s"] == pytest.approx(3.0)
+    # the approximated side: its 1.5 s (L/v + v/a) less the 0.5 s its blend saved
+    assert rows[1]["duration_s"] == pytest.approx(1.5 - 0.5)
+    for a, b in itertools.pairwise(rows):
+        assert b["start_s"] == pytest.approx(a["start_s"] + a["duration_s"], abs=1e-9)
+    assert sum(r["duration_s"] for r in rows) == pytest.approx(run.report["duration_s"])
+
+
+@pytest.mark.parametrize("after", ["", "  WAIT 1 SEC;\n", "  MOVE LIN (1000, 1000, 0, 0, 0, 0);\n"])
+def test_an_approximated_zero_length_move_keeps_the_spans_tiling(tmp_path, after):
+    """A zero-length move after an approximated one moves nothing and blends nothing: the
+    approximated move's tail (run at the exact stop that follows, or blended into the next
+    motion) stays in the spans — on main the program's end or a WAIT lost it (the
+    statement times summed to 1.19 s of a 1.5 s run)."""
+    path = tmp_path / "z.irl"
+    path.write_text(
+        "PROGRAM z;\nROBOT r := planar3;\nBEGIN\n"
+        "  MOVE LIN (1500, 1000, 0, 0, 0, 0) WITH APPROX := 50;\n"
+        "  MOVE LIN (1500, 1000, 0, 0, 0, 0) WITH APPROX := 50;\n" + after + "ENDPROGRAM\n",
+        encoding="utf-8",
+    )
+    run = run_file(path)
+    assert run.ok, run.error
+    rows = run.report["statements"]
+    assert rows[1]["duration_s"] == 0.0 and rows[1]["stop"] == "exact"
+    for a, b in itertools.pairwise(rows):
+        assert b["start_s"] == pytest.approx(a["start_s"] + a["duration_s"], abs=1e-9)
+    assert sum(r["duration_s"] for r in rows) == pytest.approx(run.report["duration_s"])
+    if not after:  # the first side alone: L/v + v/a = 500/500 + 500/1000
+        assert rows[0]["duration_s"] == pytest.approx(1.5) and rows[0]["stop"] == "exact"

@@ -1,7 +1,8 @@
 """The endless-loop guard end to end: ``irlc run`` on IRL loops without motion fails with
 exit 2 at the loop's line within a fraction of a second of interpretation (default budget
-500 000 instructions; a waited IPO cycle counts 25), and ``--instruction-budget`` /
-``instruction_budget=`` change it."""
+500 000 instructions; waiting, like motion, restarts the count), and
+``--instruction-budget`` / ``instruction_budget=`` change it. A loop of WAITs is bounded by
+the cycle and time budgets, not taken for an endless loop."""
 
 from __future__ import annotations
 
@@ -18,8 +19,6 @@ LOOPS = {  # body (from line 6), the lines the failure may name (inside the loop
     "empty": ("  WHILE TRUE DO\n  ENDWHILE;", (6, 7)),
     "assignment": ("  WHILE TRUE DO\n    i := i + 1;\n    i := i - 1;\n  ENDWHILE;", (6, 9)),
     "wait_zero": ("  WHILE TRUE DO\n    WAIT 0 SEC;\n  ENDWHILE;", (6, 8)),
-    "wait": ("  WHILE TRUE DO\n    WAIT 0.5 SEC;\n  ENDWHILE;", (7, 7)),  # at the WAIT
-    "long_wait": ("  WHILE TRUE DO\n    WAIT 3600 SEC;\n  ENDWHILE;", (7, 7)),
     "repeat": ("  REPEAT\n    i := i + 1;\n  UNTIL i < 0;", (6, 8)),
 }
 
@@ -100,20 +99,18 @@ def test_cli_help_states_the_defaults():
     from click.testing import CliRunner
     from irlc.cli.app import cli
     from irlc.runtime.control.executor import DEFAULT_MAX_CYCLES
-    from irlc.runtime.interpreter import WAIT_CYCLE_COST
     from irlc.runtime.interpreter.machine import STILL_MOTION_COST
 
     text = " ".join(CliRunner().invoke(cli, ["run", "--help"]).output.split())
     assert f"[default: {DEFAULT_INSTRUCTION_BUDGET}]" in text
-    assert f"a cycle of waiting counts as {WAIT_CYCLE_COST}" in text
-    assert f"a motion that does not move as {STILL_MOTION_COST}" in text
+    assert "instructions without motion or waiting" in text
+    assert f"a motion that does not move counts as {STILL_MOTION_COST}" in text
     assert f"(default {DEFAULT_MAX_CYCLES}, about 8 min" in text
 
 
 def test_one_long_wait_is_not_an_endless_loop(tmp_path):
-    """A single WAIT is charged for the cycles it records (at most WAIT_SAMPLED_CYCLES):
-    a 20-minute WAIT, 120 000 IPO cycles (3 M instructions at 25 a cycle), is a program,
-    not a loop."""
+    """A 20-minute WAIT, 120 000 IPO cycles (it records at most WAIT_SAMPLED_CYCLES of
+    them), is a program, not a loop."""
     prog = _program(tmp_path, "  WAIT 1200 SEC;")
     run = run_file(prog)
     assert run.ok, run.error
@@ -144,3 +141,34 @@ def test_a_run_executes_at_most_run_budgets_guards_in_all(tmp_path, capsys):
         assert status == code, err
     assert f"more than {RUN_BUDGETS * 1000} instructions in the run ({RUN_BUDGETS} times" in err
     assert "the endless-loop guard's 1000) — an endless loop with motion?" in err
+
+
+def test_a_wait_loop_does_not_spend_the_instruction_budget(tmp_path):
+    """Waiting advances simulated time: a loop of WAITs is a program (on main 600 waits
+    of 1 s stopped at t = 200 s as "endless loop?"). It records every cycle, so the cycle
+    budget bounds it — its message names the WAIT and --max-cycles —, and with the budget
+    raised it runs to its end."""
+    prog = _program(tmp_path, "  FOR i := 1 TO 600 DO WAIT 1 SEC; ENDFOR;")
+    run = run_file(prog)
+    assert run.status == "failed"
+    assert "instructions" not in run.error.message and "--max-cycles" in run.error.message
+    assert run.report["duration_s"] > 450.0
+    run = run_file(prog, max_cycles=70_000)
+    assert run.ok, run.error
+    assert run.report["duration_s"] == pytest.approx(600.0)
+
+
+@pytest.mark.parametrize(
+    ("body", "budget"),
+    [
+        ("  WHILE TRUE DO\n    WAIT 0.5 SEC;\n  ENDWHILE;", "cycles"),
+        ("  WHILE TRUE DO\n    WAIT 3600 SEC;\n  ENDWHILE;", "simulated-time budget"),
+    ],
+)
+def test_an_endless_wait_loop_ends_at_a_budget_at_its_wait(tmp_path, capsys, body, budget):
+    prog = _program(tmp_path, body)
+    start = time.perf_counter()
+    assert main(["run", "-q", str(prog)]) == 2
+    err = " ".join(capsys.readouterr().err.split())
+    assert time.perf_counter() - start < 60.0
+    assert "loop.irl:7:" in err and budget in err, err

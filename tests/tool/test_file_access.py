@@ -229,3 +229,24 @@ def test_fuzz_program_paths_never_leave_the_allowed_folders(tree, segments, abso
     else:
         (error,) = result.errors
         assert (error.span.line, error.span.column) == (2, 12), error
+
+
+def test_an_expectation_cannot_lift_the_confinement(tmp_path, capsys) -> None:
+    """``"allow_any_path": true`` in NAME.expected.json lifted the rule with no word from
+    the user (a test folder is input too): now the case is an ERROR saying so, and only
+    the command line's --allow-any-path allows the file outside."""
+    import json
+
+    prog, _ = _layout(tmp_path)
+    _program(prog, "'../outside/arm.toml'")
+    assert main(["test", str(prog), "--update", "--allow-any-path"]) == 0
+    expected = prog / "p.expected.json"
+    data = json.loads(expected.read_text())
+    data["options"] = {"allow_any_path": True}
+    expected.write_text(json.dumps(data))
+    capsys.readouterr()
+    assert main(["test", str(prog)]) == 1
+    out = capsys.readouterr().out
+    assert "ERROR" in out and "cannot lift the file confinement" in out, out
+    assert main(["test", str(prog), "--allow-any-path"]) == 0
+    capsys.readouterr()

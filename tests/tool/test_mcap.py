@@ -204,7 +204,8 @@ DRIVE_PROGRAM = """PROGRAM drive;
 ROBOT r := irb6_track;
 BEGIN
   MOVE PTP (400, 90, 0, 0, -45, 0);
-  MOVE LIN (-653.063, 934.597, 400, 135, 0, -90) WITH SPEED := 60 WITH ACC := 250;  { within the A3 drive (27 deg/s) }
+  { within the A3 drive's 27 deg/s }
+  MOVE LIN (-653.063, 934.597, 400, 135, 0, -90) WITH SPEED := 60 WITH ACC := 250;
 ENDPROGRAM
 """
 

@@ -503,7 +503,7 @@ def test_ctrl_c_keeps_the_finished_rows_and_resume_completes_them(cell):
 
 def test_plot_draws_a_line_or_a_heat_map(tmp_path):
     pytest.importorskip("matplotlib")
-    from irlc.study.summary import plot
+    from irlc.study.figure import plot
 
     rows = [
         {"variant": str(i), "a": repr(a), "b": repr(b), "m": repr(a * b), "status": "ok"}
@@ -603,9 +603,11 @@ def test_the_study_file_shown_in_docs_studies_md_is_valid(tmp_path):
     text = (root / "docs" / "studies.md").read_text(encoding="utf-8")
     block = text.split("```toml\n", 1)[1].split("```", 1)[0]
     assert 'program = "../square_accel.irl"' in block  # as if in programs/studies/
-    program = root / "programs" / "square_accel.irl"
-    path = tmp_path / "every_table.toml"
-    path.write_text(block.replace('"../square_accel.irl"', f'"{program}"'))
+    for name in ("square_accel.irl", "square_cell.toml"):  # a copy: programs/ beside it
+        shutil.copy(root / "programs" / name, tmp_path / name)
+    (tmp_path / "studies" / "cells").mkdir(parents=True)  # its datalist_path folder
+    path = tmp_path / "studies" / "every_table.toml"
+    path.write_text(block)
     example = read_study(path)
     plan = build_plan(example)
     assert len(list(variants(example))) == 400 and plan.drives and not example.reports
@@ -668,3 +670,148 @@ def test_the_speed_override_scales_the_motion_time(cell):
     report = run_program(cell / "p3.irl", override=50).report
     assert half["duration_s"] == repr(report["duration_s"])
     assert float(half["duration_s"]) == pytest.approx(2 * float(full["duration_s"]), abs=0.02)
+
+
+# --------------------------------------------------------------------------- confinement
+
+
+def _study_in(folder: Path, head: str) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / "s.toml"
+    path.write_text(head + '\n[grid]\n"run.ipo" = [0.01]\n')
+    return path
+
+
+def test_a_study_file_reads_only_what_the_user_allows(cell, capsys, monkeypatch):
+    """A study file is input: ``program = "/proc/self/environ"`` echoed the environment,
+    an absolute path to a program elsewhere ran it. Relative paths (as the docs write
+    them) stay; absolute paths outside the working folder and the study's folder, and
+    system files however written, are refused — unless the command line allows any path."""
+    studies = cell / "studies"
+    elsewhere = cell.parent / f"{cell.name}_elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    robot = cell / "arm.toml"
+    robot.write_text((Path(__file__).resolve().parents[2] / "robots" / "planar3.toml").read_text())
+    assert read_study(_study_in(studies, 'program = "../p3.irl"')).program == cell / "p3.irl"
+    refused = [
+        (f'program = "{cell / "p3.irl"}"', "an absolute path outside the working folder"),
+        ('program = "/proc/self/environ"', "a system file (under /proc)"),
+        ('program = "' + "../" * 30 + 'proc/self/environ"', "a system file (under /proc)"),
+        (f'program = "../p3.irl"\nrobot = "{robot}"', "robot: "),
+        ('program = "../p3.irl"\ndatalist_path = ["/etc"]', "a system file (under /etc)"),
+    ]
+    for head, words in refused:
+        path = _study_in(studies, head)
+        assert main(["study", str(path), "-q", "--out", str(cell / "out")]) == 3
+        err = capsys.readouterr().err
+        assert words in err and "--allow-any-path" in err, err
+        assert "SHELL" not in err and "PATH=" not in err
+        if "system file" not in words:
+            assert read_study(path, allow_any_path=True).file == path  # the user's word
+    monkeypatch.chdir(cell)  # the absolute path is inside the working folder now
+    assert read_study(_study_in(studies, f'program = "{cell / "p3.irl"}"')).program.is_file()
+
+
+def test_a_missing_datalist_folder_and_random_n_are_named(cell, capsys):
+    path = write_study(cell, 'datalist_path = ["nope"]\n[grid]\n"run.ipo" = [0.01]\n')
+    assert main(["study", str(path), "-q"]) == 3
+    assert "s.toml:3: datalist_path: nope: no such folder" in capsys.readouterr().err
+    body = '[random]\nseed = 1\n"run.ipo" = { uniform = [0.01, 0.02] }\n'
+    assert main(["study", str(write_study(cell, body)), "-q"]) == 3
+    err = capsys.readouterr().err
+    assert "random.n: required: the number of samples" in err and "None" not in err
+
+
+def test_a_large_study_is_planned_in_bounded_memory(cell):
+    """The variants are made as they are sent: a 10-million-sample study held ≈ 1.1 GB of
+    sample tuples before its first row. With 2 million samples of two keys (≈ 220 MB of
+    tuples at once), planning and the first variant now stay below 50 MB, and the values
+    are the documented draws (one PCG64 stream, keys in file order, n values per key)."""
+    import tracemalloc
+
+    from irlc.study.plan import build_plan
+
+    n = 2_000_000
+    body = (
+        f'[random]\nn = {n}\nseed = 7\n"run.path_tolerance" = {{ uniform = [0.05, 0.1] }}\n'
+        '"robot.joints.2.weight" = { normal = [2, 0.1] }\n'
+    )
+    tracemalloc.start()
+    try:
+        study = read_study(write_study(cell, body))
+        build_plan(study)
+        stream = variants(study)
+        first = next(stream)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 50e6, f"{peak / 1e6:.0f} MB before the first variant"
+    rng = np.random.Generator(np.random.PCG64(7))
+    tol = rng.uniform(0.05, 0.1, n)
+    weight = rng.normal(2, 0.1, n)
+    assert first == (0, (float(tol[0]), float(weight[0])))
+    for index, values in stream:  # a piece boundary (65,536 samples) further on
+        if index == 70_000:
+            assert values == (float(tol[index]), float(weight[index]))
+            break
+
+
+def _grid_random_rows(failed_at=()):
+    """Two grid keys (g, h) × a random key (r); the metric depends on all three."""
+    rows, i = [], 0
+    for g in (1.0, 2.0, 3.0):
+        for h in (10.0, 20.0):
+            for k in range(6):
+                r = 0.37 * k
+                status = "failed" if i in failed_at else "ok"
+                rows.append({"variant": str(i), "g": repr(g), "h": repr(h), "r": repr(r),
+                             "m": repr(g * h + r * r), "status": status})  # fmt: skip
+                i += 1
+    return rows
+
+
+@pytest.mark.parametrize(
+    ("keys", "grid"),
+    [
+        (["g", "r"], {"g"}), (["r", "g"], {"g"}), (["g", "h"], {"g", "h"}),
+        (["g", "h", "r"], {"g", "h"}), (["r"], set()), (["g", "r", "h"], {"g", "h"}),
+    ],
+)  # fmt: skip
+def test_the_plot_hides_no_key_that_changes_the_metric(keys, grid):
+    """Every key with more than one value is on an axis, a series or a panel, and a heat
+    map cell holds one variant: over grid × random keys the heat map of the two grid keys
+    overwrote (hid) the random key, and a constant key is no axis."""
+    from irlc.study.figure import layout
+
+    rows = _grid_random_rows()
+    if keys == ["g", "h"]:  # one variant per (g, h): a heat map is exact there
+        rows = [r for r in rows if r["r"] == "0.0"]
+    panels = layout(rows, keys, grid)
+    shown = {k for p in panels for k in p.keys}
+    assert shown == set(keys), panels
+    for p in panels:
+        if p.kind == "heat":
+            assert len({(r[p.x], r[p.y]) for r in rows}) == len(rows)
+    constant = [dict(r, c="5") for r in rows]
+    assert "c" not in {k for p in layout(constant, [*keys, "c"], grid) for k in p.keys}
+
+
+def test_a_failed_variant_is_drawn_as_failed_not_by_its_metric(tmp_path):
+    """Marking a variant failed changes the figure; its metric (a failed run's numbers
+    stop where it stopped) then changes nothing: it is drawn at its parameters, not by
+    its value — not coloured, not placed on the metric axis."""
+    pytest.importorskip("matplotlib")
+    from irlc.study.figure import plot
+
+    for keys, grid in ((["g", "r"], {"g"}), (["r", "g", "h"], {"g", "h"})):
+        ok = _grid_random_rows()
+        bad = _grid_random_rows(failed_at={3, 17})
+        worse = [dict(r, m="1e6") if r["status"] == "failed" else r for r in bad]
+        images = [plot(rows, keys, "m", tmp_path / f"{n}.png", grid).read_bytes()
+                  for n, rows in (("ok", ok), ("bad", bad), ("worse", worse))]  # fmt: skip
+        assert images[0] != images[1] and images[1] == images[2]
+    two_random = [dict(r, s=repr(float(r["variant"]) * 0.1)) for r in _grid_random_rows({5})]
+    scatter = plot(two_random, ["r", "s"], "m", tmp_path / "a.png", set()).read_bytes()
+    moved = [dict(r, m="-3") if r["variant"] == "5" else r for r in two_random]
+    assert plot(moved, ["r", "s"], "m", tmp_path / "b.png", set()).read_bytes() == scatter
