@@ -147,6 +147,8 @@ def robot_cmd(name: str) -> None:
     console = Console()
     console.print(f"[bold]{model.name}[/bold] — {model.description}")
     console.print(f"file: {model.source}")
+    for parent in model.extra.get("extends", ()):  # [robot] extends (docs/robots.md)
+        console.print(escape(f"  extends {parent} (what the file does not change)"))
     table = Table(
         title="joints (deg: revolute, mm: prismatic; speeds /s, accelerations /s²)",
         box=box.SIMPLE_HEAD,
