@@ -103,3 +103,14 @@ def test_lengths_shift_the_end_point_by_their_own_size_and_angles_by_the_lever()
     lever = np.linalg.norm(np.cross(axes[1], tcp - origins[1]))
     assert rows["A2 θ0"].position_m == pytest.approx(lever * math.pi / 2)
     assert rows["A2 θ0"].orientation_rad == pytest.approx(math.pi / 2)
+
+
+def test_cli_prints_the_sensitivity_table(capsys):
+    from irlc.cli import main
+
+    assert main(["robot", "irb6", "--sensitivity", "--samples", "20"]) == 0
+    out = capsys.readouterr().out
+    assert "|S_k p_k| of the kinematic parameters" in out and "max over 20" in out
+    row = next(line for line in out.splitlines() if line.strip().startswith("A2 a "))
+    assert row.split()[2:6] == ["450", "mm", "450", "450"]
+    assert main(["robot", "irb6", "--sensitivity", "--samples", "0"]) != 0
