@@ -7,7 +7,7 @@ order, then the book's, the verdict and how the number was obtained::
 
 The rows are :mod:`irlc.fidelity`'s (docs/fidelity.md explains them). Usage::
 
-    python bench/fidelity.py                   # every row (≈ 3 min on one core)
+    python bench/fidelity.py                   # every row (≈ 4 min on one core)
     python bench/fidelity.py --fast            # the rows that take seconds
     python bench/fidelity.py --only "(4.23)" O8
     python bench/fidelity.py --write-doc       # + the table of docs/fidelity.md

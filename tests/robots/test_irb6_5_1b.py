@@ -1,6 +1,7 @@
 """The IRb-6's joint limits (5.1b) over a grid of all five joints, including θ5.
 
-The book's inequalities are written out here literally (degrees, the redefined angles):
+The book's inequalities, written out literally in irlc.fidelity.kinematics_rows.irb6_margin
+(degrees, the redefined angles; the same function gives docs/fidelity.md's (5.1b) row):
 
     0 ≤ θ1 ≤ 340;  −40 ≤ θ2 ≤ 40;
     −40−θ2 ≤ θ3 ≤ 40        (−40 ≤ θ2 ≤ −15)

@@ -122,3 +122,20 @@ def test_bench_script_prints_a_line_per_reference_starting_with_it(capsys):
                              "1.2000 1.0000 -0.1000 | book: 1.2 1.0 -0.1 | reproduced")  # fmt: skip
     with pytest.raises(SystemExit):
         bench.main(["--only", "(9.99)"])
+
+
+def test_the_book_procedure_runs_what_the_limits_refuse_and_says_so():
+    """The L-1 line P'→K' starts on W6's 0° bound: with the limits it fails on that bound;
+    on without_position_limits(l1) it runs, and its report names the robot as such."""
+    from irlc.fidelity import without_position_limits
+    from irlc.fidelity.steppers import LINE_PROGRAM, LINE_START
+    from irlc.robots import load_robot
+    from irlc.runtime.run import run_file
+
+    limited = run_file(LINE_PROGRAM, seed_config=list(LINE_START))
+    assert not limited.ok and "a6 (W6) position min" in limited.error.message
+    book = without_position_limits(load_robot("l1"))
+    run = run_file(LINE_PROGRAM, robot=book, seed_config=list(LINE_START))
+    assert run.ok and run.report["robot"] == "l1 (position limits not enforced)"
+    assert run.q[:, 5].min() < -0.17  # W6 went 10° below the bound it started on
+    assert book.joints[5].limits.speed == load_robot("l1").joints[5].limits.speed
