@@ -58,7 +58,7 @@ __all__ = [
     "resolver",
 ]
 
-_cache: dict[tuple, RobotModel] = {}
+_cache: dict[tuple, tuple[RobotModel, tuple]] = {}
 
 
 class UnknownRobotError(RobotFileError):
@@ -166,12 +166,13 @@ def resolve_robot(
     folder = Path(base_dir) if base_dir is not None else Path()
     roots = program_roots(folder) if restricted else None
     key = (real, stat.st_mtime_ns, stat.st_size, roots)
-    model = _cache.get(key)
-    if model is None:
-        model = _load_file(path, roots)
-        if len(_cache) >= _CACHE_SIZE:
-            _cache.pop(next(iter(_cache)))
-        _cache[key] = model
+    cached = _cache.get(key)
+    if cached is not None and cached[1] == _parent_stamps(cached[0]):
+        return cached[0]
+    model = _load_file(path, roots)
+    if len(_cache) >= _CACHE_SIZE and key not in _cache:
+        _cache.pop(next(iter(_cache)))
+    _cache[key] = (model, _parent_stamps(model))
     return model
 
 
@@ -179,6 +180,19 @@ def clear_cache() -> None:
     """Forget every loaded model: the next load reads its file again (after an optional
     extra was installed or removed, which changes how a URDF-backed file loads)."""
     _cache.clear()
+
+
+def _parent_stamps(model: RobotModel) -> tuple:
+    """Modification stamps of the files ``model`` extends (``[robot] extends``): a cached
+    variant is read again when its parent changes."""
+    stamps = []
+    for parent in model.extra.get("extends", ()):
+        try:
+            st = Path(parent).stat()
+            stamps.append((st.st_mtime_ns, st.st_size))
+        except OSError:
+            stamps.append(None)
+    return tuple(stamps)
 
 
 def resolver(

@@ -26,6 +26,7 @@ from irlc.lang.file_access import ALLOW_HINT, describe, inside_roots, is_file, r
 from irlc.lang.textfile import read_user_text
 from irlc.lang.toml_keys import TomlError, parse_toml
 from irlc.robots.chain import read_chain
+from irlc.robots.extends import inherit
 from irlc.robots.inertia import read_geometry, read_inertials
 from irlc.robots.limits import read_coupled, read_home, read_limit_sets, read_pair, read_rate
 from irlc.robots.model import TASK_COMPONENTS, Joint, RobotModel
@@ -77,8 +78,9 @@ ROBOT_KEYS = {
 
 def load_toml(path: str | Path, roots: tuple[Path, ...] | None = None) -> RobotModel:
     """Parse and validate one TOML robot file (raises :class:`RobotFileError`). ``roots``:
-    the folders a URDF the file names must lie in (a program's robot file,
-    :mod:`irlc.lang.file_access`); ``None``: anywhere."""
+    the folders a URDF or a parent file (``[robot] extends``, :mod:`~irlc.robots.extends`)
+    the file names must lie in (a program's robot file, :mod:`irlc.lang.file_access`);
+    ``None``: anywhere."""
     path = Path(path)
     file = str(path)
     text = read_user_text(path, lambda f, reason: RobotFileError(f, "", reason))
@@ -86,7 +88,11 @@ def load_toml(path: str | Path, roots: tuple[Path, ...] | None = None) -> RobotM
         doc = parse_toml(text)
     except TomlError as e:
         raise RobotFileError(file, "", f"not valid TOML: {e.reason}", e.line) from None
-    return build_model(doc, file, path.parent, roots)
+    doc, parents = inherit(doc, path, roots)
+    model = build_model(doc, file, path.parent, roots)
+    if parents:
+        model.extra["extends"] = [str(p) for p in parents]
+    return model
 
 
 def _read_ik(rd: Reader, table: Any) -> dict:

@@ -142,12 +142,26 @@ def _range(lo: float, hi: float, kind: str, scale: float = 1.0) -> str:
 
 @cli.command("robot")
 @click.argument("name")
-def robot_cmd(name: str) -> None:
+@click.option(
+    "--sensitivity",
+    is_flag=True,
+    help="Also print |S_k p_k|: the end pose's sensitivity to each kinematic parameter.",
+)
+@click.option(
+    "--samples",
+    type=click.IntRange(1, 100_000),
+    default=200,
+    show_default=True,
+    help="With --sensitivity: configurations sampled inside the limits (home included).",
+)
+def robot_cmd(name: str, sensitivity: bool, samples: int) -> None:
     """Show one robot: joints, units, limits, weights, home, drives."""
     model = _robot(name)
     console = Console()
     console.print(f"[bold]{model.name}[/bold] — {model.description}")
     console.print(f"file: {model.source}")
+    for parent in model.extra.get("extends", ()):  # [robot] extends (docs/robots.md)
+        console.print(escape(f"  extends {parent} (what the file does not change)"))
     table = Table(
         title="joints (deg: revolute, mm: prismatic; speeds /s, accelerations /s²)",
         box=box.SIMPLE_HEAD,
@@ -205,6 +219,10 @@ def robot_cmd(name: str) -> None:
     assumed = model.extra.get("assumed", {})
     if assumed:
         console.print(f"assumed values ({len(assumed)}): {', '.join(assumed)} — see the file")
+    if sensitivity:
+        from irlc.cli.sensitivity import print_sensitivity
+
+        print_sensitivity(console, model, samples)
     refused = _drive_data_refusal(model)
     if refused:
         click.echo(f"irlc: warning: {refused}", err=True)

@@ -151,12 +151,14 @@ def run(capsys, *args: str) -> tuple[int, str, str]:
 
 def test_cli_ik_irb6_from_the_default_start_and_on_a_branch(capsys):
     model = load_robot("irb6")
-    pose = units.pose_from_si(Kinematics(model).tcp(np.radians([100, 10, 5, 60, 200])))
+    # θ5 = −190°: inside (5.1b)'s window −270 + θ234 … 90 + θ234 = −195 … 165 (θ234 = 75°),
+    # where the same pose with θ5 = 170° is not
+    pose = units.pose_from_si(Kinematics(model).tcp(np.radians([100, 10, 5, 60, -190])))
     args = [f"{v:.9f}" for v in pose]
     code, out, _ = run(capsys, "ik", "irb6", *args, "--json")
     data = json.loads(out)
     assert code == 0 and data["converged"] and data["branch"] == "front-elbow-up"
-    assert np.allclose(data["joints"], [100, 10, 5, 60, 200], atol=1e-6)
+    assert np.allclose(data["joints"], [100, 10, 5, 60, -190], atol=1e-6)
     code, out, _ = run(capsys, "ik", "irb6", *args, "--branch", "back-elbow-up", "--json")
     data = json.loads(out)
     assert code == 2 and not data["converged"]

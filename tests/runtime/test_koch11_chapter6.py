@@ -9,6 +9,8 @@ obstacle position, the J10 weight or the lost acceleration figures): O8–O10, O
 A bound is *active* when the trace sits on it: the QP holds an active bound exactly, so
 the printed value equals the bound to the trace's precision; BOUND_TOL (0.01 deg or mm,
 0.01 deg/s) is the golden files' quantum, far below any approach that is not a contact.
+The trace readers and the limit sets are irlc.fidelity.chapter6's (bench/fidelity.py lays
+the same observations beside the book's, docs/fidelity.md).
 """
 
 from __future__ import annotations
@@ -19,16 +21,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from irlc.robots import DATALISTS_DIR
-from irlc.runtime import units
+from irlc.fidelity.chapter6 import BOUND_TOL, SETS, active, block, change_ranking, joints, speeds
 from irlc.runtime.run import run_file
 
 PROGRAMS = Path(__file__).resolve().parents[2] / "programs"
-BOUND_TOL = 0.01
-SETS = {
-    k: np.array(v["values"], dtype=float)
-    for k, v in tomllib.loads((DATALISTS_DIR / "koch11_ch6.toml").read_text())["limits"].items()
-}
 
 pytestmark = pytest.mark.scenario
 
@@ -38,43 +34,6 @@ def run(program: str, robot: str = "koch11"):
     result = run_file(PROGRAMS / f"{program}.irl", robot=robot)
     assert result.status == "ok", result.error
     return result
-
-
-def _block(result, pattern: str) -> np.ndarray:
-    """Trace columns ``pattern.format(name, unit)`` for every joint, program units."""
-    cols = [
-        pattern.format(n, units.joint_unit(k))
-        for n, k in zip(result.joint_names, result.model.joint_kinds, strict=True)
-    ]
-    return result.trace[:, [result.trace_columns.index(c) for c in cols]]
-
-
-def joints(result) -> np.ndarray:
-    return _block(result, "{}_{}")
-
-
-def speeds(result) -> np.ndarray:
-    return _block(result, "{}_speed_{}_s")
-
-
-def active(values: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> set[tuple[int, str]]:
-    """(joint number, 'min' | 'max') of every bound the trace touches."""
-    out = set()
-    for j in range(values.shape[1]):
-        if values[:, j].min() <= lo[j] + BOUND_TOL:
-            out.add((j + 1, "min"))
-        if values[:, j].max() >= hi[j] - BOUND_TOL:
-            out.add((j + 1, "max"))
-    return out
-
-
-def change_ranking(a: str, b: str, robot: str = "koch11") -> tuple[list[int], np.ndarray]:
-    """Joints 1–9 (the angular ones besides the cause, J11, and the slide J10) ordered by
-    the largest change of their trajectory between two runs of the same path."""
-    qa, qb = joints(run(a, robot)), joints(run(b, robot))
-    n = min(len(qa), len(qb))
-    change = np.abs(qa[:n] - qb[:n]).max(axis=0)
-    return [int(j) + 1 for j in np.argsort(-change[:9], kind="stable")], change
 
 
 def test_o2_base_set_only_j11_upper_bound_active():
@@ -136,8 +95,8 @@ def test_report_the_observations_that_hang_on_unknowns(capsys):
     run's active bounds), O15 (freezing makes the others move more), O18 (J10's ±700 mm
     bound with obstacle avoidance; hangs on the obstacle's position and w10)."""
     lines = []
-    peak = np.abs(_block(run("square_accel"), "{}_accel_{}_s2")).max(axis=0)
-    base = np.abs(_block(run("square_limits"), "{}_accel_{}_s2")).max(axis=0)
+    peak = np.abs(block(run("square_accel"), "{}_accel_{}_s2")).max(axis=0)
+    base = np.abs(block(run("square_limits"), "{}_accel_{}_s2")).max(axis=0)
     dropped = int(np.argmax((base - peak) / base)) + 1
     rose = int(np.argmax((peak - base) / base)) + 1
     lines.append(
