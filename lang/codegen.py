@@ -405,9 +405,10 @@ class _Gen:
                 for k in c.args:
                     self.expr(k, k.ty)
                 words.append(f"RECONF:{len(c.args)}")
-            else:
+            else:  # (WITH PLATFORM: a REAL, or an ARRAY of the platform's coordinates)
                 for a in c.args:
-                    self.expr(a, a.ty if c.kind.startswith("JOINT") else T.REAL)
+                    keep = c.kind.startswith("JOINT") or isinstance(a.ty, T.Array)
+                    self.expr(a, a.ty if keep else T.REAL)
                 words.append(c.kind)
         return [s.kind, len(s.targets), *self.robot_words(s), *words]
 
