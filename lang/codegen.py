@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from irlc.lang import ast
+from irlc.lang import ast, platform
 from irlc.lang import types as T
 from irlc.lang.cell import ProgramRobot
 from irlc.lang.checker import Checked, RoutineInfo, Symbol
@@ -447,7 +447,7 @@ class _Gen:
     def expr(self, e: ast.Expr, want: T.Type | None = None) -> None:
         line = e.span.line
         v = e.const
-        if v is not None and v.type in _CONST_TYPES:
+        if v is not None and (v.type in _CONST_TYPES or platform.constant_count(v.type)):
             if want == T.REAL and v.type == "INTEGER":
                 v = Value("REAL", (float(v.data[0]),))
             elif want == T.STRING and v.type == "CHAR":

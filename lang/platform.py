@@ -16,13 +16,19 @@ which the runtime uses too).
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
 from typing import Protocol, runtime_checkable
 
 from irlc.lang import types as T
+from irlc.lang.irdata_model import Value
 
 WORD = "PLATFORM"
 """The WITH word (``WITH PLATFORM := q``) and the IRDATA MOVE clause word."""
+
+MAX_COORDINATES = 3
+"""A platform sets at most x, y and z (docs/robots.md)."""
+_CONSTANT_TYPE = re.compile(r"ARRAY\[1\.\.([1-3])\]OFREAL")
 
 SETTING = "R_PLATFORM"
 """The modal setting (a row of lang/settings.py): 'FREE' or 'HOLD' outside WITH PLATFORM."""
@@ -52,6 +58,20 @@ def platform_of(robot: object) -> PlatformSignature | None:
 def target_type(dimension: int) -> T.Type:
     """The type of a platform target: REAL for one coordinate, else ARRAY [1..k] OF REAL."""
     return T.REAL if dimension == 1 else T.Array("ARRAY", 1, dimension, T.REAL)
+
+
+def constant(values: Sequence[float]) -> Value:
+    """A platform target as a constant of the code (a data list's ``[platform]`` entry):
+    ``REAL x`` for one coordinate, ``ARRAY[1..k]OFREAL x y …`` for more."""
+    data = tuple(float(v) for v in values)
+    return Value(target_type(len(data)).ird(), data)
+
+
+def constant_count(type_word: str) -> int | None:
+    """``k`` of a constant type ``ARRAY[1..k]OFREAL`` (k ≤ 3: a platform target), else
+    ``None`` — the only ARRAY a constant of the code may be."""
+    m = _CONSTANT_TYPE.fullmatch(type_word)
+    return int(m.group(1)) if m else None
 
 
 def shape_text(platform: PlatformSignature) -> str:

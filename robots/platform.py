@@ -75,6 +75,13 @@ class Platform:
         """``θ_a = A⁻¹(c − c₀)`` (m): the platform joints that put it at ``target`` (m)."""
         return np.linalg.solve(self.matrix, np.asarray(target, dtype=float) - self.origin)
 
+    def ranges(self) -> np.ndarray:
+        """``(k, 2)`` the least and the largest value (m) of each coordinate over the
+        platform joints' limits (the corners of their box: the map is affine)."""
+        corners = np.array(np.meshgrid(*self.limits)).reshape(len(self.joints), -1)
+        values = self.origin[:, None] + self.matrix @ corners
+        return np.column_stack((values.min(axis=1), values.max(axis=1)))
+
     def describe(self, target_mm: Sequence[float]) -> str:
         """``(x 1000, y 300) mm``: a platform target in program units, for messages."""
         parts = ", ".join(f"{c} {v:g}" for c, v in zip(self.coordinates, target_mm, strict=True))
