@@ -261,6 +261,9 @@ class SimulatedController:
                 self._programmed_end = None if end is None else (solver.kin.tool.tobytes(), end)
             own = st.pending is not None and st.pending.span == len(self.log.spans)
             stop = "approximated" if own else "exact"  # (a zero-length move blends nothing)
+        except RunFailure as exc:  # the platform held by R_PLATFORM: say so (platform.py)
+            held = motion.platform == "HOLD" and not moves_platform
+            raise self.platform.explained(exc, held, self.naming) from None
         finally:
             limit = motion_limit([s.limiting for s in segments], cmd.time is not None)
             kind = KIND_WORDS.get(cmd.kind, cmd.kind)

@@ -41,6 +41,7 @@ from irlc.runtime.ik import cause
 from irlc.runtime.ik.reach import Reach
 from irlc.runtime.ik.tasks.platform import PlatformTask
 from irlc.runtime.model.chain import Chain
+from irlc.runtime.model.naming import JointNaming
 from irlc.runtime.plan.interpolator import Segment
 from irlc.runtime.plan.motion_values import MotionValues
 
@@ -125,6 +126,20 @@ class PlatformControl:
     def held(self, options: ModalOptions) -> bool:
         """Whether ``options`` freeze every platform joint (R_PLATFORM = 'HOLD' or FREEZE)."""
         return self.platform is not None and all(j in options.frozen for j in self.platform.joints)
+
+    def explained(self, exc: RunFailure, held: bool, naming: JointNaming) -> RunFailure:
+        """``exc`` with a note when R_PLATFORM = 'HOLD' held the platform's joints in the
+        failing motion (``held``) and the failure blames the frozen joints (its words say
+        FREEZE)."""
+        platform = self.platform
+        blamed = exc.cause in ("freeze", "freeze_jointlimit")
+        if platform is not None and held and blamed and "R_PLATFORM" not in exc.message:
+            exc.message += (
+                f" (the platform's joints {naming.labels(platform.joints)} are held by "
+                "R_PLATFORM := 'HOLD'; 'FREE' lets the redundancy move them)"
+            )
+            exc.args = (exc.message,)
+        return exc
 
     def check_targets(
         self, reach: Reach, segments: list[Segment], seed: np.ndarray, line: int, t: float,
