@@ -32,6 +32,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from irlc.lang.file_access import shown_key
 from irlc.robots.model import RobotModel
 from irlc.robots.toml_reader import Reader, show
 from irlc.runtime import units
@@ -131,17 +132,17 @@ def read_platform(rd: Reader, value: Any, model: RobotModel, task_rows: int) -> 
     for i, name in enumerate(names):
         key = f"platform.joints[{i}]"
         if name not in index:
-            raise rd.fail(key, f"no joint named {show(name)} (joints: {', '.join(index)})")
+            raise rd.fail(key, f"no joint named '{shown_key(name)}' (joints: {', '.join(index)})")
         if index[name] != i:
             raise rd.fail(
                 key,
                 f"the platform's joints are the chain's first joints, in order: joint {i + 1} "
-                f"is {show(model.joints[i].name)}, not {show(name)}",
+                f"is '{model.joints[i].name}', not '{name}'",
             )
         if model.joints[i].kind != "prismatic":
             raise rd.fail(
                 key,
-                f"joint {show(name)} is revolute: a platform of prismatic joints only "
+                f"joint '{name}' is revolute: a platform of prismatic joints only "
                 "(a heading joint is not supported yet)",
             )
     k = len(names)

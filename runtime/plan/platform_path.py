@@ -71,7 +71,7 @@ def held_joints(
     :class:`RunFailure` (both cannot hold)."""
     held = [j for j in platform.joints if j in frozen]
     if held:
-        names = ", ".join(naming.labels(held))
+        names = naming.labels(held)
         raise RunFailure(
             f"WITH PLATFORM moves the platform's joints, but FREEZE holds {names} "
             "(switch it off with FREEZEEND first)",
