@@ -30,6 +30,16 @@ MAX_COORDINATES = 3
 """A platform sets at most x, y and z (docs/robots.md)."""
 _CONSTANT_TYPE = re.compile(r"ARRAY\[1\.\.([1-3])\]OFREAL")
 
+MEANING = (
+    "**WITH PLATFORM** := q — the robot's platform (its file's [platform]) moves along its "
+    "own straight line from where it is to q, in step with the TCP's path (the same "
+    "fraction of the way at every cycle); the arm's joints take the rest. q in mm: a "
+    "number for one coordinate (a track), a tuple or an ARRAY [1..k] OF REAL for more "
+    "(mobile8: (x, y)). LIN, LIN PATH, CIRCLE, MOVE_INC LIN, and PTP to a POSE; not "
+    "blended (exact stops)."
+)
+"""What the clause does, in words (editors' hover)."""
+
 SETTING = "R_PLATFORM"
 """The modal setting (a row of lang/settings.py): 'FREE' or 'HOLD' outside WITH PLATFORM."""
 

@@ -13,8 +13,8 @@ Checks, each a compile error at the clause or its value:
   runtime makes for the others);
 * not together with ``WITH APPROX``: a platform motion ends with an exact stop.
 
-``R_PLATFORM := 'HOLD'`` with a constant value on a robot without a platform is an error
-(there is nothing to hold).
+``R_PLATFORM := 'HOLD'`` with a constant value on a robot without a platform is a warning
+(there is nothing to hold; the setting's range is its row's, as for every setting).
 """
 
 from __future__ import annotations
@@ -100,7 +100,7 @@ class PlatformChecker:
         if not isinstance(word, str) or word.upper() != "HOLD" or robot is None:
             return
         if P.platform_of(robot) is None:
-            self.report.error(
+            self.report.warning(
                 value.span,
                 f"R_PLATFORM := 'HOLD': robot {robot.name} has no platform to hold",
                 _NO_PLATFORM_HINT,
