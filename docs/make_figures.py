@@ -81,7 +81,7 @@ def make_screenshot(runs: dict) -> None:
     print(f"docs/img/{out_name}")
 
 
-def _fractions(trace, columns, lines, tcp_axis: str, platform_axes: list[str]):
+def _fractions(trace, columns, lines, platform_axes: list[str]):
     """Time, the TCP's and the platform's fraction of the way (0 … 1) over the rows of the
     statements ``lines`` (and the row before them): the TCP's by its path length, the
     platform's along its line from the first to the last row."""
@@ -96,6 +96,21 @@ def _fractions(trace, columns, lines, tcp_axis: str, platform_axes: list[str]):
     pl = trace[np.ix_(idx, [columns.index(c) for c in platform_axes])]
     d = pl[-1] - pl[0]
     return t, travelled / travelled[-1], (pl - pl[0]) @ d / (d @ d)
+
+
+def _in_step(ax, fractions, labels: tuple[str, str], title: str) -> None:
+    """The TCP's and the platform's fraction of the way over time, on ``ax``."""
+    ts, f_tcp, f_platform = fractions
+    ax.plot(ts, f_tcp, lw=3, alpha=0.5, label=labels[0])
+    ax.plot(ts, f_platform, "k--", lw=1, label=labels[1])
+    ax.set(xlabel="t [s]", ylabel="fraction of the way", title=title)
+    ax.legend(loc="upper left", fontsize=8)
+
+
+def _save(fig, name: str) -> None:
+    fig.tight_layout()
+    fig.savefig(IMG / name, dpi=90)
+    print(f"docs/img/{name}")
 
 
 def make_platform_figures() -> None:
@@ -115,16 +130,11 @@ def make_platform_figures() -> None:
         a.plot(t, tr[:, cols.index("platform_y_mm")], label="carriage y (platform_y_mm)")
         a.set(xlabel="t [s]", ylabel="world y [mm]", title="as6_track: tool and carriage")
         a.legend(loc="upper left", fontsize=8)
-        ts, f_tcp, f_pl = _fractions(tr, cols, [17], "y_mm", ["platform_y_mm"])
-        b.plot(ts, f_tcp, lw=3, alpha=0.5, label="TCP: fraction of its 600 mm line")
-        b.plot(ts, f_pl, "k--", lw=1, label="carriage: fraction of 0 → 1500 mm")
-        b.set(xlabel="t [s]", ylabel="fraction of the way",
-              title="line 17, WITH PLATFORM := 1500: in step")  # fmt: skip
-        b.legend(loc="upper left", fontsize=8)
-        fig.tight_layout()
-        fig.savefig(IMG / "track_platform.png", dpi=90)
+        labels = ("TCP: fraction of its 600 mm line", "carriage: fraction of 0 → 1500 mm")
+        _in_step(b, _fractions(tr, cols, [17], ["platform_y_mm"]), labels,
+                 "line 17, WITH PLATFORM := 1500: in step")  # fmt: skip
+        _save(fig, "track_platform.png")
         plt.close(fig)
-        print("docs/img/track_platform.png")
     mobile = _run("mobile_platform")
     if mobile is not None:
         tr, cols = mobile.trace, mobile.trace_columns
@@ -136,21 +146,16 @@ def make_platform_figures() -> None:
         a.plot(y, z, label="TCP on the wall (y, z)")
         for k in range(0, len(y), max(1, len(y) // 12)):  # where the platform is meanwhile
             a.plot([y[k], py[k]], [z[k], 560], color="0.75", lw=0.8)
-        a.plot(py, np.full(len(py), 560.0), "k", lw=3, label="platform y (drawn at z = 560; grey: at the same time)")
+        a.plot(py, np.full(len(py), 560.0), "k", lw=3,
+               label="platform y (drawn at z = 560; grey: at the same time)")  # fmt: skip
         a.set(xlabel="world y [mm]", ylabel="world z [mm]", aspect="equal",
               title="mobile8: circle and platform line")  # fmt: skip
         a.legend(loc="upper right", fontsize=8)
-        ts, f_tcp, f_pl = _fractions(tr, cols, [16, 17], "y_mm",
-                                     ["platform_x_mm", "platform_y_mm"])  # fmt: skip
-        b.plot(ts, f_tcp, lw=3, alpha=0.5, label="TCP: fraction of the circle")
-        b.plot(ts, f_pl, "k--", lw=1, label="platform: fraction of (0, 0) → (0, 500) mm")
-        b.set(xlabel="t [s]", ylabel="fraction of the way",
-              title="lines 16-17, two CIRCLE halves: in step")  # fmt: skip
-        b.legend(loc="upper left", fontsize=8)
-        fig.tight_layout()
-        fig.savefig(IMG / "mobile_platform.png", dpi=90)
+        labels = ("TCP: fraction of the circle", "platform: fraction of (0, 0) → (0, 500) mm")
+        fractions = _fractions(tr, cols, [16, 17], ["platform_x_mm", "platform_y_mm"])
+        _in_step(b, fractions, labels, "lines 16-17, two CIRCLE halves: in step")
+        _save(fig, "mobile_platform.png")
         plt.close(fig)
-        print("docs/img/mobile_platform.png")
 
 
 def main() -> None:
