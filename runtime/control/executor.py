@@ -435,7 +435,8 @@ class SimulatedController:
         exact stop where a platform motion or HOLD needs one (platform.py)."""
         pending = self.state.pending
         held = pending.context[0] if pending is not None else None
-        return self.platform.options(cmd, motion, options, self.joints, held, self.flush)
+        state = self.state  # its joints read after any flush the platform part asks for
+        return self.platform.options(cmd, motion, options, lambda: state.q, held, self.flush)
 
     def _plan_state(self, settings: Settings, solver: Solver, motion: MotionValues) -> PlanState:
         """Where the next motion starts: here, or at the pending segment's point."""

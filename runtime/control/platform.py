@@ -102,26 +102,27 @@ class PlatformControl:
         cmd: MotionCommand | None,
         motion: MotionValues,
         options: ModalOptions,
-        joints: Callable[[], tuple[float, ...]],
+        joints: Callable[[], np.ndarray],
         pending_options: ModalOptions | None,
         flush: Callable[[str], None],
     ) -> ModalOptions:
         """The motion's options under ``R_PLATFORM``: with ``'HOLD'`` (and no WITH
-        PLATFORM) the platform's joints frozen where they are (program units, from
-        ``joints()``). A pending approximated segment that did not hold them ends first
-        with an exact stop (``flush``), so that "where they are" is where it ends."""
+        PLATFORM) the platform's joints frozen where they are (``joints()``: SI, read after
+        any flush; frozen values are program units, mm: the joints are prismatic). A
+        pending approximated segment that did not hold them ends first with an exact stop
+        (``flush``), so that "where they are" is where it ends; one that held them left
+        them where they are. A motion WITH PLATFORM starts with an exact stop."""
         platform = self.platform
         moving = cmd is not None and cmd.platform_target is not None
-        if moving:
-            where = f"line {cmd.line}" if cmd is not None else "this motion"
-            flush(f"the motion on {where} moves the platform ({PLATFORM_WORD}): exact stop")
+        if cmd is not None and moving:
+            flush(f"the motion on line {cmd.line} moves the platform ({PLATFORM_WORD}): exact stop")
         if platform is None or motion.platform != "HOLD" or moving:
             return options
         if pending_options is not None and not self.held(pending_options):
             flush("R_PLATFORM := 'HOLD': the platform stops (exact stop)")
         q = joints()
-        frozen = {**options.frozen, **{j: float(q[j]) for j in platform.joints}}
-        return dataclasses.replace(options, frozen=frozen)
+        held = {j: float(q[j]) / units.MM for j in platform.joints}
+        return dataclasses.replace(options, frozen={**options.frozen, **held})
 
     def held(self, options: ModalOptions) -> bool:
         """Whether ``options`` freeze every platform joint (R_PLATFORM = 'HOLD' or FREEZE)."""

@@ -13,9 +13,9 @@ the same fraction of its way as the TCP at every cycle. A segment whose TCP does
 
 Timing: the platform's joints ``θ_a(s) = A⁻¹(x_platform(s) − c₀)`` are linear in ``s``, so
 joint ``j`` travels ``|Δθ_j|`` per unit ``s``, and the segment's ``s(t)`` obeys its speed and
-acceleration limits (the active ones, scaled by the override like the path's settings)
-as one more axis (:func:`platform_timing`): the motion is never faster than the platform
-can follow.
+acceleration limits (the active ones, scaled by the override like the path's settings;
+under ``R_PROFILE := 'SCURVE'`` also each joint's jerk bound, the one a PTP uses) as more
+axes (:func:`platform_timing`): the motion is never faster than the platform can follow.
 """
 
 from __future__ import annotations
@@ -106,11 +106,14 @@ def platform_timing(
     limits: tuple[np.ndarray, np.ndarray, np.ndarray],
     k: float,
     naming: JointNaming,
+    jerks: np.ndarray | None = None,
 ) -> tuple[list[Bounds], list[str]]:
     """Each segment's bounds tightened by the platform's joints (module docstring):
     ``ṡ ≤ k·θ̇max_j / |Δθ_j|``, ``s̈ ≤ k²·θ̈max_j / |Δθ_j|`` (``limits``: the active
-    position, speed and acceleration limits; ``k = R_OVERRIDE/100``); where a platform
-    joint sets the segment's time its ``what`` says so."""
+    position, speed and acceleration limits; ``k = R_OVERRIDE/100``) and, for an S-curve,
+    ``s⃛ ≤ jerks_j / |Δθ_j|`` (``jerks``: the platform joints' jerk bounds, SI, already
+    scaled by ``k³``; ``None``: the trapezoid); where a platform joint sets the segment's
+    time its ``what`` says so."""
     _, speed, accel = limits
     rows = list(platform.joints)
     v_max = np.minimum(-speed[rows, 0], speed[rows, 1]) * k
@@ -118,23 +121,28 @@ def platform_timing(
     out_b, out_w = [], []
     for b, what, line in zip(bounds, whats, lines, strict=True):
         travel = np.abs(platform.joints_for(line.end) - platform.joints_for(line.start))
-        v, a, j = common_bounds(travel, v_max, a_max)
+        if jerks is None:
+            v, a, j = common_bounds(travel, v_max, a_max)
+            jerk, t_own = None, minimum_time(v, a)
+        else:
+            v, a, jerk, j = sc.common_bounds(travel, v_max, a_max, jerks)
+            t_own = sc.minimum_time(v, a, jerk)
         if j < 0:  # the platform does not move on this segment
             out_b.append(b)
             out_w.append(what)
             continue
         speed_s, accel_s = min(b.speed, v), min(b.accel, a)
-        if b.jerk is None or not np.isfinite(b.jerk):
+        if jerk is None:
             t_min = minimum_time(speed_s, accel_s)
-            jerk = b.jerk
         else:
-            t_min = sc.minimum_time(speed_s, accel_s, b.jerk)
-            jerk = b.jerk
-        platform_sets_it = b.slowest < 0 or minimum_time(v, a) >= b.t_min
+            jerk = min(jerk, b.jerk) if b.jerk is not None else jerk
+            t_min = sc.minimum_time(speed_s, accel_s, jerk)
+        platform_sets_it = b.slowest < 0 or t_own >= b.t_min
         slowest = b.slowest if b.slowest >= 0 else 0
         out_b.append(Bounds(speed_s, accel_s, jerk, slowest, t_min))
         out_w.append(
             f"platform joint {naming.label(rows[j])} speed/acceleration"
+            + ("/jerk" if jerks is not None else "")
             if platform_sets_it
             else what
         )

@@ -479,8 +479,13 @@ class PreInterpolator:
             platform = self.model.platform
             lines = platform_lines(platform, state.q, cmd.platform_target,
                                    [p.length for p in paths])  # fmt: skip
+            platform_jerks = None
+            if motion.scurve:  # each joint's jerk bound as a PTP's (× k² more: k³ in all)
+                accel = np.minimum(lims[2][:, 1], -lims[2][:, 0])
+                all_jerks = self.ptp_jerks(motion, accel, cmd.line) * motion.k**2
+                platform_jerks = all_jerks[list(platform.joints)]
             bounds, whats = platform_timing(
-                bounds, whats, lines, platform, lims, motion.k, self.naming
+                bounds, whats, lines, platform, lims, motion.k, self.naming, platform_jerks
             )
         times = split_time(motion, [b.t_min for b in bounds], whats, cmd.line)
         refs = self._references(cmd, state.q, paths)

@@ -291,3 +291,41 @@ def test_hold_on_a_robot_without_a_platform_warns_and_holds_nothing(tmp_path):
     assert result.ok and warning.span.line == 4 and "has no platform to hold" in warning.message
     run = run_file(path)
     assert run.status == "ok" and "platform" not in run.report
+
+
+def test_an_s_curve_platform_motion_keeps_the_tracks_jerk(tmp_path):
+    """R_PROFILE := 'SCURVE': the platform's joints get a PTP's jerk bound (the track has
+    none in its file: θ̈max·R_JERK/R_ACC = 2000·10000/1000 = 20000 mm/s³), also when the
+    TCP holds; the trace's backward-difference jerk, acceleration and speed of the track
+    stay within 20000 mm/s³, 2000 mm/s², 1000 mm/s."""
+    body = (
+        "  R_PROFILE := 'SCURVE';\n  R_PLATFORM := 'HOLD';\n  MOVE PTP ready;\n"
+        "  MOVE LIN line_start;\n  MOVE LIN line_start WITH PLATFORM := 300;\n"
+        "  MOVE LIN line_end WITH PLATFORM := 1500;\n"
+    )
+    run = run_file(_program(tmp_path, "as6_track", body, "track_cell"))
+    assert run.status == "ok", run.error
+    limits = {s["line"]: s["limit"] for s in run.report["statements"]}
+    assert limits[9] == "platform joint a1 (T) speed/acceleration/jerk"
+    track = run.report["joints"][0]
+    assert track["max_abs_jerk"] <= 20000.0 * (1 + 1e-6)
+    assert track["max_abs_accel"] <= 2000.0 * (1 + 1e-6)
+    assert track["max_abs_speed"] <= 1000.0 * (1 + 1e-6)
+
+
+def test_hold_blends_its_motions_and_stops_a_free_one_first(tmp_path):
+    """Approximated motions under HOLD blend (the platform stays where the first stopped);
+    a FREE motion before them ends with an exact stop, saying why."""
+    body = (
+        "  R_APPROX := 30;\n  MOVE LIN c_left;\n  R_PLATFORM := 'HOLD';\n"
+        "  MOVE LIN c_top;\n  MOVE LIN c_right;\n  MOVE LIN c_bottom;\n"
+        "  MOVE LIN c_left WITH APPROX := 0;\n"
+    )
+    run = run_file(_program(tmp_path, "mobile8", body, "mobile_platform_cell"))
+    assert run.status == "ok", run.error
+    points = {a["line"]: a for a in run.report["approximations"]}
+    assert not points[6]["blended"] and "R_PLATFORM := 'HOLD'" in points[6]["note"]
+    assert all(points[line]["blended"] for line in (8, 9, 10))
+    lines = run.trace[:, run.trace_columns.index("line")]
+    held = run.q[lines >= 8][:, :2]
+    assert np.all(held == run.q[np.flatnonzero(lines == 6)[-1], :2])
