@@ -181,11 +181,12 @@ class CycleRunner:
         if res.relaxed or not res.converged:
             rec.note_relaxed(seg.line, t, dt, pos_err, ori_err, res.binding)
         off = 0.0  # the platform's distance from its line (WITH PLATFORM: the last task)
-        if seg.platform is not None and res.task_errors:
+        platform = getattr(seg, "platform", None)  # (a hand-made segment may have none)
+        if platform is not None and res.task_errors:
             off = res.task_errors[-1]
             self.platform_record.error(off)
         if pos_err > rec.tol_position or ori_err > self.tol_orientation or off > rec.tol_position:
-            if seg.platform is not None and solver.platform is not None:
+            if platform is not None and solver.platform is not None:
                 deviation = {"tcp": pos_err, "tcp_angle": ori_err, "platform": off}
                 reach = self.reach(seg.limits[0], opts.frozen, solver)
                 where = ("the path cannot be followed", seg.line, t)
