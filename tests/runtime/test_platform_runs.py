@@ -31,6 +31,16 @@ def _program(tmp_path: Path, robot: str, body: str, cell: str | None = None) -> 
     return path
 
 
+def _track(tmp_path: Path, before: str, after: str):
+    """A run of as6_track from ``ready`` to ``line_start`` with the carriage held, ``before``
+    and ``after`` that (statements), which must succeed; the statements after are on
+    lines 8, 9, … (``before`` adds its lines)."""
+    body = before + "  R_PLATFORM := 'HOLD';\n  MOVE PTP ready;\n  MOVE LIN line_start;\n"
+    run = run_file(_program(tmp_path, "as6_track", body + after, "track_cell"))
+    assert run.status == "ok", run.error
+    return run
+
+
 def _fk(model, q: np.ndarray):
     """(platform points (link of the last platform joint, its origin), TCP positions)."""
     kin = Kinematics(model)
@@ -170,13 +180,10 @@ def test_ptp_lin_path_inc_and_a_held_tcp_with_platform_targets(tmp_path):
 def test_the_platform_joints_limits_time_the_motion(tmp_path):
     """A long carriage travel with a short tool line at a high path speed: the segment is
     timed by the track's speed limit (1000 mm/s), which the trace never exceeds."""
-    body = (
-        "  R_PLATFORM := 'HOLD';\n  MOVE PTP ready;\n  MOVE LIN line_start;\n"
-        "  R_SPEED := 2000;\n  R_ACC := 20000;\n"
-        "  MOVE LIN (-765, 750, 1030, 90, 0, -90) WITH PLATFORM := 1200;\n"
+    after = "  R_SPEED := 2000;\n  R_ACC := 20000;\n"
+    run = _track(
+        tmp_path, "", after + "  MOVE LIN (-765, 750, 1030, 90, 0, -90) WITH PLATFORM := 1200;\n"
     )
-    run = run_file(_program(tmp_path, "as6_track", body, "track_cell"))
-    assert run.status == "ok", run.error
     (row,) = [s for s in run.report["statements"] if s["line"] == 10]
     assert row["limit"] == "platform joint a1 (T) speed/acceleration"
     speed = run.trace[:, run.trace_columns.index("a1_speed_mm_s")]
@@ -298,13 +305,10 @@ def test_an_s_curve_platform_motion_keeps_the_tracks_jerk(tmp_path):
     none in its file: θ̈max·R_JERK/R_ACC = 2000·10000/1000 = 20000 mm/s³), also when the
     TCP holds; the trace's backward-difference jerk, acceleration and speed of the track
     stay within 20000 mm/s³, 2000 mm/s², 1000 mm/s."""
-    body = (
-        "  R_PROFILE := 'SCURVE';\n  R_PLATFORM := 'HOLD';\n  MOVE PTP ready;\n"
-        "  MOVE LIN line_start;\n  MOVE LIN line_start WITH PLATFORM := 300;\n"
-        "  MOVE LIN line_end WITH PLATFORM := 1500;\n"
+    after = (
+        "  MOVE LIN line_start WITH PLATFORM := 300;\n  MOVE LIN line_end WITH PLATFORM := 1500;\n"
     )
-    run = run_file(_program(tmp_path, "as6_track", body, "track_cell"))
-    assert run.status == "ok", run.error
+    run = _track(tmp_path, "  R_PROFILE := 'SCURVE';\n", after)
     limits = {s["line"]: s["limit"] for s in run.report["statements"]}
     assert limits[9] == "platform joint a1 (T) speed/acceleration/jerk"
     track = run.report["joints"][0]
