@@ -21,6 +21,7 @@ import time
 
 import numpy as np
 from irlc.robots import load_robot
+from irlc.runtime.control.platform import platform_chain
 from irlc.runtime.ik import CycleOptions, IKParams, InverseTransformation
 from irlc.runtime.ik.tasks import AxisTask, PlatformTask
 from irlc.runtime.model import spatial
@@ -51,6 +52,11 @@ def _chains() -> list[tuple[str, object, np.ndarray]]:
     platform_task = PlatformTask(link=2)
     chain = SerialChain(mobile, tasks=(platform_task,))
     out.append(("mobile8 + platform task (6 + 2 rows)", chain, mobile.home_q()))
+    track = load_robot("as6_track")  # the file's platform, as the controller builds it
+    chain, _ = platform_chain(SerialChain(track), track.platform)
+    ready = np.radians([0.0, 126.0, -66.0, 66.0, -39.0, 211.0, 17.0])  # track_cell's
+    out.append(("as6_track (one robot)", SerialChain(track), ready))
+    out.append(("as6_track + platform task (6 + 1 rows)", chain, ready))
     return out
 
 
@@ -68,7 +74,7 @@ def _run(chain, start, cycles: int, repeat: int) -> tuple[float, float, bool]:
     platform0 = None
     for task in chain.tasks:
         if isinstance(task, PlatformTask):
-            platform0 = chain.point(start).world[task.link][:2, 3].copy()
+            platform0 = task.position(chain.point(start))[task.coords].copy()
     times = []
     for rep in range(repeat + 1):
         q_prev = q = start.copy()
@@ -78,7 +84,7 @@ def _run(chain, start, cycles: int, repeat: int) -> tuple[float, float, bool]:
             target[:3, 3] += tcp0[:3, :3] @ np.array([0.03 * s, 0.02 * s, 0.0])
             for task in chain.tasks:
                 if isinstance(task, PlatformTask):
-                    task.target = platform0 + s * np.array([0.02, 0.01])
+                    task.target = platform0 + s * np.array([0.02, 0.01])[: task.size]
             c0 = time.thread_time_ns()
             r = ik.step(q, q_prev, target, 0.01)
             if rep:

@@ -1,9 +1,14 @@
-"""Regenerate the figures of docs/tutorial.md into docs/img/ (a few small PNGs).
+"""Regenerate the figures of docs/tutorial.md and docs/language.md into docs/img/.
 
-    python docs/make_figures.py            # needs matplotlib; chromium for the screenshot
+    python docs/make_figures.py [plots] [screenshot] [platform]   # default: all
+    # needs matplotlib; chromium for the screenshot
 
-Each figure is one file of ``irlc.plots.write_plots`` for a run of a program in
+Each tutorial figure is one file of ``irlc.plots.write_plots`` for a run of a program in
 ``programs/`` (optionally overlaid with a second run), copied under a descriptive name.
+The platform figures (``platform``) are drawn here from the traces of
+``programs/track_platform.irl`` and ``programs/mobile_platform.irl``: where the TCP and the
+platform are over time, and the fraction of its way each has gone in the motions WITH
+PLATFORM (the two curves coincide: the platform moves in step with the TCP).
 """
 
 from __future__ import annotations
@@ -76,12 +81,94 @@ def make_screenshot(runs: dict) -> None:
     print(f"docs/img/{out_name}")
 
 
+def _fractions(trace, columns, lines, platform_axes: list[str]):
+    """Time, the TCP's and the platform's fraction of the way (0 … 1) over the rows of the
+    statements ``lines`` (and the row before them): the TCP's by its path length, the
+    platform's along its line from the first to the last row."""
+    import numpy as np
+
+    at = trace[:, columns.index("line")]
+    idx = np.flatnonzero(np.isin(at, lines))
+    idx = np.concatenate(([idx[0] - 1], idx))
+    t = trace[idx, columns.index("t_s")]
+    tcp = trace[np.ix_(idx, [columns.index(c) for c in ("x_mm", "y_mm", "z_mm")])]
+    travelled = np.concatenate(([0.0], np.cumsum(np.linalg.norm(np.diff(tcp, axis=0), axis=1))))
+    pl = trace[np.ix_(idx, [columns.index(c) for c in platform_axes])]
+    d = pl[-1] - pl[0]
+    return t, travelled / travelled[-1], (pl - pl[0]) @ d / (d @ d)
+
+
+def _in_step(ax, fractions, labels: tuple[str, str], title: str) -> None:
+    """The TCP's and the platform's fraction of the way over time, on ``ax``."""
+    ts, f_tcp, f_platform = fractions
+    ax.plot(ts, f_tcp, lw=3, alpha=0.5, label=labels[0])
+    ax.plot(ts, f_platform, "k--", lw=1, label=labels[1])
+    ax.set(xlabel="t [s]", ylabel="fraction of the way", title=title)
+    ax.legend(loc="upper left", fontsize=8)
+
+
+def _save(fig, name: str) -> None:
+    fig.tight_layout()
+    fig.savefig(IMG / name, dpi=90)
+    print(f"docs/img/{name}")
+
+
+def make_platform_figures() -> None:
+    """docs/img/track_platform.png and mobile_platform.png (module docstring)."""
+    import matplotlib
+    import numpy as np
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    track = _run("track_platform")
+    if track is not None:
+        tr, cols = track.trace, track.trace_columns
+        t = tr[:, cols.index("t_s")]
+        fig, (a, b) = plt.subplots(1, 2, figsize=(9.6, 3.6))
+        a.plot(t, tr[:, cols.index("y_mm")], label="TCP y (the line on the wall)")
+        a.plot(t, tr[:, cols.index("platform_y_mm")], label="carriage y (platform_y_mm)")
+        a.set(xlabel="t [s]", ylabel="world y [mm]", title="as6_track: tool and carriage")
+        a.legend(loc="upper left", fontsize=8)
+        labels = ("TCP: fraction of its 600 mm line", "carriage: fraction of 0 → 1500 mm")
+        _in_step(b, _fractions(tr, cols, [17], ["platform_y_mm"]), labels,
+                 "line 17, WITH PLATFORM := 1500: in step")  # fmt: skip
+        _save(fig, "track_platform.png")
+        plt.close(fig)
+    mobile = _run("mobile_platform")
+    if mobile is not None:
+        tr, cols = mobile.trace, mobile.trace_columns
+        fig, (a, b) = plt.subplots(1, 2, figsize=(9.6, 3.8))
+        at = tr[:, cols.index("line")]
+        sel = (at >= 16) & (at <= 17)
+        y, z = tr[sel, cols.index("y_mm")], tr[sel, cols.index("z_mm")]
+        py = tr[sel, cols.index("platform_y_mm")]
+        a.plot(y, z, label="TCP on the wall (y, z)")
+        for k in range(0, len(y), max(1, len(y) // 12)):  # where the platform is meanwhile
+            a.plot([y[k], py[k]], [z[k], 560], color="0.75", lw=0.8)
+        a.plot(py, np.full(len(py), 560.0), "k", lw=3,
+               label="platform y (drawn at z = 560; grey: at the same time)")  # fmt: skip
+        a.set(xlabel="world y [mm]", ylabel="world z [mm]", aspect="equal",
+              title="mobile8: circle and platform line")  # fmt: skip
+        a.legend(loc="upper right", fontsize=8)
+        labels = ("TCP: fraction of the circle", "platform: fraction of (0, 0) → (0, 500) mm")
+        fractions = _fractions(tr, cols, [16, 17], ["platform_x_mm", "platform_y_mm"])
+        _in_step(b, fractions, labels, "lines 16-17, two CIRCLE halves: in step")
+        _save(fig, "mobile_platform.png")
+        plt.close(fig)
+
+
 def main() -> None:
     IMG.mkdir(parents=True, exist_ok=True)
+    groups = set(sys.argv[1:]) or {"plots", "screenshot", "platform"}
     names = {n for f in FIGURES for n in f[1:3] if n} | {SCREENSHOT[1]}
-    runs = {n: _run(n) for n in sorted(names)}
-    make_plots(runs)
-    make_screenshot(runs)
+    runs = {n: _run(n) for n in sorted(names)} if groups & {"plots", "screenshot"} else {}
+    if "plots" in groups:
+        make_plots(runs)
+    if "screenshot" in groups:
+        make_screenshot(runs)
+    if "platform" in groups:
+        make_platform_figures()
 
 
 if __name__ == "__main__":

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from irlc.lang import ast
+from irlc.lang import ast, platform
 from irlc.lang import types as T
 from irlc.lang.cell import ProgramRobot
 from irlc.lang.checker import Checked, RoutineInfo, Symbol
@@ -405,9 +405,10 @@ class _Gen:
                 for k in c.args:
                     self.expr(k, k.ty)
                 words.append(f"RECONF:{len(c.args)}")
-            else:
+            else:  # (WITH PLATFORM: a REAL, or an ARRAY of the platform's coordinates)
                 for a in c.args:
-                    self.expr(a, a.ty if c.kind.startswith("JOINT") else T.REAL)
+                    keep = c.kind.startswith("JOINT") or isinstance(a.ty, T.Array)
+                    self.expr(a, a.ty if keep else T.REAL)
                 words.append(c.kind)
         return [s.kind, len(s.targets), *self.robot_words(s), *words]
 
@@ -446,7 +447,7 @@ class _Gen:
     def expr(self, e: ast.Expr, want: T.Type | None = None) -> None:
         line = e.span.line
         v = e.const
-        if v is not None and v.type in _CONST_TYPES:
+        if v is not None and (v.type in _CONST_TYPES or platform.constant_count(v.type)):
             if want == T.REAL and v.type == "INTEGER":
                 v = Value("REAL", (float(v.data[0]),))
             elif want == T.STRING and v.type == "CHAR":

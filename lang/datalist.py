@@ -9,6 +9,7 @@ A data list is a TOML file ``name.toml`` found in the program's folder, then in 
     [limits]              name = { type = "MAIN_JOINT_MIN" | ... , values = [N numbers] }
     [obstacles.NAME]      kind = point|sphere|box|capsule|plane and its keys (mm)
     [inputs]              "n" = [[time_s, bool], ...]      times non-decreasing
+    [platform]            name = y  |  name = [x, y]       mm: a platform target
 
 Every problem is a :class:`Diagnostic` naming the file and the key (with the key's line
 when it can be found in the text).
@@ -21,6 +22,7 @@ from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 
+from irlc.lang import platform
 from irlc.lang.diagnostics import Diagnostic, Span
 from irlc.lang.file_access import describe, is_file, is_finite_number, is_finite_real, shown_key
 from irlc.lang.irdata import (
@@ -33,7 +35,7 @@ from irlc.lang.irdata import (
 from irlc.lang.textfile import read_user_text
 from irlc.lang.toml_keys import TomlError, key_position, parse_toml
 
-SECTIONS = ("poses", "joints", "limits", "obstacles", "inputs")
+SECTIONS = ("poses", "joints", "limits", "obstacles", "inputs", "platform")
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 
 
@@ -234,6 +236,21 @@ def _read_limits(ld: _Loader, dl: Datalist, body: dict) -> None:
             _item(ld, dl, key, name, Value(ty, nums))
 
 
+def _read_platform(ld: _Loader, dl: Datalist, body: dict) -> None:
+    """``[platform]``: targets of a robot's platform (``WITH PLATFORM := name``), mm: a
+    number (one coordinate: a REAL) or a list of 1 … 3 (an ARRAY [1..k] OF REAL); the
+    checker counts them against the robot's platform where they are used."""
+    sizes = tuple(range(1, platform.MAX_COORDINATES + 1))
+    for name, value in body.items():
+        key = f"platform.{name}"
+        raw = [value] if _is_number(value) else value
+        nums = ld.numbers(raw, key, sizes, "a platform target: its coordinates in mm")
+        if nums is not None:
+            _item(ld, dl, key, name, platform.constant(nums))
+        else:
+            dl.rejected.append(name)
+
+
 def _read_obstacles(ld: _Loader, dl: Datalist, body: dict) -> None:
     for name, table in body.items():
         key = f"obstacles.{name}"
@@ -336,4 +353,5 @@ _SECTION_READERS = {
     "limits": _read_limits,
     "obstacles": _read_obstacles,
     "inputs": _read_inputs,
+    "platform": _read_platform,
 }

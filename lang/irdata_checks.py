@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 import re
 
+from irlc.lang import platform
 from irlc.lang.geometry_range import OBSTACLE_KEYS, obstacle_field_problem
 from irlc.lang.irdata_model import (
     JOINT_TUPLE_TYPES,
@@ -97,6 +98,9 @@ def const_problem(value: Value, joint_counts: tuple[int, ...]) -> str | None:
         return None
     if ty == "REAL":
         return None if len(data) == 1 else f"REAL: expected one number, got {len(data)}"
+    k = platform.constant_count(ty)
+    if k is not None:  # a platform target (a data list's [platform]): k numbers
+        return None if len(data) == k else f"{ty}: expected {k} numbers, got {len(data)}"
     if ty in JOINT_TUPLE_TYPES:
         if len(data) in joint_counts or not joint_counts:
             return None

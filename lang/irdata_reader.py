@@ -7,6 +7,7 @@ from __future__ import annotations
 import re
 from dataclasses import replace
 
+from irlc.lang import platform
 from irlc.lang.diagnostics import CompileError, Diagnostic, Span
 from irlc.lang.irdata_checks import (
     TypeTable,
@@ -400,7 +401,8 @@ def _read_const(r: _Reader, expected: int, words, cols, lineno) -> Value | None:
 
 def _read_value(r: _Reader, words, cols, lineno) -> Value | None:
     ty, rest = words[0], words[1:]
-    if not re.fullmatch(r"[A-Z_]{1,32}(#[0-9]{1,9})?", ty):  # echoed below: a type word only
+    word = re.fullmatch(r"[A-Z_]{1,32}(#[0-9]{1,9})?", ty) or platform.constant_count(ty)
+    if not word:  # echoed below: a type word only (or a platform target's ARRAY)
         r.error(lineno, cols[0], f"CONST: expected a type, got {shown_word(ty)}")
         return None
     if ty in ("STRING", "CHAR"):

@@ -25,6 +25,7 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from irlc.lang import platform
 from irlc.lang.cell import ROBOT_VARIABLES
 from irlc.lang.settings import BY_LIMIT_WORD, BY_WITH_WORD
 
@@ -35,7 +36,7 @@ ROBOT_POSITION = {"RECONF": 0, "OPTON": 1, "OPTOFF": 1, "PUSHSYS": 1, "POPSYS": 
 operands): right after its fixed operands."""
 PART_SEPARATOR = "AND"  # between the parts of a group MOVE
 VERTICAL = "VERTICAL"  # OPTON COOPERATE … VERTICAL: the tool's z axis stays vertical
-MOVE_CLAUSES = (*BY_WITH_WORD, *BY_LIMIT_WORD)
+MOVE_CLAUSES = (*BY_WITH_WORD, *BY_LIMIT_WORD, platform.WORD)
 """The clause words of a MOVE besides ``RECONF:k``."""
 
 

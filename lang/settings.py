@@ -168,6 +168,9 @@ SETTINGS: tuple[Setting, ...] = (
     Setting("clearance", "R_CLEARANCE", None, SettingRange(0.0, 1e5, "mm", closed=True), (),
             "distance kept between robots' links and non-adjacent links of one robot "
             "(0: only reported)", 0.0),
+    Setting("platform", "R_PLATFORM", None, SettingChoices(("FREE", "HOLD")), (),
+            "the platform outside WITH PLATFORM: FREE (the redundancy moves it) or HOLD "
+            "(it stands, as FREEZE of its joints)", "FREE"),
 )  # fmt: skip
 
 BY_FIELD: dict[str, Setting] = {s.field: s for s in SETTINGS}

@@ -8,7 +8,8 @@ then misread its own trace). Per joint ``NAME`` of unit ``U`` (``deg`` | ``mm``)
     NAME_U  NAME_speed_U_s  NAME_accel_U_s2  NAME_cmd_U  NAME_current_A  NAME_motor_rad
 
 besides the fixed ``t_s``, ``line``, the pose ``x_mm … c_deg``, ``path_error_mm``,
-``orientation_error_deg``, ``partial`` and ``clearance_OBSTACLE_mm`` per obstacle.
+``orientation_error_deg``, ``partial``, ``clearance_OBSTACLE_mm`` per obstacle and
+``platform_C_mm`` per platform coordinate.
 Names are compared without regard to case (IRL names are case-insensitive).
 """
 
@@ -67,6 +68,15 @@ def clearance(obstacle: str) -> str:
     return f"clearance_{obstacle}_mm"
 
 
+def platform(coordinate: str) -> str:
+    """A platform coordinate's column (``platform_x_mm``; robots with a ``[platform]``)."""
+    return f"platform_{coordinate}_mm"
+
+
+PLATFORM = {platform(c): f"the platform's {c}" for c in ("x", "y", "z")}
+"""The columns of a robot with a platform (one per coordinate it has)."""
+
+
 def joint_columns(name: str, kind: str) -> tuple[str, ...]:
     """Every column a joint can have (drives and motor maps included)."""
     return (
@@ -84,7 +94,7 @@ def first_clash(
 ) -> tuple[int, str, str] | None:
     """``(joint, column, what else is called so)`` for the first joint (0-based) one of
     whose columns another column shares, or ``None`` when all are distinct."""
-    owner = {c.lower(): meaning for c, meaning in FIXED.items()}
+    owner = {c.lower(): meaning for c, meaning in (FIXED | PLATFORM).items()}
     owner.update({clearance(o).lower(): f"obstacle {o}'s clearance" for o in obstacles})
     for j, (name, kind) in enumerate(zip(names, kinds, strict=True)):
         for column in joint_columns(name, kind):

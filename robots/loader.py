@@ -11,7 +11,8 @@ This module reads the top level (``[robot]``, ``[base]``, ``[flange]``, ``[tool]
 section to its reader: :mod:`~irlc.robots.toml_reader` (typed values, units, errors),
 :mod:`~irlc.robots.chain` (``[[joints]]``: DH or axes), :mod:`~irlc.robots.limits`
 (joint limits, home, limit sets, coupled limits), :mod:`~irlc.robots.inertia`
-(``[[geometry]]``, ``[[inertials]]``) and :mod:`~irlc.robots.transmission`. ``[drives]``
+(``[[geometry]]``, ``[[inertials]]``), :mod:`~irlc.robots.transmission` and
+:mod:`~irlc.robots.platform` (``[platform]``). ``[drives]``
 is stored unvalidated for :mod:`irlc.runtime.drives.params`.
 """
 
@@ -30,6 +31,7 @@ from irlc.robots.extends import inherit
 from irlc.robots.inertia import read_geometry, read_inertials
 from irlc.robots.limits import read_coupled, read_home, read_limit_sets, read_pair, read_rate
 from irlc.robots.model import TASK_COMPONENTS, Joint, RobotModel
+from irlc.robots.platform import read_platform
 from irlc.robots.toml_reader import (
     ANGLE_UNITS,
     LENGTH_UNITS,
@@ -57,6 +59,7 @@ TOP_KEYS = {
     "assumptions",
     "drives",
     "ik",
+    "platform",
 }
 ROBOT_KEYS = {
     "name",
@@ -167,7 +170,7 @@ def build_model(
         if k in robot:
             extra[k] = rd.string(robot[k], f"robot.{k}")
     limit_sets = read_limit_sets(rd, doc.get("limit_sets", {}), joints)
-    return RobotModel(
+    model = RobotModel(
         name=name,
         joints=tuple(joints),
         base=base,
@@ -182,6 +185,10 @@ def build_model(
         source=file,
         description=rd.string(robot.get("description", ""), "robot.description"),
     )
+    if "platform" in doc:  # needs the chain's kinematics: read once the model is built
+        rows = len(extra.get("ik", {}).get("task", TASK_COMPONENTS))
+        extra["platform"] = read_platform(rd, doc["platform"], model, rows)
+    return model
 
 
 def _read_units(rd: Reader, robot: dict) -> None:

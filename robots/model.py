@@ -120,6 +120,12 @@ class RobotModel:
     def joint_kinds(self) -> tuple[str, ...]:
         return tuple(j.kind for j in self.joints)
 
+    @property
+    def platform(self) -> Any:
+        """The robot's platform (:class:`irlc.robots.platform.Platform`, the file's
+        ``[platform]``; lang's ``PlatformSignature``), ``None`` when it names none."""
+        return self.extra.get("platform") if isinstance(self.extra, dict) else None
+
     # --- convenience arrays (SI) ---
     @property
     def weights(self) -> np.ndarray:

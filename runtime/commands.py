@@ -45,6 +45,7 @@ class MotionCommand:
     speed_limits: tuple[JointTuple, JointTuple] | None = None
     accel_limits: tuple[JointTuple, JointTuple] | None = None
     reconfiguration: tuple[JointTuple, ...] | None = None  # one, or one per point
+    platform_target: tuple[float, ...] | None = None  # WITH PLATFORM: mm, per coordinate
     call: tuple[str, int] | None = None  # in a routine: (its name, the line of its call)
 
 
@@ -78,6 +79,7 @@ class Settings:
     override: float = _default("override")  # R_OVERRIDE, % (start: --override)
     approx: float = _default("approx")  # R_APPROX, mm (0: exact stop)
     clearance: float = _default("clearance")  # R_CLEARANCE, mm (0: only reported)
+    platform: str = _default_word("platform")  # R_PLATFORM: 'FREE' | 'HOLD'
 
 
 # The range table of the numeric settings is lang/settings.py (one row per setting; the

@@ -16,6 +16,9 @@ decided from the solver's state, not from the last bound the relaxed step touche
                    target or path reachable
 ``obstacle``       the arm collides with an obstacle of the cell (avoided or not)
 ``limits``         the active limits exclude the current state
+``platform``       the platform task (WITH PLATFORM: the platform on its line) cannot
+                   be met together with the TCP's path, which alone could be
+``platform_limit`` a platform target outside the platform's (active) limits
 =================  ===========================================================
 """
 
@@ -33,6 +36,8 @@ CAUSES = (
     "freeze_jointlimit",
     "obstacle",
     "limits",
+    "platform",
+    "platform_limit",
 )
 
 

@@ -196,6 +196,7 @@ def robot_cmd(name: str, sensitivity: bool, samples: int) -> None:
     for label, t in (("tool (flange → TCP)", model.tool), ("base (in the world)", model.base)):
         console.print(escape(f"{label} [mm, deg]: {_fmt(units.pose_from_si(t))}"))
     console.print("  a program's R_TOOL is composed after this tool: TCP = flange · tool · R_TOOL")
+    _platform_lines(console, model, naming)
     for c in model.extra.get("coupled_limits", []):
         console.print(escape(f"coupled limit {c['name']}: {c['text'] or c['coeffs']}"))
         if "assumed" in c:
@@ -226,6 +227,35 @@ def robot_cmd(name: str, sensitivity: bool, samples: int) -> None:
     refused = _drive_data_refusal(model)
     if refused:
         click.echo(f"irlc: warning: {refused}", err=True)
+
+
+def _platform_lines(console: Console, model: RobotModel, naming: JointNaming) -> None:
+    """The robot's platform ([platform], docs/robots.md): its joints, the point whose world
+    coordinates WITH PLATFORM sets, and their ranges."""
+    platform = model.platform
+    if platform is None:
+        console.print("platform: none in the file (WITH PLATFORM and R_PLATFORM need one)")
+        return
+    joints = ", ".join(naming.label(j) for j in platform.joints)
+    point = _fmt(platform.point / units.MM)
+    ranges = ", ".join(
+        f"{c} {lo:.6g} … {hi:.6g}"
+        for c, (lo, hi) in zip(platform.coordinates, platform.ranges() / units.MM, strict=True)
+    )
+    what = f" — {platform.description}" if platform.description else ""
+    console.print(escape(f"platform{what}: joints {joints}"))
+    console.print(
+        escape(
+            f"  WITH PLATFORM := {_platform_form(platform.coordinates)} [mm]: the world "
+            f"{', '.join(platform.coordinates)} of point {point} mm of link {platform.link}; "
+            f"range {ranges} mm"
+        )
+    )
+
+
+def _platform_form(coordinates) -> str:
+    """``y`` / ``(x, y)``: how a target of a platform with these coordinates is written."""
+    return coordinates[0] if len(coordinates) == 1 else f"({', '.join(coordinates)})"
 
 
 def _drive_data_refusal(model: RobotModel) -> str | None:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from irlc.lang import platform
 from irlc.lang import settings as S
 from irlc.lang.checker import Symbol
 from irlc.lang.irdata import Value
@@ -32,6 +33,8 @@ def hover_text(target: Target, index: Index, program: Path, allow_any_path: bool
     if isinstance(target, SymbolRef):
         return symbol_text(target.symbol, index)
     if isinstance(target, OptionRef):
+        if target.word == platform.WORD:
+            return platform.MEANING
         setting = S.BY_WITH_WORD.get(target.word)
         return setting_text(setting, with_form=True) if setting else None
     if isinstance(target, RobotRef):

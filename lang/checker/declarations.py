@@ -10,7 +10,7 @@ declaration of the program.
 
 from __future__ import annotations
 
-from irlc.lang import ast, trace_columns
+from irlc.lang import ast, platform, trace_columns
 from irlc.lang import types as T
 from irlc.lang.builtins import BUILTINS
 from irlc.lang.checker import constants
@@ -138,6 +138,9 @@ class Declarations:
     def value_type(self, v: Value) -> T.Type:
         if v.type in T.JOINT_TUPLE_TYPES:
             return T.JointTuple(v.type, self.scope.n)
+        k = platform.constant_count(v.type)  # a data list's [platform] entry
+        if k is not None:
+            return platform.target_type(k)
         return T.SIMPLE.get(v.type, T.ERROR)
 
     def declare_all(self, decls: ast.Decls, is_global: bool) -> None:

@@ -5,7 +5,8 @@ increment; the path motions: POSEs). Each WITH clause is given at most once: a s
 (SPEED, ACC, …) must be accepted by the motion kind and, when constant, lie in its range
 (the settings table, lang/settings.py); a limit pair (JOINTLIMIT …) takes the minimum then
 the maximum tuple, minimum ≤ maximum per joint when constant; RECONFIGURATION gives one
-MAIN_JOINT per point (or one for a whole multi-point LIN).
+MAIN_JOINT per point (or one for a whole multi-point LIN); PLATFORM a target of the
+robot's platform (:mod:`.platform`).
 
 In a cell a motion names its robot (``MOVE welder LIN p``), whose joint count types its
 joint tuples; a group move (``MOVE a LIN p AND b PTP k``) names each robot once.
@@ -14,10 +15,12 @@ joint tuples; a group move (``MOVE a LIN p AND b PTP k``) names each robot once.
 from __future__ import annotations
 
 from irlc.lang import ast
+from irlc.lang import platform as P
 from irlc.lang import types as T
 from irlc.lang.cell import ProgramRobot
 from irlc.lang.checker.constants import number
 from irlc.lang.checker.expressions import ExpressionTyper
+from irlc.lang.checker.platform import PlatformChecker
 from irlc.lang.checker.scope import Reporter, Scope
 from irlc.lang.diagnostics import Span
 from irlc.lang.settings import (
@@ -42,6 +45,7 @@ class MotionChecker:
         self.scope = scope
         self.typer = typer
         self.report = report
+        self.platform = PlatformChecker(scope, typer, report)  # WITH PLATFORM, R_PLATFORM
 
     def s_movegroup(self, g: ast.MoveGroup) -> None:
         """``MOVE a LIN p AND b PTP k``: every part names its robot, each robot once."""
@@ -125,12 +129,16 @@ class MotionChecker:
         if c.kind == "RECONF":
             self.reconf_clause(s, c, robot)
             return
+        if c.kind == P.WORD:
+            self.platform.clause(s, c, robot)
+            return
         if c.kind not in _WITH_PARAMS:
             self.report.error(
                 c.span,
                 f"unknown WITH option '{c.word}'",
                 approximation_hint(c.word)
-                or f"WITH options: {', '.join((*_WITH_PARAMS, *LIMIT_TYPES))}, RECONFIGURATION",
+                or f"WITH options: {', '.join((*_WITH_PARAMS, *LIMIT_TYPES))}, RECONFIGURATION, "
+                f"{P.WORD}",
             )
             self.typer.expr(c.args[0], None)
             return

@@ -20,6 +20,7 @@ from irlc.lang.checker.scope import Reporter, Scope, Symbol
 from irlc.lang.diagnostics import Span
 from irlc.lang.digital_io import pulse_error
 from irlc.lang.irdata import Value
+from irlc.lang.platform import SETTING as PLATFORM_SETTING
 from irlc.lang.settings import BY_SYSTEM_VARIABLE
 
 
@@ -122,6 +123,8 @@ class StatementChecker:
         )
         if ok and s.target is root and sym.name in BY_SYSTEM_VARIABLE and sym.kind == "sysvar":
             self.motion.constant_setting(BY_SYSTEM_VARIABLE[sym.name].field, s.value, sym.name)
+            if sym.name == PLATFORM_SETTING:
+                self.motion.platform.hold_setting(s.value)
 
     def target_type(self, target: ast.Expr, sym: Symbol) -> T.Type | None:
         if isinstance(target, ast.Name) or target is assignment_root(target):

@@ -12,6 +12,10 @@ records one sample:
   (``R_PATH_TOL``) or the orientation tolerance it is a :class:`RunFailure` with its
   cause (:mod:`~irlc.runtime.ik.cause`).
 
+A cycle of a motion WITH PLATFORM also sets the platform task's target from the segment's
+``s`` and fails when the platform leaves its line beyond the path tolerance, saying which
+task could not be met (:mod:`~irlc.runtime.control.platform`).
+
 A negative clearance is a collision, judged by the controller's
 :class:`~irlc.runtime.control.collision.CollisionRule` (a run failure unless collisions are
 allowed). A segment's θ⁰(s) starts from the previous cycle's
@@ -28,6 +32,7 @@ from irlc.runtime import units
 from irlc.runtime.commands import ModalOptions
 from irlc.runtime.control import ptp_activity
 from irlc.runtime.control.collision import CollisionRule
+from irlc.runtime.control.platform import PlatformRecord, platform_failure
 from irlc.runtime.control.segment_run import SegmentRun, Solver
 from irlc.runtime.control.state import ControllerState
 from irlc.runtime.errors import RunFailure
@@ -66,6 +71,7 @@ class CycleRunner:
         self.tol_orientation = tol_orientation
         self.progress, self.progress_every = progress, progress_every
         self.manip_every = max(1, manipulability_every)
+        self.platform_record = PlatformRecord()  # the platform's deviations (WITH PLATFORM)
 
     # ------------------------------------------------------------------ segments
     def options_for(self, seg: Segment, options: ModalOptions) -> CycleOptions:
@@ -101,10 +107,13 @@ class CycleRunner:
             st.last_reference = None
         else:
             opts, reference = run.cycle_opts, run.reference
+            line, task = seg.platform, run.solver.platform  # WITH PLATFORM: x_platform(s)
             for k in range(run.done + 1, upto + 1):
                 s, target = seg.setpoint(k, dt)
                 if reference is not None:
                     opts.reference = reference.at(s)
+                if line is not None and task is not None:
+                    task.target = line.at(s)
                 self.ik_cycle(seg, target, dt, opts, run.solver)
             st.last_reference = opts.reference
         run.done = upto
@@ -171,7 +180,20 @@ class CycleRunner:
             self.check_collisions(res.clearances, opts.active_obstacles, seg.line, t)
         if res.relaxed or not res.converged:
             rec.note_relaxed(seg.line, t, dt, pos_err, ori_err, res.binding)
-        if pos_err > rec.tol_position or ori_err > self.tol_orientation:
+        off = 0.0  # the platform's distance from its line (WITH PLATFORM: the last task)
+        platform = getattr(seg, "platform", None)  # (a hand-made segment may have none)
+        if platform is not None and res.task_errors:
+            off = res.task_errors[-1]
+            self.platform_record.error(off)
+        if pos_err > rec.tol_position or ori_err > self.tol_orientation or off > rec.tol_position:
+            if platform is not None and solver.platform is not None:
+                deviation = {"tcp": pos_err, "tcp_angle": ori_err, "platform": off}
+                reach = self.reach(seg.limits[0], opts.frozen, solver)
+                where = ("the path cannot be followed", seg.line, t)
+                raise platform_failure(
+                    self.pre.model.platform, reach, target, solver.platform.target,
+                    st.q_prev, where, deviation, res.binding,
+                )  # fmt: skip
             raise self._deviation_failure(seg, t, pos_err, ori_err, res, opts, solver)
         self.tick()
 

@@ -19,7 +19,10 @@ is a small coordinator of parts with explicit interfaces, each its own module:
 * :class:`~irlc.runtime.control.statement_log.StatementLog` — the cycle time per statement;
 * the solver of each tool: a :class:`~irlc.runtime.model.chain.SerialChain` and its
   :class:`~irlc.runtime.ik.newton.InverseTransformation`
-  (:class:`~irlc.runtime.control.segment_run.Solver`).
+  (:class:`~irlc.runtime.control.segment_run.Solver`), and for motions ``WITH PLATFORM``
+  the same chain with the platform task;
+* :class:`~irlc.runtime.control.platform.PlatformControl` — ``R_PLATFORM`` (HOLD: a
+  FREEZE of the platform's joints), the platform motions' pre-check and record.
 
 The coordinator plans each statement with the pre-interpolator and hands the segments,
 as :class:`~irlc.runtime.control.segment_run.SegmentRun` records carrying their own
@@ -51,6 +54,7 @@ from irlc.runtime.control.budget import MOTION_MIN_CYCLES as MOTION_MIN_CYCLES
 from irlc.runtime.control.budget import RunBudget
 from irlc.runtime.control.collision import CollisionRule
 from irlc.runtime.control.cycles import CycleRunner, advance, located
+from irlc.runtime.control.platform import PlatformControl, platform_chain
 from irlc.runtime.control.reconfiguration import SelfMotion
 from irlc.runtime.control.segment_run import SegmentRun, Solver
 from irlc.runtime.control.state import ControllerState
@@ -148,6 +152,8 @@ class SimulatedController:
             eps_conf=self.ik_params.eps_conf,
             settle_s=opts.reconf_settle_s,
         )
+        self.platform = PlatformControl(model)  # R_PLATFORM, WITH PLATFORM (platform.py)
+        self.cycles.platform_record = self.platform.record
         self._solvers: dict[bytes, Solver] = {}
         self.dt_used = opts.ipo if opts.ipo is not None else Settings().ipo
         self._start_tool = b""  # the tool (bytes) the start sample was stamped with
@@ -218,6 +224,10 @@ class SimulatedController:
         motion = motion_values(cmd, settings, self.opts.ipo, st.t)  # each value checked once
         self.dt_used = dt = motion.ipo
         approx = motion.approx * units.MM
+        options = self._platform_options(cmd, motion, options)
+        moves_platform = cmd.platform_target is not None
+        if moves_platform:  # not blended: exact stops (platform.py)
+            approx = 0.0
         context = (options, solver.kin.tool.tobytes(), base_transform(settings).tobytes(), dt)
         self.blender.before_move(cmd, context)
         plan = self._plan_state(settings, solver, motion)
@@ -234,17 +244,26 @@ class SimulatedController:
                 frozen = self.pre.frozen_si(options)
                 reach = self.cycles.reach(cartesian[0].limits[0], frozen, solver)
                 what = KIND_WORDS.get(cmd.kind, cmd.kind)
-                check_targets(reach, cartesian, st.q, cmd.line, st.t, what)
+                if moves_platform:
+                    self.platform.check_targets(reach, cartesian, st.q, cmd.line, st.t, what)
+                else:
+                    check_targets(reach, cartesian, st.q, cmd.line, st.t, what)
             avoided = frozenset(options.obstacles)
+            if moves_platform:
+                self.platform.record.begin(cmd, self.platform.platform, st.q)
             for point, seg in enumerate(segments, start=1):
                 opts = None if seg.is_joint else self.cycles.options_for(seg, options)
-                run = SegmentRun(seg, solver, dt, opts, avoided)
+                own = self._platform_solver(settings) if seg.platform is not None else solver
+                run = SegmentRun(seg, own, dt, opts, avoided)
                 self.blender.feed(run, approx, context, point)
             if segments:  # the next motion is planned from this point (plan_start.py)
                 end = self._programmed_point(cmd, segments[-1], plan)
                 self._programmed_end = None if end is None else (solver.kin.tool.tobytes(), end)
             own = st.pending is not None and st.pending.span == len(self.log.spans)
             stop = "approximated" if own else "exact"  # (a zero-length move blends nothing)
+        except RunFailure as exc:  # the platform held by R_PLATFORM: say so (platform.py)
+            held = motion.platform == "HOLD" and not moves_platform
+            raise self.platform.explained(exc, held, self.naming) from None
         finally:
             limit = motion_limit([s.limiting for s in segments], cmd.time is not None)
             kind = KIND_WORDS.get(cmd.kind, cmd.kind)
@@ -306,6 +325,7 @@ class SimulatedController:
         motion = motion_values(cmd, settings, self.opts.ipo, self.state.t)
         self.dt_used = motion.ipo
         plan = self._plan_state(settings, solver, motion)
+        options = self._platform_options(None, motion, options)
         self.self_motion.reconfigure(target, line, options, solver, plan)
 
     def check_switch_on(
@@ -395,6 +415,28 @@ class SimulatedController:
         if len(self.recorder) == 1 and key != self._start_tool:
             self._stamp_start(solver)  # a tool set before the first motion holds from t = 0
         return solver
+
+    def _platform_solver(self, settings: Settings) -> Solver:
+        """The solver of the settings' tool with the platform task (one per tool)."""
+        base = self._solver(settings)
+        key = base.kin.tool.tobytes() + b"platform"
+        solver = self._solvers.get(key)
+        if solver is None:
+            chain, task = platform_chain(base.chain, self.platform.platform)
+            ik = InverseTransformation(chain, None, self.ik_params, self.naming)
+            solver = Solver(chain, ik, task)
+            self._solvers[key] = solver
+        return solver
+
+    def _platform_options(
+        self, cmd: MotionCommand | None, motion: MotionValues, options: ModalOptions
+    ) -> ModalOptions:
+        """The options under R_PLATFORM (HOLD: the platform's joints frozen), after an
+        exact stop where a platform motion or HOLD needs one (platform.py)."""
+        pending = self.state.pending
+        held = pending.context[0] if pending is not None else None
+        state = self.state  # its joints read after any flush the platform part asks for
+        return self.platform.options(cmd, motion, options, lambda: state.q, held, self.flush)
 
     def _plan_state(self, settings: Settings, solver: Solver, motion: MotionValues) -> PlanState:
         """Where the next motion starts: here, or at the pending segment's point."""

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from irlc.runtime import units
 from irlc.runtime.ik.newton import InverseTransformation
 from irlc.runtime.ik.params import CycleOptions
+from irlc.runtime.ik.tasks.platform import PlatformTask
 from irlc.runtime.model.chain import Chain
 from irlc.runtime.model.kinematics import Kinematics
 from irlc.runtime.plan.blending import NO_OVERLAP, Overlap
@@ -25,10 +26,12 @@ from irlc.runtime.plan.interpolator import ReferencePath, Segment
 @dataclass
 class Solver:
     """The chain and inverse transformation of one tool (the controller keeps one per
-    ``R_TOOL``)."""
+    ``R_TOOL``, and one with the platform task for motions WITH PLATFORM: ``platform``, the
+    task whose target the cycle runner sets)."""
 
     chain: Chain
     ik: InverseTransformation
+    platform: PlatformTask | None = None
 
     @property
     def kin(self) -> Kinematics:

@@ -16,6 +16,7 @@ import dataclasses
 import math
 import re
 
+from irlc.lang import platform
 from irlc.lang.irdata import JOINT_TUPLE_TYPES, RecordType, Value
 from irlc.runtime import values as V
 from irlc.runtime.errors import RunFailure
@@ -72,6 +73,8 @@ class DataTypes:
             return V.pose_from_zyx(*data)
         if ty in JOINT_TUPLE_TYPES and len(data) == self.joint_count:
             return JointTuple(ty, tuple(float(x) for x in data))
+        if platform.constant_count(ty) == len(data):  # a platform target (data list)
+            return ArrayValue(1, tuple(float(x) for x in data), "REAL")
         raise ValueError(f"{len(data)} value(s) do not make a {ty}")
 
     def initial(self, ty: str) -> object:

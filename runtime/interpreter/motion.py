@@ -1,5 +1,6 @@
 """The motion instructions: MOVE, RECONFIGURATION and the modal options (OPTON / OPTOFF of
-JOINTLIMIT, JOINTSPEEDLIMIT, JOINTACCELLIMIT, CYCLIC, OBSTACLE, FREEZE).
+JOINTLIMIT, JOINTSPEEDLIMIT, JOINTACCELLIMIT, CYCLIC, OBSTACLE, FREEZE); ``WITH PLATFORM``'s
+target becomes ``MotionCommand.platform_target``.
 
 A part of the interpreter (:class:`MotionInstructions`, through
 :class:`~irlc.runtime.interpreter.context.Machine`). A motion instruction
@@ -19,6 +20,7 @@ from __future__ import annotations
 
 from irlc.lang.file_access import shown_key, shown_names
 from irlc.lang.joint_kinds import kind_from_letter
+from irlc.lang.platform import WORD as PLATFORM_WORD
 from irlc.lang.settings import (
     ALL_KINDS,
     BY_WITH_WORD,
@@ -64,6 +66,8 @@ class MotionInstructions:
                 clauses.append((word, MOVE_NUMBERS[word], 1))
             elif word in LIMIT_OPTIONS:
                 clauses.append((word, LIMIT_OPTIONS[word][0], 2))
+            elif word == PLATFORM_WORD:
+                clauses.append((word, "platform_target", 1))
             elif word.startswith("RECONF:") and word[7:].isdigit() and int(word[7:]) > 0:
                 clauses.append(("RECONFIGURATION", "reconfiguration", int(word[7:])))
             else:
@@ -106,6 +110,8 @@ class MotionInstructions:
             return check_setting(MOVE_NUMBERS[word], number(operands[0], what), what)
         if word in LIMIT_OPTIONS:
             return self._checked_limits(word, operands[0], operands[1])
+        if word == PLATFORM_WORD:
+            return platform_target(operands[0])
         if len(operands) not in reconfiguration_counts(kind, npts):
             raise B.malformed(f"{len(operands)} RECONFIGURATION targets for {npts} points")
         return tuple(self.m.types.main_joint(k, "RECONFIGURATION") for k in operands)
@@ -248,6 +254,13 @@ class MotionInstructions:
             opts.frozen = {}
         else:
             raise B.malformed(f"unknown modal option {option!r}")
+
+
+def platform_target(value: object) -> tuple[float, ...]:
+    """``WITH PLATFORM``'s operand — a number, or an ARRAY of numbers — as the platform's
+    coordinates (mm); the controller checks their count and limits (its robot's platform)."""
+    items = value.items if isinstance(value, V.ArrayValue) else (value,)
+    return tuple(number(x, "WITH PLATFORM") for x in items)
 
 
 def _check_point_count(kind: str, npts: int) -> None:

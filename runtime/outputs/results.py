@@ -41,9 +41,10 @@ from irlc.lang import trace_columns as tc
 from irlc.runtime import units, values
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.model.naming import JointNaming
-from irlc.runtime.outputs import motor_coords
+from irlc.runtime.outputs import motor_coords, platform_coords
 from irlc.runtime.outputs.cycle_time import source_lines, statement_rows
 from irlc.runtime.outputs.digital_io import io_columns, signal_timelines
+from irlc.runtime.outputs.platform_coords import platform_report
 from irlc.runtime.outputs.recorder import backward_jerk
 from irlc.runtime.outputs.run_result import RunResult, TraceArrays
 from irlc.runtime.outputs.samples import Samples
@@ -317,6 +318,11 @@ def build_report(run: RunData) -> dict:
     if tally.motors is not None:  # per motor and statement: travel, travel time
         report["motors"] = _clean(tally.motors.report(names))
         tally.motors.add_statements(rnd)
+    if model.platform is not None:  # where the platform was (platform_coords.py)
+        motions = [m.entry() for m in controller.platform.record.motions]
+        scale = units.joint_scale(kinds)  # (the tally's joints are in program units)
+        first, last = (tally.q_first * scale, tally.q_last * scale) if k else (None, None)
+        report["platform"] = platform_report(model, names, first, last, motions, rnd)
     if drive is not None:
         from irlc.runtime.drives import report_axes
 
@@ -552,8 +558,10 @@ def trace_header(names, kinds, drives: bool, obstacles) -> list[str]:
 
 
 def _motor_header(model, names) -> list[str]:
-    """``NAME_motor_rad`` after the clearances, for robots with motor maps."""
-    return motor_coords.trace_columns(names) if motor_coords.has_motors(model) else []
+    """``NAME_motor_rad`` after the clearances, for robots with motor maps; then
+    ``platform_C_mm`` for a robot with a platform."""
+    motors = motor_coords.trace_columns(names) if motor_coords.has_motors(model) else []
+    return motors + platform_coords.trace_columns(model)
 
 
 def build_trace(model, samples: Samples, names):
@@ -592,5 +600,7 @@ def build_trace(model, samples: Samples, names):
         parts.append((clearance[name] / units.MM)[:, None])
     if motor_coords.has_motors(model) and k:
         parts.append(motor_coords.motor_angles(model, q))  # of the joints in this row
+    if model.platform is not None and k:
+        parts.append(platform_coords.coordinates(model, q))
     table = np.hstack(parts) if k else np.zeros((0, len(cols)))
     return cols, table

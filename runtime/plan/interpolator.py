@@ -12,7 +12,9 @@ on the target. Paths (world frame, SI):
 * :class:`CartesianArc` (CIRCLE): the circle through start, via and target,
   ``p(s) = c + r·(cos(sφ)·u + sin(sφ)·v)`` with ``u = (p₀ − c)/r``, ``v`` in the plane
   towards the via, ``φ`` the swept angle; orientation slerp start → target;
-* :class:`Hold` (WAIT, RECONFIGURATION): a constant pose.
+* :class:`Hold` (WAIT, RECONFIGURATION): a constant pose;
+* :class:`PlatformLine` (WITH PLATFORM): the platform's own straight line in step with the
+  segment's ``s`` (:mod:`~irlc.runtime.plan.platform_path`).
 
 The reference configuration θ⁰ for WITH RECONFIGURATION is a :class:`ReferencePath`,
 piecewise linear in ``s`` between configurations given at knots (start, via/points).
@@ -221,6 +223,25 @@ class Hold:
 
 
 @dataclass(frozen=True)
+class PlatformLine:
+    """The platform's path on one segment: ``x_platform(s) = start + s·(end − start)``
+    (its coordinates, m); ``start_fraction``, ``end_fraction``: where the segment starts
+    and ends on the statement's whole line (0 … 1)."""
+
+    start: np.ndarray
+    end: np.ndarray
+    start_fraction: float = 0.0
+    end_fraction: float = 1.0
+
+    def at(self, s: float) -> np.ndarray:
+        return self.start + s * (self.end - self.start)
+
+    def fraction(self, s: float) -> float:
+        """How far along the statement's line the platform is at ``s`` of this segment."""
+        return self.start_fraction + s * (self.end_fraction - self.start_fraction)
+
+
+@dataclass(frozen=True)
 class ReferencePath:
     """θ⁰(s): linear between ``configs[i]`` at knots ``knots[i]`` (``0 = knots[0] <
     … ≤ 1``); constant after the last knot."""
@@ -261,7 +282,8 @@ class Segment:
     ``peaks``: a PTP segment's joint peaks; ``override``: the factor
     ``k = R_OVERRIDE/100`` it was planned with (a failure's suggested speeds are values to
     program: ik.cause); ``with_time_s``: the statement's WITH TIME as written (a failure
-    suggests a longer one)."""
+    suggests a longer one); ``platform``: the platform's own line of ``WITH PLATFORM``
+    (:mod:`~irlc.runtime.plan.platform_path`), ``None`` without it."""
 
     kind: str
     line: int
@@ -275,6 +297,7 @@ class Segment:
     peaks: JointPeaks | None = None
     override: float = 1.0
     with_time_s: float | None = None  # a path segment's WITH TIME as written (ik.cause)
+    platform: PlatformLine | None = None  # WITH PLATFORM: the platform's x_platform(s)
 
     @property
     def duration(self) -> float:

@@ -42,6 +42,11 @@ motion of PTP and of RECONFIGURATION's reference.
 
 ``WITH RECONFIGURATION`` gives a reference θ⁰(s), linear per segment from the
 configuration at the start of the statement (or the previous point's) to each point's.
+
+``WITH PLATFORM := q`` gives each segment the platform's own line ``x_platform(s)``
+(:mod:`platform_path`: in step with the TCP, timed within the platform joints' limits); a
+PTP to a POSE holds the platform joints at ``q``'s in its pose search, so they move on
+the PTP's joint line (a straight platform line, in step).
 """
 
 from __future__ import annotations
@@ -73,6 +78,12 @@ from irlc.runtime.plan.interpolator import (
     Segment,
 )
 from irlc.runtime.plan.motion_values import MotionValues
+from irlc.runtime.plan.platform_path import (
+    held_joints,
+    platform_lines,
+    platform_timing,
+    target_failure,
+)
 from irlc.runtime.plan.profiles import (
     ProfileError,
     Trapezoid,
@@ -227,6 +238,8 @@ class PreInterpolator:
         check_coordinates(values.pose_to_matrix(settings.tool), "R_TOOL", cmd.line)
         check_coordinates(state.base, "R_BASE", cmd.line)
         kind = cmd.kind
+        if cmd.platform_target is not None:
+            self._check_platform(cmd, options, lims)
         try:
             if kind in ("PTP", "PTPINC"):
                 segments = self._plan_ptp(cmd, options, state, lims)
@@ -241,6 +254,22 @@ class PreInterpolator:
         for seg in segments:
             seg.override = state.motion.k
         return segments
+
+    def _check_platform(self, cmd: MotionCommand, options: ModalOptions, lims: Limits3) -> None:
+        """``WITH PLATFORM``: the robot has a platform, the target fits it and its active
+        limits, no FREEZE holds its joints, a PTP goes to a POSE (:mod:`platform_path`)."""
+        target = cmd.platform_target
+        assert target is not None
+        platform = self.model.platform
+        failure = target_failure(platform, self.model.name, target, lims[0], self.naming, cmd.line)
+        if failure is not None:
+            raise failure
+        held_joints(platform, self.frozen_si(options), self.naming, cmd.line)
+        if cmd.kind == "PTPINC" or any(not isinstance(t, Pose) for t in cmd.targets):
+            raise RunFailure(
+                f"WITH PLATFORM needs a POSE target (a {cmd.kind} to joints fixes the platform)",
+                cmd.line,
+            )
 
     def hold(
         self,
@@ -263,6 +292,10 @@ class PreInterpolator:
         out = []
         q0 = state.q
         frozen = self.frozen_si(options)
+        platform = self.model.platform
+        if cmd.platform_target is not None:  # the pose search holds the platform at it
+            at = platform.joints_for(np.asarray(cmd.platform_target) * units.MM)
+            frozen.update({j: float(at[j]) for j in platform.joints})
         for target in cmd.targets:
             q1 = self._ptp_target(cmd, target, q0, frozen, lims, state)
             self.check_inside(q1, lims[0], cmd.line, "PTP target")
@@ -276,6 +309,8 @@ class PreInterpolator:
                         cmd.line,
                     )
             seg = self.joint_profile(cmd, state.motion, q0, q1, lims, len(cmd.targets))
+            if cmd.platform_target is not None:  # a straight line too: θ_a moves linearly
+                seg.platform = platform_lines(platform, q0, cmd.platform_target, [1.0])[0]
             out.append(seg)
             q0 = q1
         return out
@@ -439,10 +474,24 @@ class PreInterpolator:
                     b = motor_bounds(b, self.motors, rates, k, k * k, axes=2)
             bounds.append(b)
         whats = [self._path_limiting(b, jerks is not None) for b in bounds]
+        lines: list = [None] * len(paths)
+        if cmd.platform_target is not None:  # the platform's own line, in step (platform_path)
+            platform = self.model.platform
+            lines = platform_lines(platform, state.q, cmd.platform_target,
+                                   [p.length for p in paths])  # fmt: skip
+            platform_jerks = None
+            if motion.scurve:  # each joint's jerk bound as a PTP's (× k² more: k³ in all)
+                accel = np.minimum(lims[2][:, 1], -lims[2][:, 0])
+                all_jerks = self.ptp_jerks(motion, accel, cmd.line) * motion.k**2
+                platform_jerks = all_jerks[list(platform.joints)]
+            bounds, whats = platform_timing(
+                bounds, whats, lines, platform, lims, motion.k, self.naming, platform_jerks
+            )
         times = split_time(motion, [b.t_min for b in bounds], whats, cmd.line)
         refs = self._references(cmd, state.q, paths)
         out = []
-        for path, b, t, ref, what in zip(paths, bounds, times, refs, whats, strict=True):
+        for path, b, t, ref, what, pl in zip(paths, bounds, times, refs, whats, lines,
+                                             strict=True):  # fmt: skip
             if b.slowest < 0:  # zero-length segment: nothing to interpolate
                 continue
             profile = segment_profile(b, t, state.dt, cmd.line, self.max_duration, what)
@@ -457,6 +506,7 @@ class PreInterpolator:
                     ref,
                     what,
                     with_time_s=motion.written_time,
+                    platform=pl,
                 )
             )
         return out
