@@ -168,6 +168,9 @@ SETTINGS: tuple[Setting, ...] = (
     Setting("clearance", "R_CLEARANCE", None, SettingRange(0.0, 1e5, "mm", closed=True), (),
             "distance kept between robots' links and non-adjacent links of one robot "
             "(0: only reported)", 0.0),
+    Setting("criterion", "R_CRITERION", None, SettingChoices(("DISTANCE", "ENERGY", "MVR")),
+            (), "criterion of the redundancy: weighted joint displacement, kinetic energy, "
+            "or the manipulator velocity ratio (docs/ik.md)", "DISTANCE"),
 )  # fmt: skip
 
 BY_FIELD: dict[str, Setting] = {s.field: s for s in SETTINGS}

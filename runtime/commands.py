@@ -78,6 +78,7 @@ class Settings:
     override: float = _default("override")  # R_OVERRIDE, % (start: --override)
     approx: float = _default("approx")  # R_APPROX, mm (0: exact stop)
     clearance: float = _default("clearance")  # R_CLEARANCE, mm (0: only reported)
+    criterion: str = _default_word("criterion")  # R_CRITERION: 'DISTANCE' | 'ENERGY' | 'MVR'
 
 
 # The range table of the numeric settings is lang/settings.py (one row per setting; the

@@ -235,9 +235,9 @@ class SimulatedController:
                 reach = self.cycles.reach(cartesian[0].limits[0], frozen, solver)
                 what = KIND_WORDS.get(cmd.kind, cmd.kind)
                 check_targets(reach, cartesian, st.q, cmd.line, st.t, what)
-            avoided = frozenset(options.obstacles)
+            avoided, criterion = frozenset(options.obstacles), motion.criterion
             for point, seg in enumerate(segments, start=1):
-                opts = None if seg.is_joint else self.cycles.options_for(seg, options)
+                opts = None if seg.is_joint else self.cycles.options_for(seg, options, criterion)
                 run = SegmentRun(seg, solver, dt, opts, avoided)
                 self.blender.feed(run, approx, context, point)
             if segments:  # the next motion is planned from this point (plan_start.py)

@@ -15,8 +15,9 @@ no geometry — is reported as ``null``).
 
 Trace columns (``docs/interfaces.md``): ``t_s, line, <j>_<unit> …, <j>_speed_<unit>_s …,
 <j>_accel_<unit>_s2 …, x_mm, y_mm, z_mm, a_deg, b_deg, c_deg, path_error_mm``; with drives
-``<j>_cmd_<unit> …, <j>_current_A …``; then the extras ``orientation_error_deg`` and
-``clearance_<obstacle>_mm`` per obstacle. Joint names are the program's (MAIN_JOINT
+``<j>_cmd_<unit> …, <j>_current_A …``; then the extras ``orientation_error_deg``,
+``clearance_<obstacle>_mm`` per obstacle, ``kinetic_energy_j`` (robots with inertials) and
+``mvr`` (:mod:`~irlc.runtime.outputs.measures`). Joint names are the program's (MAIN_JOINT
 record; :mod:`naming`), the report's ``joints`` rows add the robot file's name as
 ``robot_name``; the pose is the world-frame TCP with ZYX angles. With drives the joint columns
 are the *actual* joints and speeds/accelerations are their backward differences; the pose,
@@ -44,6 +45,7 @@ from irlc.runtime.model.naming import JointNaming
 from irlc.runtime.outputs import motor_coords
 from irlc.runtime.outputs.cycle_time import source_lines, statement_rows
 from irlc.runtime.outputs.digital_io import io_columns, signal_timelines
+from irlc.runtime.outputs.measures import MeasureTally, MotionMeasures
 from irlc.runtime.outputs.recorder import backward_jerk
 from irlc.runtime.outputs.run_result import RunResult, TraceArrays
 from irlc.runtime.outputs.samples import Samples
@@ -154,7 +156,8 @@ def trace_columns(run: RunData) -> list[str]:
     """The trace's columns (:func:`trace_header`, motors, then the I/O columns)."""
     names, model = run.names, run.model
     drives = run.samples is not None and run.samples.drive is not None
-    cols = trace_header(names, model.joint_kinds, drives, run.controller.obstacles)
+    energy = model.missing_inertia is None
+    cols = trace_header(names, model.joint_kinds, drives, run.controller.obstacles, energy)
     return cols + _motor_header(model, names) + _io(run, np.zeros(0))[0]
 
 
@@ -242,8 +245,10 @@ def build_report(run: RunData) -> dict:
         controller.statements, source_lines(code.source, run.base_dir), rnd
     )
     tally = _Tally(model, controller.obstacles, rows, drive is not None)
+    measures = MeasureTally(MotionMeasures(model))  # kinetic energy, velocity ratio
     for samples in run.pieces():
         tally.add(samples)
+        measures.add(samples.shown)
     k = tally.k
     penetrations = tally.shown.penetrations()
     warnings = run.warnings + [
@@ -313,6 +318,7 @@ def build_report(run: RunData) -> dict:
         "program_name": code.program,
         "tool": tool_report(model, execution.state.settings.tool),
         "statements": rows,
+        **measures.report(rnd),  # kinetic_energy, mvr
     }
     if tally.motors is not None:  # per motor and statement: travel, travel time
         report["motors"] = _clean(tally.motors.report(names))
@@ -535,8 +541,9 @@ def _clean(obj):
 # --------------------------------------------------------------------------- trace
 
 
-def trace_header(names, kinds, drives: bool, obstacles) -> list[str]:
-    """The trace's columns before the motors' and the I/O's (names: ``irlc.lang.trace_columns``)."""
+def trace_header(names, kinds, drives: bool, obstacles, energy: bool = True) -> list[str]:
+    """The trace's columns before the motors' and the I/O's (names: ``irlc.lang.trace_columns``;
+    ``energy``: the robot's inertials give the kinetic energy)."""
     joints = list(zip(names, kinds, strict=True))
     cols = ["t_s", "line"]
     cols += [tc.position(n, k) for n, k in joints]
@@ -548,6 +555,7 @@ def trace_header(names, kinds, drives: bool, obstacles) -> list[str]:
         cols += [tc.current(n) for n in names]
     cols += ["orientation_error_deg"]
     cols += [tc.clearance(name) for name in sorted(obstacles)]
+    cols += [tc.KINETIC_ENERGY, tc.MVR] if energy else [tc.MVR]
     return cols
 
 
@@ -562,7 +570,10 @@ def build_trace(model, samples: Samples, names):
     kinds = model.joint_kinds
     scale = units.joint_scale(kinds)
     drive, motion = samples.drive, samples.traced
-    cols = trace_header(names, kinds, drive is not None, samples.recorded.clearance)
+    measures = MotionMeasures(model)
+    cols = trace_header(
+        names, kinds, drive is not None, samples.recorded.clearance, measures.energy
+    )
     cols += _motor_header(model, names)
     times, lines, q, tcp = motion.times, motion.lines, motion.q, motion.tcp
     pos_err, ori_err, clearance = motion.pos_error, motion.ori_error, motion.clearance
@@ -590,6 +601,7 @@ def build_trace(model, samples: Samples, names):
     parts.append((ori_err / units.DEG)[:, None])
     for name in sorted(clearance):
         parts.append((clearance[name] / units.MM)[:, None])
+    parts.append(measures.table(motion))
     if motor_coords.has_motors(model) and k:
         parts.append(motor_coords.motor_angles(model, q))  # of the joints in this row
     table = np.hstack(parts) if k else np.zeros((0, len(cols)))

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from irlc.lang.settings import SETTINGS, setting_message
+from irlc.lang.settings import SETTINGS, SettingChoices, setting_message
 from irlc.runtime.commands import MotionCommand, Settings
 from irlc.runtime.errors import RunFailure
 
@@ -41,6 +41,7 @@ class MotionValues:
     override: float  # %, R_OVERRIDE as set
     approx: float  # mm, the blend distance at the motion's points
     clearance: float  # mm, R_CLEARANCE: the distance kept between links (0: only reported)
+    criterion: str  # R_CRITERION: 'DISTANCE' | 'ENERGY' | 'MVR' (the IK's criterion)
     k: float  # R_OVERRIDE / 100
     written_time: float | None  # s, WITH TIME as written (messages)
 
@@ -74,6 +75,8 @@ def motion_values(
         row.field: None if checked[row.field] is None else row.scaled(checked[row.field], k)
         for row in SETTINGS
     }
-    scaled["profile"] = str(scaled["profile"]).upper()
+    for row in SETTINGS:  # a word setting in any case: its upper-case word
+        if isinstance(row.range, SettingChoices) and scaled[row.field] is not None:
+            scaled[row.field] = str(scaled[row.field]).upper()
     time = checked["time"]
     return MotionValues(**scaled, k=k, written_time=None if time is None else float(time))  # type: ignore[arg-type]
