@@ -1,9 +1,9 @@
-"""Kinetic-energy criterion, ``R_CRITERION := 'ENERGY'`` (seed ch. 7).
+"""Kinetic-energy criterion, ``R_CRITERION := 'ENERGY'`` (seed chapter 7).
 
 The links' kinetic energy ``E = ½ θ̇ᵀ M(θ) θ̇`` (``M`` the joint-space inertia matrix of
 the links from the robot file's ``[[inertials]]``, :meth:`Dynamics.link_mass_matrix`;
-motor rotors are not included) is brought to the seed's quadratic form (40a) as the seed
-does it, with the *mean* joint speed over the IPO cycle ``Δt``: in Newton iteration ``k``
+motor rotors are not included) is brought to the seed's quadratic form (40a) (seed eq. 40)
+as the seed does it, with the *mean* joint speed over the IPO cycle ``Δt``: in iteration ``k``
 the cycle has moved the joints by ``Σ = θ_k − θ_s`` so far, and the step ``Δθ`` makes it
 ``δ = Σ + Δθ``, so ``θ̇ = (Δθ + Σ)/Δt`` and, with ``M`` held at ``M(θ_s)`` for the cycle
 (refreshed every IPO cycle)::

@@ -1,4 +1,4 @@
-"""Manipulator velocity ratio, ``R_CRITERION := 'MVR'`` (seed ch. 7, [Dubey, Luh 1988]).
+"""Manipulator velocity ratio, ``R_CRITERION := 'MVR'`` (seed chapter 7; [Dubey & Luh 1988]).
 
 The velocity ratio of a motion is the TCP's speed per unit of joint speed,
 
@@ -6,8 +6,8 @@ The velocity ratio of a motion is the TCP's speed per unit of joint speed,
 
 large where little joint motion moves the TCP far, small near a singular configuration
 (the joints race for a slow TCP). The seed maximises it by minimising ``MVR⁻²``, which it
-brings to the quadratic form (40a) with the *mean* speeds over one IPO cycle: the
-Cartesian ``ẋ = Δx/Δt`` (``Δx`` the cycle's commanded TCP displacement, fixed by the
+brings to the quadratic form (40a) (seed eq. 40) with the *mean* speeds over one IPO cycle:
+the Cartesian ``ẋ = Δx/Δt`` (``Δx`` the cycle's commanded TCP displacement, fixed by the
 interpolator) and the joint ``θ̇ = (Δθ + Σ)/Δt`` (``Σ = θ_k − θ_s`` the cycle's
 displacement before Newton iteration ``k``)::
 
@@ -24,7 +24,7 @@ direction of motion by a null-space gradient, so that later cycles find a better
 configuration — is not in the seed and not here (docs/references.md).
 
 **Weights.** ``Wθ = I`` (SI: rad and m) and ``Wx = I`` on the controlled task rows (m, rad),
-the unweighted ratio of [Dubey, Luh 1988]. With ``Wθ`` the robot's redundancy weights
+the unweighted ratio of [Dubey & Luh 1988]. With ``Wθ`` the robot's redundancy weights
 ``W`` the criterion would be DISTANCE itself (the same minimiser); ``Wθ = I`` makes it the
 unweighted minimum-norm (pseudoinverse) step, where DISTANCE is the ``W``-weighted one. The
 trace's ``mvr`` column is this ratio with the same weights

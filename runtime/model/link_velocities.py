@@ -1,8 +1,9 @@
 """The links' velocities along a recorded motion, many samples at once (numpy, SI).
 
 For ``k`` samples of joints ``q`` and joint speeds ``q̇`` (a trace's rows) this computes,
-per sample, the link frames (forward kinematics, ``T_i = T_{i−1}·origin_i·M_i(q_i +
-offset_i)`` as :mod:`~irlc.robots.model` defines it) and the links' velocities by the
+per sample, the link frames (forward kinematics: the chain of
+:attr:`Kinematics.chain_data`, ``T_i = T_{i−1}·origin_i·M_i(q_i + offset_i)`` as
+:mod:`~irlc.robots.model` defines it) and the links' velocities by the
 forward recursion of the Newton–Euler algorithm, in the world frame, with ``P_i`` the
 origin of link ``i`` (on joint ``i``'s axis ``z_i``)::
 
@@ -27,6 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 from irlc.robots.model import RobotModel
+from irlc.runtime.model.kinematics import Kinematics
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -49,8 +51,7 @@ class LinkVelocities:
         n = self.n = model.n
         self.revolute = [j.kind == "revolute" for j in model.joints]
         self.axes = np.array([np.asarray(j.axis, dtype=float) for j in model.joints])
-        self.origins = np.array([j.origin for j in model.joints])
-        self.offsets = np.array([j.offset for j in model.joints])
+        self.chain = Kinematics(model).chain_data  # L_i = A0 + cos v·A1 + sin v·A2 + v·A3
         self.mass = np.zeros(n)
         self.com = np.zeros((n, 3))
         self.inertia = np.zeros((n, 3, 3))
@@ -62,25 +63,19 @@ class LinkVelocities:
                 self.inertia[k] = inertial.inertia
 
     def frames(self, q: np.ndarray) -> np.ndarray:
-        """World frames of links ``0 … n`` for each sample: ``(k, n + 1, 4, 4)``."""
+        """World frames of links ``0 … n`` for each sample, ``(k, n + 1, 4, 4)``: the chain
+        of :attr:`Kinematics.chain_data` (``T_i = T_{i−1}·L_i``), samples at once."""
         q = np.atleast_2d(np.asarray(q, dtype=float))
         k = q.shape[0]
+        basis, joints, ends = self.chain.basis, self.chain.joints, self.chain.ends
         out = np.empty((k, self.n + 1, 4, 4))
-        out[:, 0] = self.model.base
-        motion = np.zeros((k, 4, 4))
-        motion[:, 3, 3] = 1.0
+        out[:, 0] = ends[0]
+        coef = np.ones((k, 4))
         for i in range(self.n):
-            v = q[:, i] + self.offsets[i]
-            a = self.axes[i]
-            if self.revolute[i]:
-                kx = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
-                s, c = np.sin(v)[:, None, None], (1.0 - np.cos(v))[:, None, None]
-                motion[:, :3, :3] = np.eye(3) + s * kx + c * (kx @ kx)
-                motion[:, :3, 3] = 0.0
-            else:
-                motion[:, :3, :3] = np.eye(3)
-                motion[:, :3, 3] = a * v[:, None]
-            out[:, i + 1] = out[:, i] @ self.origins[i] @ motion
+            v = q[:, i] + joints[i, 0]
+            coef[:, 1], coef[:, 2], coef[:, 3] = np.cos(v), np.sin(v), v
+            local = (coef @ basis[i]).reshape(k, 4, 4)
+            np.matmul(out[:, i], local, out=out[:, i + 1])
         return out
 
     def velocities(self, q: np.ndarray, qd: np.ndarray):

@@ -39,9 +39,18 @@ class MotionMeasures:
         self.links = LinkVelocities(model)
         self.energy = model.missing_inertia is None
         self.rows = list(task_rows_for(model))
+        self._last: tuple[Motion, tuple] | None = None  # the report's piece, for the trace
 
     def of(self, motion: Motion) -> tuple[np.ndarray | None, np.ndarray]:
-        """``(E, mvr)`` per sample (``E`` None without inertials)."""
+        """``(E, mvr)`` per sample (``E`` None without inertials); the last motion's are
+        kept, so the report and the trace of a run in memory compute them once."""
+        if self._last is not None and self._last[0] is motion:
+            return self._last[1]
+        out = self._of(motion)
+        self._last = (motion, out)
+        return out
+
+    def _of(self, motion: Motion) -> tuple[np.ndarray | None, np.ndarray]:
         if not len(motion.times):
             return (np.zeros(0) if self.energy else None), np.zeros(0)
         energy, twist = self.links.energy_and_twist(motion.q, motion.speed, motion.tcp)

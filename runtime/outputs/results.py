@@ -99,6 +99,12 @@ class RunData:
             yield Samples.of(rec)
 
     @cached_property
+    def measures(self) -> MotionMeasures:
+        """The kinetic energy and velocity ratio of the run's motion, shared by the report
+        and the trace (each piece computed once: :class:`MotionMeasures` keeps the last)."""
+        return MotionMeasures(self.model)
+
+    @cached_property
     def names(self) -> tuple[str, ...]:
         """The joints' program names (:mod:`naming`)."""
         return JointNaming.for_model(self.model, self.code.joint_names).program
@@ -166,7 +172,7 @@ def trace_tables(run: RunData) -> Iterator[np.ndarray]:
     :meth:`RunData.pieces` (one for a run kept in memory): :func:`build_trace`'s columns
     and the I/O columns (:func:`~irlc.runtime.outputs.digital_io.io_columns`), each row-local."""
     for samples in run.pieces():
-        table = build_trace(run.model, samples, run.names)[1]
+        table = build_trace(run.model, samples, run.names, run.measures)[1]
         yield np.hstack((table, _io(run, table[:, 0])[1]))
 
 
@@ -245,7 +251,7 @@ def build_report(run: RunData) -> dict:
         controller.statements, source_lines(code.source, run.base_dir), rnd
     )
     tally = _Tally(model, controller.obstacles, rows, drive is not None)
-    measures = MeasureTally(MotionMeasures(model))  # kinetic energy, velocity ratio
+    measures = MeasureTally(run.measures)  # kinetic energy, velocity ratio
     for samples in run.pieces():
         tally.add(samples)
         measures.add(samples.shown)
@@ -564,13 +570,14 @@ def _motor_header(model, names) -> list[str]:
     return motor_coords.trace_columns(names) if motor_coords.has_motors(model) else []
 
 
-def build_trace(model, samples: Samples, names):
+def build_trace(model, samples: Samples, names, measures: MotionMeasures | None = None):
     """``(columns, table)`` in program units: one row per time of :attr:`Samples.traced`
-    (IPO samples, or the drive steps of a drive run traced per step)."""
+    (IPO samples, or the drive steps of a drive run traced per step); ``measures``: the
+    run's :class:`MotionMeasures` (default: a new one)."""
     kinds = model.joint_kinds
     scale = units.joint_scale(kinds)
     drive, motion = samples.drive, samples.traced
-    measures = MotionMeasures(model)
+    measures = measures or MotionMeasures(model)
     cols = trace_header(
         names, kinds, drive is not None, samples.recorded.clearance, measures.energy
     )
