@@ -17,18 +17,17 @@ from irlc.robots import ROBOTS_DIR
 PROGRAMS = Path(__file__).resolve().parents[2] / "programs"
 
 
-def _variant(tmp_path, name: str, word: str, speed: int | None = None):
-    """``name`` from programs/ with ``R_CRITERION := word`` (set, or replaced) and run."""
+def _variant(tmp_path, name: str, word: str, **options):
+    """``name`` from programs/ with ``R_CRITERION := word`` (set, or replaced), run with
+    the run ``options``."""
     source = (PROGRAMS / name).read_text(encoding="utf-8")
     if "R_CRITERION" in source:
         source = re.sub(r"R_CRITERION := '\w+'", f"R_CRITERION := '{word}'", source)
     else:
         source = source.replace("BEGIN\n", f"BEGIN\n  R_CRITERION := '{word}';\n", 1)
-    if speed is not None:
-        source = re.sub(r"R_SPEED := \d+", f"R_SPEED := {speed}", source)
     path = tmp_path / f"{word.lower()}_{name}"
     path.write_text(source, encoding="utf-8")
-    return run_program(path, datalist_path=[str(PROGRAMS)])
+    return run_program(path, datalist_path=[str(PROGRAMS)], **options)
 
 
 def _column(run, name):
@@ -87,6 +86,24 @@ def test_where_the_local_criteria_do_not_help(tmp_path):
     weighted = _variant(tmp_path, "planar3_drift.irl", "DISTANCE")
     assert drift.status == weighted.status == "ok"
     assert drift.report["mvr"]["min"] < 0.7 * weighted.report["mvr"]["min"]
+
+
+@pytest.mark.scenario
+def test_energy_with_the_drives(tmp_path):
+    """--drives coupled follows square_speed.irl under ENERGY (the speed set 6.2 keeps the
+    light wrist within what its drives can do), with less energy than under DISTANCE; on
+    square_energy.irl (no speed set) J9's drive cannot follow ENERGY's set points."""
+    runs = {}
+    for word in ("ENERGY", "DISTANCE"):
+        run = _variant(tmp_path, "square_speed.irl", word, drives="coupled", **TOLERANT)
+        assert run.status == "ok" and run.report["verdict"]["could_follow"], word
+        runs[word] = run.report["kinetic_energy"]["integral_j_s"]
+    assert runs["ENERGY"] < 0.6 * runs["DISTANCE"]  # 2571 against 5235 J·s
+    fast = run_program(PROGRAMS / "square_energy.irl", drives="coupled", **TOLERANT)
+    assert fast.status == "failed" and "a9 (J9) could not follow" in str(fast.error)
+
+
+TOLERANT = {"path_tolerance": 10.0, "orientation_tolerance": 2.0}  # the drives lag (mm, deg)
 
 
 KONF_0 = [-0.695, -75, -102, 115.205, -98.722, -76.097, -0.168, -21.813, -90.452, 227.313, 21.119]
