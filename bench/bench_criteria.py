@@ -16,14 +16,12 @@ Prints Markdown tables (docs/benchmarks.md, "Criteria").
 
 from __future__ import annotations
 
-import argparse
 import os
 import platform
 import time
 
 import bench_ik
 import numpy as np
-from irlc.robots import load_robot
 from irlc.runtime import accel_support, warmup
 from irlc.runtime.ik import CycleOptions
 from irlc.runtime.ik.energy import InertiaMetric
@@ -122,15 +120,7 @@ def run_overhead(names=("square", "square_cyclic", "combined"), repeat: int = 5)
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--cycles", type=int, default=400)
-    parser.add_argument("--repeat", type=int, default=3)
-    args = parser.parse_args()
-    model = load_robot("koch11")
-    kin = Kinematics(model)
-    q0 = model.home_q()
-    targets = bench_ik.line_targets(kin, q0, args.cycles)
-    variants = [("quadprog", False)] + ([("quadprog", True)] if accel_support.AVAILABLE else [])
+    args, model, kin, q0, targets, variants = bench_ik.koch11_line(__doc__.splitlines()[0])
     if accel_support.AVAILABLE:
         warmup.warm_ik(), warmup.warm_ik_obstacles(), warmup.warm_ik_energy()
     print(f"python {platform.python_version()}, numpy {np.__version__}, {platform.machine()}")

@@ -97,6 +97,21 @@ def _skew(v: np.ndarray) -> np.ndarray:
     return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
 
 
+def link_inertials(model: RobotModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per link ``1 … n``: mass ``(n,)``, centre ``(n, 3)`` and inertia about it ``(n, 3, 3)``
+    in the link frame, from the model's ``inertials`` (zero where it has none; link 0, the
+    base, carries no dynamics)."""
+    n = model.n
+    mass, com, inertia = np.zeros(n), np.zeros((n, 3)), np.zeros((n, 3, 3))
+    for inertial in model.inertials:
+        if 1 <= inertial.link <= n:
+            k = inertial.link - 1
+            mass[k] = inertial.mass
+            com[k] = inertial.com
+            inertia[k] = inertial.inertia
+    return mass, com, inertia
+
+
 class Dynamics:
     """M(q), C(q,q̇)q̇, G(q), RNEA and forward dynamics of one robot."""
 
@@ -108,15 +123,7 @@ class Dynamics:
             )
         n = model.n
         self.model, self.n = model, n
-        self.mass = np.zeros(n)
-        self.com = np.zeros((n, 3))
-        self.inertia = np.zeros((n, 3, 3))
-        for inertial in model.inertials:  # link 0 (the base) carries no dynamics
-            if 1 <= inertial.link <= n:
-                k = inertial.link - 1
-                self.mass[k] = inertial.mass
-                self.com[k] = inertial.com
-                self.inertia[k] = inertial.inertia
+        self.mass, self.com, self.inertia = link_inertials(model)
         self.rotor = np.zeros(n) if rotor_inertia is None else np.asarray(rotor_inertia, float)
         self.gravity = np.asarray(model.gravity, dtype=float)
         self.revolute = np.array([j.kind == "revolute" for j in model.joints])

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 from irlc.robots.model import RobotModel
+from irlc.runtime.model.dynamics import link_inertials
 from irlc.runtime.model.kinematics import Kinematics
 
 
@@ -48,19 +49,11 @@ class LinkVelocities:
 
     def __init__(self, model: RobotModel):
         self.model = model
-        n = self.n = model.n
+        self.n = model.n
         self.revolute = [j.kind == "revolute" for j in model.joints]
         self.axes = np.array([np.asarray(j.axis, dtype=float) for j in model.joints])
         self.chain = Kinematics(model).chain_data  # L_i = A0 + cos v·A1 + sin v·A2 + v·A3
-        self.mass = np.zeros(n)
-        self.com = np.zeros((n, 3))
-        self.inertia = np.zeros((n, 3, 3))
-        for inertial in model.inertials:  # link 0 (the base) does not move
-            if 1 <= inertial.link <= n:
-                k = inertial.link - 1
-                self.mass[k] = inertial.mass
-                self.com[k] = inertial.com
-                self.inertia[k] = inertial.inertia
+        self.mass, self.com, self.inertia = link_inertials(model)
 
     def frames(self, q: np.ndarray) -> np.ndarray:
         """World frames of links ``0 … n`` for each sample, ``(k, n + 1, 4, 4)``: the chain

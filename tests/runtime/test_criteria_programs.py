@@ -135,22 +135,26 @@ def _bare_arm(folder: Path) -> None:
     _write(folder, "arm.toml", text[:start] + text[end:])
 
 
-def _cli(capsys, *args):
-    code = main([str(a) for a in args])
+def _cli_run(tmp_path: Path, capsys, name: str, text: str):
+    """``irlc run`` of the program ``text`` written to ``name``: ``(path, exit, stderr)``."""
+    prog = _write(tmp_path, name, text)
+    code = main(["run", str(prog)])
     out = capsys.readouterr()
     assert "Traceback" not in out.err and "internal error" not in out.err
-    return code, out.err
+    return prog, code, out.err
+
+
+ON_THE_BARE_ARM = "PROGRAM p;\nROBOT r := 'arm.toml';\n{}ENDPROGRAM\n"
+CONSTANT = "BEGIN\n  R_CRITERION := 'energy';\n  MOVE LIN POSE(2100, 900, 0, 0, 0, 0);\n"
+COMPUTED = (
+    "VAR STRING: c;\nBEGIN\n  c := 'ENE';\n  R_CRITERION := c + 'RGY';\n"
+    "  MOVE PTP (0, 90, -90);\n  MOVE LIN POSE(2100, 900, 0, 0, 0, 0);\n"
+)
 
 
 def test_energy_on_a_robot_without_inertials_is_a_compile_error_at_the_value(tmp_path, capsys):
     _bare_arm(tmp_path)
-    prog = _write(
-        tmp_path,
-        "p.irl",
-        "PROGRAM p;\nROBOT r := 'arm.toml';\nBEGIN\n  R_CRITERION := 'energy';\n"
-        "  MOVE LIN POSE(2100, 900, 0, 0, 0, 0);\nENDPROGRAM\n",
-    )
-    code, err = _cli(capsys, "run", prog)
+    prog, code, err = _cli_run(tmp_path, capsys, "p.irl", ON_THE_BARE_ARM.format(CONSTANT))
     assert code == 1
     assert (
         f"{prog}:4:18: error: R_CRITERION := 'ENERGY' needs the links' inertia matrix: robot "
@@ -160,38 +164,31 @@ def test_energy_on_a_robot_without_inertials_is_a_compile_error_at_the_value(tmp
 
 def test_energy_computed_at_run_time_fails_at_the_motion_that_uses_it(tmp_path, capsys):
     _bare_arm(tmp_path)
-    prog = _write(
-        tmp_path,
-        "p.irl",
-        "PROGRAM p;\nROBOT r := 'arm.toml';\nVAR STRING: c;\nBEGIN\n  c := 'ENE';\n"
-        "  R_CRITERION := c + 'RGY';\n  MOVE PTP (0, 90, -90);\n"
-        "  MOVE LIN POSE(2100, 900, 0, 0, 0, 0);\nENDPROGRAM\n",
-    )
-    code, err = _cli(capsys, "run", prog)
+    prog, code, err = _cli_run(tmp_path, capsys, "p.irl", ON_THE_BARE_ARM.format(COMPUTED))
     assert code == 2
     assert f"{prog}:8:3: error: run-time failure at t = " in err
     assert "R_CRITERION := 'ENERGY' needs the links' inertia matrix: robot planar3 has no" in err
 
 
 def test_an_unknown_criterion_is_an_error_in_the_tables_words(tmp_path, capsys):
-    prog = _write(
+    prog, code, err = _cli_run(
         tmp_path,
+        capsys,
         "p.irl",
         "PROGRAM p;\nROBOT r := planar3;\nBEGIN\n  R_CRITERION := 'POWER';\nENDPROGRAM\n",
     )
-    code, err = _cli(capsys, "run", prog)
     assert code == 1
     assert (
         f"{prog}:4:18: error: R_CRITERION := 'POWER': the value must be one of 'DISTANCE', "
         "'ENERGY', 'MVR'"
     ) in err
-    prog = _write(
+    prog, code, err = _cli_run(
         tmp_path,
+        capsys,
         "q.irl",
         "PROGRAM q;\nROBOT r := planar3;\nVAR STRING: c;\nBEGIN\n  c := 'MV';\n"
         "  R_CRITERION := c + 'P';\nENDPROGRAM\n",
     )
-    code, err = _cli(capsys, "run", prog)
     assert code == 2
     assert f"{prog}:6:3: error: run-time failure" in err
     assert "R_CRITERION := 'MVP': the value must be one of 'DISTANCE', 'ENERGY', 'MVR'" in err

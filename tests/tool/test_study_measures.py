@@ -10,18 +10,7 @@ import pytest
 from irlc import run_program
 from irlc.cli import main
 
-PROGRAM = """PROGRAM p3;
-ROBOT r := planar3;
-IMPORT DATALIST cell3;
-
-BEGIN
-  R_SPEED := 800;
-  R_ACC := 4000;
-  MOVE PTP home;
-  MOVE LIN sq_1;
-ENDPROGRAM
-"""
-CELL = "[poses]\nsq_1 = [1500, 1000, 0, 0, 0, 0]\n\n[joints]\nhome = [0, 90, -90]\n"
+from .test_study import CELL, PROGRAM  # the short planar3 line and its data list
 
 
 def test_the_study_ranks_variants_by_their_kinetic_energy(tmp_path, capsys):
