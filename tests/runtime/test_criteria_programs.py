@@ -88,6 +88,27 @@ def test_where_the_local_criteria_do_not_help(tmp_path):
     assert drift.report["mvr"]["min"] < 0.7 * weighted.report["mvr"]["min"]
 
 
+def test_freeze_holds_and_the_limits_bind_under_energy_and_mvr(tmp_path):
+    """square_freeze.irl (J2, J3 frozen; J11 within 0 … 60°; the speed set 6.2) under each
+    criterion: the frozen joints do not move, every joint stays within its bounds, and
+    ENERGY takes less energy than DISTANCE (2697 against 4118 J·s)."""
+    integral = {}
+    for word in ("ENERGY", "MVR", "DISTANCE"):
+        run = _variant(tmp_path, "square_freeze.irl", word)
+        assert run.status == "ok", (word, run.error)
+        on_path = _column(run, "line") >= 16  # the LIN statements (after FREEZESTART)
+        q = np.degrees(run.q[on_path])
+        assert np.ptp(q[:, 1]) < 1e-9 and np.ptp(q[:, 2]) < 1e-9  # J2, J3 held
+        assert q[:, 10].min() > -1e-6 and q[:, 10].max() < 60 + 1e-6  # J11 in 0 … 60
+        bounds = [50.0] * 9 + [500.0, 25.0]  # the speed set 6.2: deg/s, J10 mm/s
+        for j, bound in enumerate(bounds, start=1):
+            unit = "mm_s" if j == 10 else "deg_s"
+            speed = np.abs(_column(run, f"a{j}_speed_{unit}")[on_path]).max()
+            assert speed <= bound * (1 + 1e-9), (word, j, speed)
+        integral[word] = run.report["kinetic_energy"]["integral_j_s"]
+    assert integral["ENERGY"] < 0.8 * integral["DISTANCE"]
+
+
 @pytest.mark.scenario
 def test_energy_with_the_drives(tmp_path):
     """--drives coupled follows square_speed.irl under ENERGY (the speed set 6.2 keeps the
