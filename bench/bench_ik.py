@@ -99,8 +99,11 @@ def run(model, kin, q0, targets, opts, variants, repeat):
     return out
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def koch11_line(description: str):
+    """``(args, model, kin, q0, targets, variants)``: the command line (``--cycles``,
+    ``--repeat``), koch11's line of ``cycles`` targets from home, and quadprog on the numpy
+    and (numba installed) the compiled path."""
+    parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--cycles", type=int, default=400)
     parser.add_argument("--repeat", type=int, default=3)
     args = parser.parse_args()
@@ -109,6 +112,11 @@ def main() -> None:
     q0 = model.home_q()
     targets = line_targets(kin, q0, args.cycles)
     variants = [("quadprog", False)] + ([("quadprog", True)] if accel_support.AVAILABLE else [])
+    return args, model, kin, q0, targets, variants
+
+
+def main() -> None:
+    args, model, kin, q0, targets, variants = koch11_line(__doc__.splitlines()[0])
     seconds = warmup.warm_ik() + warmup.warm_ik_obstacles() if accel_support.AVAILABLE else None
     variants += [("daqp", False)] if daqp_available() else []
     print(f"python {platform.python_version()}, numpy {np.__version__}, {platform.machine()}")

@@ -1,4 +1,4 @@
-"""Regenerate the figures of docs/tutorial.md and docs/language.md into docs/img/.
+"""Regenerate the figures of docs/tutorial.md, docs/language.md and docs/ik.md into docs/img/.
 
     python docs/make_figures.py [plots] [screenshot] [platform]   # default: all
     # needs matplotlib; chromium for the screenshot
@@ -9,6 +9,9 @@ The platform figures (``platform``) are drawn here from the traces of
 ``programs/track_platform.irl`` and ``programs/mobile_platform.irl``: where the TCP and the
 platform are over time, and the fraction of its way each has gone in the motions WITH
 PLATFORM (the two curves coincide: the platform moves in step with the TCP).
+``criteria.png`` (docs/ik.md, "ENERGY and MVR", group ``criteria``) runs
+programs/square_energy.irl and programs/reach_mvr.irl as written and with
+``R_CRITERION := 'DISTANCE'``.
 """
 
 from __future__ import annotations
@@ -33,6 +36,7 @@ FIGURES = [
      "joint_positions_7-11.png"),
 ]  # fmt: skip
 SCREENSHOT = ("animation_obstacle.png", "obstacle_line_avoid")
+CRITERIA = ("criteria.png", ("square_energy", "ENERGY"), ("reach_mvr", "MVR"))
 
 
 def _run(name: str):
@@ -57,6 +61,70 @@ def make_plots(runs: dict) -> None:
             write_plots(runs[name], tmp, compare=compare)
             shutil.copyfile(Path(tmp) / figure, IMG / out_name)
         print(f"docs/img/{out_name}")
+
+
+def _with_criterion(name: str, word: str):
+    """``programs/NAME.irl`` run with its ``R_CRITERION`` word replaced by ``word``."""
+    import re
+
+    from irlc.runtime.run import run_file
+
+    source = (PROGRAMS / f"{name}.irl").read_text(encoding="utf-8")
+    source = re.sub(r"R_CRITERION := '\w+'", f"R_CRITERION := '{word}'", source)
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / f"{name}.irl"
+        path.write_text(source, encoding="utf-8")
+        return run_file(path, datalist_path=[str(PROGRAMS)])
+
+
+def make_criteria_figure() -> None:
+    """The links' kinetic energy along square_energy.irl and the velocity ratio along
+    reach_mvr.irl, each under its criterion and under DISTANCE; the joints' travel."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from irlc.runtime import units
+
+    out_name, (square, energy), (reach, ratio) = CRITERIA
+    fig, axes = plt.subplots(1, 3, figsize=(13.5, 3.8))
+    runs = {word: _with_criterion(square, word) for word in (energy, "DISTANCE")}
+    for word, run in runs.items():
+        t = run.trace[:, run.trace_columns.index("t_s")]
+        e = run.trace[:, run.trace_columns.index("kinetic_energy_j")]
+        total = run.report["kinetic_energy"]["integral_j_s"]
+        axes[0].plot(t, e, label=f"{word}: ∫E dt = {total:.0f} J·s")
+        scale = units.joint_scale(run.model.joint_kinds)  # rad | m per deg | mm
+        travel = np.abs(np.diff(run.q, axis=0)).sum(axis=0) / scale
+        shift = -0.2 if word == energy else 0.2
+        axes[1].bar(np.arange(1, run.model.n + 1) + shift, travel, width=0.4, label=word)
+    axes[0].set(title=f"{square}.irl (koch11): links' kinetic energy", xlabel="t (s)",
+                ylabel="kinetic_energy_j (J)")  # fmt: skip
+    axes[1].set(title="joint travel Σ|Δθ| (J10: mm)", xlabel="joint", ylabel="deg | mm",
+                xticks=range(1, 12), yscale="log")  # fmt: skip
+    ratios = {}
+    for word in (ratio, "DISTANCE"):
+        run = _with_criterion(reach, word)
+        t = run.trace[:, run.trace_columns.index("t_s")]
+        ratios[word] = m = run.trace[:, run.trace_columns.index("mvr")]
+        moving = m > 0
+        label = f"{word}: min {run.report['mvr']['min']:.3f}"
+        axes[2].plot(t[moving], m[moving], label=label)
+    axes[2].set(title=f"{reach}.irl (planar3): velocity ratio", xlabel="t (s)",
+                ylabel="mvr (m/rad)")  # fmt: skip
+    gain = axes[2].twinx()  # how much higher MVR keeps it, sample by sample
+    moving = (ratios[ratio] > 0) & (ratios["DISTANCE"] > 0)
+    rel = 100.0 * (ratios[ratio][moving] / ratios["DISTANCE"][moving] - 1.0)
+    gain.plot(t[moving], rel, color="0.5", linestyle="--", linewidth=1)
+    gain.set_ylabel(f"{ratio} over DISTANCE (%, dashed)", color="0.4")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(IMG / out_name, dpi=90)
+    plt.close(fig)
+    print(f"docs/img/{out_name}")
 
 
 def make_screenshot(runs: dict) -> None:
@@ -160,7 +228,7 @@ def make_platform_figures() -> None:
 
 def main() -> None:
     IMG.mkdir(parents=True, exist_ok=True)
-    groups = set(sys.argv[1:]) or {"plots", "screenshot", "platform"}
+    groups = set(sys.argv[1:]) or {"plots", "screenshot", "platform", "criteria"}
     names = {n for f in FIGURES for n in f[1:3] if n} | {SCREENSHOT[1]}
     runs = {n: _run(n) for n in sorted(names)} if groups & {"plots", "screenshot"} else {}
     if "plots" in groups:
@@ -169,6 +237,8 @@ def main() -> None:
         make_screenshot(runs)
     if "platform" in groups:
         make_platform_figures()
+    if "criteria" in groups:
+        make_criteria_figure()
 
 
 if __name__ == "__main__":

@@ -171,6 +171,9 @@ SETTINGS: tuple[Setting, ...] = (
     Setting("platform", "R_PLATFORM", None, SettingChoices(("FREE", "HOLD")), (),
             "the platform outside WITH PLATFORM: FREE (the redundancy moves it) or HOLD "
             "(it stands, as FREEZE of its joints)", "FREE"),
+    Setting("criterion", "R_CRITERION", None, SettingChoices(("DISTANCE", "ENERGY", "MVR")),
+            (), "criterion of the redundancy: weighted joint displacement, kinetic energy, "
+            "or the manipulator velocity ratio (docs/ik.md)", "DISTANCE"),
 )  # fmt: skip
 
 BY_FIELD: dict[str, Setting] = {s.field: s for s in SETTINGS}

@@ -49,6 +49,22 @@ class SimpleRobot:
         return len(self.joint_kinds)
 
 
+def missing_inertia(sig: RobotSignature) -> str | None:
+    """What the robot lacks for its links' inertia matrix (an optional member of a
+    signature: ``RobotModel.missing_inertia``), or ``None`` when it has it or when the
+    signature does not say (a :class:`SimpleRobot`)."""
+    return getattr(sig, "missing_inertia", None)
+
+
+def criterion_problem(word: str, sig: RobotSignature) -> str | None:
+    """Why ``R_CRITERION := word`` cannot run on the robot (``'ENERGY'`` needs the links'
+    inertia matrix), else ``None``; the compiler and the runtime say it in these words."""
+    problem = missing_inertia(sig) if word.upper() == "ENERGY" else None
+    if problem is None:
+        return None
+    return f"R_CRITERION := 'ENERGY' needs the links' inertia matrix: {problem}"
+
+
 def kind_letters(sig: RobotSignature) -> str:
     """``"RRP..."``: one letter per joint, as in the IRDATA ``ROBOT`` record
     (:func:`irlc.lang.joint_kinds.kind_letters`)."""

@@ -8,8 +8,9 @@ then misread its own trace). Per joint ``NAME`` of unit ``U`` (``deg`` | ``mm``)
     NAME_U  NAME_speed_U_s  NAME_accel_U_s2  NAME_cmd_U  NAME_current_A  NAME_motor_rad
 
 besides the fixed ``t_s``, ``line``, the pose ``x_mm … c_deg``, ``path_error_mm``,
-``orientation_error_deg``, ``partial``, ``clearance_OBSTACLE_mm`` per obstacle and
-``platform_C_mm`` per platform coordinate.
+``orientation_error_deg``, ``kinetic_energy_j`` (robots with inertials), ``mvr``,
+``partial``, ``clearance_OBSTACLE_mm`` per obstacle and ``platform_C_mm`` per platform
+coordinate.
 Names are compared without regard to case (IRL names are case-insensitive).
 """
 
@@ -23,15 +24,20 @@ _UNIT = {"R": "deg", "P": "mm"}
 _DERIVATIVE = ("", "_s", "_s2")
 
 POSE = ("x_mm", "y_mm", "z_mm", "a_deg", "b_deg", "c_deg")
+KINETIC_ENERGY = "kinetic_energy_j"
+MVR = "mvr"
 FIXED = {
     "t_s": "the time",
     "line": "the program line",
     **{c: f"the TCP's {c[0]}" for c in POSE},
     "path_error_mm": "the path error",
     "orientation_error_deg": "the orientation error",
+    KINETIC_ENERGY: "the links' kinetic energy",
+    MVR: "the manipulator velocity ratio",
     "partial": "the mark of a failed run",
 }
-"""The columns every trace has (``partial`` only a failed run's), with what they hold."""
+"""The columns every trace has (``partial`` only a failed run's, ``kinetic_energy_j`` only a
+robot's with inertials), with what they hold."""
 
 
 def unit(kind: str, derivative: int = 0) -> str:

@@ -126,6 +126,30 @@ class RobotModel:
         ``[platform]``; lang's ``PlatformSignature``), ``None`` when it names none."""
         return self.extra.get("platform") if isinstance(self.extra, dict) else None
 
+    @property
+    def missing_inertia(self) -> str | None:
+        """What the links' inertial data lack for the joint-space inertia matrix ``M(θ)``
+        (``R_CRITERION := 'ENERGY'``, the trace's kinetic energy), or ``None`` when every
+        joint moves a link with mass (prismatic) or with mass or rotational inertia
+        (revolute). Rotor inertia does not count: ``M`` is the links' own."""
+        where = self.source or "the robot file"
+        if not self.inertials:
+            return f"robot {self.name} has no [[inertials]] ({where})"
+        mass = np.zeros(self.n + 1)
+        spin = np.zeros(self.n + 1)
+        for inertial in self.inertials:
+            if 0 <= inertial.link <= self.n:
+                mass[inertial.link] += inertial.mass
+                spin[inertial.link] += float(np.trace(inertial.inertia))
+        for i, joint in enumerate(self.joints):  # joint i+1 moves links i+1 … n
+            moved = mass[i + 1 :].sum() + (spin[i + 1 :].sum() if joint.kind == "revolute" else 0)
+            if moved <= 0.0:
+                return (
+                    f"robot {self.name}: joint {joint.name} moves no link with mass or "
+                    f"inertia ([[inertials]] of links {i + 1}…{self.n} in {where})"
+                )
+        return None
+
     # --- convenience arrays (SI) ---
     @property
     def weights(self) -> np.ndarray:

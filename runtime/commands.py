@@ -80,6 +80,7 @@ class Settings:
     approx: float = _default("approx")  # R_APPROX, mm (0: exact stop)
     clearance: float = _default("clearance")  # R_CLEARANCE, mm (0: only reported)
     platform: str = _default_word("platform")  # R_PLATFORM: 'FREE' | 'HOLD'
+    criterion: str = _default_word("criterion")  # R_CRITERION: 'DISTANCE' | 'ENERGY' | 'MVR'
 
 
 # The range table of the numeric settings is lang/settings.py (one row per setting; the

@@ -76,6 +76,24 @@ def warm_ik_obstacles() -> float:
     return _once("ik_obstacles", work)
 
 
+def warm_ik_energy() -> float:
+    """ENERGY's inertia kernel: one cycle of the planar3 arm (it has inertials)."""
+
+    def work() -> None:
+        from irlc.robots import load_robot
+        from irlc.runtime.ik.newton import InverseTransformation
+        from irlc.runtime.ik.params import CycleOptions, IKParams
+
+        model = load_robot("planar3")
+        ik = InverseTransformation(model, None, IKParams.for_robot(model, accel=True))
+        q = np.array([0.1, 0.5, -0.5])
+        target = ik.kin.tcp(q)
+        target[0, 3] += 1e-3
+        ik.step(q, q, target, 0.01, CycleOptions(criterion="ENERGY"))
+
+    return _once("ik_energy", work)
+
+
 def _tiny_drive_run(levels: tuple[str, ...], seconds: float) -> None:
     """The irb6_track (screw levers, friction: every branch's types) standing still."""
     from irlc.robots import load_robot
@@ -117,7 +135,7 @@ def _pwm_cached() -> bool:
 
 
 GROUPS: dict[str, tuple[str, Callable[[], bool], tuple[Callable[[], float], ...]]] = {
-    "ik": ("IK kernels", _ik_cached, (warm_ik, warm_ik_obstacles)),
+    "ik": ("IK kernels", _ik_cached, (warm_ik, warm_ik_obstacles, warm_ik_energy)),
     "drives": ("drive kernels", _drives_cached, (warm_drives,)),
     "pwm": ("PWM drive kernels", _pwm_cached, (warm_pwm,)),
 }

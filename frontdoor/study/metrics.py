@@ -9,7 +9,10 @@ Columns, in this order (docs/studies.md, docs/interfaces.md):
   ``exit_code`` as ``irlc run`` would give (0 … 4; empty when crashed);
   ``error``, ``error_line``, ``error_time_s``;
 * ``duration_s``, ``samples``, ``max_path_error_mm``, ``max_orientation_error_deg``,
-  ``ik_relaxed_cycles``; ``min_clearance_<obstacle>_mm`` per obstacle of the program;
+  ``ik_relaxed_cycles``; the links' kinetic energy, ``max_kinetic_energy_j`` and
+  ``kinetic_energy_integral_j_s`` (empty for a robot without inertials), and the velocity
+  ratio's ``min_mvr`` and ``max_mvr`` (the report's ``kinetic_energy`` and ``mvr``);
+  ``min_clearance_<obstacle>_mm`` per obstacle of the program;
 * ``active_bounds`` — the bounds that became active, ``a10 position max; a11 speed min``
   (joint order), and ``limit_active_s``, the report's per-joint active times summed over
   the joints (two joints on a bound for 1 s count 2 s);
@@ -37,6 +40,10 @@ RUN_COLUMNS = (
     "max_path_error_mm",
     "max_orientation_error_deg",
     "ik_relaxed_cycles",
+    "max_kinetic_energy_j",
+    "kinetic_energy_integral_j_s",
+    "min_mvr",
+    "max_mvr",
 )
 
 
@@ -84,6 +91,10 @@ def report_cells(plan: Plan, report: dict) -> dict[str, str]:
         "max_path_error_mm": report.get("max_path_error_mm"),
         "max_orientation_error_deg": report.get("max_orientation_error_deg"),
         "ik_relaxed_cycles": (report.get("ik") or {}).get("relaxed_cycles"),
+        "max_kinetic_energy_j": (report.get("kinetic_energy") or {}).get("max_j"),
+        "kinetic_energy_integral_j_s": (report.get("kinetic_energy") or {}).get("integral_j_s"),
+        "min_mvr": (report.get("mvr") or {}).get("min"),
+        "max_mvr": (report.get("mvr") or {}).get("max"),
     }
     obstacles = report.get("obstacles") or {}
     for o in plan.obstacles:

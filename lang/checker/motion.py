@@ -32,6 +32,7 @@ from irlc.lang.settings import (
     reconfiguration_counts,
     setting_message,
 )
+from irlc.lang.signature import criterion_problem
 
 LIMIT_TYPES = {o.word: o.types for o in BY_LIMIT_WORD.values()}
 """The limit options and their (minimum, maximum) joint-tuple types (lang/settings.py)."""
@@ -164,6 +165,11 @@ class MotionChecker:
         message = setting_message(field_name, k, what, written) if k is not None else None
         if message is not None:
             self.report.error(value.span, message)
+        elif field_name == "criterion" and isinstance(k, str):  # ENERGY needs inertials
+            for robot in self.scope.robots:
+                problem = criterion_problem(k, robot.signature)
+                if problem is not None:
+                    self.report.error(value.span, problem)
 
     def reconf_clause(self, s: ast.Move, c: ast.WithClause, robot: ProgramRobot | None) -> None:
         joint = self.main_joint(robot)

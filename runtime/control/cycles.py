@@ -74,8 +74,11 @@ class CycleRunner:
         self.platform_record = PlatformRecord()  # the platform's deviations (WITH PLATFORM)
 
     # ------------------------------------------------------------------ segments
-    def options_for(self, seg: Segment, options: ModalOptions) -> CycleOptions:
-        """The per-cycle options of a Cartesian segment under the modal ``options``."""
+    def options_for(
+        self, seg: Segment, options: ModalOptions, criterion: str = "DISTANCE"
+    ) -> CycleOptions:
+        """The per-cycle options of a Cartesian segment under the modal ``options`` and
+        the motion's ``R_CRITERION``."""
         pos, spd, acc = seg.limits
         reference = None
         if options.cyclic_reference is not None:
@@ -91,6 +94,7 @@ class CycleRunner:
             frozen=self.pre.frozen_si(options),
             obstacles=tuple(self.obstacles.values()),
             active_obstacles=frozenset(options.obstacles),
+            criterion=criterion,
         )
 
     def run(self, run: SegmentRun, upto: int) -> None:

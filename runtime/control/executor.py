@@ -248,11 +248,11 @@ class SimulatedController:
                     self.platform.check_targets(reach, cartesian, st.q, cmd.line, st.t, what)
                 else:
                     check_targets(reach, cartesian, st.q, cmd.line, st.t, what)
-            avoided = frozenset(options.obstacles)
+            avoided, criterion = frozenset(options.obstacles), motion.criterion
             if moves_platform:
                 self.platform.record.begin(cmd, self.platform.platform, st.q)
             for point, seg in enumerate(segments, start=1):
-                opts = None if seg.is_joint else self.cycles.options_for(seg, options)
+                opts = None if seg.is_joint else self.cycles.options_for(seg, options, criterion)
                 own = self._platform_solver(settings) if seg.platform is not None else solver
                 run = SegmentRun(seg, own, dt, opts, avoided)
                 self.blender.feed(run, approx, context, point)

@@ -66,7 +66,7 @@ class SelfMotion:
         dt = plan.dt
         ref_seg = pre.joint_profile(cmd, plan.motion, st.q, k, lims)
         hold = pre.hold("reconf", line, plan, 0, lims)
-        cycle_opts = self.cycles.options_for(hold, options)
+        cycle_opts = self.cycles.options_for(hold, options, plan.motion.criterion)
         cycle_opts.self_motion = True
         settle = max(1, math.ceil(self.settle_s / dt))
         # the time budget for the longest it may take; the cycle budget for the reference's

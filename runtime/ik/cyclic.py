@@ -10,6 +10,12 @@ CYCLIC (reference ``θ⁰`` = the configuration at CYCLICSTART) and WITH RECONFI
 A closed TCP path then ends in the configuration it started from: each cycle picks the
 configuration on the task manifold nearest (in W) to ``θ⁰`` that the joint box allows,
 a function of the pose alone once the box is not binding.
+
+Under ``R_CRITERION := 'ENERGY'`` the distance to ``θ⁰`` is measured in the criterion's
+metric at the reference, ``G = Ĝ(θ⁰)`` (:class:`MetricReference`, ``g = G(θ_k − θ⁰)``,
+``H = G``; :mod:`~irlc.runtime.ik.energy`): a constant ``G`` while ``θ⁰`` is (CYCLIC), so
+the configuration is still a function of the pose and a closed path still closes. Under
+MVR ``W`` is the MVR weights (:mod:`~irlc.runtime.ik.mvr`).
 """
 
 from __future__ import annotations
@@ -32,3 +38,16 @@ class CyclicReference:
         np.subtract(state.theta, self.reference, out=out)
         out *= self.w
         return out
+
+
+class MetricReference:
+    """``g = G(θ_k − θ⁰)``, ``H = G`` for a symmetric positive definite metric ``G``
+    (module doc)."""
+
+    def __init__(self, metric: np.ndarray, reference: np.ndarray):
+        self.metric = metric
+        self.reference = np.asarray(reference, dtype=float)
+
+    def accumulate(self, state: IterationState, g: np.ndarray, H: np.ndarray) -> None:
+        g += self.metric @ (state.theta - self.reference)
+        H += self.metric

@@ -10,7 +10,8 @@ For the desired TCP pose ``x`` and ``θ_s`` the configuration at the start of th
 
 * ``f(θ) ⊖ x`` is :func:`spatial.pose_error` (position error; world rotation vector of
   ``R·R_dᵀ``), so its Jacobian is the geometric Jacobian of the TCP.
-* ``(g, H)`` is the sum of the active criteria (:mod:`weighted`, :mod:`cyclic`,
+* ``(g, H)`` is the sum of the active criteria (``R_CRITERION`` with θ⁰ and the
+  obstacles: :mod:`criteria`; :mod:`weighted`, :mod:`cyclic`, :mod:`energy`, :mod:`mvr`,
   :mod:`self_motion`, :mod:`obstacle`); the box is :mod:`limits`; FREEZE removes the
   frozen joints from the variables (:mod:`freeze`).
 * Each step is the compact QP of :mod:`compact`, or the relaxed QP of
@@ -35,7 +36,7 @@ from irlc.robots.model import RobotModel
 from irlc.runtime.engine import compiled_cycle
 from irlc.runtime.ik.compact import CompactBasis
 from irlc.runtime.ik.coupled import CoupledRows
-from irlc.runtime.ik.cyclic import CyclicReference
+from irlc.runtime.ik.criteria import CycleCriteria
 from irlc.runtime.ik.failure import IKFailure as IKFailure
 from irlc.runtime.ik.failure import full_rank as _full_rank
 from irlc.runtime.ik.failure import require_finite as _require_finite
@@ -48,7 +49,6 @@ from irlc.runtime.ik.qp import make_solver
 from irlc.runtime.ik.result import CycleResult
 from irlc.runtime.ik.state import IterationState
 from irlc.runtime.ik.task_error import pose_error_list
-from irlc.runtime.ik.weighted import WeightedDisplacement
 from irlc.runtime.model.chain import Chain, ChainPoint, JointLimits, SerialChain
 from irlc.runtime.model.kinematics import Kinematics
 from irlc.runtime.model.naming import JointNaming
@@ -107,10 +107,9 @@ class InverseTransformation:
         self._no_frozen = FrozenJoints(n, {})
         self.limits = chain.limits
         self._default = CycleOptions()
-        self._weighted = WeightedDisplacement(self.weights)
-        self._conf = WeightedDisplacement(self.weights, self.params.obstacle.a_conf)
-        self._weighted_only = [self._weighted]
-        self._cyclic = CyclicReference(self.weights, np.zeros(n))
+        self.criteria = CycleCriteria(model, self.weights, self.params.obstacle.a_conf)
+        self._weighted = self.criteria.distance.displacement
+        self._weighted_only = self.criteria.distance.only
         self._state = IterationState(np.zeros(n), np.zeros(n), np.zeros(n))
         self._bodies_are_task_frames = chain.bodies.task_frames_are_world
         # None: this module's numpy path (engine.py); a chain with extra rows runs there
@@ -229,11 +228,12 @@ class InverseTransformation:
                 task_errors = tuple(float(np.linalg.norm(r)) for r in extra)
                 met = self._tasks_met(task_errors)
             if k == 0:
-                if opts.reference is None and not opts.active_obstacles:
+                plain = opts.reference is None and not opts.active_obstacles
+                if plain and opts.criterion == "DISTANCE":
                     criteria = self._weighted_only
                     diagonal = None if frozen else self._weighted
                 else:
-                    criteria = self._criteria(opts, theta, frames)
+                    criteria = self._criteria(opts, theta, frames, q_start)
                     diagonal = _single_diagonal(criteria, frozen)
             elif (
                 (pe < tol_p and oe < tol_o and met)
@@ -363,17 +363,9 @@ class InverseTransformation:
             self._frozen_cache = (key, FrozenJoints(self.n, frozen))
         return self._frozen_cache[1]
 
-    def _criteria(self, opts: CycleOptions, theta: np.ndarray, frames: np.ndarray) -> list:
-        out: list = []
+    def _criteria(self, opts: CycleOptions, theta, frames, q_start) -> list:
         active = self.avoided(opts)
-        if opts.reference is not None:
-            cyclic = self._cyclic  # reused: only the reference changes per cycle
-            cyclic.reference = np.asarray(opts.reference, dtype=float)
-            out.append(cyclic)
-            if active:
-                out.append(self._conf)
-        else:
-            out.append(self._conf if active else self._weighted)
+        out = self.criteria.terms(opts, q_start, bool(active))
         if active:
             bodies = self.chain.bodies
             world = bodies.world(theta, frames)

@@ -74,7 +74,11 @@ class CycleOptions:
     ``obstacles``: every obstacle whose clearance is reported; ``active_obstacles``: the
     names avoided (OBSTACLE … OBSTACLEEND). ``jacobian``: keep the cycle's Jacobian in
     the result for ``manipulability``/``sigma_min`` (a copy; the executor asks only on
-    the cycles it samples them — an unconverged cycle keeps it anyway).
+    the cycles it samples them — an unconverged cycle keeps it anyway). ``criterion``:
+    ``R_CRITERION`` — ``"DISTANCE"`` (the weighted joint displacement), ``"ENERGY"`` (the
+    kinetic energy, :mod:`~irlc.runtime.ik.energy`) or ``"MVR"`` (the manipulator velocity
+    ratio, :mod:`~irlc.runtime.ik.mvr`); how each combines with θ⁰ and the obstacles:
+    :mod:`~irlc.runtime.ik.criteria`.
     """
 
     position: np.ndarray | None = None
@@ -86,3 +90,4 @@ class CycleOptions:
     obstacles: Sequence = ()
     active_obstacles: frozenset[str] = frozenset()
     jacobian: bool = True
+    criterion: str = "DISTANCE"

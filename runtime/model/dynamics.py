@@ -97,6 +97,21 @@ def _skew(v: np.ndarray) -> np.ndarray:
     return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
 
 
+def link_inertials(model: RobotModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per link ``1 … n``: mass ``(n,)``, centre ``(n, 3)`` and inertia about it ``(n, 3, 3)``
+    in the link frame, from the model's ``inertials`` (zero where it has none; link 0, the
+    base, carries no dynamics)."""
+    n = model.n
+    mass, com, inertia = np.zeros(n), np.zeros((n, 3)), np.zeros((n, 3, 3))
+    for inertial in model.inertials:
+        if 1 <= inertial.link <= n:
+            k = inertial.link - 1
+            mass[k] = inertial.mass
+            com[k] = inertial.com
+            inertia[k] = inertial.inertia
+    return mass, com, inertia
+
+
 class Dynamics:
     """M(q), C(q,q̇)q̇, G(q), RNEA and forward dynamics of one robot."""
 
@@ -108,15 +123,7 @@ class Dynamics:
             )
         n = model.n
         self.model, self.n = model, n
-        self.mass = np.zeros(n)
-        self.com = np.zeros((n, 3))
-        self.inertia = np.zeros((n, 3, 3))
-        for inertial in model.inertials:  # link 0 (the base) carries no dynamics
-            if 1 <= inertial.link <= n:
-                k = inertial.link - 1
-                self.mass[k] = inertial.mass
-                self.com[k] = inertial.com
-                self.inertia[k] = inertial.inertia
+        self.mass, self.com, self.inertia = link_inertials(model)
         self.rotor = np.zeros(n) if rotor_inertia is None else np.asarray(rotor_inertia, float)
         self.gravity = np.asarray(model.gravity, dtype=float)
         self.revolute = np.array([j.kind == "revolute" for j in model.joints])
@@ -328,18 +335,30 @@ class Dynamics:
         rf = tail[:, :3]
         ang = tail[:, 3:6] - _cross(p, rf) + tail[:, 6:9]
         bias = np.einsum("ij,ij->i", z, np.where(rev > 0.0, ang, rf))
-        # mass matrix: M = Σ m_i J_viᵀ J_vi + J_ωiᵀ I_i J_ωi, as two matrix products with
-        # the Jacobians laid out [joint j, (link i, xyz)]: jv[j, :, i] = z_j × c_i − z_j × P_j
-        jv = self._kz_of(z) @ c.T - cr[4 * n :][:, :, None]
+        mass = self._jacobian_mass(z, c, inertia, cr[4 * n :])
+        mass[self._diag] += self.rotor
+        return mass, bias
+
+    def link_mass_matrix(self, q) -> np.ndarray:
+        """``M(q)`` of the links alone (no rotor inertia), the Jacobian form of
+        :meth:`mass_and_bias` without the bias: the kinetic energy of the links is
+        ``½ q̇ᵀ M q̇`` (``R_CRITERION := 'ENERGY'``, :mod:`irlc.runtime.ik.energy`)."""
+        p, z, c, inertia = self._world(q)
+        return self._jacobian_mass(z, c, inertia, _cross(z, p))
+
+    def _jacobian_mass(self, z, c, inertia, z_cross_p) -> np.ndarray:
+        """``M = Σ m_i J_viᵀ J_vi + J_ωiᵀ I_i J_ωi`` (links only), as two matrix products
+        with the Jacobians laid out [joint j, (link i, xyz)]:
+        ``jv[j, :, i] = z_j × c_i − z_j × P_j``."""
+        n = self.n
+        jv = self._kz_of(z) @ c.T - z_cross_p[:, :, None]
         jv = np.where(self._rev_col3, jv, z[:, :, None]) * self._upper3  # (j, xyz, i)
         jv = jv.transpose(0, 2, 1).reshape(n, 3 * n)
         jw = z[:, :, None] * self._jw_mask3  # (j, xyz, i)
         g = inertia @ jw.transpose(2, 1, 0)  # (i, xyz, l) = I_i J_ωi
-        mass = (jv * self._mass3) @ jv.T + jw.transpose(0, 2, 1).reshape(n, 3 * n) @ g.reshape(
+        return (jv * self._mass3) @ jv.T + jw.transpose(0, 2, 1).reshape(n, 3 * n) @ g.reshape(
             3 * n, n
         )
-        mass[self._diag] += self.rotor
-        return mass, bias
 
 
 def _combine(m1: float, c1, i1, m2: float, c2, i2):

@@ -15,8 +15,9 @@ no geometry — is reported as ``null``).
 
 Trace columns (``docs/interfaces.md``): ``t_s, line, <j>_<unit> …, <j>_speed_<unit>_s …,
 <j>_accel_<unit>_s2 …, x_mm, y_mm, z_mm, a_deg, b_deg, c_deg, path_error_mm``; with drives
-``<j>_cmd_<unit> …, <j>_current_A …``; then the extras ``orientation_error_deg`` and
-``clearance_<obstacle>_mm`` per obstacle. Joint names are the program's (MAIN_JOINT
+``<j>_cmd_<unit> …, <j>_current_A …``; then the extras ``orientation_error_deg``,
+``clearance_<obstacle>_mm`` per obstacle, ``kinetic_energy_j`` (robots with inertials) and
+``mvr`` (:mod:`~irlc.runtime.outputs.measures`). Joint names are the program's (MAIN_JOINT
 record; :mod:`naming`), the report's ``joints`` rows add the robot file's name as
 ``robot_name``; the pose is the world-frame TCP with ZYX angles. With drives the joint columns
 are the *actual* joints and speeds/accelerations are their backward differences; the pose,
@@ -44,6 +45,7 @@ from irlc.runtime.model.naming import JointNaming
 from irlc.runtime.outputs import motor_coords, platform_coords
 from irlc.runtime.outputs.cycle_time import source_lines, statement_rows
 from irlc.runtime.outputs.digital_io import io_columns, signal_timelines
+from irlc.runtime.outputs.measures import MeasureTally, MotionMeasures
 from irlc.runtime.outputs.platform_coords import platform_report
 from irlc.runtime.outputs.recorder import backward_jerk
 from irlc.runtime.outputs.run_result import RunResult, TraceArrays
@@ -96,6 +98,12 @@ class RunData:
             return
         for rec in self.controller.recorder.chunks():
             yield Samples.of(rec)
+
+    @cached_property
+    def measures(self) -> MotionMeasures:
+        """The kinetic energy and velocity ratio of the run's motion, shared by the report
+        and the trace (each piece computed once: :class:`MotionMeasures` keeps the last)."""
+        return MotionMeasures(self.model)
 
     @cached_property
     def names(self) -> tuple[str, ...]:
@@ -155,7 +163,8 @@ def trace_columns(run: RunData) -> list[str]:
     """The trace's columns (:func:`trace_header`, motors, then the I/O columns)."""
     names, model = run.names, run.model
     drives = run.samples is not None and run.samples.drive is not None
-    cols = trace_header(names, model.joint_kinds, drives, run.controller.obstacles)
+    energy = model.missing_inertia is None
+    cols = trace_header(names, model.joint_kinds, drives, run.controller.obstacles, energy)
     return cols + _motor_header(model, names) + _io(run, np.zeros(0))[0]
 
 
@@ -164,7 +173,7 @@ def trace_tables(run: RunData) -> Iterator[np.ndarray]:
     :meth:`RunData.pieces` (one for a run kept in memory): :func:`build_trace`'s columns
     and the I/O columns (:func:`~irlc.runtime.outputs.digital_io.io_columns`), each row-local."""
     for samples in run.pieces():
-        table = build_trace(run.model, samples, run.names)[1]
+        table = build_trace(run.model, samples, run.names, run.measures)[1]
         yield np.hstack((table, _io(run, table[:, 0])[1]))
 
 
@@ -243,8 +252,10 @@ def build_report(run: RunData) -> dict:
         controller.statements, source_lines(code.source, run.base_dir), rnd
     )
     tally = _Tally(model, controller.obstacles, rows, drive is not None)
+    measures = MeasureTally(run.measures)  # kinetic energy, velocity ratio
     for samples in run.pieces():
         tally.add(samples)
+        measures.add(samples.shown)
     k = tally.k
     penetrations = tally.shown.penetrations()
     warnings = run.warnings + [
@@ -314,6 +325,7 @@ def build_report(run: RunData) -> dict:
         "program_name": code.program,
         "tool": tool_report(model, execution.state.settings.tool),
         "statements": rows,
+        **measures.report(rnd),  # kinetic_energy, mvr
     }
     if tally.motors is not None:  # per motor and statement: travel, travel time
         report["motors"] = _clean(tally.motors.report(names))
@@ -541,8 +553,9 @@ def _clean(obj):
 # --------------------------------------------------------------------------- trace
 
 
-def trace_header(names, kinds, drives: bool, obstacles) -> list[str]:
-    """The trace's columns before the motors' and the I/O's (names: ``irlc.lang.trace_columns``)."""
+def trace_header(names, kinds, drives: bool, obstacles, energy: bool = True) -> list[str]:
+    """The trace's columns before the motors' and the I/O's (names: ``irlc.lang.trace_columns``;
+    ``energy``: the robot's inertials give the kinetic energy)."""
     joints = list(zip(names, kinds, strict=True))
     cols = ["t_s", "line"]
     cols += [tc.position(n, k) for n, k in joints]
@@ -554,6 +567,7 @@ def trace_header(names, kinds, drives: bool, obstacles) -> list[str]:
         cols += [tc.current(n) for n in names]
     cols += ["orientation_error_deg"]
     cols += [tc.clearance(name) for name in sorted(obstacles)]
+    cols += [tc.KINETIC_ENERGY, tc.MVR] if energy else [tc.MVR]
     return cols
 
 
@@ -564,13 +578,17 @@ def _motor_header(model, names) -> list[str]:
     return motors + platform_coords.trace_columns(model)
 
 
-def build_trace(model, samples: Samples, names):
+def build_trace(model, samples: Samples, names, measures: MotionMeasures | None = None):
     """``(columns, table)`` in program units: one row per time of :attr:`Samples.traced`
-    (IPO samples, or the drive steps of a drive run traced per step)."""
+    (IPO samples, or the drive steps of a drive run traced per step); ``measures``: the
+    run's :class:`MotionMeasures` (default: a new one)."""
     kinds = model.joint_kinds
     scale = units.joint_scale(kinds)
     drive, motion = samples.drive, samples.traced
-    cols = trace_header(names, kinds, drive is not None, samples.recorded.clearance)
+    measures = measures or MotionMeasures(model)
+    cols = trace_header(
+        names, kinds, drive is not None, samples.recorded.clearance, measures.energy
+    )
     cols += _motor_header(model, names)
     times, lines, q, tcp = motion.times, motion.lines, motion.q, motion.tcp
     pos_err, ori_err, clearance = motion.pos_error, motion.ori_error, motion.clearance
@@ -598,6 +616,7 @@ def build_trace(model, samples: Samples, names):
     parts.append((ori_err / units.DEG)[:, None])
     for name in sorted(clearance):
         parts.append((clearance[name] / units.MM)[:, None])
+    parts.append(measures.table(motion))
     if motor_coords.has_motors(model) and k:
         parts.append(motor_coords.motor_angles(model, q))  # of the joints in this row
     if model.platform is not None and k:

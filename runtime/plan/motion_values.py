@@ -42,6 +42,7 @@ class MotionValues:
     approx: float  # mm, the blend distance at the motion's points
     clearance: float  # mm, R_CLEARANCE: the distance kept between links (0: only reported)
     platform: str  # R_PLATFORM: 'FREE' | 'HOLD' (the platform outside WITH PLATFORM)
+    criterion: str  # R_CRITERION: 'DISTANCE' | 'ENERGY' | 'MVR' (the IK's criterion)
     k: float  # R_OVERRIDE / 100
     written_time: float | None  # s, WITH TIME as written (messages)
 
@@ -75,8 +76,8 @@ def motion_values(
         row.field: None if checked[row.field] is None else row.scaled(checked[row.field], k)
         for row in SETTINGS
     }
-    for row in SETTINGS:  # a word (R_PROFILE, R_PLATFORM) is compared in upper case
-        if isinstance(row.range, SettingChoices):
+    for row in SETTINGS:  # a word setting in any case: its upper-case word
+        if isinstance(row.range, SettingChoices) and scaled[row.field] is not None:
             scaled[row.field] = str(scaled[row.field]).upper()
     time = checked["time"]
     return MotionValues(**scaled, k=k, written_time=None if time is None else float(time))  # type: ignore[arg-type]

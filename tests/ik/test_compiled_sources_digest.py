@@ -31,3 +31,14 @@ def test_the_digest_sees_a_change_in_a_callee(tmp_path, monkeypatch):
     with open(tmp_path / "qp.py", "a") as f:
         f.write("\n")
     assert cycle.sources_digest() != before
+
+
+def test_inertia_kernel_digest_matches_its_callees():
+    """ENERGY's kernel (runtime/ik/compiled/inertia.py) calls forward_chain and the
+    drives' mass_and_bias: the digest of their modules recorded there must be current."""
+    from irlc.runtime.ik.compiled import inertia
+
+    assert inertia.callees_digest() == inertia.CALLEES_DIGEST, (
+        "a module inertia_metric calls changed: set CALLEES_DIGEST in "
+        f"runtime/ik/compiled/inertia.py to {inertia.callees_digest()!r}"
+    )

@@ -1,7 +1,8 @@
 """The fused IK cycle (numba): :func:`newton_cycle`, the resumable state machine of the
 compiled engine (package doc), with the general cost (``general_cost``: CYCLIC,
-``a_conf·W``, obstacle terms) and the FREEZE reduction (``reduce_frozen``) it applies
-between the kernels of :mod:`.chain`, :mod:`.box` and :mod:`.qp`.
+``a_conf·W``, obstacle terms; ``metric_cost``: the full metric of ENERGY) and the FREEZE
+reduction (``reduce_frozen``) it applies between the kernels of :mod:`.chain`, :mod:`.box`
+and :mod:`.qp`.
 
 numba keys the on-disk cache of :func:`newton_cycle` by this file's source only, while
 its machine code includes the kernels it calls from the other modules (and the constants
@@ -57,12 +58,15 @@ from irlc.runtime.ik.compiled.layout import (
     F_J6,
     F_JR,
     F_JT,
+    F_MA,
+    F_MC,
     F_MULT,
     F_N,
     F_TARGET,
     F_TCP,
     F_V,
     F_VR,
+    FULL_METRIC,
     GENERAL,
     HAS_REF,
     HAVE_J,
@@ -136,7 +140,7 @@ from numba import njit
 
 # the modules whose code or constants newton_cycle's machine code includes
 CALLEES = ("layout", "chain", "box", "qp")
-SOURCES_DIGEST = "4f5b82d654dbad33"  # sources_digest() when this file was last updated
+SOURCES_DIGEST = "db314fe06d54eb9c"  # sources_digest() when this file was last updated
 
 
 def sources_digest() -> str:
@@ -150,9 +154,8 @@ def sources_digest() -> str:
 @njit(cache=True)
 def general_cost(V, H, ow, opush, ojac, ojtj):
     """The full cost of ``InverseTransformation._cost`` (after the criterion's ``g`` in
-    ``V[G]``): ``g += a_conf·W∘Σ`` (``V[WC]``), ``H = diag(W + a_conf·W)``, and per
-    obstacle term ``t`` (:class:`obstacle.ObstacleTerm`, weight ``ω_t ≠ 0``):
-    ``g −= ω_t·J_tᵀ(αv_t − J_tΣ)``, ``H += ω_t·J_tᵀJ_t``."""
+    ``V[G]``): ``g += a_conf·W∘Σ`` (``V[WC]``), ``H = diag(W + a_conf·W)``, and the
+    obstacle terms (:func:`obstacle_cost`)."""
     n = V.shape[1]
     sigma, g = V[SIGMA], V[G]
     for j in range(n):
@@ -160,6 +163,32 @@ def general_cost(V, H, ow, opush, ojac, ojtj):
         for i in range(n):
             H[j, i] = 0.0
         H[j, j] = V[W, j] + V[WC, j]
+    obstacle_cost(V, H, ow, opush, ojac, ojtj)
+
+
+@njit(cache=True)
+def metric_cost(V, MA, MC, H, has_ref, ow, opush, ojac, ojtj):
+    """The cost with a full metric (``R_CRITERION := 'ENERGY'``, :mod:`criteria`):
+    ``g = MA·x + MC·Σ`` (``x = θ − θ⁰`` with a reference, else ``Σ``), ``H = MA + MC``,
+    and the obstacle terms (:func:`obstacle_cost`)."""
+    n = V.shape[1]
+    sigma, g = V[SIGMA], V[G]
+    for j in range(n):
+        s = 0.0
+        for i in range(n):
+            x = V[THETA, i] - V[REF, i] if has_ref else sigma[i]
+            s += MA[j, i] * x + MC[j, i] * sigma[i]
+            H[j, i] = MA[j, i] + MC[j, i]
+        g[j] = s
+    obstacle_cost(V, H, ow, opush, ojac, ojtj)
+
+
+@njit(cache=True)
+def obstacle_cost(V, H, ow, opush, ojac, ojtj):
+    """Per obstacle term ``t`` (:class:`obstacle.ObstacleTerm`, weight ``ω_t ≠ 0``):
+    ``g −= ω_t·J_tᵀ(αv_t − J_tΣ)``, ``H += ω_t·J_tᵀJ_t``."""
+    n = V.shape[1]
+    sigma, g = V[SIGMA], V[G]
     for t in range(ow.shape[0]):
         wt = ow[t]
         if wt == 0.0:
@@ -285,6 +314,7 @@ def newton_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
     rows = _v1(iw, lay[I_ROWS], m)
     A, bound_d = _v2(fw, lay[F_A], r, n), _v1(fw, lay[F_BOUND_D], r)
     H = _v2(fw, lay[F_H], n, n)
+    MA, MC = _v2(fw, lay[F_MA], n, n), _v2(fw, lay[F_MC], n, n)
     free, fz = _v1(iw, lay[I_FREE], nf), _v1(iw, lay[I_FZ], nfz)
     ftarget = _v1(fw, lay[F_FTARGET], nfz)
     Vr, Jr, Fr = _v2(fw, lay[F_VR], NV, nf), _v2(fw, lay[F_JR], m, nf), _v1(fw, lay[F_FR], m)
@@ -359,6 +389,7 @@ def newton_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
         elif stage == 4:
             k = ist[K]
             general = ist[GENERAL] != 0
+            full = ist[FULL_METRIC] != 0
             zero_f = k == 0 and ist[SELF_MOTION] != 0
             for i in range(m):
                 F[i] = 0.0 if zero_f else fst[E0 + rows[i]]
@@ -376,7 +407,9 @@ def newton_cycle(kb, kj, ends, boxc, ow, opush, ojac, ojtj, fw, iw, lay):
                     V[G, j] = V[W, j] * sig
                 V[LOWER, j] = bounds[0, j] - sig
                 V[UPPER, j] = bounds[1, j] - sig
-            if general:
+            if full:
+                metric_cost(V, MA, MC, H, ist[HAS_REF] != 0, ow, opush, ojac, ojtj)
+            elif general:
                 general_cost(V, H, ow, opush, ojac, ojtj)
             if nfz > 0 and not reduce_frozen(
                 V, Jt, F, H, A, bound_d, free, fz, ftarget, Vr, Jr, Fr, Hr, Ar, bound_r

@@ -43,11 +43,15 @@ OBSTACLE_KERNELS = accel_support.Kernels(
     "irlc.runtime.ik.compiled.distance", "critical_points", "IK obstacle kernels"
 )
 """The obstacle queries (compiled on the first cycle with obstacles, ≈ 8 s of CPU)."""
+INERTIA_KERNELS = accel_support.Kernels(
+    "irlc.runtime.ik.compiled.inertia", "inertia_metric", "IK inertia kernel"
+)
+"""ENERGY's metric (compiled on the first ENERGY cycle)."""
 
 
 def cache_warm() -> bool:
-    """True when numba's cache holds the cycle and the obstacle queries."""
-    return KERNELS.cache_warm() and OBSTACLE_KERNELS.cache_warm()
+    """True when numba's cache holds the cycle, the obstacle queries and ENERGY's kernel."""
+    return KERNELS.cache_warm() and OBSTACLE_KERNELS.cache_warm() and INERTIA_KERNELS.cache_warm()
 
 
 _NO_ROWS = np.zeros(0, dtype=np.int64)  # a cycle without active QP rows (shared, never written)
@@ -74,7 +78,8 @@ class Workspace:
             (k.F_JR, m * n), (k.F_FR, m), (k.F_HR, n * n), (k.F_AR, r * n), (k.F_BOUND_R, r),
             (k.F_AUG, m * (n + 1)), (k.F_N, n * nz), (k.F_HT, nz * nz), (k.F_GT, nz),
             (k.F_CT, nz * nc), (k.F_BT, nc), (k.F_HREL, n * n), (k.F_GREL, n),
-            (k.F_MULT, nc), (k.F_FTARGET, n), (k.F_FST, k.N_FST),
+            (k.F_MULT, nc), (k.F_FTARGET, n), (k.F_FST, k.N_FST), (k.F_MA, n * n),
+            (k.F_MC, n * n),
         )  # fmt: skip
         ints = (
             (k.I_ROWS, m), (k.I_FREE, n), (k.I_FZ, n), (k.I_PERM, n), (k.I_ACTIVE, nc),
@@ -89,6 +94,7 @@ class Workspace:
         self.V, self.frames = f(k.F_V, k.NV, n), f(k.F_FRAMES, n + 1, 4, 4)
         self.tcp, self.J6, self.Jt = f(k.F_TCP, 4, 4), f(k.F_J6, 6, n), f(k.F_JT, m, n)
         self.F, self.H, self.A = f(k.F_F, m), f(k.F_H, n, n), f(k.F_A, r, n)
+        self.MA, self.MC = f(k.F_MA, n, n), f(k.F_MC, n, n)  # ENERGY's metric (criteria)
         self.bound_d, self.bounds = f(k.F_BOUND_D, r), f(k.F_BOUNDS, 2, n)
         self.cand, self.target = f(k.F_CAND, 4, 2, n), f(k.F_TARGET, 4, 4)
         self.fst = f(k.F_FST, k.N_FST)
@@ -159,10 +165,13 @@ class CompiledCycle:
             ws.A[:] = coupled.A
         self.V, self.ist, self.fst = ws.V, ws.ist, ws.fst
         self.frames, self.tcp, self.Jt, self.cand = ws.frames, ws.tcp, ws.Jt, ws.cand
-        self.weights = np.asarray(ik.weights, dtype=float)
-        self.conf_weights = ik.params.obstacle.a_conf * self.weights  # (as WeightedDisplacement)
+        self.weights = ik.criteria.distance.w  # the diagonal criterion's: W, or MVR's ŵ
+        self.conf_weights = ik.criteria.distance.conf.w  # a_conf·W (as WeightedDisplacement)
         self.V[k.W] = self.weights
         self._mode = (False, False)  # (V[W] is a_conf·W, V[WC] is a_conf·W)
+        self._energy: tuple | None = None  # ENERGY's packed inputs (inertia.inertia_metric)
+        self._reference_key: bytes | None = None  # θ⁰ whose Ĝ(θ⁰) is in _reference_metric
+        self._reference_metric = np.zeros((n, n))
         self._no_terms = (np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3, n)), np.zeros((0, n, n)))
         self.terms = self._no_terms
         self._packed: dict[tuple, tuple] = {}  # ids of obstacles → (obstacles, rows)
@@ -224,14 +233,25 @@ class CompiledCycle:
         if valid:
             ws.perm[:] = b.columns
 
-    def _criteria(self, opts, active: list) -> None:
+    def _criteria(self, opts, active: list, q_start) -> None:
         """The cost's form before the cycle: ``GENERAL`` (full ``H``: FREEZE, or more than
-        one criterion) and the diagonal weights ``V[W]`` / ``V[WC]`` — as
-        ``InverseTransformation._criteria`` / ``_single_diagonal`` choose them; with
-        avoided obstacles the choice waits for their terms (:meth:`_obstacle_terms`)."""
+        one criterion), ``FULL_METRIC`` (ENERGY: the matrices ``MA``, ``MC``) or the
+        diagonal weights ``V[W]`` / ``V[WC]`` (DISTANCE: ``W``, MVR: ``ŵ``) — as
+        ``InverseTransformation._criteria`` (:class:`~irlc.runtime.ik.criteria.CycleCriteria`)
+        / ``_single_diagonal`` choose them; with avoided obstacles the choice waits for
+        their terms (:meth:`_obstacle_terms`)."""
         k, ist = self.k, self.ist
         ist[k.NEED_TERMS] = int(bool(active))
         self.terms = self._no_terms
+        diag = self.ik.criteria.diagonal(opts.criterion)  # None: ENERGY (a full metric)
+        ist[k.FULL_METRIC] = int(diag is None)
+        if diag is None:
+            self._energy_metric(opts, bool(active), q_start)
+            ist[k.GENERAL] = 1
+            return
+        if diag.w is not self.weights:  # another diagonal criterion: its weights
+            self.weights, self.conf_weights = diag.w, diag.conf.w
+            self._mode = (None, None)
         self._weights(False, False)
         ist[k.GENERAL] = int(self._frozen is not None)
 
@@ -242,6 +262,41 @@ class CompiledCycle:
             V[k.W] = self.conf_weights if conf_w else self.weights
             V[k.WC] = self.conf_weights if conf_wc else 0.0
             self._mode = (conf_w, conf_wc)
+
+    def _energy_metric(self, opts, avoided: bool, q_start) -> None:
+        """ENERGY's ``MA``, ``MC`` (:mod:`~irlc.runtime.ik.criteria`): without θ⁰ ``MA =
+        s·Ĝ(θ_s)`` (``s`` = a_conf beside avoided obstacles, else 1), ``MC = 0``; with θ⁰
+        ``MA = Ĝ(θ⁰)`` (kept while θ⁰ is) and ``MC = a_conf·Ĝ(θ_s)`` or 0 — the
+        compiled :func:`.inertia.inertia_metric`."""
+        ws, a_conf = self.ws, self.ik.params.obstacle.a_conf
+        if opts.reference is None:
+            self._inertia(q_start, a_conf if avoided else 1.0, ws.MA)
+            ws.MC[:] = 0.0
+            return
+        reference = np.asarray(opts.reference, dtype=float)
+        key = reference.tobytes()
+        if key != self._reference_key:
+            self._inertia(reference, 1.0, self._reference_metric)
+            self._reference_key = key
+        ws.MA[:] = self._reference_metric
+        if avoided:
+            self._inertia(q_start, a_conf, ws.MC)
+        else:
+            ws.MC[:] = 0.0
+
+    def _inertia(self, q, scale: float, out) -> None:
+        """``out = scale·Ĝ(q)`` (:func:`.inertia.inertia_metric` on the packed chain and
+        inertials; the packed inputs made on the first ENERGY cycle)."""
+        if self._energy is None:
+            metric = self.ik.criteria.inertia  # raises EnergyNeedsInertia, as numpy does
+            n, d = self.n, metric.dynamics.data
+            dyn = (d.axes, d.revolute, d.rotor, d.mass, d.com, d.inertia, d.gravity)
+            buf = (np.empty((n + 1, 4, 4)), np.empty((4, 4)), np.zeros(n), np.empty(n))
+            kernel = INERTIA_KERNELS.load().inertia_metric
+            self._energy = (kernel, dyn, buf, metric.weight_sum)
+        kernel, dyn, buf, weight_sum = self._energy
+        c = self.ik.kin.chain_data
+        kernel((c.basis, c.joints, c.ends[0]), dyn, q, weight_sum, scale, buf, out)
 
     def _obstacle_terms(self, opts, active: list) -> None:
         """At the first iterate: the obstacle criterion's terms (the compiled
@@ -262,7 +317,9 @@ class CompiledCycle:
         cnt = d.obstacle_terms(self.frames, self.tcp, self.chain.joints, seg.links, seg.a_local,
                                seg.b_local, seg.radius, seg.fallback, rows, *arrays)  # fmt: skip
         self.terms = views[cnt]
-        if opts.reference is not None:  # [CYCLIC, a_conf·W, terms…]: a full H
+        if ist[k.FULL_METRIC]:  # ENERGY: MA, MC made before the cycle (_energy_metric)
+            ist[k.GENERAL] = 1
+        elif opts.reference is not None:  # [CYCLIC, a_conf·W, terms…]: a full H
             self._weights(False, True)
             ist[k.GENERAL] = 1
         else:  # [a_conf·W, terms…]: diagonal when no obstacle is near
@@ -332,7 +389,7 @@ class CompiledCycle:
         ist[k.BOX_READY] = 0
         ist[k.PHASE] = k.P_START
         self._opts, self._active = opts, active
-        self._criteria(opts, active)
+        self._criteria(opts, active, q_start)
         chain = self.chain = ik.kin.chain_data
         self._sync_basis()
         run, fw, iw, lay = self.run, ws.fw, ws.iw, ws.lay

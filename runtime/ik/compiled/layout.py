@@ -35,8 +35,9 @@ S_NEED_TERMS, S_FROZEN_FAR, S_NOT_FINITE = 6, 7, 8
     HAVE_J,
     GENERAL,
     NEED_TERMS,
+    FULL_METRIC,
     N_IST,
-) = range(21)
+) = range(22)
 # fst indices (E0 … E0 + 5: the last task error, all six components)
 TOL_P, TOL_O, COND_MAX, SINGULAR_COND, COND_LIMIT, RELAX_W, PE, OE, SCALE, DTOL, COND, E0 = range(
     12
@@ -60,10 +61,13 @@ BOX_TOL = 1e-12
 (
     F_V, F_FRAMES, F_TCP, F_J6, F_JT, F_F, F_H, F_A, F_BOUND_D, F_BOUNDS, F_CAND, F_TARGET,
     F_VR, F_JR, F_FR, F_HR, F_AR, F_BOUND_R, F_AUG, F_N, F_HT, F_GT, F_CT, F_BT, F_HREL,
-    F_GREL, F_MULT, F_FTARGET, F_FST,
+    F_GREL, F_MULT, F_FTARGET, F_FST, F_MA, F_MC,
     I_ROWS, I_FREE, I_FZ, I_PERM, I_ACTIVE, I_IST, I_CODES,
     Z_N, Z_M, Z_NF, Z_R, Z_NFZ,
     N_LAY,
-) = range(42)  # fmt: skip
+) = range(44)  # fmt: skip
+# ist[FULL_METRIC]: the criterion's metric is a full matrix (R_CRITERION := 'ENERGY'):
+# g = MA·x + MC·Σ (x = θ − θ⁰ with a reference, else Σ), H = MA + MC (F_MA, F_MC, (n, n)),
+# in place of the diagonal weights V[W], V[WC] (cycle.metric_cost)
 ANY_CODE = N_IST  # ist[ANY_CODE]: some joint's displacement is at a box bound (codes set)
 N_IST_ALL = N_IST + 1
