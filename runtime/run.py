@@ -62,19 +62,6 @@ def resolve_model(
     """The robot to run on: ``robot`` (override, the user's) or the code's robot, by
     :func:`irlc.robots.resolve_robot` (a library name or a path relative to the program;
     the code's own path inside the program's allowed roots unless ``allow_any_path``)."""
-    if code.is_cell:  # interim, until the runtime runs cells (issue 26)
-        second = code.other_robots[0]
-        where = "{}:{}:{}: ".format(*second.position) if second.position else ""
-        names = ", ".join(r.var for r in code.robots)
-        raise RunSetupError(
-            f"{where}cells are compiled but this runtime cannot run them yet (robots: {names})"
-        )
-    if code.at is not None and any(code.at):  # interim: a placed robot (issue 26)
-        where = "{}:{}:{}: ".format(*code.robot_record) if code.robot_record else ""
-        raise RunSetupError(
-            f"{where}robot {code.robot_var} is placed with AT, which this runtime cannot run "
-            f"yet (the compiler accepts it: {code.source})"
-        )
     if isinstance(robot, RobotModel):
         model = robot
     elif robot:
@@ -91,7 +78,27 @@ def resolve_model(
             f"{model.name} has {model.n} ({kinds})"
         )
         raise RunSetupError(message if robot else code.robot_problem(message))
-    return model
+    return placed(model, code.at)
+
+
+def placed(model: RobotModel, at: Sequence[float] | None) -> RobotModel:
+    """``model`` with its base placed in the cell by ``AT`` (mm, ZYX deg): base =
+    placement · the file's base; unchanged without ``AT``."""
+    if at is None or not any(at):
+        return model
+    from dataclasses import replace
+
+    return replace(model, base=placement(at) @ model.base)
+
+
+def placement(at: Sequence[float] | None) -> np.ndarray:
+    """The 4×4 placement (SI) of ``AT (x, y, z, a, b, c)`` (mm, ZYX deg); the identity
+    without one."""
+    if at is None:
+        return np.eye(4)
+    from irlc.runtime import values
+
+    return values.pose_to_matrix(values.pose_from_zyx(*at))
 
 
 def load_model(
@@ -255,6 +262,16 @@ def run_code(
     from irlc.runtime.drives.stage import run_drives
     from irlc.runtime.outputs.results import RunData, assemble
 
+    if code.is_cell:
+        from irlc.runtime.cell_run import run_cell
+
+        return run_cell(code, robot=robot, ipo=ipo, drives=drives, seed_config=seed_config,
+                        base_dir=base_dir, progress=progress, output=output, options=options,
+                        trace_every_step=trace_every_step, path_tolerance=path_tolerance,
+                        orientation_tolerance=orientation_tolerance,
+                        instruction_budget=instruction_budget, max_time=max_time,
+                        max_cycles=max_cycles, override=override, allow_any_path=allow_any_path,
+                        allow_collisions=allow_collisions, phase=phase, engine=engine)  # fmt: skip
     setup = _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolerance,
                    orientation_tolerance, instruction_budget, max_time, max_cycles,
                    override, allow_any_path, allow_collisions)  # fmt: skip
@@ -267,12 +284,12 @@ def run_code(
     streamed = stream and drives == "ideal"
     if streamed:
         controller.recorder.spill(SPILL_ROWS)
-    held = None if drives == "ideal" else _HeldOutput(controller)  # judged by the drives first
+    held = None if drives == "ideal" else HeldOutput(controller)  # judged by the drives first
     start = controller.collisions.start_failure(
         controller.recorder.last_clearances(), first_line(code),
         start_origin(code, setup.model, seed_config),
     )  # fmt: skip
-    execution = _interpret(code, controller, setup.settings, held or output, setup.budget, start)
+    execution = interpret(code, controller, setup.settings, held or output, setup.budget, start)
     samples, verdict = None, None
     if not streamed:
         samples = Samples.of(controller.recorder.arrays())
@@ -292,7 +309,7 @@ def run_code(
     return assemble(run)
 
 
-class _HeldOutput:
+class HeldOutput:
     """The program's output lines with the simulated time each was written at, held until
     the drive stage has judged the run (:func:`run_code`)."""
 
@@ -310,7 +327,7 @@ class _HeldOutput:
                 output(text)
 
 
-def _stopped(execution, controller: SimulatedController, held: _HeldOutput | None, failure):
+def _stopped(execution, controller: SimulatedController, held: HeldOutput | None, failure):
     """The interpreter's result and the controller's tables cut at a drive failure
     (:mod:`irlc.runtime.outputs.stop`): the run's error is the failure."""
     from dataclasses import replace
@@ -351,6 +368,36 @@ def _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolera
            allow_any_path=False, allow_collisions=False) -> RunSetup:  # fmt: skip
     """:func:`run_code`'s arguments checked (:class:`RunSetup`); a bad one is a
     :class:`RunSetupError`."""
+    common = run_options(drives, ipo, override, instruction_budget, base_dir, max_time,
+                         max_cycles, options, path_tolerance, orientation_tolerance,
+                         allow_collisions)  # fmt: skip
+    model = resolve_model(code, robot, common.base_dir, allow_any_path)
+    obstacles = obstacle_shapes(code)
+    q0 = start_configuration(code, model, seed_config)
+    opts = common.options
+    if drives != "ideal":
+        opts.drive_step_s = drive_step_for(model, drives, q0)
+    naming = JointNaming.for_model(model, code.joint_names)
+    return RunSetup(model, obstacles, q0, opts, common.settings, naming, common.budget,
+                    common.base_dir)  # fmt: skip
+
+
+@dataclass
+class RunOptions:
+    """The options of a run that do not depend on its robots: the controller's options,
+    the interpreter's start settings and instruction budget, the program's folder."""
+
+    options: ExecutionOptions
+    settings: Settings
+    budget: int
+    base_dir: Path | None
+
+
+def run_options(drives, ipo, override, instruction_budget, base_dir, max_time, max_cycles,
+                options, path_tolerance, orientation_tolerance,
+                allow_collisions) -> RunOptions:  # fmt: skip
+    """The robot-independent arguments of :func:`run_code` checked (a bad one is a
+    :class:`RunSetupError`), as :class:`RunOptions`."""
     if drives not in DRIVE_LEVELS:
         raise RunSetupError(f"unknown drive level {drives!r} (known: {', '.join(DRIVE_LEVELS)})")
     if ipo is not None and setting_error("ipo", ipo):
@@ -361,9 +408,6 @@ def _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolera
         )
     budget = _budget(instruction_budget)
     base = Path(base_dir) if base_dir is not None else None
-    model = resolve_model(code, robot, base, allow_any_path)
-    obstacles = obstacle_shapes(code)
-    q0 = start_configuration(code, model, seed_config)
     if max_time is not None:
         _positive("--max-time", max_time, "seconds")
     if max_cycles is not None:
@@ -375,9 +419,6 @@ def _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolera
         opts.max_time_s = float(max_time)
     if max_cycles is not None:
         opts.max_cycles = max_cycles
-    if drives != "ideal":
-        opts.drive_step_s = _drive_step(model, drives, q0)
-    naming = JointNaming.for_model(model, code.joint_names)
     tol_mm = opts.tol_position / units.MM
     if path_tolerance is not None:
         tol_mm = _path_tolerance("--path-tolerance", path_tolerance)
@@ -394,10 +435,10 @@ def _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolera
         settings.ipo = opts.ipo
     if override is not None:
         settings.override = float(override)  # R_OVERRIDE's start value
-    return RunSetup(model, obstacles, q0, opts, settings, naming, budget, base)
+    return RunOptions(opts, settings, budget, base)
 
 
-def _drive_step(model: RobotModel, level: str, q0: np.ndarray) -> float:
+def drive_step_for(model: RobotModel, level: str, q0: np.ndarray) -> float:
     """The drive simulation's step for the run's cycle budget (ExecutionOptions.drive_step_s):
     the drive data is checked here, before the run (:class:`DriveSetupError`, exit 3)."""
     import warnings
@@ -483,7 +524,7 @@ def _whole(option: str, value) -> int:
     return value
 
 
-def _interpret(
+def interpret(
     code, controller, settings, output: Callable[[str], None] | None, budget: int, start=None
 ):
     """Run the interpreter; its result carries output, events, warnings and the error.

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from irlc.robots.model import RobotModel
+from irlc.runtime.ik.clearance import ClearanceSpec
 from irlc.runtime.model.chain import task_rows_for
 
 
@@ -74,7 +75,9 @@ class CycleOptions:
     ``obstacles``: every obstacle whose clearance is reported; ``active_obstacles``: the
     names avoided (OBSTACLE … OBSTACLEEND). ``jacobian``: keep the cycle's Jacobian in
     the result for ``manipulability``/``sigma_min`` (a copy; the executor asks only on
-    the cycles it samples them — an unconverged cycle keeps it anyway).
+    the cycles it samples them — an unconverged cycle keeps it anyway). ``clearance``:
+    ``R_CLEARANCE`` > 0, the distance the links keep (:mod:`~irlc.runtime.ik.clearance`;
+    ``None``: not kept).
     """
 
     position: np.ndarray | None = None
@@ -86,3 +89,4 @@ class CycleOptions:
     obstacles: Sequence = ()
     active_obstacles: frozenset[str] = frozenset()
     jacobian: bool = True
+    clearance: ClearanceSpec | None = None

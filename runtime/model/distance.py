@@ -242,7 +242,7 @@ def segment_obstacle(a: np.ndarray, b: np.ndarray, radius: float, obstacle) -> P
         _, _, p, q = closest_segment_segment(a, b, q0, q1)
         diff = p - q
         core = float(np.sqrt(diff @ diff))
-        v = diff / core if core > _EPS else _fallback_direction(b - a, q1 - q0)
+        v = diff / core if core > _EPS else fallback_direction(b - a, q1 - q0)
     return _swept(core, p, q, v, radius, obstacle.radius)
 
 
@@ -251,7 +251,7 @@ def _swept(core: float, p, q, v, radius: float, r_obst: float) -> Proximity:
     return Proximity(core - radius - r_obst, p - radius * v, q + r_obst * v, v)
 
 
-def _fallback_direction(d1: np.ndarray, d2: np.ndarray) -> np.ndarray:
+def fallback_direction(d1: np.ndarray, d2: np.ndarray) -> np.ndarray:
     """Escape direction when two cores touch: the common normal of the two segments,
     else any direction perpendicular to the robot segment, else +z."""
     n = np.cross(d1, d2)
