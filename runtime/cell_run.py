@@ -28,7 +28,7 @@ from irlc.runtime.control.cell import CellController, CellMember
 from irlc.runtime.model.limit_check import first_outside
 from irlc.runtime.model.naming import JointNaming
 from irlc.runtime.outputs.run_result import RunResult
-from irlc.runtime.run import (
+from irlc.runtime.run_setup import (
     HeldOutput,
     RunSetupError,
     drive_step_for,
@@ -74,6 +74,11 @@ def run_cell(
         raise RunSetupError(
             f"--robot cannot be used with a cell: the code names {len(code.robots)} robots "
             f"({', '.join(r.var for r in code.robots)})"
+        )
+    if trace_every_step:
+        raise RunSetupError(
+            "--trace-every-step cannot be used with a cell: its robots' drives step at their "
+            "own rates (the trace has a row per IPO sample)"
         )
     common = run_options(drives, ipo, override, instruction_budget, base_dir, max_time,
                          max_cycles, options, path_tolerance, orientation_tolerance,

@@ -315,6 +315,8 @@ class CellController:
                     f"COOPERATE: robot {name} is already in a cooperation", line, self.time
                 )
         w, h = self.robots[worker], self.robots[holder]
+        if vertical:
+            self._check_vertical(w, settings[worker], line)
         tool = tool_transform(h.model, settings[holder])
         pair = Cooperation(
             w,
@@ -330,6 +332,22 @@ class CellController:
         self.cooperations[worker] = pair
         w.pairs.append(pair)
         h.pairs.append(pair)
+
+    def _check_vertical(self, worker: RobotUnit, settings: Settings, line: int) -> None:
+        """``WITH VERTICAL`` holds the worker's tool z axis vertical: it must be so when the
+        cooperation starts (the two rows keep it, they do not turn the tool there)."""
+        kin = self._kin(worker.index, tool_transform(worker.model, settings))
+        z = kin.tcp(worker.controller.state.q)[:3, 2]
+        tilt = float(np.arccos(min(1.0, abs(float(z[2])))))
+        if tilt > self.opts.tol_orientation:
+            raise RunFailure(
+                f"COOPERATE {worker.name} … WITH VERTICAL: its tool z axis is "
+                f"{tilt / units.DEG:.4g} deg from vertical (the tolerance is "
+                f"{self.opts.tol_orientation / units.DEG:g} deg); move it vertical first — the "
+                "condition holds the axis, it does not turn it there",
+                line,
+                self.time,
+            )
 
     def end_cooperation(self, worker: int, holder: int, line: int) -> None:
         self.flush(f"COOPERATEEND at line {line}")
@@ -383,6 +401,9 @@ class CellController:
             return self._robot_part(unit, cmd, settings, options)
         h, w = pair.holder.index, pair.worker.index
         if r == w:
+            tool = tool_transform(pair.holder.model, settings[h])
+            if not np.array_equal(tool, pair.holder_tool):  # the workpiece frame moved
+                pair = self._pair(pair.worker, pair.holder, pair.vertical, tool)
             opts = pair.options(options[h], options[w])
             return Part(
                 pair.robots, unit.name, pair.controller, pair, pair.command(cmd), settings[w], opts

@@ -184,11 +184,11 @@ _ROBOT_KEYS = ("joints", "start_joints", "end_joints", "max_path_error_mm",
 def _robot_entry(run: CellRunData, k: int, report: dict) -> dict:
     """Robot ``k``'s entry of ``robots`` (module doc)."""
     unit = run.robots[k].unit
-    at = units.pose_from_si(unit.at)
+    at = run.code.robots[k].at or (0.0,) * 6  # as the program wrote it (mm, ZYX deg)
     entry: dict[str, Any] = {
         "name": unit.name,
         "robot": report["robot"],
-        "at": [rnd(v) for v in at],
+        "at": [rnd(float(v)) for v in at],
     }
     entry.update({key: report[key] for key in _ROBOT_KEYS if key in report})
     entry["warnings"] = [w for w in report["warnings"]]

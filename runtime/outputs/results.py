@@ -47,6 +47,7 @@ from irlc.runtime.outputs.digital_io import io_columns, signal_timelines
 from irlc.runtime.outputs.recorder import backward_jerk
 from irlc.runtime.outputs.run_result import RunResult, TraceArrays
 from irlc.runtime.outputs.samples import Samples
+from irlc.runtime.outputs.self_clearance import SelfClearanceTally
 
 if TYPE_CHECKING:
     from irlc.lang.irdata import Code
@@ -242,8 +243,10 @@ def build_report(run: RunData) -> dict:
         controller.statements, source_lines(code.source, run.base_dir), rnd
     )
     tally = _Tally(model, controller.obstacles, rows, drive is not None)
+    own = SelfClearanceTally(model)  # the robot's own links (self_clearance.py)
     for samples in run.pieces():
         tally.add(samples)
+        own.add(samples.shown)
     k = tally.k
     penetrations = tally.shown.penetrations()
     warnings = run.warnings + [
@@ -313,6 +316,7 @@ def build_report(run: RunData) -> dict:
         "program_name": code.program,
         "tool": tool_report(model, execution.state.settings.tool),
         "statements": rows,
+        "self_clearance": own.report(rnd),
     }
     if tally.motors is not None:  # per motor and statement: travel, travel time
         report["motors"] = _clean(tally.motors.report(names))
