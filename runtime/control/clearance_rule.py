@@ -24,6 +24,7 @@ monograph's own programs (koch11's links 8 and 10 by 19 mm on ``square.irl``).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from irlc.runtime import units
@@ -56,7 +57,14 @@ class Measured:
 
     def closest(self) -> Clearance | None:
         """The closest pair (the first of equal ones); ``None`` without pairs."""
-        return self.pair(int(np.argmin(self.d))) if self.d.size else None
+        return self.nearest
+
+    @cached_property
+    def nearest(self) -> Clearance | None:
+        if not self.d.size:
+            return None
+        k = int(np.argmin(self.d))
+        return self.parts.clearance(k, float(self.d[k]), self.p[k], self.q[k], self.a, self.b)
 
 
 class ClearanceRule:

@@ -93,6 +93,7 @@ class Cooperation:
             budget=budget,
         )
         self.base = 0  # the cell sample index of the pair's sample 0 (begin())
+        self.controller.collisions.link_label = self.layout.bodies.link_label  # welder link 2
         self._holder_kin = Kinematics(holder.model, self.holder_tool)
 
     def join_names(self, holder: tuple[str, ...], worker: tuple[str, ...]) -> tuple[str, ...]:

@@ -11,7 +11,7 @@ their distance, the distance after the cycle's displacement ``δ`` is to first o
 ``R + n·(J_a(x_a) − J_b(x_b))δ − n·Δx_b`` (``J``: the point Jacobians in the chain's
 columns, ``J_b = 0`` for another robot's part, ``Δx_b`` that part's predicted displacement
 this cycle: its robot's last one). The row keeps it from closing faster than a damper
-allows ([Faverjon, Tournassoud 1987]'s velocity damper)::
+allows (the velocity damper of [Faverjon & Tournassoud 1987])::
 
     n·(J_a − J_b)δ ≥ n·Δx_b − ξ(R − d⁺),      ξ = DAMPING,  d⁺ = keep + MARGIN
 
@@ -83,6 +83,7 @@ class ClearanceRows:
         self.A = np.zeros((0, chain.n))
         self.bound_d = np.zeros(0)
         self.labels: list[tuple[str, str]] = []
+        self.pairs: list[tuple[int, int]] = []  # per row: its chain part, the other's index
         self.distance = 0.0
         self.robot = ""
 
@@ -100,7 +101,7 @@ class ClearanceRows:
             world[o : o + r.kin.n + 1] for r, o in zip(parts.robots, self.offsets, strict=True)
         ]
         a, b = parts.world(frames)
-        rows, bounds, labels = [], [], []
+        rows, bounds, labels, self.pairs = [], [], [], []
         if len(parts):
             d, _, _, p, q = parts.distances(a, b)
             targets = parts.keep(spec.distance) + MARGIN
@@ -110,6 +111,7 @@ class ClearanceRows:
                 jb = bodies.jacobian(world, self._link(c.robot_b, c.link_b), c.point_b)[:3]
                 rows.append(c.direction @ (ja - jb))
                 bounds.append(-DAMPING * (c.distance - float(targets[k])))
+                self.pairs.append((int(parts.i[k]), int(parts.j[k])))
                 labels.append((self._label(c.robot_a, c.link_a), self._label(c.robot_b, c.link_b)))
         others = spec.neighbours() if spec.neighbours is not None else None
         if others is not None and len(others.radius):
@@ -150,6 +152,7 @@ class ClearanceRows:
             moved = (1.0 - t[k]) * nb.da[pj] + t[k] * nb.db[pj]
             rows.append(n @ ja)
             bounds.append(float(n @ moved) - DAMPING * (float(d[k]) - target))
+            self.pairs.append((pi, -1 - pj))  # (a neighbour's part j: −1 − j)
             labels.append((self._label(robot, link), f"{nb.robot[pj]} link {int(nb.link[pj])}"))
 
     def at(self, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

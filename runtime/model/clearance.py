@@ -57,17 +57,20 @@ def segment_distances(p0, p1, q0, q1) -> tuple[np.ndarray, np.ndarray, np.ndarra
     safe_a = np.where(p_point, 1.0, a)
     safe_e = np.where(q_point, 1.0, e)
     denom = a * e - b * b
-    general = denom > _EPS * a * e
-    s = np.where(general, np.clip((b * f - c * e) / np.where(general, denom, 1.0), 0.0, 1.0), 0.0)
+    s = np.zeros_like(a)
+    np.divide(b * f - c * e, denom, out=s, where=denom > _EPS * a * e)
+    np.clip(s, 0.0, 1.0, out=s)
     t = (b * s + f) / safe_e
-    low, high = t < 0.0, t > 1.0
-    s = np.where(low, np.clip(-c / safe_a, 0.0, 1.0), s)
-    s = np.where(high, np.clip((b - c) / safe_a, 0.0, 1.0), s)
-    t = np.clip(t, 0.0, 1.0)
-    # a point against a segment, a segment against a point, two points
-    s = np.where(p_point, 0.0, np.where(q_point, np.clip(-c / safe_a, 0.0, 1.0), s))
-    t = np.where(p_point, np.where(q_point, 0.0, np.clip(f / safe_e, 0.0, 1.0)), t)
-    t = np.where(q_point & ~p_point, 0.0, t)
+    s = np.where(t < 0.0, -c / safe_a, np.where(t > 1.0, (b - c) / safe_a, s))
+    np.clip(s, 0.0, 1.0, out=s)
+    np.clip(t, 0.0, 1.0, out=t)
+    odd = p_point | q_point
+    if odd.any():  # a point against a segment, a segment against a point, two points
+        only_q = q_point & ~p_point
+        s[p_point] = 0.0
+        s[only_q] = np.clip(-c[only_q] / safe_a[only_q], 0.0, 1.0)
+        t[only_q] = 0.0
+        t[p_point] = np.where(q_point[p_point], 0.0, np.clip(f[p_point] / safe_e[p_point], 0, 1))
     return s, t, p0 + s[:, None] * d1, q0 + t[:, None] * d2
 
 
@@ -164,6 +167,10 @@ class PartSet:
         self.group = np.array(
             [index[(int(x), int(y))] for x, y in zip(ra, rb, strict=True)], dtype=int
         )
+        # the pairs come group by group: (group, start, stop) of each block of pairs
+        edges = (np.flatnonzero(np.diff(self.group)) + 1).tolist()
+        bounds = list(zip([0, *edges], [*edges, self.group.size], strict=True))
+        self._blocks = [(int(self.group[a]), a, b) for a, b in bounds if b > a]
 
     def __len__(self) -> int:
         return self.i.size
@@ -173,11 +180,10 @@ class PartSet:
         the pair distances ``d`` and the index of its pair."""
         best = np.full(len(self.groups), np.inf)
         arg = np.zeros(len(self.groups), dtype=int)
-        order = np.lexsort((d, self.group))  # by group, then distance
-        first = np.ones(order.size, dtype=bool)
-        first[1:] = self.group[order[1:]] != self.group[order[:-1]]
-        for k in order[first]:
-            best[self.group[k]], arg[self.group[k]] = d[k], k
+        for g, start, stop in self._blocks:
+            k = start + int(np.argmin(d[start:stop]))
+            if d[k] < best[g]:
+                best[g], arg[g] = d[k], k
         return best, arg
 
     def keep(self, distance: float) -> np.ndarray:
