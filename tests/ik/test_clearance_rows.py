@@ -41,7 +41,7 @@ def test_rows_are_the_distance_gradient_and_the_damped_bound():
     rng = np.random.default_rng(3)
     q = panda.home_q() + rng.normal(scale=0.2, size=7)
     elbow = chain.world_frames(q)[4][:3, 3]
-    nb = _sphere(elbow + [0.0, 0.0, 0.15], 0.02)
+    nb = _sphere(elbow + np.array([0.0, 0.0, 0.15]), 0.02)
     rows = ClearanceRows(chain)
     rows.prepare(ClearanceSpec(0.05, lambda: nb), q)
     assert len(rows) and any(j < 0 for _, j in rows.pairs) and any(j >= 0 for _, j in rows.pairs)

@@ -342,8 +342,8 @@ ENDPROGRAM
 """, encoding="utf-8")  # fmt: skip
     assert main([str(program), "-q"]) == 2
     err = capsys.readouterr().err
-    assert f"{program}:8:3: error: run-time failure at t = 0.000 s: MOVE PTP target for robot hand " \
-        "needs 7 values, got a MAIN_JOINT of 6" in err  # fmt: skip
+    where = f"{program}:8:3: error: run-time failure at t = 0.000 s: "
+    assert where + "MOVE PTP target for robot hand needs 7 values, got a MAIN_JOINT of 6" in err
 
 
 def test_a_single_robot_placed_by_at_is_in_the_cell_frame():
@@ -383,7 +383,7 @@ def test_every_robot_s_drives(cooperating):
         assert len(axes) == 6 and entry["drives_summary"]["could_follow"]
     assert run.robots["holder"].drive is not None
     assert np.array_equal(run.robots["holder"].times, run.robots["welder"].times)
-    assert 0.0 < run.report["max_path_error_mm"]  # the actual motion lags the set points
+    assert run.report["max_path_error_mm"] > 0.0  # the actual motion lags the set points
 
 
 def test_cell_part_set_matches_the_run(two_robots):

@@ -31,7 +31,7 @@ def test_batched_segment_distances_equal_the_scalar_routine_and_sampling():
     P[250 : 250 + 50, 3] = P[250:300, 2] + 1.5 * (P[250:300, 1] - P[250:300, 0])  # parallel
     P[300:350, 2:] = P[300:350, :2] + [0.0, 0.0, 0.3]  # parallel, overlapping in s
     s, t, p, q = segment_distances(P[:, 0], P[:, 1], P[:, 2], P[:, 3])
-    assert np.all((0 <= s) & (s <= 1) & (0 <= t) & (t <= 1))
+    assert np.all((s >= 0) & (s <= 1) & (t >= 0) & (t <= 1))
     got = np.linalg.norm(p - q, axis=1)
     for k in range(len(P)):
         _, _, p0, q0 = closest_segment_segment(*P[k])
