@@ -17,81 +17,55 @@ robot's) links inside each other, fails the program's first statement at t = 0.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 from irlc.lang.irdata import Code
 from irlc.runtime import engine_policy, units
+from irlc.runtime import run_setup as setup
 from irlc.runtime.control.cell import CellController, CellMember
 from irlc.runtime.model.limit_check import first_outside
 from irlc.runtime.model.naming import JointNaming
 from irlc.runtime.outputs.run_result import RunResult
-from irlc.runtime.run_setup import (
-    HeldOutput,
-    RunSetupError,
-    drive_step_for,
-    first_line,
-    interpret,
-    load_model,
-    obstacle_shapes,
-    placed,
-    placement,
-    run_options,
-)
+from irlc.runtime.run_setup import HeldOutput, RunSetupError
 
 
-def run_cell(
-    code: Code,
-    *,
-    robot=None,
-    ipo: float | None = None,
-    drives: str = "ideal",
-    seed_config: Sequence[float] | None = None,
-    base_dir: str | Path | None = None,
-    progress: Callable[[float, int], None] | None = None,
-    output: Callable[[str], None] | None = None,
-    options=None,
-    trace_every_step: bool = False,
-    path_tolerance: float | None = None,
-    orientation_tolerance: float | None = None,
-    instruction_budget: int | None = None,
-    max_time: float | None = None,
-    max_cycles: int | None = None,
-    override: float | None = None,
-    allow_any_path: bool = False,
-    allow_collisions: bool = False,
-    phase: Callable[[str], None] | None = None,
-    engine: str | None = None,
-) -> RunResult:
-    """Execute a cell's ``code`` (module doc; the arguments are :func:`run_code`'s, which
-    calls this one; ``robot`` — another robot for the program — is refused: a cell names
-    its robots)."""
+def run_cell(code: Code, arguments: dict) -> RunResult:
+    """Execute a cell's ``code`` (module doc). ``arguments`` are :func:`run_code`'s keyword
+    arguments, which calls this one (its docstring); ``robot`` — another robot for the
+    program — is refused: a cell names its robots."""
     from irlc.runtime.outputs.cell_results import CellRunData, RobotRun, assemble_cell
 
+    a = arguments
+    robot, drives, seed_config, progress = a["robot"], a["drives"], a["seed_config"], a["progress"]
+    output, options, phase = a["output"], a["options"], a["phase"]
     if robot is not None:
         raise RunSetupError(
             f"--robot cannot be used with a cell: the code names {len(code.robots)} robots "
             f"({', '.join(r.var for r in code.robots)})"
         )
-    if trace_every_step:
+    if a["trace_every_step"]:
         raise RunSetupError(
             "--trace-every-step cannot be used with a cell: its robots' drives step at their "
             "own rates (the trace has a row per IPO sample)"
         )
-    common = run_options(drives, ipo, override, instruction_budget, base_dir, max_time,
-                         max_cycles, options, path_tolerance, orientation_tolerance,
-                         allow_collisions)  # fmt: skip
+    common = setup.run_options(
+        drives, a["ipo"], a["override"], a["instruction_budget"], a["base_dir"], a["max_time"],
+        a["max_cycles"], options, a["path_tolerance"], a["orientation_tolerance"],
+        a["allow_collisions"],
+    )  # fmt: skip
     opts = common.options
-    members = cell_members(code, common.base_dir, seed_config, allow_any_path)
+    members = cell_members(code, common.base_dir, seed_config, a["allow_any_path"])
     if drives != "ideal":
-        opts.drive_step_s = min(drive_step_for(m.model, drives, m.q0) for m in members)
+        opts.drive_step_s = min(setup.drive_step_for(m.model, drives, m.q0) for m in members)
     if opts.engine is None and (opts.ik is None or opts.ik.accel is None):
-        opts.engine = engine_policy.for_run(engine)
-    cell = CellController(members, obstacles=obstacle_shapes(code), options=opts, progress=progress)
+        opts.engine = engine_policy.for_run(a["engine"])
+    cell = CellController(
+        members, obstacles=setup.obstacle_shapes(code), options=opts, progress=progress
+    )
     held = None if drives == "ideal" else HeldOutput(cell)  # judged by the drives first
-    execution = interpret(code, cell, common.settings, held or output, common.budget,
+    execution = setup.interpret(code, cell, common.settings, held or output, common.budget,
                           _start_failure(code, cell, members, seed_config))  # fmt: skip
     robots = [RobotRun.kinematic(unit) for unit in cell.robots]
     verdict_failure = None
@@ -101,7 +75,7 @@ def run_cell(
             phase(f"simulating the drives ({drives}) of {len(robots)} robots over {t_end:.2f} s")
         until = None if execution.error is None else execution.error.time_s
         for run in robots:
-            run.drive(drives, trace_every_step, cell.obstacles, opts, until)
+            run.drive(drives, False, cell.obstacles, opts, until)
         verdict_failure = _first_failure(robots, until)
         if verdict_failure is not None:
             t_f = float(verdict_failure.time_s)
@@ -127,7 +101,7 @@ def cell_members(
     for k, r in enumerate(robots):
         where = "{}:{}:{}: ".format(*r.position) if r.position else ""
         try:
-            model = load_model(r.robot, base_dir, restricted=not allow_any_path)
+            model = setup.load_model(r.robot, base_dir, restricted=not allow_any_path)
         except RunSetupError as exc:
             raise RunSetupError(f"{where}cannot use robot {r.robot} of {r.var}: {exc}") from None
         kinds = kind_letters(model.joint_kinds)
@@ -136,10 +110,10 @@ def cell_members(
                 f"{where}the code was compiled for robot {r.var} with {r.joint_count} joints "
                 f"({r.joint_kinds}) but robot {model.name} has {model.n} ({kinds})"
             )
-        model = placed(model, r.at)
+        model = setup.placed(model, r.at)
         naming = JointNaming.for_model(model, r.joint_names)
         q0 = _start(model, seeds[k], naming, r.var)
-        out.append(CellMember(r.var, model, q0, naming, placement(r.at)))
+        out.append(CellMember(r.var, model, q0, naming, setup.placement(r.at)))
     return out
 
 
@@ -184,7 +158,7 @@ def _start(model, seed: list[float] | None, naming: JointNaming, name: str) -> n
 
 def _start_failure(code: Code, cell: CellController, members, seed_config):
     """The failure of a start inside an obstacle or with links inside each other."""
-    line = first_line(code)
+    line = setup.first_line(code)
     origin = "--seed-config" if seed_config is not None else "the robots' homes"
     for unit in cell.robots:
         clear = unit.channel.last_clearances()

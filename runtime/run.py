@@ -230,13 +230,14 @@ def run_code(
     if code.is_cell:
         from irlc.runtime.cell_run import run_cell
 
-        return run_cell(code, robot=robot, ipo=ipo, drives=drives, seed_config=seed_config,
-                        base_dir=base_dir, progress=progress, output=output, options=options,
-                        trace_every_step=trace_every_step, path_tolerance=path_tolerance,
-                        orientation_tolerance=orientation_tolerance,
-                        instruction_budget=instruction_budget, max_time=max_time,
-                        max_cycles=max_cycles, override=override, allow_any_path=allow_any_path,
-                        allow_collisions=allow_collisions, phase=phase, engine=engine)  # fmt: skip
+        arguments = dict(robot=robot, ipo=ipo, drives=drives, seed_config=seed_config,
+                         base_dir=base_dir, progress=progress, output=output, options=options,
+                         trace_every_step=trace_every_step, path_tolerance=path_tolerance,
+                         orientation_tolerance=orientation_tolerance,
+                         instruction_budget=instruction_budget, max_time=max_time,
+                         max_cycles=max_cycles, override=override, allow_any_path=allow_any_path,
+                         allow_collisions=allow_collisions, phase=phase, engine=engine)  # fmt: skip
+        return run_cell(code, arguments)
     setup = _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolerance,
                    orientation_tolerance, instruction_budget, max_time, max_cycles,
                    override, allow_any_path, allow_collisions)  # fmt: skip

@@ -317,21 +317,18 @@ class CellController:
         w, h = self.robots[worker], self.robots[holder]
         if vertical:
             self._check_vertical(w, settings[worker], line)
-        tool = tool_transform(h.model, settings[holder])
-        pair = Cooperation(
-            w,
-            h,
-            vertical,
-            tool,
-            obstacles=self.obstacles,
-            options=self.opts,
-            budget=self.budget,
-            progress=self.progress,
-        )
+        self._pair(w, h, vertical, tool_transform(h.model, settings[holder]))
+
+    def _pair(self, w: RobotUnit, h: RobotUnit, vertical: bool, tool: np.ndarray) -> Cooperation:
+        """The cooperation of ``w`` in ``h`` with the holder's full ``tool`` (a new one when
+        the holder's R_TOOL changes inside the block: another workpiece frame)."""
+        pair = Cooperation(w, h, vertical, tool, obstacles=self.obstacles, options=self.opts,
+                           budget=self.budget, progress=self.progress)  # fmt: skip
         self._attach(pair)
-        self.cooperations[worker] = pair
+        self.cooperations[w.index] = pair
         w.pairs.append(pair)
         h.pairs.append(pair)
+        return pair
 
     def _check_vertical(self, worker: RobotUnit, settings: Settings, line: int) -> None:
         """``WITH VERTICAL`` holds the worker's tool z axis vertical: it must be so when the

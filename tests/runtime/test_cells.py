@@ -392,3 +392,66 @@ def test_cell_part_set_matches_the_run(two_robots):
     parts = PartSet([RobotParts(n, _kin(run, n)) for n in ("ceiling", "floor")])
     assert [tuple(g) for g in parts.groups] == [(0, 0), (0, 1), (1, 1)]
     assert len(run.report["clearance"]["pairs"]) == 3
+
+
+def test_a_holder_tool_changed_inside_cooperate_moves_the_workpiece_frame():
+    """After ``holder.R_TOOL := …`` inside the block the welder's poses are in the holder's
+    new tool frame: its LIN ends there (own FK of both robots, the new tool)."""
+    text = (PROGRAMS / "cooperating.irl").read_text(encoding="utf-8")
+    seam = "    MOVE welder LIN seam_start WITH SPEED := 50;\n    MOVE welder LIN seam_end"
+    text = text.replace(
+        seam + " WITH SPEED := 50;\n",
+        "    holder.R_TOOL := (0, 0, 80, 0, 0, 0);\n    seam_start := welder.R_ACT_POSE;\n"
+        "    MOVE welder LIN seam_start : (50, 20, 0, 0, 0, 10) WITH SPEED := 50;\n",
+    )  # fmt: skip
+    run = _run(text, "cooperating.irl")
+    assert run.ok, run.error
+    holder, welder = run.robots["holder"], run.robots["welder"]
+    tool = holder.model.tool @ _pose(0, 0, 80, 0, 0, 0)
+    before = np.flatnonzero(holder.recorded.lines < 31)[-1]
+    start = spatial.inverse(_kin(run, "holder", tool).tcp(holder.q[before])) @ _kin(
+        run, "welder"
+    ).tcp(welder.q[before])
+    end = spatial.inverse(_kin(run, "holder", tool).tcp(holder.q[-1])) @ _kin(run, "welder").tcp(
+        welder.q[-1]
+    )
+    assert np.allclose(end, start @ _pose(50, 20, 0, 0, 0, 10), atol=1e-7)
+
+
+@pytest.mark.scenario
+def test_r_clearance_keeps_a_single_robot_s_own_links(tmp_path):
+    """square.irl's koch11 folds links 8 and 10 19 mm into each other (reported, not judged);
+    with R_CLEARANCE := 10 they stay apart (their home distance, 7.3 mm, is below 10 mm: they
+    keep 0, aimed 1 mm) and the TCP still follows the square."""
+    import shutil
+
+    for name in ("square.irl", "square_cell.toml"):
+        shutil.copy(PROGRAMS / name, tmp_path / name)
+    program = tmp_path / "square.irl"
+    plain = run_file(program)
+    assert plain.ok and plain.report["self_clearance"]["min_distance_mm"] < -18.0
+    text = program.read_text(encoding="utf-8").replace(
+        "  R_SPEED := 1000;", "  R_SPEED := 1000;  R_CLEARANCE := 10;"
+    )
+    program.write_text(text, encoding="utf-8")
+    kept = run_file(program)
+    assert kept.ok, kept.error
+    own = kept.report["self_clearance"]
+    assert 0.99 <= own["min_distance_mm"] < 1.5 and (own["link_a"], own["link_b"]) == (8, 10)
+    assert kept.report["max_path_error_mm"] < 1e-3
+
+
+def test_setup_errors_of_a_cell_are_usage_errors():
+    from irlc.runtime.run import RunSetupError
+
+    text = (PROGRAMS / "two_robots.irl").read_text(encoding="utf-8")
+    code = compile_source(text, "two_robots.irl", resolve_robot=load_robot).code
+    with pytest.raises(RunSetupError, match=r"--seed-config has 6 values but the cell's robots "
+                       r"have 13 joints \(ceiling: 6, floor: 7\)"):  # fmt: skip
+        run_code(code, seed_config=[0.0] * 6)
+    with pytest.raises(RunSetupError, match="robot floor's joint a4 \\(panda_joint4\\) = 0 deg"):
+        run_code(code, seed_config=[90.0, 30, 0, 30, 90, 0, 0, 0, 0, 0, 0, 90, 45])
+    with pytest.raises(RunSetupError, match="--robot cannot be used with a cell"):
+        run_code(code, robot="as6")
+    with pytest.raises(RunSetupError, match="--trace-every-step cannot be used with a cell"):
+        run_code(code, trace_every_step=True, drives="decoupled")
