@@ -303,6 +303,18 @@ class RobotSegments:
         b = np.einsum("kij,kj->ki", rot, self.b_local) + pos
         return a, b
 
+    def world_many(self, kin: Kinematics, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`world` of ``k`` configurations' link frames (``(k, n+1, 4, 4)`` →
+        ``(k, parts, 3)`` each)."""
+        if self.fallback:
+            ends = [self.world(kin, f) for f in frames]
+            return np.stack([e[0] for e in ends]), np.stack([e[1] for e in ends])
+        linked = frames[:, self.links]  # (k, parts, 4, 4)
+        rot, pos = linked[:, :, :3, :3], linked[:, :, :3, 3]
+        a = np.einsum("kpij,pj->kpi", rot, self.a_local) + pos
+        b = np.einsum("kpij,pj->kpi", rot, self.b_local) + pos
+        return a, b
+
 
 _SEGMENTS: dict[int, tuple[object, RobotSegments]] = {}
 

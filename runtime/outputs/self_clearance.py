@@ -3,10 +3,11 @@ robot (``self_clearance``, docs/interfaces.md).
 
 The watched pairs are those of :mod:`irlc.runtime.model.clearance` (parts on links at least
 two apart that are apart at the robot's home). Measured after the run on the samples the
-report shows (with drives: the actual joints), one forward kinematics per sample and all
-pairs of all samples in one batched distance query. It is reported, not judged: a program
-of one robot keeps the verdict it had before cells (:mod:`irlc.runtime.control.
-clearance_rule`); ``R_CLEARANCE`` > 0 judges the links during the run.
+report shows (with drives: the actual joints): the forward kinematics of all samples and
+the distances of all their pairs batched (``Kinematics.link_frames_many``). It is reported,
+not judged: a program of one robot keeps the verdict it had before cells
+(:mod:`irlc.runtime.control.clearance_rule`); ``R_CLEARANCE`` > 0 judges the links during
+the run.
 """
 
 from __future__ import annotations
@@ -15,6 +16,8 @@ import numpy as np
 from irlc.runtime import units
 from irlc.runtime.model.clearance import PartSet, RobotParts, segment_distances
 from irlc.runtime.model.kinematics import Kinematics
+
+CHUNK = 2048  # samples measured at once (≈ 100 pairs each: a few MB of temporaries)
 
 
 class SelfClearanceTally:
@@ -27,27 +30,31 @@ class SelfClearanceTally:
         self.best: tuple[float, float, int, int, int] | None = None  # d, t, line, links
 
     def add(self, motion) -> None:
-        """One piece of a :class:`~irlc.runtime.outputs.samples.Motion`."""
-        parts, n = self.parts, len(motion.times)
+        """One piece of a :class:`~irlc.runtime.outputs.samples.Motion` (measured
+        :data:`CHUNK` samples at a time: bounded memory on a long run)."""
+        for start in range(0, len(motion.times), CHUNK):
+            self._add(motion, slice(start, start + CHUNK))
+
+    def _add(self, motion, rows: slice) -> None:
+        parts = self.parts
+        qs = motion.q[rows]
+        n = len(qs)
         if not len(parts) or not n:
             return
         robot = parts.robots[0]
-        ends = [robot.world(self.kin.link_frames(q)) for q in motion.q]
-        a = np.stack([e[0] for e in ends])  # (samples, parts, 3)
-        b = np.stack([e[1] for e in ends])
+        a, b = robot.segments.world_many(self.kin, self.kin.link_frames_many(qs))
         i, j = parts.i, parts.j
         _, _, p, q = segment_distances(
             a[:, i].reshape(-1, 3), b[:, i].reshape(-1, 3), a[:, j].reshape(-1, 3),
             b[:, j].reshape(-1, 3),
         )  # fmt: skip
-        diff = p - q
-        d = np.sqrt(np.einsum("ij,ij->i", diff, diff)).reshape(n, -1)
-        d -= parts.radius[i] + parts.radius[j]
+        d = np.linalg.norm(p - q, axis=1).reshape(n, -1) - (parts.radius[i] + parts.radius[j])
         k, pair = np.unravel_index(int(np.argmin(d)), d.shape)
         value = float(d[k, pair])
         if self.best is None or value < self.best[0]:
             links = int(parts.link[i[pair]]), int(parts.link[j[pair]])
-            self.best = (value, float(motion.times[k]), int(motion.lines[k]), *links)
+            times, lines = motion.times[rows], motion.lines[rows]
+            self.best = (value, float(times[k]), int(lines[k]), *links)
 
     def report(self, rnd) -> dict | None:
         """``{"min_distance_mm", "at_time_s", "line", "link_a", "link_b"}``; ``None`` for a

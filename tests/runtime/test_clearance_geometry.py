@@ -108,3 +108,18 @@ def test_self_clearance_of_a_program_of_one_robot_against_sampling():
     assert own["min_distance_mm"] == pytest.approx(best * 1000, abs=0.5)
     assert (own["link_a"], own["link_b"]) == links
     assert run.status == "ok"  # reported, not judged
+
+
+@pytest.mark.parametrize("name", ["koch11", "panda", "mobile8", "l1"])
+def test_batched_forward_kinematics_is_the_one_at_a_time(name):
+    model = load_robot(name)
+    kin = Kinematics(model)
+    lim = model.position_limits
+    qs = lim[:, 0] + np.random.default_rng(1).random((40, model.n)) * (lim[:, 1] - lim[:, 0])
+    many = kin.link_frames_many(qs)
+    assert all(np.array_equal(many[k], kin.link_frames(q)) for k, q in enumerate(qs))
+    seg = RobotParts("", kin).segments
+    a, b = seg.world_many(kin, many)
+    for k in range(0, 40, 7):
+        a1, b1 = seg.world(kin, many[k])
+        assert np.allclose(a[k], a1, atol=1e-15) and np.allclose(b[k], b1, atol=1e-15)
