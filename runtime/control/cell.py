@@ -491,10 +491,12 @@ class CellController:
         unit.emit(k)
         if any(len(self.robots[r].channel) <= k for r in self.moving):
             return  # a group move: the others' cycle is still to come
+        rec = unit.controller.recorder  # the sample's line (a blend's tail keeps its own)
+        line = int(rec.rows("lines", len(rec) - 1, len(rec))[0])
         for u in self.robots:
             if u.index not in self.moving:
-                self.hold(u, state.t, state.line)
-        self.measure(k, state.t, state.line)
+                self.hold(u, state.t, line)
+        self.measure(k, state.t, line)
 
     def settle(self) -> None:
         """Every channel and the clearances brought to the longest channel (after a

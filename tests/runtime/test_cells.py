@@ -132,8 +132,9 @@ def test_vertical_and_master_slave_and_a_third_robot():
     assert run.ok, run.error
     holder, welder = run.robots["holder"], run.robots["welder"]
     kh, kw = _kin(run, "holder"), _kin(run, "welder")
-    for name in ("welder", "third"):
+    for name in ("welder", "third"):  # one clock: the same times and lines (blends too)
         assert np.array_equal(run.robots[name].times, holder.times)
+        assert np.array_equal(run.robots[name].recorded.lines, holder.recorded.lines)
     inside = (holder.recorded.lines >= 15) & (holder.recorded.lines <= 22)
     z = np.array([kw.tcp(q)[:3, 2] for q in welder.q[inside]])
     assert np.abs(z[:, :2]).max() < 1e-8  # vertical
@@ -455,3 +456,35 @@ def test_setup_errors_of_a_cell_are_usage_errors():
         run_code(code, robot="as6")
     with pytest.raises(RunSetupError, match="--trace-every-step cannot be used with a cell"):
         run_code(code, trace_every_step=True, drives="decoupled")
+
+
+def test_blends_in_a_cell_keep_every_robot_on_one_clock():
+    """A robot's motions blend (a tried and shortened blend too); another robot's motion
+    first ends the pending one exactly ("another robot moves"); every robot has every
+    sample, with the same times and lines."""
+    run = _run("""PROGRAM approx;
+ROBOT a := as6;
+ROBOT b := as6 AT (0, -2200, 0, 180, 0, 0);
+CONST MAIN_JOINT: h = (90, 40, -30, 50, 60, 20);
+VAR POSE: p, q;
+BEGIN
+  R_SPEED := 50;
+  R_ACC := 300;
+  MOVE a PTP h AND b PTP h;
+  p := a.R_ACT_POSE;
+  q := b.R_ACT_POSE;
+  MOVE a LIN p : (0, 0, -50, 0, 0, 0) WITH APPROX := 20;
+  MOVE b LIN q : (0, 0, -50, 0, 0, 0) WITH APPROX := 20;
+  MOVE a LIN p WITH APPROX := 20;
+  MOVE a LIN p : (0, 30, 0, 0, 0, 0);
+ENDPROGRAM
+""")
+    assert run.ok, run.error
+    a, b = run.robots["a"], run.robots["b"]
+    assert np.array_equal(a.times, b.times) and np.array_equal(a.recorded.lines, b.recorded.lines)
+    assert np.all(np.diff(a.times) > 0)
+    notes = {(x["robot"], x["line"]): x for x in run.report["approximations"]}
+    assert notes[("a", 12)]["note"] == notes[("b", 13)]["note"] == "another robot moves"
+    assert notes[("a", 14)]["blended"]
+    held = a.recorded.lines == 13  # robot a holds while b moves
+    assert np.ptp(a.q[held], axis=0).max() == 0.0
