@@ -1,6 +1,7 @@
 """Regenerate the figures of docs/tutorial.md, docs/language.md and docs/ik.md into docs/img/.
 
-    python docs/make_figures.py [plots] [screenshot] [platform]   # default: all
+    python docs/make_figures.py [plots] [screenshot] [platform] [criteria] [cooperating]
+    # default: all
     # needs matplotlib; chromium for the screenshot
 
 Each tutorial figure is one file of ``irlc.plots.write_plots`` for a run of a program in
@@ -12,6 +13,9 @@ PLATFORM (the two curves coincide: the platform moves in step with the TCP).
 ``criteria.png`` (docs/ik.md, "ENERGY and MVR", group ``criteria``) runs
 programs/square_energy.irl and programs/reach_mvr.irl as written and with
 ``R_CRITERION := 'DISTANCE'``.
+``cooperating.png`` (docs/runtime.md, "Cells of several robots", group ``cooperating``) is
+the seed's figure 3.5 for ``programs/cooperating.irl``: both robots' joints along the seam,
+without and with the JOINTLIMIT sets.
 """
 
 from __future__ import annotations
@@ -226,9 +230,63 @@ def make_platform_figures() -> None:
         plt.close(fig)
 
 
+COOPERATING_LIMITS = {"holder": (4, 60.0, 100.0), "welder": (3, 20.0, 60.0)}  # J5, J4 (deg)
+
+
+def make_cooperating() -> None:
+    """Fig. 3.5 for programs/cooperating.irl: joints 1–6 of the holder and the welder along
+    the seam (inside COOPERATE), (a, b) without the JOINTLIMIT statements, (c, d) with them;
+    the two narrowed ranges dashed."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from irlc.lang import compile_source
+    from irlc.robots import load_robot
+    from irlc.runtime.run import run_code, run_file
+
+    path = PROGRAMS / "cooperating.irl"
+    text = path.read_text(encoding="utf-8")
+    lines = text.splitlines()
+    first = next(i + 1 for i, line in enumerate(lines) if "COOPERATE welder IN holder" in line)
+    free_text = "\n".join("" if line.lstrip().startswith("JOINTLIMIT") else line for line in lines)
+    free = run_code(compile_source(free_text, str(path), resolve_robot=load_robot).code)
+    runs = (("without JOINTLIMIT", free), ("with JOINTLIMIT", run_file(path)))
+    fig, axes = plt.subplots(2, 2, figsize=(10, 6.4), sharex=True, sharey=True)
+    for row, (label, run) in enumerate(runs):
+        for col, name in enumerate(("holder", "welder")):
+            ax, robot = axes[row][col], run.robots[name]
+            at = robot.recorded.lines >= first
+            t = robot.times[at] - robot.times[at][0]
+            q = np.degrees(robot.q[at])
+            for j in range(q.shape[1]):
+                ax.plot(
+                    t,
+                    q[:, j],
+                    label=f"J{j + 1}",
+                    lw=1.4 if j == COOPERATING_LIMITS[name][0] else 0.9,
+                )
+            joint, lo, hi = COOPERATING_LIMITS[name]
+            for bound in (lo, hi):
+                ax.axhline(bound, ls="--", lw=0.8, color=f"C{joint}")
+            panel = "abcd"[2 * row + col]
+            ax.set_title(f"({panel}) {name}, {label}: J{joint + 1} in [{lo:g}, {hi:g}]", fontsize=9)
+            ax.grid(alpha=0.3)
+            if row == 1:
+                ax.set_xlabel("t in COOPERATE [s]")
+            if col == 0:
+                ax.set_ylabel("joint [deg]")
+    axes[0][1].legend(loc="upper right", fontsize=7, ncol=2)
+    fig.suptitle("programs/cooperating.irl: the seam as one chain of 12 joints (seed fig. 3.5)")
+    fig.tight_layout()
+    fig.savefig(IMG / "cooperating.png", dpi=90)
+    print("docs/img/cooperating.png")
+
+
 def main() -> None:
     IMG.mkdir(parents=True, exist_ok=True)
-    groups = set(sys.argv[1:]) or {"plots", "screenshot", "platform", "criteria"}
+    groups = set(sys.argv[1:]) or {"plots", "screenshot", "platform", "criteria", "cooperating"}
     names = {n for f in FIGURES for n in f[1:3] if n} | {SCREENSHOT[1]}
     runs = {n: _run(n) for n in sorted(names)} if groups & {"plots", "screenshot"} else {}
     if "plots" in groups:
@@ -239,6 +297,8 @@ def main() -> None:
         make_platform_figures()
     if "criteria" in groups:
         make_criteria_figure()
+    if "cooperating" in groups:
+        make_cooperating()
 
 
 if __name__ == "__main__":

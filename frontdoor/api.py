@@ -5,6 +5,7 @@ from irlc import compile_program, run_program, load_robot
 robot = load_robot("koch11")                    # RobotModel (SI)
 code = compile_program("programs/square.irl")   # IRDATA Code; CompileError on errors
 run = run_program("programs/square.irl")        # RunResult: status, report, trace, q
+run.robots["r"].q                               # each robot's samples (a cell: several)
 """
 
 from __future__ import annotations

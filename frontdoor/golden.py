@@ -98,6 +98,12 @@ def reduce_report(report: dict) -> dict:
         name: {"min_distance_mm": _q((v or {}).get("min_distance_mm"), 0.1)}
         for name, v in sorted(obstacles.items())
     }
+    clearance = report.get("clearance")
+    if clearance:  # a cell: the least distance between links, and per pair of robots
+        out["clearance"] = {"min_distance_mm": _q(clearance.get("min_distance_mm"), 0.1)}
+        for pair in clearance.get("pairs") or []:
+            name = f"{pair.get('robot_a')}-{pair.get('robot_b')}"
+            out["clearance"][name] = {"min_distance_mm": _q(pair.get("min_distance_mm"), 0.1)}
     out["ik_relaxed_cycles"] = (report.get("ik") or {}).get("relaxed_cycles")
     out["output"] = list(report.get("output") or [])
     return out

@@ -38,10 +38,9 @@ def _limit_cell(joint: dict) -> Text:
     return Text(f"{t:.2f}s{short}", style="yellow")
 
 
-def joints_table(report: dict) -> Table:
-    table = Table(
-        title="joints (deg | mm, /s, /s²)", title_justify="left", show_edge=False, pad_edge=False
-    )
+def joints_table(report: dict, title: str = "joints (deg | mm, /s, /s²)") -> Table:
+    """Per joint of the report (or of a cell's robot entry): range, end, peaks, limits."""
+    table = Table(title=title, title_justify="left", show_edge=False, pad_edge=False)
     labels = [
         f"{joint_label(j['name'], j.get('robot_name'))} [{j['unit']}]" for j in report["joints"]
     ]
@@ -119,8 +118,11 @@ def overview_table(report: dict) -> Table:
         table.add_row(
             f"obstacle {name}",
             f"min clearance {shown_number(o.get('min_distance_mm'), '.1f')} mm"
+            + (f" ({o['robot']})" if o.get("robot") else "")
             + (f" at t = {o['at_time_s']:.2f} s" if o.get("at_time_s") is not None else ""),
         )
+    for label, text in clearance_rows(report):
+        table.add_row(label, text)
     collisions = _collisions(report)
     if collisions is not None:
         table.add_row("collisions", collisions)
@@ -145,6 +147,55 @@ def overview_table(report: dict) -> Table:
         where = f"line {error.get('line')}, t = {shown_number(error.get('time_s'), '.3f')} s"
         table.add_row("error", Text(f"{where}: {error['message']}", style="red"))
     return table
+
+
+def clearance_rows(report: dict) -> list[tuple[str, str]]:
+    """A cell's clearance between links, per pair of robots (``clearance.pairs``): the
+    least distance, the links, time and line; then R_CLEARANCE when one was kept. A
+    program of one robot: its own links' least distance (``self_clearance``)."""
+    rows = []
+    own = report.get("self_clearance")
+    if own and own.get("min_distance_mm") is not None:
+        text = _pair_text(own, own=True)
+        if own["min_distance_mm"] < 0:  # (R_CLEARANCE > 0 would have failed the run)
+            text += " — they overlap: reported, not judged (R_CLEARANCE judges them)"
+        rows.append(("own links", text))
+    clearance = report.get("clearance") or {}
+    for pair in clearance.get("pairs") or []:
+        if pair.get("min_distance_mm") is None:
+            continue
+        a, b = pair["robot_a"], pair["robot_b"]
+        label = f"clearance {a}–{b}" if a != b else f"clearance {a} (own links)"
+        rows.append((label, _pair_text(pair, own=a == b)))
+    if clearance.get("required_mm"):
+        rows.append(("R_CLEARANCE", f"{shown_number(clearance['required_mm'], 'g')} mm kept"))
+    return rows
+
+
+def _pair_text(pair: dict, own: bool = False) -> str:
+    """``min 51.0 mm (ceiling link 5, floor link 4) at t = 5.64 s, line 21``."""
+    if own:
+        links = f"links {pair['link_a']}, {pair['link_b']}"
+    else:
+        links = f"{pair['robot_a']} link {pair['link_a']}, {pair['robot_b']} link {pair['link_b']}"
+    return (
+        f"min {shown_number(pair['min_distance_mm'], '.1f')} mm ({links}) at t = "
+        f"{shown_number(pair.get('at_time_s'), '.2f')} s, line {pair.get('line')}"
+    )
+
+
+def robot_tables(report: dict) -> list:
+    """A cell's robots (``robots``): per robot a joints table titled with its name, robot,
+    placement and path error."""
+    parts: list = []
+    for entry in report.get("robots") or []:
+        at = ", ".join(shown_number(v, ".6g") for v in entry.get("at") or [])
+        title = (
+            f"{entry['name']} ({entry['robot']}) at ({at}) — path error max "
+            f"{shown_number(entry.get('max_path_error_mm'), '.3g')} mm; joints (deg | mm, /s, /s²)"
+        )
+        parts += [Text(""), joints_table(entry, title)]
+    return parts
 
 
 def _collisions(report: dict) -> Text | None:
@@ -282,19 +333,33 @@ def statements_table(report: dict) -> Table | None:
         return _statement_lines_table(rows, total)
     overrides = {r.get("override_percent") for r in rows} - {None}
     shown = overrides != {100.0} and bool(overrides)  # the column only when it matters
+    group = any(len(r.get("robots") or {}) > 1 for r in rows)  # a cell's group moves
     columns = ("line", "statement", "start", "duration", "stop", "limit")
-    table = _table("cycle time per statement (s)", columns + (("override %",) if shown else ()))
+    columns += ("override %",) if shown else ()
+    table = _table("cycle time per statement (s)", columns + (("robots",) if group else ()))
     for r in rows:
         cells = [
             str(r["line"]), statement_text(r), shown_number(r["start_s"], ".3f"),
             shown_number(r["duration_s"], ".3f"), r["stop"] or "—", r["limit"] or "—",
         ]  # fmt: skip
-        table.add_row(*cells, *([shown_number(r.get("override_percent"), "g")] if shown else []))
-    blank = [""] * (3 if shown else 2)
+        cells += [shown_number(r.get("override_percent"), "g")] if shown else []
+        table.add_row(*cells, *([robots_text(r.get("robots") or {})] if group else []))
+    blank = [""] * (2 + shown + group)
     table.add_row(
         "", Text("sum", style="dim"), "", Text(shown_number(total, ".3f"), style="bold"), *blank
     )
     return table
+
+
+def robots_text(robots: dict) -> str:
+    """A group move's parts: ``floor 3.100* ceiling 0.610`` — each robot's own time (s),
+    ``*`` the one that set the group's."""
+    parts = []
+    for name, info in robots.items():
+        own = info.get("duration_s")
+        time = "follows" if own is None else shown_number(own, ".3f")
+        parts.append(f"{name} {time}{'*' if info.get('set_the_time') else ''}")
+    return " ".join(parts) if len(robots) > 1 else ""
 
 
 def _statement_lines_table(rows: list[dict], total: float) -> Table:
@@ -329,7 +394,9 @@ def _table(title: str, columns: tuple[str, ...]) -> Table:
 
 def render_summary(report: dict, console: Console) -> None:
     parts: list = [overview_table(report)]
-    if report.get("joints"):
+    if report.get("robots"):  # a cell: a table per robot
+        parts += robot_tables(report)
+    elif report.get("joints"):
         parts += [Text(""), joints_table(report)]
     motors = motors_table(report)
     if motors is not None:

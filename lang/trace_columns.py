@@ -12,6 +12,12 @@ besides the fixed ``t_s``, ``line``, the pose ``x_mm … c_deg``, ``path_error_m
 ``partial``, ``clearance_OBSTACLE_mm`` per obstacle and ``platform_C_mm`` per platform
 coordinate.
 Names are compared without regard to case (IRL names are case-insensitive).
+
+A cell's trace (several robots) has ``t_s`` and ``line``, then each robot's columns of a
+program of that robot prefixed by its name and ``_`` (:func:`prefixed`: ``holder_a1_deg``,
+``welder_x_mm``, ``holder_clearance_wall_mm``), then :data:`CELL_CLEARANCE`; the checker
+refuses a cell whose prefixed columns coincide (:func:`first_cell_clash`: a robot ``h``
+with a joint ``x_a1`` and a robot ``h_x`` with a joint ``a1`` both give ``h_x_a1_deg``).
 """
 
 from __future__ import annotations
@@ -81,6 +87,52 @@ def platform(coordinate: str) -> str:
 
 PLATFORM = {platform(c): f"the platform's {c}" for c in ("x", "y", "z")}
 """The columns of a robot with a platform (one per coordinate it has)."""
+
+
+def prefixed(robot: str, column: str) -> str:
+    """A column of robot ``robot`` in a cell's trace: ``holder_a1_deg``."""
+    return f"{robot}_{column}"
+
+
+CELL_CLEARANCE = (
+    "clearance_mm",
+    "clearance_robot_a",
+    "clearance_link_a",
+    "clearance_robot_b",
+    "clearance_link_b",
+)
+"""A cell's columns after the robots': the smallest distance between links (robots' and
+within one, mm) and its pair (robot numbers 0, 1, … in the ROBOT clauses' order; links)."""
+
+
+def robot_columns(names: Sequence[str], kinds: Sequence[str], obstacles: Iterable[str]):
+    """Every column a program of one robot can have besides ``t_s`` and ``line``, with
+    what it holds (a cell prefixes them)."""
+    out = {c: meaning for c, meaning in FIXED.items() if c not in ("t_s", "line", "partial")}
+    out.update({clearance(o): f"obstacle {o}'s clearance" for o in obstacles})
+    for name, kind in zip(names, kinds, strict=True):
+        out.update({c: f"a column of joint '{name}'" for c in joint_columns(name, kind)})
+    return out
+
+
+def first_cell_clash(
+    robots: Sequence[tuple[str, Sequence[str], Sequence[str]]], obstacles: Iterable[str] = ()
+) -> tuple[int, str, str] | None:
+    """``(robot, column, what else is called so)`` for the first robot (0-based, given as
+    ``(name, joint names, kinds)``) one of whose prefixed columns another column of a
+    cell's trace shares (module doc), or ``None``."""
+    obstacles = tuple(obstacles)
+    owner = {c.lower(): f"the cell's {c}" for c in ("t_s", "line", "partial", *CELL_CLEARANCE)}
+    for r, (robot, names, kinds) in enumerate(robots):
+        mine = {
+            prefixed(robot, c): what for c, what in robot_columns(names, kinds, obstacles).items()
+        }
+        for column in mine:
+            other = owner.get(column.lower())
+            if other is not None:
+                return r, column, other
+        owner.update({c.lower(): f"{what} of robot {robot}" for c, what in mine.items()})
+    return None
 
 
 def joint_columns(name: str, kind: str) -> tuple[str, ...]:

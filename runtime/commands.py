@@ -13,6 +13,7 @@ converts to SI with :mod:`irlc.runtime.units`.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
 
@@ -108,6 +109,15 @@ class ModalOptions:
     frozen: dict[int, float] = field(default_factory=dict)  # 0-based joint → value
 
 
+@dataclass(frozen=True)
+class RobotMotion:
+    """One robot's part of a cell's motion statement (``MOVE holder LIN p AND welder PTP
+    j``): the robot (its ``ROBOT:k`` index) and its command."""
+
+    robot: int
+    command: MotionCommand
+
+
 class Controller(Protocol):
     """What the interpreter needs from the simulated robot."""
 
@@ -147,3 +157,86 @@ class Controller(Protocol):
 
     def log_event(self, kind: str, line: int, **data) -> None:
         """Signals, PAUSE, HALT and other timestamped events for the report."""
+
+
+class CellController(Protocol):
+    """What the interpreter needs from a cell of several robots (code with several
+    ``ROBOT`` records, docs/irdata.md "Cells"). Where a method of :class:`Controller` takes
+    ``settings, options``, this one takes every robot's: ``settings[k]`` are the cell's
+    settings with robot ``k``'s own tool and base (``R_TOOL``, ``R_BASE``),
+    ``options[k]`` the redundancy options switched on for robot ``k``; ``robot`` is the
+    ``ROBOT:k`` operand of the instruction."""
+
+    @property
+    def time(self) -> float: ...
+
+    def joints(self, robot: int) -> tuple[float, ...]:
+        """Robot ``robot``'s commanded joints (``robot.R_ACT_JOINT``)."""
+
+    def pose(
+        self, settings: Sequence[Settings], options: Sequence[ModalOptions], robot: int
+    ) -> Pose:
+        """Its TCP in the frame its MOVE poses are in (``robot.R_ACT_POSE``)."""
+
+    def forward(
+        self,
+        joints: JointTuple,
+        settings: Sequence[Settings],
+        options: Sequence[ModalOptions],
+        robot: int,
+    ) -> Pose:
+        """``FK(robot, joints)`` in the same frame."""
+
+    def move_group(
+        self,
+        parts: Sequence[RobotMotion],
+        settings: Sequence[Settings],
+        options: Sequence[ModalOptions],
+    ) -> None:
+        """A motion statement: one part, or a group move's parts (start and end together)."""
+
+    def reconfigure(
+        self,
+        target: JointTuple,
+        line: int,
+        settings: Sequence[Settings],
+        options: Sequence[ModalOptions],
+        robot: int,
+    ) -> None: ...
+
+    def wait(
+        self,
+        seconds: float,
+        line: int,
+        settings: Sequence[Settings],
+        options: Sequence[ModalOptions],
+    ) -> None:
+        """Every robot stands still for ``seconds``."""
+
+    def check_switch_on(
+        self,
+        option: str,
+        line: int,
+        settings: Sequence[Settings],
+        options: Sequence[ModalOptions],
+        robot: int,
+    ) -> None: ...
+
+    def cooperate(
+        self,
+        worker: int,
+        holder: int,
+        vertical: bool,
+        line: int,
+        settings: Sequence[Settings],
+        options: Sequence[ModalOptions],
+    ) -> None:
+        """``COOPERATE worker IN holder [WITH VERTICAL]``: from now on the worker's poses
+        are in the holder's tool frame and their motions one chain."""
+
+    def end_cooperation(self, worker: int, holder: int, line: int) -> None:
+        """``COOPERATEEND``."""
+
+    def flush(self, reason: str) -> None: ...
+
+    def log_event(self, kind: str, line: int, **data) -> None: ...

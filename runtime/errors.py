@@ -15,6 +15,8 @@ decided from the solver's state, not from the last bound the relaxed step touche
 ``freeze_jointlimit`` FREEZE and the active JOINTLIMIT together: each alone leaves the
                    target or path reachable
 ``obstacle``       the arm collides with an obstacle of the cell (avoided or not)
+``clearance``      two links (of two robots, or of one) collide, or come closer than
+                   ``R_CLEARANCE``
 ``limits``         the active limits exclude the current state
 ``platform``       the platform task (WITH PLATFORM: the platform on its line) cannot
                    be met together with the TCP's path, which alone could be
@@ -35,6 +37,7 @@ CAUSES = (
     "freeze",
     "freeze_jointlimit",
     "obstacle",
+    "clearance",
     "limits",
     "platform",
     "platform_limit",

@@ -28,29 +28,46 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from irlc.lang.errors import IrlcError
-from irlc.lang.file_access import describe, is_finite_real, path_kind
+from irlc.lang.file_access import path_kind
 from irlc.lang.irdata import Code
 from irlc.lang.joint_kinds import kind_letters
 from irlc.lang.textfile import read_user_text
 from irlc.robots.model import RobotModel
 from irlc.runtime import engine_policy, units
-from irlc.runtime.commands import Settings, setting_error
+from irlc.runtime.commands import Settings
 from irlc.runtime.control.executor import ExecutionOptions, SimulatedController
-from irlc.runtime.drives.levels import LEVELS as DRIVE_LEVELS
-from irlc.runtime.errors import DriveSetupError
 from irlc.runtime.model.limit_check import first_outside
 from irlc.runtime.model.naming import JointNaming
 from irlc.runtime.model.obstacles import Obstacle
 from irlc.runtime.outputs.run_result import RunResult
 from irlc.runtime.outputs.samples import Samples
+from irlc.runtime.run_setup import (
+    HeldOutput,
+    RunOptions,
+    RunSetupError,
+    check_run_option,
+    drive_step_for,
+    first_line,
+    interpret,
+    load_model,
+    obstacle_shapes,
+    placed,
+    placement,
+    run_options,
+)
 
-
-class RunSetupError(IrlcError):
-    """The run cannot start: unknown robot, mismatching code, bad options (exit 3)."""
-
-
-# --------------------------------------------------------------------------- setup
+__all__ = [  # the setup's names, imported from here by the front door and the tests
+    "RunOptions",
+    "RunSetupError",
+    "check_run_option",
+    "first_line",
+    "load_model",
+    "obstacle_shapes",
+    "placed",
+    "placement",
+    "run_code",
+    "run_file",
+]
 
 
 def resolve_model(
@@ -62,19 +79,6 @@ def resolve_model(
     """The robot to run on: ``robot`` (override, the user's) or the code's robot, by
     :func:`irlc.robots.resolve_robot` (a library name or a path relative to the program;
     the code's own path inside the program's allowed roots unless ``allow_any_path``)."""
-    if code.is_cell:  # interim, until the runtime runs cells (issue 26)
-        second = code.other_robots[0]
-        where = "{}:{}:{}: ".format(*second.position) if second.position else ""
-        names = ", ".join(r.var for r in code.robots)
-        raise RunSetupError(
-            f"{where}cells are compiled but this runtime cannot run them yet (robots: {names})"
-        )
-    if code.at is not None and any(code.at):  # interim: a placed robot (issue 26)
-        where = "{}:{}:{}: ".format(*code.robot_record) if code.robot_record else ""
-        raise RunSetupError(
-            f"{where}robot {code.robot_var} is placed with AT, which this runtime cannot run "
-            f"yet (the compiler accepts it: {code.source})"
-        )
     if isinstance(robot, RobotModel):
         model = robot
     elif robot:
@@ -91,32 +95,7 @@ def resolve_model(
             f"{model.name} has {model.n} ({kinds})"
         )
         raise RunSetupError(message if robot else code.robot_problem(message))
-    return model
-
-
-def load_model(
-    name_or_path: str | Path, base_dir: Path | None, restricted: bool = False
-) -> RobotModel:
-    """:func:`irlc.robots.resolve_robot`; its errors become :class:`RunSetupError` (exit 3)."""
-    from irlc.robots import RobotFileError, resolve_robot
-
-    try:
-        return resolve_robot(name_or_path, base_dir, restricted=restricted)
-    except RobotFileError as exc:
-        raise RunSetupError(str(exc)) from None
-
-
-def obstacle_shapes(code: Code) -> dict[str, Obstacle]:
-    """The code's obstacles (OBSTACLE records, mm) as SI shapes, by name."""
-    from irlc.runtime.model.obstacles import from_definition
-
-    out = {}
-    for o in code.obstacles:
-        try:
-            out[o.name] = from_definition(o)
-        except ValueError as exc:
-            raise RunSetupError(str(exc)) from None
-    return out
+    return placed(model, code.at)
 
 
 def start_configuration(code: Code, model: RobotModel, seed_config) -> np.ndarray:
@@ -159,13 +138,6 @@ def start_origin(code: Code, model: RobotModel, seed_config) -> str:
     if first is not None and len(first) == model.n:
         return "the target of the program's first MOVE PTP"
     return "all joints at zero"
-
-
-def first_line(code: Code) -> int:
-    """The source line of the main routine's first instruction that records one (0: none)."""
-    main = next((r for r in code.routines if r.kind == "MAIN"), None)
-    start = main.entry if main is not None else 0
-    return next((ins.line for ins in code.code[start:] if ins.line > 0), 0)
 
 
 def _first_ptp_target(code: Code) -> tuple[float, ...] | None:
@@ -255,6 +227,17 @@ def run_code(
     from irlc.runtime.drives.stage import run_drives
     from irlc.runtime.outputs.results import RunData, assemble
 
+    if code.is_cell:
+        from irlc.runtime.cell_run import run_cell
+
+        arguments = dict(robot=robot, ipo=ipo, drives=drives, seed_config=seed_config,
+                         base_dir=base_dir, progress=progress, output=output, options=options,
+                         trace_every_step=trace_every_step, path_tolerance=path_tolerance,
+                         orientation_tolerance=orientation_tolerance,
+                         instruction_budget=instruction_budget, max_time=max_time,
+                         max_cycles=max_cycles, override=override, allow_any_path=allow_any_path,
+                         allow_collisions=allow_collisions, phase=phase, engine=engine)  # fmt: skip
+        return run_cell(code, arguments)
     setup = _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolerance,
                    orientation_tolerance, instruction_budget, max_time, max_cycles,
                    override, allow_any_path, allow_collisions)  # fmt: skip
@@ -267,12 +250,12 @@ def run_code(
     streamed = stream and drives == "ideal"
     if streamed:
         controller.recorder.spill(SPILL_ROWS)
-    held = None if drives == "ideal" else _HeldOutput(controller)  # judged by the drives first
+    held = None if drives == "ideal" else HeldOutput(controller)  # judged by the drives first
     start = controller.collisions.start_failure(
         controller.recorder.last_clearances(), first_line(code),
         start_origin(code, setup.model, seed_config),
     )  # fmt: skip
-    execution = _interpret(code, controller, setup.settings, held or output, setup.budget, start)
+    execution = interpret(code, controller, setup.settings, held or output, setup.budget, start)
     samples, verdict = None, None
     if not streamed:
         samples = Samples.of(controller.recorder.arrays())
@@ -292,25 +275,7 @@ def run_code(
     return assemble(run)
 
 
-class _HeldOutput:
-    """The program's output lines with the simulated time each was written at, held until
-    the drive stage has judged the run (:func:`run_code`)."""
-
-    def __init__(self, controller: SimulatedController):
-        self.controller = controller
-        self.lines: list[tuple[float, str]] = []
-
-    def __call__(self, text: str) -> None:
-        self.lines.append((float(self.controller.time), text))
-
-    def release(self, output: Callable[[str], None] | None, kept: list[str]) -> None:
-        """Hand the ``kept`` lines (the first ones, those before a failure) to ``output``."""
-        if output is not None:
-            for text in kept:
-                output(text)
-
-
-def _stopped(execution, controller: SimulatedController, held: _HeldOutput | None, failure):
+def _stopped(execution, controller: SimulatedController, held: HeldOutput | None, failure):
     """The interpreter's result and the controller's tables cut at a drive failure
     (:mod:`irlc.runtime.outputs.stop`): the run's error is the failure."""
     from dataclasses import replace
@@ -351,155 +316,18 @@ def _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolera
            allow_any_path=False, allow_collisions=False) -> RunSetup:  # fmt: skip
     """:func:`run_code`'s arguments checked (:class:`RunSetup`); a bad one is a
     :class:`RunSetupError`."""
-    if drives not in DRIVE_LEVELS:
-        raise RunSetupError(f"unknown drive level {drives!r} (known: {', '.join(DRIVE_LEVELS)})")
-    if ipo is not None and setting_error("ipo", ipo):
-        raise RunSetupError(f"--ipo {describe(ipo)}: {setting_error('ipo', ipo)}")
-    if override is not None and setting_error("override", override):
-        raise RunSetupError(
-            f"--override {describe(override)}: {setting_error('override', override)}"
-        )
-    budget = _budget(instruction_budget)
-    base = Path(base_dir) if base_dir is not None else None
-    model = resolve_model(code, robot, base, allow_any_path)
+    common = run_options(drives, ipo, override, instruction_budget, base_dir, max_time,
+                         max_cycles, options, path_tolerance, orientation_tolerance,
+                         allow_collisions)  # fmt: skip
+    model = resolve_model(code, robot, common.base_dir, allow_any_path)
     obstacles = obstacle_shapes(code)
     q0 = start_configuration(code, model, seed_config)
-    if max_time is not None:
-        _positive("--max-time", max_time, "seconds")
-    if max_cycles is not None:
-        _whole("--max-cycles", max_cycles)
-    opts = options or ExecutionOptions()
-    if ipo is not None:
-        opts.ipo = float(ipo)
-    if max_time is not None:
-        opts.max_time_s = float(max_time)
-    if max_cycles is not None:
-        opts.max_cycles = max_cycles
+    opts = common.options
     if drives != "ideal":
-        opts.drive_step_s = _drive_step(model, drives, q0)
+        opts.drive_step_s = drive_step_for(model, drives, q0)
     naming = JointNaming.for_model(model, code.joint_names)
-    tol_mm = opts.tol_position / units.MM
-    if path_tolerance is not None:
-        tol_mm = _path_tolerance("--path-tolerance", path_tolerance)
-        opts.tol_position = tol_mm * units.MM
-        opts.path_tolerance_stated = True  # it judges a drive run's path (verdict.py)
-    if orientation_tolerance is not None:
-        deg = _positive("--orientation-tolerance", orientation_tolerance, "deg")
-        opts.tol_orientation = deg * units.DEG
-        opts.orientation_tolerance_stated = True
-    if allow_collisions:
-        opts.allow_collisions = True
-    settings = Settings(path_tol=tol_mm)  # R_PATH_TOL's start value, as given
-    if opts.ipo is not None:
-        settings.ipo = opts.ipo
-    if override is not None:
-        settings.override = float(override)  # R_OVERRIDE's start value
-    return RunSetup(model, obstacles, q0, opts, settings, naming, budget, base)
-
-
-def _drive_step(model: RobotModel, level: str, q0: np.ndarray) -> float:
-    """The drive simulation's step for the run's cycle budget (ExecutionOptions.drive_step_s):
-    the drive data is checked here, before the run (:class:`DriveSetupError`, exit 3)."""
-    import warnings
-
-    from irlc.runtime.drives.simulate import drive_step
-    from irlc.runtime.drives.stage import drive_data
-    from irlc.runtime.drives.stepsize import StepSizeWarning
-
-    params = drive_data(model)
-    try:
-        with warnings.catch_warnings():  # the drive stage warns, once
-            warnings.simplefilter("ignore", StepSizeWarning)
-            return drive_step(model, params, level, q0)
-    except ValueError as exc:
-        raise DriveSetupError(f"drive simulation: {exc}") from None
-
-
-def _path_tolerance(option: str, value) -> float:
-    """A path tolerance in mm: a positive number in R_PATH_TOL's range (lang/settings.py),
-    else :class:`RunSetupError`."""
-    tol_mm = _positive(option, value, "mm")
-    if error := setting_error("path_tol", tol_mm):
-        raise RunSetupError(f"{option} {describe(value)}: {error}")
-    return tol_mm
-
-
-def _positive(option: str, value, unit: str) -> float:
-    """``value`` as a float if it is a finite number > 0, else :class:`RunSetupError` (an
-    integer beyond a float's range too)."""
-    if not (is_finite_real(value) and value > 0):
-        raise RunSetupError(f"{option} must be a positive number of {unit}, got {describe(value)}")
-    return float(value)
-
-
-def check_run_option(key: str, value) -> str | None:
-    """``None`` if ``value`` is admissible for :func:`run_code`'s option ``key``, else why
-    not, naming ``key`` (a study's ``[run]`` values: :mod:`irlc.study.paths`). The checks
-    are run_code's: the drive levels, the settings table's ranges for ``ipo`` and
-    ``override`` (R_IPO, R_OVERRIDE), :func:`_budget`, :func:`_whole`, :func:`_positive`;
-    ``seed_config`` is a list of finite numbers (deg | mm; its length is the robot's);
-    ``allow_collisions`` true or false."""
-    if key == "drives":
-        ok = isinstance(value, str) and value in DRIVE_LEVELS
-        return None if ok else f"expected one of {', '.join(DRIVE_LEVELS)}, got {describe(value)}"
-    if key in ("ipo", "override"):
-        return setting_error(key, value)
-    if key == "allow_collisions":
-        return None if isinstance(value, bool) else f"expected true or false, got {describe(value)}"
-    if key == "seed_config":
-        if not (isinstance(value, list) and all(is_finite_real(v) for v in value)):
-            return f"expected a list of finite numbers (deg | mm), got {describe(value)}"
-        return None
-    units = {"path_tolerance": "mm", "orientation_tolerance": "deg", "max_time": "seconds"}
-    try:
-        if key == "instruction_budget":
-            _budget(value)
-        elif key == "max_cycles":
-            _whole(key, value)
-        elif key == "path_tolerance":
-            _path_tolerance(key, value)
-        elif key in units:
-            _positive(key, value, units[key])
-        else:
-            return f"unknown run option {key!r}"
-    except RunSetupError as e:
-        return str(e).replace("--instruction-budget", key)
-    return None
-
-
-def _budget(budget: int | None) -> int:
-    """The endless-loop budget: ``None`` → the default; else a positive whole number."""
-    from irlc.runtime.interpreter import DEFAULT_INSTRUCTION_BUDGET
-
-    if budget is None:
-        return DEFAULT_INSTRUCTION_BUDGET
-    return _whole("--instruction-budget", budget)
-
-
-def _whole(option: str, value) -> int:
-    """``value`` if it is a whole number ≥ 1, else :class:`RunSetupError`."""
-    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-        raise RunSetupError(f"{option} must be a positive integer, got {describe(value)}")
-    return value
-
-
-def _interpret(
-    code, controller, settings, output: Callable[[str], None] | None, budget: int, start=None
-):
-    """Run the interpreter; its result carries output, events, warnings and the error.
-    ``start``: the failure of the start configuration (a collision): the program does not
-    run."""
-    from irlc.runtime.interpreter import ExecutionResult, Interpreter
-
-    interp = Interpreter(
-        code, controller, settings=settings, output=output, instruction_budget=budget
-    )
-    if start is not None:
-        return ExecutionResult("failed", [], [], [], start, interp.state, 0)
-    result = interp.run(check=False)
-    if result.error is not None and result.error.time_s is None:
-        result.error.time_s = controller.time
-    return result
+    return RunSetup(model, obstacles, q0, opts, common.settings, naming, common.budget,
+                    common.base_dir)  # fmt: skip
 
 
 def run_file(

@@ -72,22 +72,38 @@ class Declarations:
 
     def check_trace_columns(self) -> None:
         """MAIN_JOINT names whose trace columns would coincide with another column (a joint
-        ``a``: ``a_deg`` is also the TCP's angle a): :mod:`irlc.lang.trace_columns`."""
+        ``a``: ``a_deg`` is also the TCP's angle a), and a cell's robots whose prefixed
+        columns coincide (``h`` with a joint ``x_a1`` and ``h_x`` with ``a1``):
+        :mod:`irlc.lang.trace_columns`."""
         names = self.scope.joint_names
-        if not self.joint_spans or any(r.n != len(names) for r in self.scope.robots):
-            return
         obstacles = [o.name for o in self.scope.obstacles.values()]
-        for robot in self.scope.robots:  # a cell's columns: each robot's, prefixed by its name
-            clash = trace_columns.first_clash(names, robot.signature.joint_kinds, obstacles)
-            if clash is not None:
-                j, column, other = clash
-                self.report.error(
-                    self.joint_spans[j],
-                    f"joint name '{names[j]}' gives the trace column {column}, which is also "
-                    f"{other}",
-                    "choose another name for this joint",
-                )
-                return
+        robots = self.scope.robots
+        if self.joint_spans and all(r.n == len(names) for r in robots):
+            for robot in robots:
+                clash = trace_columns.first_clash(names, robot.signature.joint_kinds, obstacles)
+                if clash is not None:
+                    j, column, other = clash
+                    self.report.error(
+                        self.joint_spans[j],
+                        f"joint name '{names[j]}' gives the trace column {column}, which is "
+                        f"also {other}",
+                        "choose another name for this joint",
+                    )
+                    return
+        if len(robots) < 2:
+            return
+        cell = [(r.var, _robot_joint_names(names, r.n), r.signature.joint_kinds) for r in robots]
+        clash = trace_columns.first_cell_clash(cell, obstacles)
+        if clash is not None:
+            r, column, other = clash
+            robot = robots[r]
+            clause = robot.clause
+            span = (clause.var_span or clause.span) if clause is not None else None
+            self.report.error(
+                span,
+                f"robot {robot.var} gives the trace column {column}, which is also {other}",
+                "choose another name for the robot",
+            )
 
     def add_datalists(self, datalists: list[Datalist]) -> None:
         for dl in datalists:
@@ -336,3 +352,8 @@ class Declarations:
             return
         if self.scope.declare_global(r.name, sym, r.span):
             self.routines.append(info)
+
+
+def _robot_joint_names(names: tuple[str, ...], n: int) -> tuple[str, ...]:
+    """A cell's robot's joint names: the program's (MAIN_JOINT record), else ``a1 … aN``."""
+    return tuple(names) if len(names) == n else tuple(f"a{i + 1}" for i in range(n))

@@ -65,13 +65,15 @@ class Collision:
         )
 
 
-def failure(hit: Collision, avoided: bool = False, actual: bool = False) -> RunFailure:
+def failure(hit: Collision, avoided: bool = False, actual: bool = False, label=None) -> RunFailure:
     """The run failure of a collision (the one message): what collides, how deep, and
     what would help. ``avoided``: OBSTACLE was on for it; ``actual``: the drives' actual
-    motion (the set points were clear)."""
+    motion (the set points were clear); ``label(link)``: how the link is named (a chain of
+    two robots: ``welder link 2``; default ``link 2``)."""
     who = "the actual motion (simulated drives)" if actual else "the arm"
+    link = label(hit.link) if label is not None else f"link {hit.link}"
     what = (
-        f"{who} collides with obstacle {hit.obstacle}: link {hit.link} is "
+        f"{who} collides with obstacle {hit.obstacle}: {link} is "
         f"{hit.depth / units.MM:.4g} mm inside it at t = {hit.time:.3f} s"
     )
     if actual:
@@ -91,6 +93,7 @@ class CollisionRule:
     def __init__(self, allow: bool = False):
         self.allow = allow
         self._tolerated: dict[str, float] = {}  # obstacle → depth (m) the arm may keep
+        self.link_label = None  # how a link is named (a chain of two robots' links)
 
     def check(
         self,
@@ -114,7 +117,7 @@ class CollisionRule:
                 self._tolerated[name] = min(held, -distance)  # backing out: never deeper again
                 continue
             hit = Collision(name, int(link), -float(distance), float(t), int(line))
-            raise failure(hit, avoided=name in avoided)
+            raise failure(hit, avoided=name in avoided, label=self.link_label)
 
     def tolerate(self, clearances: Mapping[str, tuple[float, int]]) -> None:
         """The obstacles the robot is inside now may be left, not entered deeper (a REPL

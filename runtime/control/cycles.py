@@ -20,12 +20,18 @@ A negative clearance is a collision, judged by the controller's
 :class:`~irlc.runtime.control.collision.CollisionRule` (a run failure unless collisions are
 allowed). A segment's θ⁰(s) starts from the previous cycle's
 reference, so switching the criterion does not jerk the joints (:meth:`CycleRunner.start`).
+
+Two hooks for what the controller adds around the cycles: ``clearance`` (m, the
+statement's ``R_CLEARANCE``; > 0: the IK cycles keep it, :mod:`~irlc.runtime.ik.clearance`,
+with ``neighbours`` the cell's other robots) and ``observer`` (told after every recorded
+cycle: :class:`CycleObserver`).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import Protocol
 
 import numpy as np
 from irlc.runtime import units
@@ -37,6 +43,7 @@ from irlc.runtime.control.segment_run import SegmentRun, Solver
 from irlc.runtime.control.state import ControllerState
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.ik import cause
+from irlc.runtime.ik.clearance import ClearanceSpec, Neighbours
 from irlc.runtime.ik.params import CycleOptions
 from irlc.runtime.ik.reach import Reach
 from irlc.runtime.model.obstacles import Obstacle
@@ -45,6 +52,13 @@ from irlc.runtime.plan.interpolator import ReferencePath, Segment
 from irlc.runtime.plan.preinterp import PreInterpolator
 
 _NAN = float("nan")
+
+
+class CycleObserver(Protocol):
+    """Told after every cycle the runner recorded (its state and recorder hold it): the
+    clearance rule between links, a cell's other robots (:mod:`~irlc.runtime.control.cell`)."""
+
+    def cycle(self, runner: CycleRunner) -> None: ...
 
 
 class CycleRunner:
@@ -72,6 +86,10 @@ class CycleRunner:
         self.progress, self.progress_every = progress, progress_every
         self.manip_every = max(1, manipulability_every)
         self.platform_record = PlatformRecord()  # the platform's deviations (WITH PLATFORM)
+        self.clearance = 0.0  # m: R_CLEARANCE of the statement (the controller sets it)
+        self.neighbours: Callable[[], Neighbours | None] | None = None  # a cell's others
+        self.robot_name = ""  # a cell's robot (messages of the clearance rows)
+        self.observer: CycleObserver | None = None
 
     # ------------------------------------------------------------------ segments
     def options_for(
@@ -95,7 +113,14 @@ class CycleRunner:
             obstacles=tuple(self.obstacles.values()),
             active_obstacles=frozenset(options.obstacles),
             criterion=criterion,
+            clearance=self._clearance_spec(),
         )
+
+    def _clearance_spec(self) -> ClearanceSpec | None:
+        """``R_CLEARANCE`` for the IK cycles (``None``: 0, not kept)."""
+        if self.clearance <= 0.0:
+            return None
+        return ClearanceSpec(self.clearance, self.neighbours, self.robot_name)
 
     def run(self, run: SegmentRun, upto: int) -> None:
         """Cycles ``run.done + 1 … upto`` of the segment on its own."""
@@ -222,6 +247,8 @@ class CycleRunner:
     def tick(self) -> None:
         st = self.state
         st.cycles += 1
+        if self.observer is not None:
+            self.observer.cycle(self)
         if self.progress is not None and st.cycles % self.progress_every == 0:
             self.progress(st.t, st.line)
 

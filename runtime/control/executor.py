@@ -52,6 +52,7 @@ from irlc.runtime.control.budget import DEFAULT_MAX_CYCLES as DEFAULT_MAX_CYCLES
 from irlc.runtime.control.budget import DRIVE_STEPS_PER_CYCLE as DRIVE_STEPS_PER_CYCLE
 from irlc.runtime.control.budget import MOTION_MIN_CYCLES as MOTION_MIN_CYCLES
 from irlc.runtime.control.budget import RunBudget
+from irlc.runtime.control.clearance_rule import OwnClearance
 from irlc.runtime.control.collision import CollisionRule
 from irlc.runtime.control.cycles import CycleRunner, advance, located
 from irlc.runtime.control.platform import PlatformControl, platform_chain
@@ -66,7 +67,7 @@ from irlc.runtime.ik.newton import InverseTransformation
 from irlc.runtime.ik.params import IKParams
 from irlc.runtime.ik.reach import check_targets
 from irlc.runtime.model import spatial
-from irlc.runtime.model.chain import SerialChain
+from irlc.runtime.model.chain import Chain, SerialChain
 from irlc.runtime.model.kinematics import Kinematics
 from irlc.runtime.model.naming import JointNaming, naming_or_default
 from irlc.runtime.model.obstacles import Obstacle
@@ -82,6 +83,17 @@ from irlc.runtime.plan.preinterp import (
     tool_transform,
 )
 from irlc.runtime.values import JointTuple, Pose
+
+
+@dataclass(frozen=True)
+class PreparedMotion:
+    """A motion statement's checked settings (``values``), the solver of its tool and what
+    must not change for a blend into the next one (``context``)."""
+
+    values: MotionValues
+    solver: Solver
+    context: tuple
+    options: ModalOptions  # the statement's options under R_PLATFORM (platform.py)
 
 
 @dataclass
@@ -117,8 +129,15 @@ class SimulatedController:
         options: ExecutionOptions | None = None,
         progress: Callable[[float, int], None] | None = None,
         naming: JointNaming | None = None,
+        chain_of: Callable[[np.ndarray], Chain] | None = None,
+        budget: RunBudget | None = None,
     ):
+        """``chain_of(tool)``: the chain of a tool (default: the robot's
+        :class:`~irlc.runtime.model.chain.SerialChain`; a cooperating pair's chain, the
+        cell's); ``budget``: the run's budgets when several controllers share them (a
+        cell)."""
         self.model = model
+        self._chain_of = chain_of
         self._naming = naming_or_default(naming, model)  # joints in failure messages
         self.opts = opts = options or ExecutionOptions()
         self.ik_params = opts.ik or IKParams.for_robot(model)
@@ -130,7 +149,7 @@ class SimulatedController:
         self.pre.naming = self._naming
         self.scale = units.joint_scale(model.joint_kinds)
         self.state = ControllerState.at(start_q)
-        self.budget = RunBudget(opts)
+        self.budget = budget or RunBudget(opts)
         self.log = StatementLog()
         self.cycles = CycleRunner(
             self.state,
@@ -143,6 +162,8 @@ class SimulatedController:
             manipulability_every=opts.manipulability_every,
             collisions=CollisionRule(opts.allow_collisions),
         )
+        self.own_clearance = OwnClearance(opts.allow_collisions)  # R_CLEARANCE, one robot
+        self.cycles.observer = self.own_clearance
         self.blender = ApproximatePositioning(self.state, self.recorder, self.cycles, self.log)
         self.self_motion = SelfMotion(
             self.pre,
@@ -159,6 +180,7 @@ class SimulatedController:
         self._start_tool = b""  # the tool (bytes) the start sample was stamped with
         self._programmed_end: tuple[bytes, np.ndarray] | None = None  # (tool, world TCP)
         self._record_initial()
+        self.chain: Chain = self._solver(Settings()).chain  # the last motion's (prepare)
 
     # ------------------------------------------------------------------ protocol
     @property
@@ -218,51 +240,29 @@ class SimulatedController:
 
     def move(self, cmd: MotionCommand, settings: Settings, options: ModalOptions) -> None:
         st = self.state
-        st.line = cmd.line
-        self.recorder.tol_position = settings.path_tol * units.MM  # R_PATH_TOL
-        solver = self._solver(settings)
-        motion = motion_values(cmd, settings, self.opts.ipo, st.t)  # each value checked once
-        self.dt_used = dt = motion.ipo
-        approx = motion.approx * units.MM
-        options = self._platform_options(cmd, motion, options)
+        motion = self.prepare(cmd, settings, options)
+        options, solver, dt = motion.options, motion.solver, motion.values.ipo
         moves_platform = cmd.platform_target is not None
-        if moves_platform:  # not blended: exact stops (platform.py)
-            approx = 0.0
-        context = (options, solver.kin.tool.tobytes(), base_transform(settings).tobytes(), dt)
-        self.blender.before_move(cmd, context)
-        plan = self._plan_state(settings, solver, motion)
+        # a motion WITH PLATFORM is not blended: exact stops (platform.py)
+        approx = 0.0 if moves_platform else motion.values.approx * units.MM
+        self.blender.before_move(cmd, motion.context)
+        plan = self.plan_state(settings, solver, motion.values)
         t0, segments, stop = st.t, [], "failed"
         try:
             segments = self.pre.plan(cmd, settings, options, plan)
-            cycles = sum(seg.cycles for seg in segments)
-            self.budget.check_time(st.t, cycles * plan.dt, cmd.line, "the motion")
-            self.budget.grant(
-                cycles, cycles * plan.dt, st.t, cmd.line, "the motion", MOTION_MIN_CYCLES
-            )
-            cartesian = [seg for seg in segments if not seg.is_joint]
-            if cartesian:  # reachability of the end (and via) points, before anything moves
-                frozen = self.pre.frozen_si(options)
-                reach = self.cycles.reach(cartesian[0].limits[0], frozen, solver)
-                what = KIND_WORDS.get(cmd.kind, cmd.kind)
-                if moves_platform:
-                    self.platform.check_targets(reach, cartesian, st.q, cmd.line, st.t, what)
-                else:
-                    check_targets(reach, cartesian, st.q, cmd.line, st.t, what)
-            avoided, criterion = frozenset(options.obstacles), motion.criterion
+            self.admit(cmd, segments, plan, options, solver)
             if moves_platform:
                 self.platform.record.begin(cmd, self.platform.platform, st.q)
-            for point, seg in enumerate(segments, start=1):
-                opts = None if seg.is_joint else self.cycles.options_for(seg, options, criterion)
-                own = self._platform_solver(settings) if seg.platform is not None else solver
-                run = SegmentRun(seg, own, dt, opts, avoided)
-                self.blender.feed(run, approx, context, point)
-            if segments:  # the next motion is planned from this point (plan_start.py)
-                end = self._programmed_point(cmd, segments[-1], plan)
-                self._programmed_end = None if end is None else (solver.kin.tool.tobytes(), end)
+            runs = self.segment_runs(
+                segments, solver, dt, options, motion.values.criterion, settings
+            )
+            for point, run in enumerate(runs, 1):
+                self.blender.feed(run, approx, motion.context, point)
+            self.note_end(cmd, segments, plan, solver)
             own = st.pending is not None and st.pending.span == len(self.log.spans)
             stop = "approximated" if own else "exact"  # (a zero-length move blends nothing)
         except RunFailure as exc:  # the platform held by R_PLATFORM: say so (platform.py)
-            held = motion.platform == "HOLD" and not moves_platform
+            held = motion.values.platform == "HOLD" and not moves_platform
             raise self.platform.explained(exc, held, self.naming) from None
         finally:
             limit = motion_limit([s.limiting for s in segments], cmd.time is not None)
@@ -270,6 +270,72 @@ class SimulatedController:
             if self.log.spans:  # after a blend the span starts where the one before ends
                 t0 = max(t0, self.log.spans[-1].end)
             self.log.add(kind, cmd.line, t0, st.t, stop, limit, settings.override, cmd.call)
+
+    # the steps of a motion statement, public for a cell's group moves (control/cell.py)
+    def prepare(
+        self, cmd: MotionCommand, settings: Settings, options: ModalOptions
+    ) -> PreparedMotion:
+        """A motion's settings checked once (:func:`motion_values`), its solver (the
+        settings' tool), the path tolerance and clearance of its cycles."""
+        st = self.state
+        st.line = cmd.line
+        self.recorder.tol_position = settings.path_tol * units.MM  # R_PATH_TOL
+        solver = self._solver(settings)
+        motion = motion_values(cmd, settings, self.opts.ipo, st.t)  # each value checked once
+        self.dt_used = motion.ipo
+        self.cycles.clearance = motion.clearance * units.MM  # R_CLEARANCE
+        self.chain = self.own_clearance.chain = solver.chain
+        options = self._platform_options(cmd, motion, options)
+        # what must not change between two motions for a blend
+        context = (options, solver.kin.tool.tobytes(), base_transform(settings).tobytes(),
+                   motion.ipo)  # fmt: skip
+        return PreparedMotion(motion, solver, context, options)
+
+    def admit(self, cmd: MotionCommand, segments: list[Segment], plan: PlanState,
+              options: ModalOptions, solver: Solver) -> None:  # fmt: skip
+        """Before anything moves: the time and cycle budgets, and the reachability of the
+        end (and via) points of the Cartesian segments."""
+        st = self.state
+        cycles = sum(seg.cycles for seg in segments)
+        self.budget.check_time(st.t, cycles * plan.dt, cmd.line, "the motion")
+        self.budget.grant(cycles, cycles * plan.dt, st.t, cmd.line, "the motion", MOTION_MIN_CYCLES)
+        cartesian = [seg for seg in segments if not seg.is_joint]
+        if cartesian:  # reachability of the end (and via) points, before anything moves
+            frozen = self.pre.frozen_si(options)
+            reach = self.cycles.reach(cartesian[0].limits[0], frozen, solver)
+            what = KIND_WORDS.get(cmd.kind, cmd.kind)
+            if cmd.platform_target is not None:
+                self.platform.check_targets(reach, cartesian, st.q, cmd.line, st.t, what)
+            else:
+                check_targets(reach, cartesian, st.q, cmd.line, st.t, what)
+
+    def segment_runs(
+        self,
+        segments: list[Segment],
+        solver: Solver,
+        dt: float,
+        options: ModalOptions,
+        criterion: str = "DISTANCE",
+        settings: Settings | None = None,
+    ) -> list[SegmentRun]:
+        """The segments as runs with their cycle options (Cartesian ones: under the
+        statement's ``R_CRITERION``); a segment that moves the platform gets the solver
+        with the platform task (of ``settings``' tool)."""
+        avoided, cycles = frozenset(options.obstacles), self.cycles
+        runs = []
+        for seg in segments:
+            opts = None if seg.is_joint else cycles.options_for(seg, options, criterion)
+            own = solver
+            if seg.platform is not None and settings is not None:
+                own = self._platform_solver(settings)
+            runs.append(SegmentRun(seg, own, dt, opts, avoided))
+        return runs
+
+    def note_end(self, cmd: MotionCommand, segments: list[Segment], plan, solver: Solver) -> None:
+        """The next motion is planned from this motion's programmed end (plan_start.py)."""
+        if segments:
+            end = self._programmed_point(cmd, segments[-1], plan)
+            self._programmed_end = None if end is None else (solver.kin.tool.tobytes(), end)
 
     def _programmed_point(self, cmd: MotionCommand, last: Segment, plan) -> np.ndarray | None:
         """The world TCP pose the motion's last point was programmed at: a Cartesian
@@ -318,15 +384,9 @@ class SimulatedController:
     ) -> None:
         """RECONFIGURATION k (:class:`~irlc.runtime.control.reconfiguration.SelfMotion`)."""
         self.flush(f"RECONFIGURATION at line {line}")
-        self.state.line = line
-        self.recorder.tol_position = settings.path_tol * units.MM  # R_PATH_TOL
-        solver = self._solver(settings)
-        cmd = MotionCommand("PTP", (target,), line)
-        motion = motion_values(cmd, settings, self.opts.ipo, self.state.t)
-        self.dt_used = motion.ipo
-        plan = self._plan_state(settings, solver, motion)
-        options = self._platform_options(None, motion, options)
-        self.self_motion.reconfigure(target, line, options, solver, plan)
+        motion = self.prepare(MotionCommand("PTP", (target,), line), settings, options)
+        plan = self.plan_state(settings, motion.solver, motion.values)
+        self.self_motion.reconfigure(target, line, motion.options, motion.solver, plan)
 
     def check_switch_on(
         self, option: str, line: int, settings: Settings, options: ModalOptions
@@ -407,9 +467,11 @@ class SimulatedController:
         key = tool.tobytes()
         solver = self._solvers.get(key)
         if solver is None:
-            chain = SerialChain(
-                self.model, Kinematics(self.model, tool), task_rows=self.ik_params.task_rows
-            )
+            if self._chain_of is not None:
+                chain = self._chain_of(tool)
+            else:
+                kin = Kinematics(self.model, tool)
+                chain = SerialChain(self.model, kin, task_rows=self.ik_params.task_rows)
             solver = Solver(chain, InverseTransformation(chain, None, self.ik_params, self.naming))
             self._solvers[key] = solver
         if len(self.recorder) == 1 and key != self._start_tool:
@@ -438,7 +500,7 @@ class SimulatedController:
         state = self.state  # its joints read after any flush the platform part asks for
         return self.platform.options(cmd, motion, options, lambda: state.q, held, self.flush)
 
-    def _plan_state(self, settings: Settings, solver: Solver, motion: MotionValues) -> PlanState:
+    def plan_state(self, settings: Settings, solver: Solver, motion: MotionValues) -> PlanState:
         """Where the next motion starts: here, or at the pending segment's point."""
         q, tcp = self.blender.start_point()
         q = self.state.q.copy() if q is None else q

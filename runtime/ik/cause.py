@@ -285,8 +285,12 @@ def _singular(jac: np.ndarray, reach: Reach, free: np.ndarray):
     v = np.abs(Vt[m - 1])
     joints = [int(free[j]) for j in np.flatnonzero(v >= 0.3 * v.max())]
     u = np.abs(U[:, m - 1])
-    rows = [TASK_NAMES[reach.task_rows[i]] for i in np.flatnonzero(u >= 0.3 * u.max())]
-    return ratio, smin, joints, rows
+    tasks = reach.task_rows  # a chain's extra rows (a tool held vertical) follow them
+    rows = [
+        TASK_NAMES[tasks[i]] if i < len(tasks) else "its extra task rows"
+        for i in np.flatnonzero(u >= 0.3 * u.max())
+    ]
+    return ratio, smin, joints, list(dict.fromkeys(rows))
 
 
 def _singular_failure(message, sing, reach, line, time_s, constraint, where) -> RunFailure:

@@ -34,6 +34,7 @@ import math
 import numpy as np
 from irlc.robots.model import RobotModel
 from irlc.runtime.engine import compiled_cycle
+from irlc.runtime.ik.clearance import ClearanceRows, ClearanceSpec, InequalityRows
 from irlc.runtime.ik.compact import CompactBasis
 from irlc.runtime.ik.coupled import CoupledRows
 from irlc.runtime.ik.criteria import CycleCriteria
@@ -112,6 +113,8 @@ class InverseTransformation:
         self._weighted_only = self.criteria.distance.only
         self._state = IterationState(np.zeros(n), np.zeros(n), np.zeros(n))
         self._bodies_are_task_frames = chain.bodies.task_frames_are_world
+        self._clearance: ClearanceRows | None = None  # R_CLEARANCE's rows (built on first use)
+        self._soft_rows = 0  # the clearance rows at the end of this cycle's rows
         # None: this module's numpy path (engine.py); a chain with extra rows runs there
         self._accel = compiled_cycle(self) if chain.compiled else None
 
@@ -153,7 +156,7 @@ class InverseTransformation:
         (the executor fails the run beyond its tolerance).
         """
         opts = options or self._default
-        compiled = self._accel is not None
+        compiled = self._accel is not None and opts.clearance is None  # (rows: numpy)
         if compiled and opts.obstacles and not self._bodies_are_task_frames:
             compiled = False  # the kernel measures distances on the task chain's frames
         if compiled and self.coupled is None and not opts.frozen:
@@ -180,6 +183,9 @@ class InverseTransformation:
         coupled = self.coupled
         if coupled is not None:
             coupled.prepare(q_start, dt, acc, q_prev)
+        self._soft_rows = 0
+        if opts.clearance is not None:  # R_CLEARANCE: rows beside the coupled ones
+            coupled = self._inequalities(opts.clearance, q_start)
         if opts.frozen:
             frozen = self.frozen_joints(opts.frozen)
             frozen.check_task(self.model, self.m, self.naming)
@@ -302,6 +308,17 @@ class InverseTransformation:
         )
 
     # ------------------------------------------------------------------ pieces
+    def _inequalities(self, spec: ClearanceSpec, q_start: np.ndarray):
+        """The coupled rows and the clearance rows of this cycle (:mod:`clearance`) as one
+        set (``None`` when there are none)."""
+        rows = self._clearance
+        if rows is None:
+            rows = self._clearance = ClearanceRows(self.chain)
+        rows.prepare(spec, q_start)
+        self._soft_rows = len(rows)
+        both = InequalityRows((self.coupled, rows))
+        return both if len(both) else None
+
     @staticmethod
     def avoided(opts: CycleOptions) -> list:
         """The obstacles avoided (not just reported) this cycle."""
@@ -401,6 +418,15 @@ class InverseTransformation:
         except FloatingPointError:
             if ineq is None:
                 raise
+            soft = self._soft_rows  # the clearance rows (last): the step without them
+            if soft:
+                keep = len(ineq[1]) - soft
+                hard = None if keep == 0 else (ineq[0][:keep], ineq[1][:keep])
+                self._soft_rows = 0
+                try:
+                    return self._relaxed(J, F, H, g, lower, upper, hard)
+                finally:
+                    self._soft_rows = soft
             raise IKFailure(
                 "the joint box and the coupled joint limits leave no admissible step "
                 "(the coupled combination moves too fast to stop before its bound)"

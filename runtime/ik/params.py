@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from irlc.robots.model import RobotModel
+from irlc.runtime.ik.clearance import ClearanceSpec
 from irlc.runtime.model.chain import task_rows_for
 
 
@@ -79,6 +80,9 @@ class CycleOptions:
     kinetic energy, :mod:`~irlc.runtime.ik.energy`) or ``"MVR"`` (the manipulator velocity
     ratio, :mod:`~irlc.runtime.ik.mvr`); how each combines with θ⁰ and the obstacles:
     :mod:`~irlc.runtime.ik.criteria`.
+    ``clearance``:
+    ``R_CLEARANCE`` > 0, the distance the links keep (:mod:`~irlc.runtime.ik.clearance`;
+    ``None``: not kept).
     """
 
     position: np.ndarray | None = None
@@ -91,3 +95,4 @@ class CycleOptions:
     active_obstacles: frozenset[str] = frozenset()
     jacobian: bool = True
     criterion: str = "DISTANCE"
+    clearance: ClearanceSpec | None = None

@@ -13,7 +13,7 @@ from collections.abc import Callable
 from typing import Protocol
 
 from irlc.lang.irdata import Code
-from irlc.runtime.commands import Controller, ModalOptions, Settings
+from irlc.runtime.commands import Controller, ModalOptions
 from irlc.runtime.interpreter.datatypes import DataTypes
 from irlc.runtime.interpreter.state import Frame, MachineState
 
@@ -31,6 +31,7 @@ class Machine(Protocol):
     pc: int  # the next instruction
     cur: int  # the instruction being executed
     wait_timeout: float  # s, WAIT FOR's time-out
+    cell: bool  # several robots: the controller is a CellController (commands.py)
 
     def push(self, v: object) -> None: ...
 
@@ -46,7 +47,11 @@ class Machine(Protocol):
 
     def call(self, fn: Callable, *args, **kwargs): ...
 
-    def snapshot(self) -> tuple[Settings, ModalOptions]: ...
+    def snapshot(self) -> tuple: ...
+
+    def robot_options(self, robot: int | None) -> ModalOptions: ...
+
+    def robot_joints(self, robot: int | None) -> tuple[str, int] | None: ...
 
     def stop_advance(self, why: str) -> None: ...
 

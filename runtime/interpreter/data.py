@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import dataclasses
 
+from irlc.lang.cell import ROBOT_VARIABLES
+from irlc.lang.irdata_robots import robot_operand
 from irlc.lang.settings import SYSTEM_VARIABLES
 from irlc.runtime import values as V
 from irlc.runtime.commands import check_setting
@@ -112,13 +114,24 @@ class DataInstructions:
 
     # ------------------------------------------------------------------ system variables
 
+    def decode_pushsys(self, args: tuple) -> tuple:
+        """``PUSHSYS NAME [ROBOT:k]`` → ``(NAME, robot)`` (``None``: not a cell's robot)."""
+        robot, rest = robot_operand("PUSHSYS", args)
+        return rest[0], robot if self.m.cell else None
+
+    def decode_popsys(self, args: tuple) -> tuple:
+        robot, rest = robot_operand("POPSYS", args)
+        return rest[0], robot if self.m.cell else None
+
     def op_pushsys(self, args) -> None:
-        name = args[0]
+        name, robot = args
         st = self.state
         m = self.m
         if name in _ACTUAL:
             m.stop_advance(f"line {m.line()} reads {name}")
-        if name == "R_ACT_POSE":
+        if m.cell and name in ROBOT_VARIABLES:  # a robot's own: holder.R_ACT_POSE …
+            v = self._robot_variable(name, robot or 0)
+        elif name == "R_ACT_POSE":
             v = m.call(m.controller.pose, dataclasses.replace(st.settings))
         elif name == "R_ACT_JOINT":
             q = m.call(m.controller.joints)
@@ -129,8 +142,19 @@ class DataInstructions:
             raise B.malformed(f"unknown system variable {name!r}")
         self.push(v)
 
+    def _robot_variable(self, name: str, robot: int) -> object:
+        """A cell's robot's ``R_TOOL``, ``R_BASE`` (the machine's), ``R_ACT_POSE``,
+        ``R_ACT_JOINT`` (the controller's)."""
+        m = self.m
+        if name == "R_ACT_POSE":
+            return m.call(m.controller.pose, *m.snapshot(), robot)
+        if name == "R_ACT_JOINT":
+            q = m.call(m.controller.joints, robot)
+            return JointTuple("MAIN_JOINT", tuple(float(x) for x in q))
+        return getattr(self.state.robots[robot], SETTINGS_FIELDS[name])
+
     def op_popsys(self, args) -> None:
-        name = args[0]
+        name, robot = args
         v = self.stack.pop()
         if name not in SETTINGS_FIELDS:
             raise B.malformed(f"system variable {name!r} cannot be assigned")
@@ -143,9 +167,10 @@ class DataInstructions:
             v = check_setting(SETTINGS_FIELDS[name], v, name).upper()
         else:
             v = check_setting(SETTINGS_FIELDS[name], number(v, name), name)
-        if SETTINGS_FIELDS[name] == "clearance" and v > 0:  # interim (issue 26)
-            raise RunFailure(f"{name} := {v:g}: this runtime cannot keep a clearance yet")
-        setattr(self.state.settings, SETTINGS_FIELDS[name], v)
+        target = self.state.settings
+        if self.m.cell and name in ROBOT_VARIABLES:
+            target = self.state.robots[robot or 0]
+        setattr(target, SETTINGS_FIELDS[name], v)
 
     # ------------------------------------------------------------------ fields and elements
 
@@ -189,15 +214,25 @@ class DataInstructions:
         items = self.pop_n(n)
         self.push(self.types.make(ty, items))
 
+    def decode_callb(self, args: tuple) -> tuple:
+        """``CALLB NAME argc [ROBOT:k]`` → ``(NAME, argc, robot)`` (``FK`` of a cell's
+        robot names it; ``None``: code of one robot)."""
+        robot, rest = robot_operand("CALLB", args)
+        return rest[0], rest[1], robot if self.m.cell else None
+
     def op_callb(self, args) -> None:
-        name, argc = args
+        name, argc, robot = args
         values = tuple(self.pop_n(argc))
         if name == "FK":
             if argc != 1:
                 raise B.malformed(f"FK takes 1 argument, got {argc}")
-            joints = self.types.joint_tuple(values[0], "FK")
-            settings = dataclasses.replace(self.state.settings)
-            fk = self.m.call(self.m.controller.forward, joints, settings)
+            m = self.m
+            joints = self.types.joint_tuple(values[0], "FK", m.robot_joints(robot))
+            if m.cell:
+                fk = m.call(m.controller.forward, joints, *m.snapshot(), robot or 0)
+            else:
+                settings = dataclasses.replace(self.state.settings)
+                fk = m.call(m.controller.forward, joints, settings)
             self.push(B.checked_value(fk, "FK"))
             return
         self.push(B.call_builtin(name, values))

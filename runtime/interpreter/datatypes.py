@@ -38,9 +38,17 @@ def number(v: object, what: str) -> float:
 class DataTypes:
     """The types of one code object (see the module docstring)."""
 
-    def __init__(self, record_types: list[RecordType], joint_names: list[str]):
+    def __init__(
+        self,
+        record_types: list[RecordType],
+        joint_names: list[str],
+        joint_counts: tuple[int, ...] = (),
+    ):
         self.record_types = {t.index: t for t in record_types}
         self.joint_count = len(joint_names)
+        # a cell's robots may differ in their joint counts: a joint tuple has one of them
+        # (checked against its robot where it meets one: :meth:`joint_tuple`'s ``count``)
+        self.joint_counts = frozenset(joint_counts or (self.joint_count,))
         self.joint_index = {n.lower(): i for i, n in enumerate(joint_names)}
         self._elements: dict[str, int] = {}  # type → elements (a cache of elements())
         self._counting: set[str] = set()  # the types elements() is inside of
@@ -71,7 +79,7 @@ class DataTypes:
             return V.orientation_from_quat(*(float(x) for x in data))
         if ty == "POSE" and len(data) == 6:
             return V.pose_from_zyx(*data)
-        if ty in JOINT_TUPLE_TYPES and len(data) == self.joint_count:
+        if ty in JOINT_TUPLE_TYPES and len(data) in self.joint_counts:
             return JointTuple(ty, tuple(float(x) for x in data))
         if platform.constant_count(ty) == len(data):  # a platform target (data list)
             return ArrayValue(1, tuple(float(x) for x in data), "REAL")
@@ -151,7 +159,7 @@ class DataTypes:
         if ty in _GEOMETRIC:
             return v if isinstance(v, _GEOMETRIC[ty]) else UNSET
         if ty in JOINT_TUPLE_TYPES:
-            if not isinstance(v, JointTuple) or len(v.values) != self.joint_count:
+            if not isinstance(v, JointTuple) or len(v.values) not in self.joint_counts:
                 return UNSET
             return v if v.type == ty else JointTuple(ty, v.values)
         m = ARRAY_TYPE.fullmatch(ty)
@@ -185,14 +193,25 @@ class DataTypes:
             fields.append((name, y))
         return RecordValue(v.type_index, tuple(fields))
 
-    def joint_tuple(self, v: object, what: str) -> JointTuple:
+    def joint_tuple(self, v: object, what: str, robot: tuple[str, int] | None = None) -> JointTuple:
+        """``v`` if it is a joint tuple of the code's joint count; with ``robot``
+        (``(name, joints)``, a cell's robot it is used with) of that robot's count — a
+        run-time failure naming the robot (a variable's length is known only here)."""
+        if robot is not None and isinstance(v, JointTuple):
+            name, count = robot
+            if len(v.values) != count:
+                raise RunFailure(
+                    f"{what} for robot {name} needs {count} values, got a {v.type} of "
+                    f"{len(v.values)}"
+                )
+            return v
         if not isinstance(v, JointTuple) or len(v.values) != self.joint_count:
             raise B.malformed(f"{what}: expected a joint tuple of {self.joint_count} values,"
                               f" got {V.type_name(v)}")  # fmt: skip
         return v
 
-    def main_joint(self, v: object, what: str) -> JointTuple:
-        j = self.joint_tuple(v, what)
+    def main_joint(self, v: object, what: str, robot: tuple[str, int] | None = None) -> JointTuple:
+        j = self.joint_tuple(v, what, robot)
         return j if j.type == "MAIN_JOINT" else JointTuple("MAIN_JOINT", j.values)
 
     # ------------------------------------------------------------------ building (MAKE)
@@ -209,7 +228,7 @@ class DataTypes:
             return Position(*(number(x, "POSITION") for x in items))
         if ty == "ORIENTATION" and n == 4:
             return B.call_builtin("ORIQUAT", tuple(items))
-        if ty in JOINT_TUPLE_TYPES and n == self.joint_count:
+        if ty in JOINT_TUPLE_TYPES and n in self.joint_counts:
             return JointTuple(ty, tuple(number(x, ty) for x in items))
         m = ARRAY_TYPE.fullmatch(ty)
         if m and n == int(m.group(2)) - int(m.group(1)) + 1:
@@ -242,8 +261,16 @@ class DataTypes:
         elif isinstance(c, Pose) and key in ("x", "y", "z", "pos", "ori"):
             return c.ori if key == "ori" else (c.pos if key == "pos" else getattr(c.pos, key))
         elif isinstance(c, JointTuple) and key in self.joint_index:
-            return c.values[self.joint_index[key]]
+            return c.values[self._joint(c, key, name)]
         raise B.malformed(f"a {V.type_name(c)} has no field {name!r}")
+
+    def _joint(self, c: JointTuple, key: str, name: str) -> int:
+        """The index of joint field ``name`` in ``c`` (a cell's shorter robot's tuple has
+        no field for the longer robot's last joints: a run-time failure)."""
+        j = self.joint_index[key]
+        if j >= len(c.values):
+            raise RunFailure(f"a {c.type} of {len(c.values)} values has no joint {name}")
+        return j
 
     def set_field(self, c: object, name: str, v: object) -> object:
         key = name.lower()
@@ -265,7 +292,7 @@ class DataTypes:
             return Pose(c.pos, self.coerce(v, "ORIENTATION", "field ori"))
         elif isinstance(c, JointTuple) and key in self.joint_index:
             values = list(c.values)
-            values[self.joint_index[key]] = number(v, f"joint {name}")
+            values[self._joint(c, key, name)] = number(v, f"joint {name}")
             return JointTuple(c.type, tuple(values))
         raise B.malformed(f"a {V.type_name(c)} has no field {name!r}")
 

@@ -69,6 +69,7 @@ from irlc.runtime.interpreter.state import (
     Frame,
     MachineState,
     Ref,
+    RobotContext,
 )
 
 # The endless-loop guard: at most this many instructions without motion or waiting (about
@@ -87,6 +88,10 @@ STILL_MOTION_COST = 250
 RUN_BUDGETS = 40
 MAX_CALL_DEPTH = 10_000
 MAX_STACK = 1_000_000
+
+
+def _copied(options: ModalOptions) -> ModalOptions:
+    return dataclasses.replace(options, frozen=dict(options.frozen))
 
 
 class Interpreter:
@@ -110,6 +115,7 @@ class Interpreter:
             raise ValueError(f"instruction_budget must be positive: {instruction_budget}")
         self.code = code
         self.controller = controller
+        self.cell = code.is_cell  # several robots: a CellController (commands.py)
         self.state = state if state is not None else MachineState()
         if settings is not None:
             self.state.settings = settings
@@ -282,7 +288,12 @@ class Interpreter:
         self._prepared = True
         if len(code.joint_names) != code.joint_count:
             raise B.malformed(f"{len(code.joint_names)} joint names for {code.joint_count} joints")
-        self.types = DataTypes(code.types, code.joint_names)
+        robots = code.robots
+        names = max((r.joint_names for r in robots), key=len)  # the k-th is alike in all
+        self.types = DataTypes(code.types, code.joint_names if not self.cell else names,
+                               tuple(r.joint_count for r in robots))  # fmt: skip
+        if self.cell and len(self.state.robots) != len(robots):
+            self.state.robots = [RobotContext() for _ in robots]
         self.consts = [self.types.constant(k, v) for k, v in enumerate(code.consts)]
         self.data.prepare(self.types)
         self._routines = {r.index: r for r in code.routines}
@@ -472,9 +483,30 @@ class Interpreter:
         if flush is not None:
             self.call(flush, why)
 
-    def snapshot(self) -> tuple[Settings, ModalOptions]:
+    def snapshot(self) -> tuple:
         """Copies of the settings and modal options for the controller (a motion handed
-        over keeps them)."""
+        over keeps them): ``(settings, options)``; in a cell every robot's,
+        ``((settings_0, …), (options_0, …))`` — robot ``k``'s settings are the cell's with
+        its own tool and base (:class:`~irlc.runtime.commands.CellController`)."""
         st = self.state
-        opts = dataclasses.replace(st.options, frozen=dict(st.options.frozen))
-        return dataclasses.replace(st.settings), opts
+        if not self.cell:
+            return dataclasses.replace(st.settings), _copied(st.options)
+        settings = tuple(
+            dataclasses.replace(st.settings, tool=r.tool, base=r.base) for r in st.robots
+        )
+        return settings, tuple(_copied(r.options) for r in st.robots)
+
+    def robot_options(self, robot: int | None) -> ModalOptions:
+        """The modal options an instruction of ``robot`` switches (``None``: code of one
+        robot, or its robot 0 named: ``state.options``)."""
+        if not self.cell:
+            return self.state.options
+        return self.state.robots[robot or 0].options
+
+    def robot_joints(self, robot: int | None) -> tuple[str, int] | None:
+        """``(name, joint count)`` of a cell's robot an instruction names, for the
+        length check of a joint tuple it is used with; ``None`` in code of one robot."""
+        if not self.cell:
+            return None
+        r = self.code.robots[robot or 0]
+        return r.var, r.joint_count

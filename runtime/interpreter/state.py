@@ -15,6 +15,7 @@ from irlc.lang.irdata import Routine, Slot
 from irlc.runtime.commands import ModalOptions, Settings
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.outputs.digital_io import Outputs
+from irlc.runtime.values import IDENTITY, Pose, Position
 
 
 class _Unset:
@@ -38,9 +39,26 @@ class Ref:
         self.slot = slot
 
 
+def _identity() -> Pose:
+    return Pose(Position(0.0, 0.0, 0.0), IDENTITY)
+
+
+@dataclass
+class RobotContext:
+    """A cell's robot in the machine: its own system variables (``holder.R_TOOL``,
+    ``holder.R_BASE``: lang/cell.py's ``ROBOT_VARIABLES``) and the redundancy options
+    switched on for it (``JOINTLIMIT … FOR holder``)."""
+
+    tool: Pose = field(default_factory=_identity)
+    base: Pose = field(default_factory=_identity)
+    options: ModalOptions = field(default_factory=ModalOptions)
+
+
 @dataclass
 class MachineState:
-    """What persists between runs of successive code chunks (REPL)."""
+    """What persists between runs of successive code chunks (REPL). ``robots``: a cell's
+    robots (empty for code of one robot, whose tool, base and options are ``settings``'
+    and ``options``)."""
 
     globals: list = field(default_factory=list)
     global_slots: list[Slot] = field(default_factory=list)
@@ -51,6 +69,7 @@ class MachineState:
     warnings: list[str] = field(default_factory=list)
     input_clock: float = 0.0  # s; input values are read at max(controller.time, this)
     outputs: Outputs = field(default_factory=Outputs)  # OUT[n] switches (digital_io.py)
+    robots: list[RobotContext] = field(default_factory=list)  # a cell's, in ROBOT:k order
 
     def value(self, name: str) -> object | None:
         """The value of global ``name`` (case-insensitive); None when unknown or unset."""

@@ -48,6 +48,11 @@ class Bodies(Protocol):
         """How a message names ``link``."""
         ...
 
+    def robots(self) -> tuple[tuple[str, Kinematics, int], ...]:
+        """``(name, kinematics, offset)`` per robot: its links are the world links
+        ``offset … offset + n`` (one robot: ``("", kin, 0)``)."""
+        ...
+
 
 class SerialBodies:
     """One robot's links: the task chain's frames are the world frames."""
@@ -71,6 +76,9 @@ class SerialBodies:
 
     def link_label(self, link: int) -> str:
         return f"link {link}"
+
+    def robots(self) -> tuple[tuple[str, Kinematics, int], ...]:
+        return (("", self.kin, 0),)
 
 
 def bodies_of(bodies: Bodies | Kinematics) -> Bodies:
@@ -148,3 +156,8 @@ class CellBodies:
     def link_label(self, link: int) -> str:
         r, own = self._member(link)
         return f"{self.members[r].name} link {own}"
+
+    def robots(self) -> tuple[tuple[str, Kinematics, int], ...]:
+        return tuple(
+            (m.name, m.kin, int(off)) for m, off in zip(self.members, self.offsets, strict=True)
+        )

@@ -242,7 +242,7 @@ def segment_obstacle(a: np.ndarray, b: np.ndarray, radius: float, obstacle) -> P
         _, _, p, q = closest_segment_segment(a, b, q0, q1)
         diff = p - q
         core = float(np.sqrt(diff @ diff))
-        v = diff / core if core > _EPS else _fallback_direction(b - a, q1 - q0)
+        v = diff / core if core > _EPS else fallback_direction(b - a, q1 - q0)
     return _swept(core, p, q, v, radius, obstacle.radius)
 
 
@@ -251,7 +251,7 @@ def _swept(core: float, p, q, v, radius: float, r_obst: float) -> Proximity:
     return Proximity(core - radius - r_obst, p - radius * v, q + r_obst * v, v)
 
 
-def _fallback_direction(d1: np.ndarray, d2: np.ndarray) -> np.ndarray:
+def fallback_direction(d1: np.ndarray, d2: np.ndarray) -> np.ndarray:
     """Escape direction when two cores touch: the common normal of the two segments,
     else any direction perpendicular to the robot segment, else +z."""
     n = np.cross(d1, d2)
@@ -301,6 +301,18 @@ class RobotSegments:
         pos = frames[self.links, :3, 3]
         a = np.einsum("kij,kj->ki", rot, self.a_local) + pos
         b = np.einsum("kij,kj->ki", rot, self.b_local) + pos
+        return a, b
+
+    def world_many(self, kin: Kinematics, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`world` of ``k`` configurations' link frames (``(k, n+1, 4, 4)`` →
+        ``(k, parts, 3)`` each)."""
+        if self.fallback:
+            ends = [self.world(kin, f) for f in frames]
+            return np.stack([e[0] for e in ends]), np.stack([e[1] for e in ends])
+        linked = frames[:, self.links]  # (k, parts, 4, 4)
+        rot, pos = linked[:, :, :3, :3], linked[:, :, :3, 3]
+        a = np.einsum("kpij,pj->kpi", rot, self.a_local) + pos
+        b = np.einsum("kpij,pj->kpi", rot, self.b_local) + pos
         return a, b
 
 

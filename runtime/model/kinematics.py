@@ -167,6 +167,20 @@ class Kinematics:
             dot(views[i], local[i], out=views[i + 1])
         return self._frames
 
+    def link_frames_many(self, qs: np.ndarray) -> np.ndarray:
+        """:meth:`link_frames` of ``k`` configurations at once (``(k, n)`` → ``(k, n+1, 4,
+        4)``; the same products, batched over the configurations: a run's samples after
+        the run)."""
+        qs = np.asarray(qs, dtype=float)
+        v = qs + self._offsets
+        coef = np.stack((np.ones_like(v), np.cos(v), np.sin(v), v), axis=2)  # (k, n, 4)
+        local = np.einsum("knc,ncm->knm", coef, self._basis).reshape(len(qs), self.n, 4, 4)
+        out = np.empty((len(qs), self.n + 1, 4, 4))
+        out[:, 0] = self._base
+        for i in range(self.n):
+            np.matmul(out[:, i], local[:, i], out=out[:, i + 1])
+        return out
+
     def tcp_from_frames(self, frames: np.ndarray) -> np.ndarray:
         return frames[-1] @ self._end
 

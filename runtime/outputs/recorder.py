@@ -296,6 +296,17 @@ class Recorder:
         del self.warnings[n_warn:], self.events[n_events:]
         self._last_clearance, self._last_link = list(clearance), list(link)
 
+    def truncate(self, k: int) -> None:
+        """Drop the samples from ``k`` on (still in memory): a cell's samples of the other
+        robots recorded during a blend that was undone (runtime/control/cell.py)."""
+        if not self._base <= k <= self._k:
+            raise IndexError(f"cannot truncate {self._k} samples to {k}")
+        self._k = k
+        if self.obstacle_names and k > self._base:
+            row = k - 1 - self._base
+            self._last_clearance = [float(v) for v in self._clearance[row]]
+            self._last_link = [int(v) for v in self._clearance_link[row]]
+
     def release(self, mark: tuple) -> None:
         """The caller of :meth:`mark` will not :meth:`rewind` to it any more: its samples
         may be spilled (module doc)."""

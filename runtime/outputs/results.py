@@ -50,6 +50,7 @@ from irlc.runtime.outputs.platform_coords import platform_report
 from irlc.runtime.outputs.recorder import backward_jerk
 from irlc.runtime.outputs.run_result import RunResult, TraceArrays
 from irlc.runtime.outputs.samples import Samples
+from irlc.runtime.outputs.self_clearance import SelfClearanceTally
 
 if TYPE_CHECKING:
     from irlc.lang.irdata import Code
@@ -253,9 +254,11 @@ def build_report(run: RunData) -> dict:
     )
     tally = _Tally(model, controller.obstacles, rows, drive is not None)
     measures = MeasureTally(run.measures)  # kinetic energy, velocity ratio
+    own = SelfClearanceTally(model)  # the robot's own links (self_clearance.py)
     for samples in run.pieces():
         tally.add(samples)
         measures.add(samples.shown)
+        own.add(samples.shown)
     k = tally.k
     penetrations = tally.shown.penetrations()
     warnings = run.warnings + [
@@ -326,6 +329,7 @@ def build_report(run: RunData) -> dict:
         "tool": tool_report(model, execution.state.settings.tool),
         "statements": rows,
         **measures.report(rnd),  # kinetic_energy, mvr
+        "self_clearance": own.report(rnd),
     }
     if tally.motors is not None:  # per motor and statement: travel, travel time
         report["motors"] = _clean(tally.motors.report(names))

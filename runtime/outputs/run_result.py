@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 from irlc.lang.irdata import Code
 from irlc.robots.model import RobotModel
+from irlc.runtime import values
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.model.obstacles import Obstacle
 from irlc.runtime.outputs.recorder import RecordedRun
@@ -32,12 +33,40 @@ class TraceArrays:
 
 
 @dataclass
+class RobotResult:
+    """One robot of a run (:attr:`RunResult.robots`): its name in the program, its model
+    (placed in the cell: base = ``at`` · the file's base), its placement ``at`` (4×4, SI),
+    its joints' program names, its samples (SI: ``times`` (k,), ``q`` (k, n), ``tcp``
+    (k, 4, 4) in the cell frame; with drives the actual motion), its part of the report
+    (a cell's ``report["robots"]`` entry; one robot: the whole report), its trace columns
+    (a cell's: prefixed ``NAME_``), the recorder's samples and the drive run."""
+
+    name: str
+    model: RobotModel
+    at: np.ndarray
+    joint_names: tuple[str, ...]
+    times: np.ndarray
+    q: np.ndarray
+    tcp: np.ndarray
+    report: dict
+    trace_columns: list[str]
+    recorded: Any = None
+    drive: Any = None
+
+
+@dataclass
 class RunResult:
     """A run's result. ``times``, ``q``, ``tcp`` (SI: the actual joints, the commanded ones
     with ideal drives), ``trace`` (program units, one row per sample) and ``recorded`` are
     read from ``source``: arrays kept in memory, or, for a streamed run
     (``run_code(stream=True)``), built on first use; :meth:`trace_tables` gives the trace
-    in pieces of rows, which is how the CLI writes it (bounded memory)."""
+    in pieces of rows, which is how the CLI writes it (bounded memory).
+
+    A cell (several robots): :attr:`robots` has each robot's :class:`RobotResult`, in the
+    ``ROBOT`` clauses' order; ``q`` is every robot's joints side by side (the order of
+    ``joint_names``, ``holder_a1 …``), ``tcp`` is ``None`` (each robot's is
+    ``robots[name].tcp``), ``model`` robot 0's, ``recorded`` robot 0's samples (times and
+    lines are the cell's)."""
 
     status: str  # "ok" | "failed"
     error: RunFailure | None
@@ -51,6 +80,28 @@ class RunResult:
     joint_names: tuple[str, ...] = ()
     diagnostics: list = field(default_factory=list)  # compiler warnings (run_file)
     source: Any = None  # TraceArrays | results.StreamedTrace
+    cell: dict[str, RobotResult] | None = None  # a cell's robots (None: one robot)
+
+    @property
+    def is_cell(self) -> bool:
+        return self.cell is not None
+
+    @property
+    def robots(self) -> dict[str, RobotResult]:
+        """Each robot's result by its name in the program (one robot: one entry, its
+        name that of the ``ROBOT`` clause)."""
+        if self.cell is not None:
+            return self.cell
+        name = self.code.robot_var if self.code is not None else self.model.name
+        at = np.eye(4)
+        if self.code is not None and self.code.at is not None:
+            at = values.pose_to_matrix(values.pose_from_zyx(*self.code.at))
+        return {
+            name: RobotResult(
+                name, self.model, at, tuple(self.joint_names), self.times, self.q, self.tcp,
+                self.report, list(self.trace_columns), self.recorded, self.drive,
+            )
+        }  # fmt: skip
 
     @property
     def ok(self) -> bool:

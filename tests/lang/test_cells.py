@@ -6,6 +6,7 @@ A cell here: ``holder`` and ``welder`` (fake 6-joint robots ``six``) and ``arm``
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -547,19 +548,20 @@ def test_the_example_cells_check_compile_and_disassemble(name, tmp_path, capsys)
 def test_robot_option_is_refused_for_a_cell(capsys) -> None:
     status, _, err = _cli(capsys, "check", str(PROGRAMS / "cooperating.irl"), "--robot", "as6")
     assert status == 1
-    assert "cooperating.irl:9:1: error: --robot as6 cannot be used with a cell: the program " \
+    assert "cooperating.irl:12:1: error: --robot as6 cannot be used with a cell: the program " \
         "names 2 robots (holder, welder)" in err  # fmt: skip
 
 
-def test_running_a_cell_is_a_positioned_error_until_the_runtime_runs_cells(tmp_path, capsys):
+def test_a_cell_runs_from_its_program_and_from_its_code(tmp_path, capsys):
     program = PROGRAMS / "two_robots.irl"
-    status, _, err = _cli(capsys, "run", str(program))
-    assert status == 3
-    assert f"{program}:6:16: cells are compiled but this runtime cannot run them yet" in err
-    out = tmp_path / "two.ird"
-    _cli(capsys, "compile", str(program), "-o", str(out))
-    status, _, err = _cli(capsys, "run", str(out))
-    assert status == 3 and f"{out}:7:15: cells are compiled" in err
+    status, out, _ = _cli(capsys, "run", str(program), "--json")
+    assert status == 0
+    report = json.loads(out)
+    assert [r["name"] for r in report["robots"]] == ["ceiling", "floor"]
+    code = tmp_path / "two.ird"
+    _cli(capsys, "compile", str(program), "-o", str(code))
+    status, out, _ = _cli(capsys, "run", str(code), "--json")
+    assert status == 0 and json.loads(out)["samples"] == report["samples"]
 
 
 def test_an_approximated_group_move_warns_where_the_advance_run_stops() -> None:
@@ -574,3 +576,19 @@ def test_an_approximated_group_move_warns_where_the_advance_run_stops() -> None:
         (8, "changing R_TOOL stops the advance run"),
         (10, "reading R_ACT_POSE stops the advance run"),
     ]
+
+
+def test_a_cell_whose_prefixed_trace_columns_coincide_does_not_compile() -> None:
+    """Robot h's joint a1_speed and robot h_a1's joint speed both give h_a1_speed_deg."""
+    result = compile_text(
+        "PROGRAM c;\nROBOT h := six;\nROBOT h_a1 := six AT (0, 2000, 0, 0, 0, 0);\n"
+        "TYPE RECORD REAL: a1_speed, speed, c2, d2, e2, f2; ENDRECORD = MAIN_JOINT;\n"
+        "BEGIN\nENDPROGRAM\n"
+    )
+    assert [(e.line, e.column, e.message) for e in result.errors] == [
+        (3, 7, "robot h_a1 gives the trace column h_a1_speed_deg, which is also a column of "
+         "joint 'a1_speed' of robot h")
+    ]  # fmt: skip
+    assert compile_text(
+        "PROGRAM c;\nROBOT h := six;\nROBOT g := six AT (0, 2000, 0, 0, 0, 0);\nBEGIN\nENDPROGRAM\n"
+    ).ok

@@ -41,7 +41,7 @@ ENDPROGRAM
 MOTOR_MAPS_ONLY = {"motors", "NAME_motor_rad"}  # written for robots with motor maps only
 
 
-def _section(title: str) -> str:
+def section(title: str) -> str:
     text = DOC.read_text(encoding="utf-8")
     start = text.index(f"\n## {title}")
     end = text.find("\n## ", start + 1)
@@ -60,12 +60,12 @@ def _rows(text: str) -> list[tuple[list[str], bool]]:
     return out
 
 
-def _tables(section: str) -> list[list[tuple[list[str], bool]]]:
+def tables(section: str) -> list[list[tuple[list[str], bool]]]:
     """The tables of a section, in order (a blank line ends a table)."""
     return [rows for block in section.split("\n\n") if (rows := _rows(block))]
 
 
-def _documented(rows) -> tuple[set[str], set[str]]:
+def documented(rows) -> tuple[set[str], set[str]]:
     keys = {k for ks, pending in rows if not pending for k in ks}
     pending = {k for ks, p in rows if p for k in ks}
     return keys, pending
@@ -92,8 +92,8 @@ def _optional(report: dict) -> set[str]:
 
 def test_report_keys_are_the_documented_ones(run_files):
     report, _ = run_files
-    top, per_joint = _tables(_section("Report"))[:2]
-    keys, pending = _documented(top)
+    top, per_joint = tables(section("Report"))[:2]
+    keys, pending = documented(top)
     pending |= keys & _optional(report)
     keys -= _optional(report)
     assert keys <= set(report), f"documented but not written: {sorted(keys - set(report))}"
@@ -101,13 +101,13 @@ def test_report_keys_are_the_documented_ones(run_files):
     assert not extra, f"written but not in docs/interfaces.md: {sorted(extra)}"
     order = [k for ks, p in top if not p for k in ks if k in keys]
     assert [k for k in report if k in keys] == order, "report keys not in the documented order"
-    keys, pending = _documented(per_joint)
+    keys, pending = documented(per_joint)
     joint = report["joints"][0]
     assert keys <= set(joint), f"documented but not written: {sorted(keys - set(joint))}"
     assert not set(joint) - keys - pending, sorted(set(joint) - keys - pending)
 
 
-def _pattern(doc_name: str, joints: list[str]) -> re.Pattern:
+def column_pattern(doc_name: str, joints: list[str]) -> re.Pattern:
     name = "(?:" + "|".join(map(re.escape, joints)) + ")"
     text = re.escape(doc_name).replace("NAME", name).replace("OBSTACLE", r"\w+")
     text = text.replace("NUM", r"\d+").replace("SIGNAL", r"\w+")
@@ -116,14 +116,14 @@ def _pattern(doc_name: str, joints: list[str]) -> re.Pattern:
 
 def test_trace_columns_are_the_documented_ones_in_order(run_files):
     report, header = run_files
-    rows = _tables(_section("Trace"))[0]
+    rows = tables(section("Trace"))[0]
     joints = report["joint_names"]
     row_of = []  # the documented row each column matches
     for column in header:
         found = [
             i
             for i, (ks, _) in enumerate(rows)
-            if any(_pattern(k, joints).match(column) for k in ks)
+            if any(column_pattern(k, joints).match(column) for k in ks)
         ]
         assert found, f"trace column {column!r} is not in docs/interfaces.md"
         row_of.append(found[0])

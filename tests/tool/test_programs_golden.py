@@ -21,13 +21,7 @@ def _runtime_available() -> bool:
     return True
 
 
-CELLS = {"cooperating", "two_robots"}  # compiled (tests/lang); run once the runtime runs cells
-_CASES = [
-    pytest.param(p, marks=pytest.mark.xfail(strict=True, reason="cells: runtime pending (#26)"))
-    if p.stem in CELLS
-    else p
-    for p in find_programs(PROGRAMS)
-]
+_CASES = find_programs(PROGRAMS)
 
 
 @pytest.mark.scenario

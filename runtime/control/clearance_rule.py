@@ -1,0 +1,143 @@
+"""The clearance rule between links: robots do not pass through each other or themselves.
+
+The watched pairs (:mod:`irlc.runtime.model.clearance`: every part of one robot against
+every part of another, a robot's non-adjacent parts apart at home) are measured at every
+recorded IPO cycle; their smallest distance is the *clearance*. The rule
+(:meth:`ClearanceRule.judge`):
+
+* a clearance below 0 is a **collision** between two links — a run failure (exit 2) naming
+  both robots and links, the depth, the time and the line (cause ``clearance``), unless
+  collisions are allowed (``--allow-collisions``, as for obstacles: reported, not judged);
+* with ``R_CLEARANCE := d`` > 0 the inverse transformation keeps the pairs ``d`` apart
+  (:mod:`irlc.runtime.ik.clearance`); a clearance below ``d`` anyway — the QP could not keep
+  it, a PTP (which is not steered) or another robot came closer — is a run failure at the
+  first such sample, with the same facts.
+
+In a cell (:mod:`irlc.runtime.control.cell`) the rule judges every pair at every sample. In
+a program of one robot its own links are judged only while ``R_CLEARANCE`` > 0
+(:class:`OwnClearance`); otherwise the report states their smallest distance
+(:mod:`irlc.runtime.outputs.self_clearance`) and the run's verdict is what it was before
+cells — the library's robot files model links by generous capsules that overlap in the
+monograph's own programs (koch11's links 8 and 10 by 19 mm on ``square.irl``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+from irlc.runtime import units
+from irlc.runtime.errors import RunFailure
+from irlc.runtime.model.chain import Chain
+from irlc.runtime.model.clearance import Clearance, PartSet, RobotParts
+
+KEEP_TOLERANCE = 1e-4  # m: a pair this much below what it keeps fails the run (0.1 mm)
+
+
+@dataclass(frozen=True)
+class Measured:
+    """Every watched pair of one sample (:meth:`PartSet.distances` at the parts' world
+    ends ``a, b``): distances ``d`` and closest points ``p``, ``q``."""
+
+    parts: PartSet
+    a: np.ndarray
+    b: np.ndarray
+    d: np.ndarray
+    p: np.ndarray
+    q: np.ndarray
+
+    @classmethod
+    def at(cls, parts: PartSet, a: np.ndarray, b: np.ndarray) -> Measured:
+        d, _, _, p, q = parts.distances(a, b)
+        return cls(parts, a, b, d, p, q)
+
+    def pair(self, k: int) -> Clearance:
+        return self.parts.clearance(k, float(self.d[k]), self.p[k], self.q[k], self.a, self.b)
+
+    def closest(self) -> Clearance | None:
+        """The closest pair (the first of equal ones); ``None`` without pairs."""
+        return self.nearest
+
+    @cached_property
+    def nearest(self) -> Clearance | None:
+        if not self.d.size:
+            return None
+        k = int(np.argmin(self.d))
+        return self.parts.clearance(k, float(self.d[k]), self.p[k], self.q[k], self.a, self.b)
+
+
+class ClearanceRule:
+    """Judges the clearance of a sample (module doc). ``parts`` are the watched parts and
+    pairs (their names in messages); ``allow``: collisions (penetrations) are allowed."""
+
+    def __init__(self, parts: PartSet, allow: bool = False):
+        self.parts = parts
+        self.allow = allow
+
+    def judge(self, m: Measured, required: float, line: int, t: float) -> None:
+        """A :class:`RunFailure` when a pair of the sample ``m`` penetrates (not allowed)
+        or, with ``required`` (m, R_CLEARANCE) > 0, a pair is closer than it keeps
+        (:meth:`PartSet.keep`) by more than :data:`KEEP_TOLERANCE`."""
+        parts, d = self.parts, m.d
+        if not d.size:
+            return
+        closest = m.closest()
+        if closest.distance < 0.0 and not self.allow:
+            raise self.failure(closest, 0.0, line, t)
+        if required > 0.0:
+            keep = parts.keep(required)
+            j = int(np.argmin(d - keep))
+            if d[j] < keep[j] - KEEP_TOLERANCE:
+                raise self.failure(m.pair(j), float(keep[j]), line, t)
+
+    def failure(self, c: Clearance, required: float, line: int, t: float) -> RunFailure:
+        """The failure of pair ``c``, which keeps ``required`` (m, R_CLEARANCE; 0: a
+        collision)."""
+        a, b = self.parts.label(c.robot_a, c.link_a), self.parts.label(c.robot_b, c.link_b)
+        mm = c.distance / units.MM
+        if required <= 0.0:
+            what = f"{a} and {b} collide: they are {-mm:.4g} mm inside each other at t = {t:.3f} s"
+            hint = "change the path, or keep them apart with R_CLEARANCE"
+        else:
+            what = (
+                f"{a} and {b} are {mm:.4g} mm apart at t = {t:.3f} s, closer than R_CLEARANCE "
+                f"{required / units.MM:g} mm"
+            )
+            hint = "the clearance cannot be kept here (a PTP is not steered by it): change the path"
+        details = {
+            "robot_a": self.parts.robots[c.robot_a].name,
+            "link_a": c.link_a,
+            "robot_b": self.parts.robots[c.robot_b].name,
+            "link_b": c.link_b,
+            "distance_mm": mm,
+            "required_mm": required / units.MM,
+        }
+        return RunFailure(f"{what}; {hint}", line, t, f"clearance {a} – {b}", "clearance", details)
+
+
+class OwnClearance:
+    """A program of one robot: its own links judged while ``R_CLEARANCE`` > 0 (module doc).
+    A cycle observer (:class:`~irlc.runtime.control.cycles.CycleObserver`); ``chain`` is
+    the chain of the statement's tool (the controller sets it)."""
+
+    def __init__(self, allow: bool = False):
+        self.allow = allow
+        self.chain: Chain | None = None
+        self._parts: dict[int, tuple[Chain, PartSet]] = {}
+
+    def cycle(self, runner) -> None:
+        if runner.clearance <= 0.0 or self.chain is None:
+            return
+        chain = self.chain
+        hit = self._parts.get(id(chain))
+        if hit is None or hit[0] is not chain:
+            robots = chain.bodies.robots()
+            hit = (chain, PartSet([RobotParts(name, kin) for name, kin, _ in robots]))
+            self._parts[id(chain)] = hit
+        parts = hit[1]
+        world = chain.world_frames(runner.state.q)
+        frames = [world[o : o + kin.n + 1] for _, kin, o in chain.bodies.robots()]
+        st = runner.state
+        rule = ClearanceRule(parts, self.allow)
+        rule.judge(Measured.at(parts, *parts.world(frames)), runner.clearance, st.line, st.t)
