@@ -175,14 +175,7 @@ class DriveReader(Reader):
         """A number, a list (one per driven axis; ``key[i]``, 1-based) or
         ``{value, assumed, reason}``; positive (``zero_ok``: non-negative) unless
         ``positive`` is false."""
-        if isinstance(raw, dict):
-            self.table(raw, key, {"value", "assumed", "reason"})
-            if "value" not in raw:
-                raise self.fail(f"{key}.value", "missing")
-            assumed, reason = self.assumption(raw, key)
-            if assumed:
-                self.assumed[key] = reason
-            raw = raw["value"]
+        raw = self.unwrapped(raw, key)
         items = raw if isinstance(raw, list) else [raw] * self.count
         if len(items) != self.count:
             raise self.fail(
@@ -199,15 +192,20 @@ class DriveReader(Reader):
     def scalar(self, raw: Any, key: str) -> float:
         """One positive number for the robot (not per axis), or ``{value, assumed,
         reason}``."""
-        if isinstance(raw, dict):
-            self.table(raw, key, {"value", "assumed", "reason"})
-            if "value" not in raw:
-                raise self.fail(f"{key}.value", "missing")
-            assumed, reason = self.assumption(raw, key)
-            if assumed:
-                self.assumed[key] = reason
-            raw = raw["value"]
-        return self.positive(raw, key)
+        return self.positive(self.unwrapped(raw, key), key)
+
+    def unwrapped(self, raw: Any, key: str) -> Any:
+        """``raw``'s value: ``raw`` itself, or of ``{value, assumed, reason}`` its ``value``
+        (an assumed value's reason is noted under ``key``)."""
+        if not isinstance(raw, dict):
+            return raw
+        self.table(raw, key, {"value", "assumed", "reason"})
+        if "value" not in raw:
+            raise self.fail(f"{key}.value", "missing")
+        assumed, reason = self.assumption(raw, key)
+        if assumed:
+            self.assumed[key] = reason
+        return raw["value"]
 
     def group(self, t: dict, key: str, spec: dict, optional: dict, zero_ok=()) -> dict:
         self.table(t, key, set(spec))

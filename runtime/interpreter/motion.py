@@ -94,14 +94,6 @@ class MotionInstructions:
             m.call(m.controller.move, motions[0].command, *m.snapshot())
         m.moved()
 
-    def _call_site(self) -> tuple[str, int] | None:
-        """``(routine, line of its call)`` when the current instruction is in a routine
-        (the cycle-time table shows a routine's motion with its call site)."""
-        frame = self.frames[-1] if self.frames else None
-        if frame is None or frame.routine.kind == "MAIN":
-            return None
-        return frame.routine.name, self._nearest_line(frame.return_pc - 1)
-
     def _move_target(self, kind: str, t: object, who: tuple[str, int] | None) -> object:
         if kind in PATH_KINDS:  # a Cartesian path goes to POSE targets
             if not isinstance(t, Pose):
