@@ -34,6 +34,7 @@ from irlc.runtime import units
 from irlc.runtime.model.kinematics import Kinematics
 
 MAX_FRAMES = 2000
+UNITS = {"length": "mm", "angle": "deg", "time": "s"}
 STATUS_ID = "irlc-status"  # the page writes "ok" or "error: …" here (used by tests)
 
 
@@ -105,35 +106,96 @@ def _obstacle(o: Any) -> dict | None:
 
 
 def animation_data(run: Any) -> dict:
-    """The JSON the page embeds (see the module docstring for the geometry)."""
+    """The JSON the page embeds (see the module docstring for the geometry); a cell's
+    (several robots) is :func:`cell_animation_data`."""
+    if getattr(run, "is_cell", False):
+        return cell_animation_data(run)
     d: RunData = run_data(run)
     if d.model is None:
         raise ValueError("the animation needs the robot model (link frames); the run has none")
-    kin = Kinematics(d.model)
     idx = frame_indices(d.k)
+    lines = d.lines[idx].tolist() if d.lines is not None else [0] * len(idx)
+    return {
+        "program": d.report.get("program") or d.label,
+        "robot": d.report.get("robot") or d.model.name,
+        "status": d.report.get("status", "ok"),
+        "units": dict(UNITS),
+        **_robot_frames(d, d.model, idx),
+        "obstacles": [s for s in (_obstacle(o) for o in d.obstacles) if s is not None],
+        "t": [round(float(d.times[i]), 3) for i in idx],
+        "line": [int(v) for v in lines],
+    }
+
+
+def _robot_frames(d: RunData, model, idx: np.ndarray) -> dict:
+    """One robot's part of the page's data at the kept samples ``idx``: its joints, link
+    geometry, the points of every frame (skeleton, TCP, geometry) and the TCP path."""
+    kin = Kinematics(model)
     frames = [_frame_points(kin, d.q[i]) for i in idx]
     if d.tcp is not None:  # the run's TCP: with the program's tool (R_TOOL), not the file's
         for pts, i in zip(frames, idx, strict=True):
             pts[kin.n + 1] = d.tcp[i]
     points = [_mm(pts) for pts in frames]
     tcp = np.array([pts[kin.n + 1] for pts in frames])
-    lines = d.lines[idx].tolist() if d.lines is not None else [0] * len(idx)
     return {
-        "program": d.report.get("program") or d.label,
-        "robot": d.report.get("robot") or d.model.name,
-        "status": d.report.get("status", "ok"),
         "n": d.n,
-        "units": {"length": "mm", "angle": "deg", "time": "s"},
         "joint_names": list(d.joint_names),
         "robot_joint_names": list(d.robot_joint_names),
         "joint_labels": [d.joint_label(j) for j in range(d.n)],
-        "shapes": _shapes(d.model),
-        "obstacles": [s for s in (_obstacle(o) for o in d.obstacles) if s is not None],
-        "t": [round(float(d.times[i]), 3) for i in idx],
-        "line": [int(v) for v in lines],
+        "shapes": _shapes(model),
         "joints": [[round(float(v), 2) for v in d.program_units(d.q[i])] for i in idx],
         "points": points,
         "path": _mm(tcp),
+    }
+
+
+def cell_animation_data(run: Any) -> dict:
+    """A cell's page data: every robot in one scene, placed by its ``AT`` (its model's
+    base), ``robots`` holding each robot's part as :func:`animation_data` has it for one
+    robot (with ``name``, ``robot``, ``at``), and ``clearance`` per frame: the least
+    distance between watched links (:class:`~irlc.runtime.model.clearance.PartSet`, as
+    the run watches them) from the frame's joints, its two closest points (mm) and pair."""
+    from irlc.robot_runs import robot_runs
+    from irlc.runtime.model.clearance import PartSet, RobotParts
+
+    robots = robot_runs(run)
+    first = robots[0].data
+    idx = frame_indices(first.k)
+    parts = PartSet([RobotParts(r.name, Kinematics(r.model)) for r in robots])
+    kins = [p.kin for p in parts.robots]
+    clearance: dict[str, list] = {"mm": [], "a": [], "b": [], "pair": []}
+    for i in idx:
+        ends = parts.world([k.link_frames(r.data.q[i]) for k, r in zip(kins, robots, strict=True)])
+        near = parts.closest(*ends)
+        if near is None:
+            continue
+        clearance["mm"].append(round(near.distance / units.MM, 1))
+        clearance["a"].append(_mm(near.point_a))
+        clearance["b"].append(_mm(near.point_b))
+        clearance["pair"].append(
+            f"{parts.label(near.robot_a, near.link_a)} – {parts.label(near.robot_b, near.link_b)}"
+        )
+    lines = first.lines[idx].tolist() if first.lines is not None else [0] * len(idx)
+    required = (run.report.get("clearance") or {}).get("required_mm") or 0.0
+    return {
+        "program": run.report.get("program") or first.label,
+        "robot": run.report.get("robot", ""),
+        "status": run.report.get("status", "ok"),
+        "units": dict(UNITS),
+        "robots": [
+            {
+                "name": r.name,
+                "robot": r.data.report.get("robot") or r.model.name,
+                "at": list(r.data.report.get("at") or [0.0] * 6),
+                **_robot_frames(r.data, r.model, idx),
+            }
+            for r in robots
+        ],
+        "obstacles": [s for s in (_obstacle(o) for o in first.obstacles) if s is not None],
+        "t": [round(float(first.times[i]), 3) for i in idx],
+        "line": [int(v) for v in lines],
+        "clearance": clearance if clearance["mm"] else None,
+        "required_mm": required,
     }
 
 
@@ -188,13 +250,13 @@ const slider = document.getElementById("slider"), info = document.getElementById
 const playBtn = document.getElementById("play"), speedSel = document.getElementById("speed");
 const jointsEl = document.getElementById("joints");
 const N = D.t.length; slider.max = N - 1;
+const R = D.robots || [D];  // a cell: every robot, placed in the cell frame
 const COLORS = ["#e07a1f","#2f6db5","#3a9a4a","#b53f3f","#7a4fb0","#1f9aa8","#b0892f","#c2548f"];
 
 // scene bounds over all frames, the path and the obstacles
 let lo = [1e18,1e18,1e18], hi = [-1e18,-1e18,-1e18];
 function grow(p){ for (let k=0;k<3;k++){ lo[k]=Math.min(lo[k],p[k]); hi[k]=Math.max(hi[k],p[k]); } }
-for (const f of D.points) for (const p of f) grow(p);
-for (const p of D.path) grow(p);
+for (const r of R){ for (const f of r.points) for (const p of f) grow(p); r.path.forEach(grow); }
 for (const o of D.obstacles){
   if (o.c) grow(o.c);
   if (o.a){ grow(o.a); grow(o.b); }
@@ -290,25 +352,38 @@ function draw(){
   if (!W) return;
   B = basis();
   g.globalAlpha=1; g.fillStyle="#f4f5f7"; g.fillRect(0,0,W,H);
-  const P = D.points[frame], items = [];
+  const items = [];
   for (const s of floorGrid()) s.draw();
   items.push(...obstacleItems());
-  for (let i=1;i<D.path.length;i++) items.push(seg(D.path[i-1],D.path[i],0,"#888",0.8));
-  for (const s of D.shapes){
-    const col=COLORS[(s.link-1+COLORS.length)%COLORS.length];
-    if (s.type==="capsule") items.push(seg(P[s.i[0]],P[s.i[1]],s.r,col,0.8));
-    else items.push(disc(P[s.i[0]],s.r,col,0.8));
+  R.forEach((r, k) => {
+    const P = r.points[frame];
+    for (let i=1;i<r.path.length;i++) items.push(seg(r.path[i-1],r.path[i],0,"#888",0.8));
+    for (const s of r.shapes){
+      const col=COLORS[(s.link-1+3*k+COLORS.length)%COLORS.length];
+      if (s.type==="capsule") items.push(seg(P[s.i[0]],P[s.i[1]],s.r,col,0.8));
+      else items.push(disc(P[s.i[0]],s.r,col,0.8));
+    }
+    for (let i=1;i<=r.n+1;i++) items.push(seg(P[i-1],P[i],0,"#222",1));
+    for (let i=0;i<=r.n;i++) items.push(disc(P[i],0.012*size,"#222",1));
+    items.push(disc(P[r.n+1],0.02*size,"#e0b000",1));
+    if (r.name) items.push(label(P[0], r.name));
+  });
+  const C = D.clearance;
+  let gap = "";
+  if (C){  // the closest watched pair of links: a red line between its closest points
+    const a=C.a[frame], b=C.b[frame], low = D.required_mm>0 && C.mm[frame] < D.required_mm;
+    items.push(seg(a,b,0,low?"#d00000":"#c0392b",1), disc(a,0,"#c0392b",1,3),
+               disc(b,0,"#c0392b",1,3), label([0,1,2].map(k=>(a[k]+b[k])/2), C.mm[frame]+" mm"));
+    gap = "   clearance " + C.mm[frame].toFixed(1) + " mm (" + C.pair[frame] + ")";
   }
-  for (let i=1;i<=D.n+1;i++) items.push(seg(P[i-1],P[i],0,"#222",1));
-  for (let i=0;i<=D.n;i++) items.push(disc(P[i],0.012*size,"#222",1));
-  items.push(disc(P[D.n+1],0.02*size,"#e0b000",1));
   items.sort((a,b)=>b.z-a.z);
   for (const it of items) it.draw();
   g.globalAlpha=1;
   info.textContent = "t = " + D.t[frame].toFixed(2) + " s   line " + D.line[frame]
-    + "   frame " + (frame+1) + "/" + N;
-  jointsEl.textContent = D.joint_labels
-    .map((nm,i) => nm + " " + D.joints[frame][i].toFixed(2)).join("\\n");
+    + "   frame " + (frame+1) + "/" + N + gap;
+  jointsEl.textContent = R.map(r => r.joint_labels
+    .map((nm,i) => (r.name ? r.name + " " : "") + nm + " " + r.joints[frame][i].toFixed(2))
+    .join("\\n")).join("\\n\\n");
   slider.value = frame;
 }
 // playback in simulated time

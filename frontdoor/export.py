@@ -298,8 +298,45 @@ def sample_derivatives(q: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.nda
 
 
 def trajectory_document(run: Any) -> dict:
-    """The JointTrajectory-like document of a run (see the module docstring)."""
+    """The JointTrajectory-like document of a run (see the module docstring); a cell's
+    holds one per robot (:func:`cell_trajectory_document`)."""
+    if getattr(run, "is_cell", False):
+        return cell_trajectory_document(run)
     d = run_data(run)
+    joints = _joint_trajectory(d)
+    points = joints.pop("points")
+    return {
+        "format": TRAJECTORY_FORMAT,
+        "header": _HEADER,
+        "robot": d.report.get("robot", getattr(d.model, "name", "")),
+        **_run_keys(d.report),
+        **joints,
+        "units": dict(_UNITS),
+        "points": points,
+    }
+
+
+_HEADER = {"frame_id": "world", "stamp": {"sec": 0, "nanosec": 0}}
+_UNITS = {"revolute": "rad", "prismatic": "m", "time": "s"}
+
+
+def _run_keys(report: dict) -> dict:
+    """The run's ``program``, ``status``, ``partial``, ``motion`` and ``drives``: a failed
+    run's points stop where it stopped; with drives they are the simulated actual motion,
+    not the setpoints."""
+    status, drives = report.get("status"), report.get("drives", "ideal")
+    return {
+        "program": report.get("program", ""),
+        "status": status,
+        "partial": status == "failed",
+        "motion": "commanded" if drives == "ideal" else "actual",
+        "drives": drives,
+    }
+
+
+def _joint_trajectory(d: RunData) -> dict:
+    """``joint_names`` (the robot file's), ``program_joint_names``, ``joint_kinds`` and the
+    ``points`` of one robot's samples."""
     t0 = float(d.times[0])
     qd, qdd = sample_derivatives(d.q, d.times)
     points = [
@@ -311,23 +348,46 @@ def trajectory_document(run: Any) -> dict:
         }
         for i in range(d.k)
     ]
-    status, drives = d.report.get("status"), d.report.get("drives", "ideal")
     return {
-        "format": TRAJECTORY_FORMAT,
-        "header": {"frame_id": "world", "stamp": {"sec": 0, "nanosec": 0}},
-        "robot": d.report.get("robot", getattr(d.model, "name", "")),
-        "program": d.report.get("program", ""),
-        # a failed run's points stop where it stopped; with drives they are the simulated
-        # actual motion, not the setpoints
-        "status": status,
-        "partial": status == "failed",
-        "motion": "commanded" if drives == "ideal" else "actual",
-        "drives": drives,
         "joint_names": list(d.robot_joint_names or d.joint_names),
         "program_joint_names": list(d.joint_names),
         "joint_kinds": list(d.joint_kinds),
-        "units": {"revolute": "rad", "prismatic": "m", "time": "s"},
         "points": points,
+    }
+
+
+def cell_trajectory_document(run: Any) -> dict:
+    """A cell's trajectories: the run's keys, then ``robots``, per robot in the ``ROBOT``
+    clauses' order its ``name``, ``robot``, ``at`` (its placement as the program writes
+    it: mm, deg ZYX), ``placement`` (the same as a ROS transform from ``world`` to its
+    base's placement: ``translation`` m, ``rotation`` quaternion ``x y z w``), ``header``
+    and its own joint trajectory (its robot file's joint names, SI)."""
+    from irlc.robot_runs import robot_runs
+    from irlc.runtime.model import spatial
+
+    robots = []
+    for r in robot_runs(run):
+        w, x, y, z = spatial.matrix_to_quat(r.at[:3, :3])
+        placement = {
+            "frame_id": "world",
+            "translation": _round(r.at[:3, 3]),
+            "rotation": _round(np.array([x, y, z, w])),
+        }
+        robots.append({
+            "name": r.name,
+            "robot": r.data.report.get("robot", r.model.name),
+            "at": list(r.data.report.get("at") or [0.0] * 6),
+            "placement": placement,
+            "header": _HEADER,
+            **_joint_trajectory(r.data),
+        })  # fmt: skip
+    units = {**_UNITS, "at": "mm, deg (x, y, z, a, b, c: ZYX, as the program's AT)"}
+    return {
+        "format": TRAJECTORY_FORMAT,
+        "robot": run.report.get("robot", ""),
+        **_run_keys(run.report),
+        "units": units,
+        "robots": robots,
     }
 
 

@@ -123,12 +123,20 @@ class Mismatch:
 def _tolerance(path: str, tolerances: dict) -> float:
     best, best_len = None, -1
     for prefix, tol in tolerances.items():
-        if (path == prefix or path.startswith(prefix + ".")) and len(prefix) > best_len:
+        if _covers(prefix, path) and len(prefix) > best_len:
             best, best_len = float(tol), len(prefix)
     if best is not None:
         return best
     leaf = path.rsplit(".", 1)[-1]
     return QUANTA.get(leaf, 0.0)
+
+
+def _covers(prefix: str, path: str) -> bool:
+    """Whether the tolerance key ``prefix`` applies to ``path``: the key itself, a key
+    below it, and in a cell ``joints.ROBOT`` every joint of that robot (``joints.ROBOT_a1``)."""
+    if path == prefix or path.startswith(prefix + "."):
+        return True
+    return prefix.startswith("joints.") and prefix.count(".") == 1 and path.startswith(prefix + "_")
 
 
 def compare(expected: dict, actual: dict, tolerances: dict | None = None) -> list[Mismatch]:
@@ -288,13 +296,16 @@ def load_expectation(path: Path) -> dict:
 
 
 # The numbers a tolerance can widen (the bounds ``…_below`` have none): top-level keys and,
-# under joints.NAME / obstacles.NAME, their fields.
+# under joints.NAME / obstacles.NAME, their fields; a cell's clearance: the least distance
+# between links and per pair of robots (clearance.A-B), each its min_distance_mm.
 TOLERANCE_ROOTS = ("duration_s", "samples", "error_line", "ik_relaxed_cycles", "joints",
-                   "obstacles")  # fmt: skip
+                   "obstacles", "clearance")  # fmt: skip
 TOLERANCE_FIELDS = {
     "joints": ("min", "max", "end", "max_following_error"),
     "obstacles": ("min_distance_mm",),
+    "clearance": ("min_distance_mm",),
 }
+_NAMED = {"joints": "joint", "obstacles": "obstacle", "clearance": "pair of robots"}
 
 
 def _tolerance_key_problem(key: str, doc: dict) -> str | None:
@@ -309,17 +320,26 @@ def _tolerance_key_problem(key: str, doc: dict) -> str | None:
     if root not in TOLERANCE_ROOTS:
         return (
             "no number of the expectation has this key (keys: "
-            f"{', '.join(TOLERANCE_ROOTS)}, joints.NAME[.FIELD], obstacles.NAME[.FIELD])"
+            f"{', '.join(TOLERANCE_ROOTS)}, joints.NAME[.FIELD], obstacles.NAME[.FIELD], "
+            "clearance[.min_distance_mm], clearance.A-B[.min_distance_mm])"
         )
     fields = TOLERANCE_FIELDS.get(root)
     if fields is None:
         return f"'{root}' is one number: it has no parts" if rest else None
+    if root == "clearance" and rest == ["min_distance_mm"]:
+        return None  # the least over every pair
     if len(rest) > 2 or (len(rest) == 2 and rest[1] not in fields):
         return f"{root}.NAME has the fields {', '.join(fields)}"
     names = doc.get(root)
     if rest and isinstance(names, dict) and rest[0] not in names:
-        known = ", ".join(map(str, names)) or "none"
-        return f"no {root[:-1]} '{rest[0]}' in the expectation ({root}: {known})"
+        if (
+            root == "joints"
+            and len(rest) == 1
+            and any(str(n).startswith(rest[0] + "_") for n in names)
+        ):
+            return None  # a cell's robot: every joint ROBOT_…
+        known = ", ".join(str(n) for n in names if n not in fields) or "none"
+        return f"no {_NAMED[root]} '{rest[0]}' in the expectation ({root}: {known})"
     return None
 
 

@@ -26,6 +26,12 @@ topic                type                             content
 ``/signals/NAME``    ``std_msgs/msg/Bool``            SIGNAL variable NAME, likewise
 ==================== ================================ ==========================================
 
+A cell (several robots): per robot ``/NAME/joint_states``, its frames ``NAME/base`` (placed
+by its ``AT``: ``world`` → ``NAME/base`` in ``/tf_static``) and ``NAME/tcp`` (``/tf``: one
+message per trace row with every robot's ``NAME/base`` → ``NAME/tcp``), its paths in the
+marker namespaces ``NAME/programmed_path`` and ``NAME/tcp_path``; the metadata names the
+robots.
+
 With ``--drives`` the joints and the TCP are the actual (simulated) motion, as in the trace
 (per drive step with ``--trace-every-step``); the programmed path is the commanded one.
 
@@ -129,33 +135,64 @@ def _metadata(run: Any) -> dict[str, str]:
         "status": str(report.get("status", "")),
         "drives": drives,
         "motion": "commanded" if drives == "ideal" else "actual",
+        **({"robots": ", ".join(run.robots)} if getattr(run, "is_cell", False) else {}),
         "time": "simulated, s from the start of the run",
         "writer": f"irlc {__version__}",
     }
+
+
+@dataclass(frozen=True)
+class Robot:
+    """One robot's part of the file: its frame and topic ``prefix`` (``""`` for a program of
+    one robot, ``NAME/`` in a cell), joint names (the robot file's), samples (SI) and base."""
+
+    prefix: str
+    names: list[str]
+    q: np.ndarray  # (k, n) rad | m
+    tcp: np.ndarray  # (k, 4, 4) world, m
+    base: np.ndarray  # 4×4: world → base (a cell's robot: its placement · the file's base)
+    recorded: Any  # RecordedRun (the programmed path), or None
+
+
+def robots_of(run: Any) -> list[Robot]:
+    """The robots of ``run``: one for a program of one robot, a cell's in the ``ROBOT``
+    clauses' order (their frames and topics under ``NAME/``)."""
+    if not getattr(run, "is_cell", False):
+        names = [str(n) for n in run.report.get("robot_joint_names") or run.model.joint_names]
+        q, tcp = np.asarray(run.q, dtype=float), np.asarray(run.tcp, dtype=float)
+        return [Robot("", names, q, tcp, np.asarray(run.model.base, dtype=float), run.recorded)]
+    out = []
+    for name, r in run.robots.items():
+        names = [str(n) for n in r.report.get("robot_joint_names") or r.model.joint_names]
+        q, tcp = np.asarray(r.q, dtype=float), np.asarray(r.tcp, dtype=float)
+        out.append(Robot(f"{name}/", names, q, tcp, np.asarray(r.model.base, float), r.recorded))
+    return out
 
 
 def messages(run: Any) -> Iterator[Message]:
     """Every message of the file, per topic in time order (see the module doc)."""
     times = np.asarray(run.times, dtype=float)
     start = nanoseconds(float(times[0])) if len(times) else 0
-    yield Message(start, "/tf_static", "tf", {"transforms": _static_frames(run, start)})
-    yield Message(start, "/markers", "markers", {"markers": _markers(run, start)})
+    robots = robots_of(run)
+    yield Message(start, "/tf_static", "tf", {"transforms": _static_frames(run, robots, start)})
+    yield Message(start, "/markers", "markers", {"markers": _markers(run, robots, start)})
     yield from _switches(run.report.get("events") or [], start)
-    names = [str(n) for n in run.report.get("robot_joint_names") or run.model.joint_names]
-    q = np.asarray(run.q, dtype=float)
-    qd, _ = sample_derivatives(q, times)
-    base_inverse = spatial.inverse(np.asarray(run.model.base, dtype=float))
+    speeds = [sample_derivatives(r.q, times)[0] for r in robots]
+    inverse = [spatial.inverse(r.base) for r in robots]
     for i, t in enumerate(times):
         ns = nanoseconds(float(t))
-        yield Message(ns, "/joint_states", "joint_state", {
-            "header": _header(ns, ""),
-            "name": names,
-            "position": [float(v) for v in q[i]],
-            "velocity": [float(v) for v in qd[i]],
-            "effort": [],
-        })  # fmt: skip
-        tcp = base_inverse @ np.asarray(run.tcp[i], dtype=float)
-        yield Message(ns, "/tf", "tf", {"transforms": [_transform(ns, BASE, TCP, tcp)]})
+        transforms = []
+        for r, qd, base_inverse in zip(robots, speeds, inverse, strict=True):
+            yield Message(ns, f"/{r.prefix}joint_states", "joint_state", {
+                "header": _header(ns, ""),
+                "name": r.names,
+                "position": [float(v) for v in r.q[i]],
+                "velocity": [float(v) for v in qd[i]],
+                "effort": [],
+            })  # fmt: skip
+            tcp = base_inverse @ r.tcp[i]
+            transforms.append(_transform(ns, r.prefix + BASE, r.prefix + TCP, tcp))
+        yield Message(ns, "/tf", "tf", {"transforms": transforms})
 
 
 def nanoseconds(t: float) -> int:
@@ -188,8 +225,8 @@ def _transform(ns: int, parent: str, child: str, t: np.ndarray) -> dict:
     }
 
 
-def _static_frames(run: Any, ns: int) -> list[dict]:
-    frames = [_transform(ns, WORLD, BASE, np.asarray(run.model.base, dtype=float))]
+def _static_frames(run: Any, robots: list[Robot], ns: int) -> list[dict]:
+    frames = [_transform(ns, WORLD, r.prefix + BASE, r.base) for r in robots]
     for o in run.obstacles:
         frames.append(_transform(ns, WORLD, f"obstacle/{o.name}", obstacle_frame(o)))
     return frames
@@ -265,25 +302,26 @@ def _obstacle_markers(ns: int, o: Any, first_id: int, extent: float) -> list[dic
     return [_marker(ns, "obstacles", first_id, m.CUBE, frame, (extent, extent, 0.001), color)]
 
 
-def _markers(run: Any, ns: int) -> list[dict]:
-    tcp = np.asarray(run.tcp, dtype=float)[:, :3, 3] if len(run.times) else np.zeros((0, 3))
+def _markers(run: Any, robots: list[Robot], ns: int) -> list[dict]:
+    tcp = np.concatenate([r.tcp[:, :3, 3] for r in robots]) if len(run.times) else np.zeros((0, 3))
     out: list[dict] = []
     for o in run.obstacles:
         center = obstacle_frame(o)[:3, 3]
         reach = float(np.max(np.linalg.norm(tcp - center, axis=1))) if len(tcp) else 1.0
         out += _obstacle_markers(ns, o, len(out), 2.0 * reach + 1.0)
-    for k, stretch in enumerate(programmed_path(run)):
-        out.append(_line(ns, "programmed_path", k, stretch, PROGRAMMED_COLOR))
-    if len(tcp) >= 2:
-        out.append(_line(ns, "tcp_path", 0, tcp, TCP_COLOR))
+    for r in robots:
+        for k, stretch in enumerate(programmed_path(r.recorded)):
+            out.append(_line(ns, f"{r.prefix}programmed_path", k, stretch, PROGRAMMED_COLOR))
+        if len(r.tcp) >= 2:
+            out.append(_line(ns, f"{r.prefix}tcp_path", 0, r.tcp[:, :3, 3], TCP_COLOR))
     return out
 
 
-def programmed_path(run: Any) -> list[np.ndarray]:
-    """The programmed TCP path (world, m) of the run's Cartesian motions (LIN, CIRCLE, LIN
-    PATH): the desired positions ``x_d(t)`` the recorder kept, one array per stretch of
+def programmed_path(rec: Any) -> list[np.ndarray]:
+    """The programmed TCP path (world, m) of a robot's Cartesian motions (LIN, CIRCLE, LIN
+    PATH): the desired positions ``x_d(t)`` its recorder kept (``rec``, a
+    :class:`~irlc.runtime.outputs.recorder.RecordedRun`), one array per stretch of
     consecutive Cartesian samples (a PTP or a WAIT between them ends a stretch)."""
-    rec = run.recorded
     if rec is None or rec.desired is None or rec.on_path is None:
         return []
     on = np.asarray(rec.on_path, dtype=bool)

@@ -9,6 +9,12 @@ following errors ``q − q_cmd`` and the motor currents. ``cycle_time``: a Gantt
 the report's ``statements`` (one bar per statement from its start to its end, one row per
 program line, exact stops dark, approximated ones light, WAITs grey).
 
+A cell (several robots, docs/interfaces.md "Cells of several robots"): the figures of each
+robot as a program of that robot's, named ``NAME_joint_positions_1-6`` …
+(:mod:`irlc.robot_runs`), the robots' TCP paths in the cell frame in one
+``tcp_path_3d``, ``clearance`` — the least distance between links over time, with
+``R_CLEARANCE`` — and the cell's ``cycle_time``.
+
 ``compare`` overlays a second run as crosses (the book's "— without / +++ with the
 option" plots). Figures are written with matplotlib's Agg backend (extra ``plot``);
 names are fixed (:data:`FIGURE_STEMS`) so scripts can rely on them.
@@ -35,7 +41,7 @@ QUANTITIES = (  # (file stem, title, derivative order)
     ("joint_speeds", "joint speeds", 1),
     ("joint_accels", "joint accelerations", 2),
 )
-FIGURE_STEMS = (
+FIGURE_STEMS = (  # a cell: per robot NAME_joint_positions_<a>-<b> …; clearance
     "joint_positions_<a>-<b>",
     "joint_speeds_<a>-<b>",
     "joint_accels_<a>-<b>",
@@ -44,6 +50,7 @@ FIGURE_STEMS = (
     "cycle_time",
     "drive_following_errors_<a>-<b>",
     "drive_currents_<a>-<b>",
+    "clearance",
 )
 
 
@@ -63,28 +70,74 @@ def pyplot(what: str = "plots"):
 
 
 def write_plots(run: Any, out_dir: str | Path, compare: Any = None) -> list[Path]:
-    """Write the figures of ``run`` (optionally overlaid with ``compare``) into ``out_dir``."""
+    """Write the figures of ``run`` (optionally overlaid with ``compare``) into ``out_dir``;
+    a cell's (several robots): each robot's figures of a program of that robot, named
+    ``NAME_…``, the robots' TCP paths in one ``tcp_path_3d.png``, the clearance between
+    links over time (``clearance.png``) and the cycle time."""
     plt = pyplot()
-    d = run_data(run)
-    c = None if compare is None else run_data(compare)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
+    if getattr(run, "is_cell", False):
+        return _cell_figures(plt, out, run, compare)
+    d = run_data(run)
+    c = None if compare is None else run_data(compare)
     paths: list[Path] = []
     for stem, title, order in QUANTITIES:
         paths += _joint_figures(plt, out, stem, d, c, order, title)
     if d.tcp is not None:
-        paths.append(_save(plt, _tcp_path_3d(plt, d, c), out / "tcp_path_3d.png"))
+        paths.append(_save(plt, _tcp_path_3d(plt, [d], c), out / "tcp_path_3d.png"))
         paths.append(_save(plt, _tcp_path_speed(plt, d, c), out / "tcp_path_speed.png"))
-    statements = (getattr(run, "report", None) or {}).get("statements") or []
-    if statements:
-        paths.append(_save(plt, _cycle_time(plt, d, statements), out / "cycle_time.png"))
+    paths += _cycle_time_figure(plt, out, getattr(run, "report", None) or {})
+    return paths + _drive_figures(plt, out, d, c, "")
+
+
+def _cycle_time_figure(plt, out: Path, report: dict) -> list[Path]:
+    statements = report.get("statements") or []
+    if not statements:
+        return []
+    name = report.get("program") or "run"
+    return [_save(plt, _cycle_time(plt, name, statements), out / "cycle_time.png")]
+
+
+def _drive_figures(plt, out: Path, d: RunData, c: RunData | None, prefix: str) -> list[Path]:
+    """With simulated drives: following errors and motor currents per joint."""
+    paths: list[Path] = []
     if d.q_cmd is not None:
         paths += _joint_figures(
-            plt, out, "drive_following_errors", d, c, "error", "following error q − q_cmd"
+            plt, out, prefix + "drive_following_errors", d, c, "error", "following error q − q_cmd"
         )
     if d.current is not None:
-        paths += _joint_figures(plt, out, "drive_currents", d, c, "current", "motor current")
+        paths += _joint_figures(plt, out, prefix + "drive_currents", d, c, "current",
+                                "motor current")  # fmt: skip
     return paths
+
+
+def _cell_figures(plt, out: Path, run: Any, compare: Any) -> list[Path]:
+    """Per robot its figures (``NAME_…``; a ``--compare`` trace of a cell overlays each
+    robot's columns), every robot's TCP path in the cell frame, the clearance, the cycle
+    time."""
+    from irlc.robot_runs import compared_robot, robot_runs
+
+    robots = robot_runs(run)
+    names = [r.name for r in robots]
+    paths: list[Path] = []
+    for r in robots:
+        d, prefix = r.data, f"{r.name}_"
+        view = None if compare is None else compared_robot(compare, r.name, names)
+        c = None if view is None else run_data(view, label=f"{r.name} (compare)")
+        for stem, title, order in QUANTITIES:
+            paths += _joint_figures(plt, out, prefix + stem, d, c, order, title)
+        if d.tcp is not None:
+            paths.append(
+                _save(plt, _tcp_path_speed(plt, d, c), out / f"{prefix}tcp_path_speed.png")
+            )
+        paths += _drive_figures(plt, out, d, c, prefix)
+    shown = [r.data for r in robots if r.data.tcp is not None]
+    if shown:
+        paths.append(_save(plt, _tcp_path_3d(plt, shown, None), out / "tcp_path_3d.png"))
+    if "clearance_mm" in run.trace_columns:
+        paths.append(_save(plt, _clearance(plt, run, compare), out / "clearance.png"))
+    return paths + _cycle_time_figure(plt, out, run.report)
 
 
 def _save(plt, fig, path: Path) -> Path:
@@ -96,6 +149,13 @@ def _save(plt, fig, path: Path) -> Path:
 
 
 # --------------------------------------------------------------------------- per joint
+
+
+def _title(d: RunData) -> str:
+    """The program's name, and a cell's robot's (``pair.irl, robot left``)."""
+    program = d.report.get("program") or d.label or "run"
+    robot = d.report.get("name")
+    return f"{program}, robot {robot}" if robot else program
 
 
 def _series(d: RunData, what) -> np.ndarray | None:
@@ -143,8 +203,7 @@ def _joint_page(plt, d, c, values, other, joints, what, title):
         ax.grid(True, lw=0.3)
     for ax in axes[-1]:
         ax.set_xlabel("t [s]")
-    name = d.report.get("program") or d.label or "run"
-    fig.suptitle(f"{name}: {title}", fontsize=11)
+    fig.suptitle(f"{_title(d)}: {title}", fontsize=11)
     if c is not None:
         axes.flat[0].legend(fontsize=7, loc="best")
     fig.tight_layout()
@@ -195,13 +254,17 @@ def _draw_limits(ax, d: RunData, j: int, what, data: np.ndarray) -> None:
 # --------------------------------------------------------------------------- TCP
 
 
-def _tcp_path_3d(plt, d: RunData, c):
+def _tcp_path_3d(plt, runs: list[RunData], c):
+    """The TCP path in 3D; several robots (a cell): each robot's path in the cell frame."""
     fig = plt.figure(figsize=(6.5, 5.5))
     ax = fig.add_subplot(projection="3d")
-    p = d.tcp / units.MM
-    ax.plot(p[:, 0], p[:, 1], p[:, 2], "-", color="C0", lw=1.5, label=d.label or "run")
-    ax.scatter(*p[0], color="g", s=25, label="start")
-    ax.scatter(*p[-1], color="r", s=25, label="end")
+    cell = len(runs) > 1
+    for k, d in enumerate(runs):
+        p = d.tcp / units.MM
+        label = d.label or "run"
+        ax.plot(p[:, 0], p[:, 1], p[:, 2], "-", color=f"C{k}", lw=1.5, label=label)
+        ax.scatter(*p[0], color="g", s=25, label=None if cell and k else "start")
+        ax.scatter(*p[-1], color="r", s=25, label=None if cell and k else "end")
     if c is not None and c.tcp is not None:
         pc = c.tcp / units.MM
         every = max(1, c.k // (2 * MARKERS_PER_CURVE))
@@ -210,9 +273,10 @@ def _tcp_path_3d(plt, d: RunData, c):
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
     ax.set_zlabel("z [mm]")
-    _equal_3d(ax, p)
+    _equal_3d(ax, np.concatenate([d.tcp / units.MM for d in runs]))
     ax.legend(fontsize=7, loc="upper left")
-    ax.set_title(f"{d.report.get('program') or d.label or 'run'}: TCP path", fontsize=11)
+    what = "TCP paths in the cell frame" if cell else "TCP path"
+    ax.set_title(f"{runs[0].report.get('program') or runs[0].label or 'run'}: {what}", fontsize=11)
     fig.tight_layout()
     return fig
 
@@ -250,7 +314,7 @@ def _tcp_path_speed(plt, d: RunData, c):
         ax.grid(True, lw=0.3)
     if c is not None:
         ax_s.legend(fontsize=7)
-    ax_s.set_title(f"{d.report.get('program') or d.label or 'run'}: TCP path and speed")
+    ax_s.set_title(f"{_title(d)}: TCP path and speed")
     fig.tight_layout()
     return fig
 
@@ -260,7 +324,7 @@ def _tcp_path_speed(plt, d: RunData, c):
 _STOP_COLOURS = {"exact": "C0", "approximated": "C9", "failed": "C3", None: "0.6"}
 
 
-def _cycle_time(plt, d: RunData, statements: list[dict]):
+def _cycle_time(plt, name: str, statements: list[dict]):
     """Gantt chart: per statement (rows, in order of first execution: its line and text,
     so statements sharing a line and a routine's calls are rows of their own) a bar per
     execution, from ``start_s`` for ``duration_s``."""
@@ -279,7 +343,43 @@ def _cycle_time(plt, d: RunData, statements: list[dict]):
     ax.set_xlabel("t [s]")
     ax.grid(True, axis="x", lw=0.3)
     total = sum(r["duration_s"] for r in statements)
-    name = d.report.get("program") or d.label or "run"
     ax.set_title(f"{name}: cycle time per statement, {total:.3f} s")
+    fig.tight_layout()
+    return fig
+
+
+# --------------------------------------------------------------------------- clearance
+
+
+def _clearance(plt, run: Any, compare: Any):
+    """A cell's clearance between links over time (the trace's ``clearance_mm``: the least
+    over every watched pair, between robots and within one), ``R_CLEARANCE`` dashed where
+    one was kept, the least marked with its pair; a compared trace's as crosses."""
+    columns = list(run.trace_columns)
+    trace = np.asarray(run.trace, dtype=float)
+    t, d = trace[:, columns.index("t_s")], trace[:, columns.index("clearance_mm")]
+    fig, ax = plt.subplots(figsize=(8, 3.6))
+    ax.plot(t, d, "-", color="C0", lw=1.2, label="this run")
+    other_cols = getattr(compare, "trace_columns", None) or []
+    if "clearance_mm" in other_cols and "t_s" in other_cols:
+        other = np.asarray(compare.trace, dtype=float)
+        every = max(1, len(other) // MARKERS_PER_CURVE)
+        ax.plot(other[::every, other_cols.index("t_s")],
+                other[::every, other_cols.index("clearance_mm")], "+", color="C3",
+                label="compare")  # fmt: skip
+    info = run.report.get("clearance") or {}
+    if info.get("required_mm"):
+        ax.axhline(info["required_mm"], color="k", ls="--", lw=0.9, label="R_CLEARANCE")
+    if info.get("min_distance_mm") is not None and info.get("at_time_s") is not None:
+        pair = (f"{info['robot_a']} link {info['link_a']} – {info['robot_b']} link "
+                f"{info['link_b']}")  # fmt: skip
+        ax.plot([info["at_time_s"]], [info["min_distance_mm"]], "o", color="C3", ms=5,
+                label=f"min {info['min_distance_mm']:.1f} mm: {pair}")  # fmt: skip
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("clearance [mm]")
+    ax.grid(True, lw=0.3)
+    ax.legend(fontsize=7, loc="best")
+    name = run.report.get("program") or "run"
+    ax.set_title(f"{name}: clearance between links (least over all pairs)", fontsize=11)
     fig.tight_layout()
     return fig

@@ -123,6 +123,8 @@ def overview_table(report: dict) -> Table:
         )
     for label, text in clearance_rows(report):
         table.add_row(label, text)
+    for label, text in measure_rows(report):
+        table.add_row(label, text)
     collisions = _collisions(report)
     if collisions is not None:
         table.add_row("collisions", collisions)
@@ -131,11 +133,7 @@ def overview_table(report: dict) -> Table:
         table.add_row("approximated points", approximated)
     drives = report.get("drives_summary")
     if drives:
-        table.add_row(
-            "drives",
-            f"{drives['level']}, step {shown_number(drives['step_s'] * 1e3, '.3g')} ms, "
-            + ("could follow" if drives["could_follow"] else "[red]could NOT follow[/red]"),
-        )
+        table.add_row("drives", drives_text(drives))
     if report.get("verdict"):
         table.add_row("verdict criteria", _criteria(report["verdict"]))
     tool = report.get("tool")
@@ -172,6 +170,60 @@ def clearance_rows(report: dict) -> list[tuple[str, str]]:
     return rows
 
 
+def drives_text(drives: dict) -> str:
+    """``decoupled, step 1 ms, could follow`` (rich markup: NOT in red)."""
+    return f"{drives['level']}, step {shown_number(drives['step_s'] * 1e3, '.3g')} ms, " + (
+        "could follow" if drives["could_follow"] else "[red]could NOT follow[/red]"
+    )
+
+
+def measure_rows(report: dict) -> list[tuple[str, str]]:
+    """Issue 27's figures of a robot's report (or a cell's robot entry), a row each where
+    present: the links' kinetic energy (largest, its time, the integral), the velocity
+    ratio's extremes (SI), where the platform went and its largest distance from a line
+    of ``WITH PLATFORM``."""
+    rows = []
+    energy = report.get("kinetic_energy")
+    if energy and energy.get("max_j") is not None:
+        rows.append((
+            "kinetic energy",
+            f"max {shown_number(energy['max_j'], '.4g')} J at t = "
+            f"{shown_number(energy.get('max_at_time_s'), '.2f')} s, integral "
+            f"{shown_number(energy.get('integral_j_s'), '.4g')} J·s",
+        ))  # fmt: skip
+    mvr = report.get("mvr")
+    if mvr and mvr.get("min") is not None:
+        rows.append((
+            "velocity ratio (MVR)",
+            f"min {shown_number(mvr['min'], '.4g')} at t = "
+            f"{shown_number(mvr.get('min_at_time_s'), '.2f')} s, max "
+            f"{shown_number(mvr.get('max'), '.4g')} at t = "
+            f"{shown_number(mvr.get('max_at_time_s'), '.2f')} s (SI)",
+        ))  # fmt: skip
+    platform = report.get("platform")
+    if platform:
+        rows.append(("platform", _platform_text(platform)))
+    return rows
+
+
+def _platform_text(platform: dict) -> str:
+    """``x 0 → 0, y 0 → 500 mm; 2 motions WITH PLATFORM, off their lines ≤ 1e-06 mm``."""
+    coords = platform.get("coordinates") or []
+    start, end = platform.get("start_mm") or [], platform.get("end_mm") or []
+    went = ", ".join(
+        f"{c} {shown_number(a, '.6g')} → {shown_number(b, '.6g')}"
+        for c, a, b in zip(coords, start, end, strict=False)
+    )
+    motions = len(platform.get("motions") or [])
+    if not motions:
+        return f"{went} mm (no motion WITH PLATFORM)"
+    noun, lines = ("motion", "its line") if motions == 1 else ("motions", "their lines")
+    return (
+        f"{went} mm; {motions} {noun} WITH PLATFORM, off {lines} ≤ "
+        f"{shown_number(platform.get('max_error_mm'), '.3g')} mm"
+    )
+
+
 def _pair_text(pair: dict, own: bool = False) -> str:
     """``min 51.0 mm (ceiling link 5, floor link 4) at t = 5.64 s, line 21``."""
     if own:
@@ -185,16 +237,32 @@ def _pair_text(pair: dict, own: bool = False) -> str:
 
 
 def robot_tables(report: dict) -> list:
-    """A cell's robots (``robots``): per robot a joints table titled with its name, robot,
-    placement and path error."""
+    """A cell's robots (``robots``): per robot its name, robot, placement and path error,
+    its figures of issue 27 (:func:`measure_rows`), its joints and its motors."""
     parts: list = []
     for entry in report.get("robots") or []:
         at = ", ".join(shown_number(v, ".6g") for v in entry.get("at") or [])
-        title = (
+        head = Text(
             f"{entry['name']} ({entry['robot']}) at ({at}) — path error max "
-            f"{shown_number(entry.get('max_path_error_mm'), '.3g')} mm; joints (deg | mm, /s, /s²)"
+            f"{shown_number(entry.get('max_path_error_mm'), '.3g')} mm",
+            style="bold",
         )
-        parts += [Text(""), joints_table(entry, title)]
+        parts += [Text(""), head]
+        rows = measure_rows(entry)
+        if entry.get("drives_summary"):
+            rows.append(("drives", drives_text(entry["drives_summary"])))
+        if rows:
+            grid = Table.grid(padding=(0, 2))
+            grid.add_column()
+            grid.add_column()
+            for label, text in rows:
+                grid.add_row(label, text)
+            parts.append(grid)
+        parts.append(joints_table(entry, f"{entry['name']}: joints (deg | mm, /s, /s²)"))
+        motors = motors_table(entry)
+        if motors is not None:
+            motors.title = f"{entry['name']}: {motors.title}"
+            parts.append(motors)
     return parts
 
 

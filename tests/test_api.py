@@ -9,6 +9,8 @@ import numpy as np
 import pytest
 from irlc.lang.diagnostics import CompileError
 from irlc.runtime import units
+from irlc.runtime.model.kinematics import Kinematics
+from scipy.spatial.transform import Rotation
 
 PROGRAMS = Path(__file__).resolve().parents[1] / "programs"
 
@@ -66,3 +68,31 @@ def test_public_names_are_exported_and_listed():
     with pytest.raises(AttributeError, match="no_such_name"):
         irlc.no_such_name  # noqa: B018
     assert sorted(irlc.__all__) == sorted(irlc._HOME_OF)
+
+
+def test_run_program_on_a_cell_gives_each_robot(tmp_path):
+    """``run_program`` on a program of two robots: ``robots`` holds each robot's samples,
+    placement and report entry; its TCP is its own forward kinematics placed by AT."""
+    prog = tmp_path / "pair.irl"
+    prog.write_text(
+        "PROGRAM pair;\nROBOT left := planar3;\nROBOT right := planar3 AT (3000, 0, 0, 180, 0, 0);"
+        "\nBEGIN\n  MOVE left PTP (10, 80, -70) AND right PTP (20, 70, -60);\nENDPROGRAM\n"
+    )
+    code = irlc.compile_program(prog)
+    assert [r.var for r in code.robots] == ["left", "right"]
+    run = irlc.run_program(prog)
+    assert run.status == "ok" and run.is_cell and list(run.robots) == ["left", "right"]
+    at = np.eye(4)
+    at[:3, :3] = Rotation.from_euler("ZYX", [180, 0, 0], degrees=True).as_matrix()
+    at[:3, 3] = (3.0, 0.0, 0.0)
+    plain = irlc.load_robot("planar3")
+    for name, end, placement in (("left", (10, 80, -70), np.eye(4)), ("right", (20, 70, -60), at)):
+        robot = run.robots[name]
+        assert robot.name == name and robot.report["name"] == name
+        assert robot.joint_names == ("a1", "a2", "a3")
+        assert robot.trace_columns[0] == f"{name}_a1_deg"
+        assert np.allclose(robot.at, placement, atol=1e-12)
+        assert np.allclose(np.degrees(robot.q[-1]), end, atol=1e-9)
+        assert np.allclose(robot.tcp[-1], placement @ Kinematics(plain).tcp(robot.q[-1]))
+        assert np.array_equal(robot.times, run.times)
+    assert np.array_equal(run.q, np.hstack([run.robots["left"].q, run.robots["right"].q]))

@@ -240,8 +240,6 @@ def run_cmd(
     for d in run.diagnostics:
         err.print(_render_diag(d), markup=False)
     written = _write_outputs(run, report_path, trace_path)
-    _cell_outputs(run, {"--plot": plot_dir, "--animate": animate_path,
-                        "--export-trajectory": export_path, "--mcap": mcap_path})  # fmt: skip
     written += _tool_outputs(run, plot_dir, animate_path, export_path, compare, err)
     written += _mcap_output(run, mcap_path)
     if as_json:
@@ -342,18 +340,6 @@ def _write_outputs(run, report_path, trace_path) -> list[str]:
     except OSError as exc:
         raise UsageError(f"cannot write {exc.filename}: {exc.strerror}") from None
     return written
-
-
-def _cell_outputs(run, outputs: dict) -> None:
-    """A cell's run (several robots) has its report, trace and summary; the figures,
-    the animation and the exports of several robots are not made yet: a usage error
-    naming the options (after the report and trace are written)."""
-    asked = [option for option, target in outputs.items() if target is not None]
-    if run.is_cell and asked:
-        raise UsageError(
-            f"{', '.join(asked)}: not available for a cell of several robots yet (the report, "
-            "the trace and the summary are: --report, --trace)"
-        )
 
 
 def _tool_outputs(run, plot_dir, animate_path, export_path, compare, err) -> list[str]:

@@ -194,3 +194,53 @@ def test_a_changed_output_is_counted_in_the_table_and_shown_by_the_diff():
     row = next(line for line in buf.getvalue().splitlines() if line.strip().startswith("output"))
     assert row.split() == ["output", "4", "lines", "1", "line", "the", "diff", "below"]
     assert "-lap 0" in buf.getvalue() and "+round 1" in buf.getvalue()
+
+
+CELL = """PROGRAM pair;
+ROBOT left := planar3;
+ROBOT right := planar3 AT (3000, 0, 0, 180, 0, 0);
+BEGIN
+  R_SPEED := 500;
+  MOVE left LIN POSE(1500, 1000, 0, 0, 0, 0);
+  MOVE right PTP (20, 70, -60) AND left LIN POSE(1500, 500, 0, 0, 0, 0);
+ENDPROGRAM
+"""
+
+
+def test_a_cell_s_golden_test_and_its_tolerance_keys(tmp_path, capsys):
+    """A cell's expectation: every robot's joints (ROBOT_JOINT), the clearance overall and
+    per pair of robots; tolerance keys for them (clearance, clearance.A-B, joints.ROBOT)."""
+    _program(tmp_path, "pair", CELL)
+    assert main(["test", str(tmp_path), "--update"]) == 0
+    path = tmp_path / "pair.expected.json"
+    exp = json.loads(path.read_text())
+    assert set(exp["joints"]) == {f"{r}_a{j}" for r in ("left", "right") for j in (1, 2, 3)}
+    assert exp["joints"]["right_a1"]["end"] == 20.0  # the PTP's target
+    assert set(exp["clearance"]) == {"min_distance_mm", "left-left", "left-right", "right-right"}
+    assert main(["test", str(tmp_path)]) == 0
+    exp["clearance"]["min_distance_mm"] += 0.5
+    exp["clearance"]["left-right"]["min_distance_mm"] -= 0.5
+    exp["joints"]["right_a1"]["end"] += 0.3
+    exp["joints"]["right_a2"]["max"] -= 0.3
+    path.write_text(json.dumps(exp))
+    capsys.readouterr()
+    assert main(["test", str(tmp_path)]) == 1
+    out = capsys.readouterr().out
+    for key in ("clearance.min_distance_mm", "clearance.left-right.min_distance_mm",
+                "joints.right_a1.end", "joints.right_a2.max"):  # fmt: skip
+        assert key in out
+    exp["tolerances"] = {"clearance.min_distance_mm": 0.6, "clearance.left-right": 0.6,
+                         "joints.right": 0.4}  # fmt: skip
+    path.write_text(json.dumps(exp))
+    assert main(["test", str(tmp_path)]) == 0
+    exp["tolerances"] = {"joints.right": 0.2}  # too narrow: fails again
+    path.write_text(json.dumps(exp))
+    assert main(["test", str(tmp_path)]) == 1
+    for key, why in (("clearance.left-middle", "no pair of robots 'left-middle'"),
+                     ("clearance.left-right.max", "has the fields min_distance_mm"),
+                     ("joints.middle", "no joint 'middle'")):  # fmt: skip
+        exp["tolerances"] = {key: 1.0}
+        path.write_text(json.dumps(exp))
+        capsys.readouterr()
+        assert main(["test", str(tmp_path)]) == 1
+        assert why in capsys.readouterr().out
