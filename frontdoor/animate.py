@@ -28,8 +28,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from irlc.export import RunData, run_data
 from irlc.files import atomic_write_text
+from irlc.run_data import RunData, run_data
 from irlc.runtime import units
 from irlc.runtime.model.kinematics import Kinematics
 

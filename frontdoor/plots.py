@@ -29,7 +29,8 @@ from typing import Any
 
 import numpy as np
 from irlc.errors import UsageError
-from irlc.export import RunData, atomic_write_bytes, run_data
+from irlc.files import atomic_write_bytes
+from irlc.run_data import RunData, run_data
 from irlc.runtime import units
 from irlc.summary import statement_text
 

@@ -1,4 +1,4 @@
-"""A run as one :class:`~irlc.export.RunData` per robot: what the tools draw and export
+"""A run as one :class:`~irlc.run_data.RunData` per robot: what the tools draw and export
 for a cell (plots, animation, trajectory export, MCAP; docs/interfaces.md, "Cells of
 several robots").
 
@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from irlc.export import RunData, run_data
+from irlc.run_data import RunData, run_data
 
 CELL_KEYS = ("program", "status", "drives", "ipo_s", "units", "error", "events")
 
@@ -84,7 +84,7 @@ def robot_parts(columns: Sequence[str], names: Sequence[str]) -> dict[str, list[
 
 def compared_robot(compare: Any, name: str, names: Sequence[str]) -> dict | None:
     """Robot ``name``'s part of a loaded ``--compare`` trace of a cell (a view
-    :func:`~irlc.export.run_data` reads), or ``None`` when that trace has no columns of it."""
+    :func:`~irlc.run_data.run_data` reads), or ``None`` when that trace has no columns of it."""
     columns = getattr(compare, "trace_columns", None) or []
     trace = getattr(compare, "trace", None)
     if trace is None or not columns:

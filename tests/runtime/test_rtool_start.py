@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from irlc.api import compile_program
-from irlc.export import run_data
 from irlc.plots import path_length_and_speed
+from irlc.run_data import run_data
 from irlc.runtime import units
 from irlc.runtime.model.kinematics import Kinematics
 from irlc.runtime.run import run_code

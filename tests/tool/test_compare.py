@@ -60,8 +60,8 @@ def test_a_trace_with_more_joints_and_a_failed_report_are_noted(tmp_path, capsys
         "be another robot's; joints are matched by name",
         "note: only in that run (not shown): a4",
     ]
-    from irlc.export import run_data
     from irlc.report import load_run
+    from irlc.run_data import run_data
 
     assert run_data(load_run(trace)).label == "four.csv"  # the figures' legend names it
     failed = {"status": "failed", "robot": "planar3", "duration_s": 1.0, "joints": []}

@@ -6,7 +6,8 @@ import json
 import math
 
 import numpy as np
-from irlc.export import run_data, sample_derivatives, write_trajectory
+from irlc.export import sample_derivatives, write_trajectory
+from irlc.run_data import run_data
 
 from .tool_fixtures import AMPL, DT, FREQ, make_run
 

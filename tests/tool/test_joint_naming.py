@@ -11,10 +11,10 @@ import re
 import pytest
 from irlc.animate import animation_data
 from irlc.cli import main
-from irlc.export import run_data
 from irlc.plots import axis_label
 from irlc.repl import Session
 from irlc.robots import load_robot
+from irlc.run_data import run_data
 from irlc.runtime.run import run_file
 
 PROGRAMS = {

@@ -7,8 +7,8 @@ import pytest
 
 pytest.importorskip("matplotlib")
 
-from irlc.export import run_data
 from irlc.plots import limit_values, path_length_and_speed, write_plots
+from irlc.run_data import run_data
 
 from .tool_fixtures import make_run
 
