@@ -106,7 +106,10 @@ def overview_table(report: dict) -> Table:
         f"{shown_number(report['duration_s'], '.3f')} s, {report['samples']} samples at "
         f"IPO {shown_number(report['ipo_s'] * 1e3, '.3g')} ms, drives {report['drives']}",
     )
-    table.add_row("path error", _path_error(report))
+    path_error = _path_error(report)
+    if report.get("robots") and report.get("drives") != "ideal":
+        path_error += " (actual motion; judged per robot below)"
+    table.add_row("path error", path_error)
     ik = report.get("ik") or {}
     table.add_row(
         "inverse transformation",
@@ -242,15 +245,13 @@ def robot_tables(report: dict) -> list:
     parts: list = []
     for entry in report.get("robots") or []:
         at = ", ".join(shown_number(v, ".6g") for v in entry.get("at") or [])
-        head = Text(
-            f"{entry['name']} ({entry['robot']}) at ({at}) — path error max "
-            f"{shown_number(entry.get('max_path_error_mm'), '.3g')} mm",
-            style="bold",
-        )
+        head = Text(f"{entry['name']} ({entry['robot']}) at ({at})", style="bold")
         parts += [Text(""), head]
-        rows = measure_rows(entry)
+        rows = [("path error", _path_error(entry)), *measure_rows(entry)]
         if entry.get("drives_summary"):
             rows.append(("drives", drives_text(entry["drives_summary"])))
+        if entry.get("verdict"):
+            rows.append(("verdict criteria", _criteria(entry["verdict"])))
         if rows:
             grid = Table.grid(padding=(0, 2))
             grid.add_column()

@@ -90,8 +90,8 @@ class Declarations:
                         "choose another name for this joint",
                     )
                     return
-        if len(robots) < 2:
-            return
+        if len(robots) < 2 or len({r.var.lower() for r in robots}) < len(robots):
+            return  # a duplicate robot name is reported where it is declared
         cell = [(r.var, _robot_joint_names(names, r.n), r.signature.joint_kinds) for r in robots]
         clash = trace_columns.first_cell_clash(cell, obstacles)
         if clash is not None:

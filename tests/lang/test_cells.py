@@ -156,6 +156,8 @@ def test_at_is_not_reserved_and_another_word_there_is_an_error() -> None:
 def test_two_robots_with_one_name_are_an_error() -> None:
     text = "PROGRAM c;\nROBOT a := six;\nROBOT b := six;\nROBOT A := planar3;\nBEGIN\nENDPROGRAM\n"
     error_at(text, 4, 7, "'A' is already defined as 'a' (line 2)")
+    twice = compile_text("PROGRAM c;\nROBOT a := six;\nROBOT a := six;\nBEGIN\nENDPROGRAM\n")
+    assert [d.message for d in twice.errors] == ["'a' is already defined (line 2)"]  # one error
 
 
 def test_a_robot_name_is_not_a_value_nor_a_variable() -> None:
