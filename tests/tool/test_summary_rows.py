@@ -73,5 +73,6 @@ def test_each_robot_s_drives_in_a_cell_summary(tmp_path, capsys):
     assert len(rows) == 2  # one per robot (the cell's own drives row is not at the top)
     # each robot says what judged its drive run, and the cell's path error row points there
     assert out.count("│ verdict criteria") == 2
-    assert len(re.findall(r"│ path error +max .* \(actual motion; ideal .*\), not judged", out)) == 2
+    judged = r"│ path error +max .* \(actual motion; ideal .*\), not judged"
+    assert len(re.findall(judged, out)) == 2
     assert "(actual motion; judged per robot below)" in out
