@@ -21,7 +21,7 @@ from irlc.lang.diagnostics import Span
 from irlc.lang.digital_io import pulse_error
 from irlc.lang.irdata import Value
 from irlc.lang.platform import SETTING as PLATFORM_SETTING
-from irlc.lang.settings import BY_SYSTEM_VARIABLE
+from irlc.lang.settings import BY_SYSTEM_VARIABLE, SettingChoices
 
 
 class StatementChecker:
@@ -117,6 +117,8 @@ class StatementChecker:
         if want is None:
             self.typer.expr(s.value, None)
             return
+        if self.unquoted_word(s, sym):
+            return
         got = self.typer.expr(s.value, want)
         ok = self.typer.require(
             s.value, want, got, f"cannot assign to '{_describe(s.target, sym)}'"
@@ -125,6 +127,24 @@ class StatementChecker:
             self.motion.constant_setting(BY_SYSTEM_VARIABLE[sym.name].field, s.value, sym.name)
             if sym.name == PLATFORM_SETTING:
                 self.motion.platform.hold_setting(s.value)
+
+    def unquoted_word(self, s: ast.Assign, sym: Symbol) -> bool:
+        """``R_CRITERION := ENERGY``: a word setting given an unknown bare name — say that
+        its words are quoted (reported; True) instead of "unknown name"."""
+        setting = BY_SYSTEM_VARIABLE.get(sym.name) if sym.kind == "sysvar" else None
+        value = s.value
+        if setting is None or not isinstance(setting.range, SettingChoices):
+            return False
+        if not isinstance(value, ast.Name) or self.scope.lookup(value.name) is not None:
+            return False
+        word = value.name.upper()
+        example = word if word in setting.range.words else setting.range.words[0]
+        self.report.error(
+            value.span,
+            f"{sym.name} takes a quoted word: {setting.range}",
+            f"write {sym.name} := '{example}'",
+        )
+        return True
 
     def target_type(self, target: ast.Expr, sym: Symbol) -> T.Type | None:
         if isinstance(target, ast.Name) or target is assignment_root(target):

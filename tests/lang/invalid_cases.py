@@ -89,6 +89,13 @@ CASES: list[tuple[str, str, int, int, str]] = [
         "stray ':' after 'CYCLICEND'",
     ),
     ("equals_for_assign", body("  x = 1;", "VAR REAL: x;\n"), 5, 5, "unexpected '='"),
+    (
+        "unquoted_setting_word",
+        body("  R_PROFILE := scurve;"),
+        4,
+        16,
+        "R_PROFILE takes a quoted word: one of 'TRAPEZOID', 'SCURVE'",
+    ),
     ("wrong_end_keyword", body("  WHILE TRUE DO\n    HALT;\n  ENDIF;"), 6, 3, "expected"),
     ("missing_endprogram", f"{H}BEGIN\n  HALT;\n", 4, 8, "unexpected end of file"),
     ("missing_then", body("  IF TRUE HALT; ENDIF;"), 4, 11, "expected an operator or THEN"),
