@@ -168,9 +168,23 @@ def clearance_rows(report: dict) -> list[tuple[str, str]]:
         a, b = pair["robot_a"], pair["robot_b"]
         label = f"clearance {a}–{b}" if a != b else f"clearance {a} (own links)"
         rows.append((label, _pair_text(pair, own=a == b)))
-    if clearance.get("required_mm"):
-        rows.append(("R_CLEARANCE", f"{shown_number(clearance['required_mm'], 'g')} mm kept"))
+    required = clearance.get("required_mm")
+    if required:
+        kept = _closer(clearance) if report.get("status") == "ok" else ""
+        rows.append(("R_CLEARANCE", f"{shown_number(required, 'g')} mm kept{kept}"))
     return rows
+
+
+def _closer(clearance: dict) -> str:
+    """`` (floor's own links 5, 7: closer at home, kept apart only)``: a robot's own pairs
+    below R_CLEARANCE in a run that kept it (docs/runtime.md: such a pair keeps ≥ 0)."""
+    required = clearance["required_mm"]
+    close = [
+        f"{p['robot_a']}'s own links {p['link_a']}, {p['link_b']}"
+        for p in clearance.get("pairs") or []
+        if p["robot_a"] == p["robot_b"] and (p.get("min_distance_mm") or required) < required
+    ]
+    return f" ({'; '.join(close)}: closer at home, kept apart only)" if close else ""
 
 
 def drives_text(drives: dict) -> str:

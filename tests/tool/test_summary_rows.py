@@ -7,7 +7,7 @@ import json
 import re
 
 from irlc.cli import main
-from irlc.summary import measure_rows, render_summary
+from irlc.summary import clearance_rows, measure_rows, render_summary
 from rich.console import Console
 
 from tests.tool.test_golden import CELL
@@ -76,3 +76,22 @@ def test_each_robot_s_drives_in_a_cell_summary(tmp_path, capsys):
     judged = r"│ path error +max .* \(actual motion; ideal .*\), not judged"
     assert len(re.findall(judged, out)) == 2
     assert "(actual motion; judged per robot below)" in out
+
+
+def test_r_clearance_row_names_own_pairs_closer_at_home():
+    pair = {"min_distance_mm": 7.9, "at_time_s": 5.72, "line": 21, "link_a": 5, "link_b": 7}
+    other = {"min_distance_mm": 51.0, "at_time_s": 5.64, "line": 21, "link_a": 5, "link_b": 4}
+    clearance = {
+        "required_mm": 50.0,
+        "pairs": [
+            {**other, "robot_a": "ceiling", "robot_b": "floor"},
+            {**pair, "robot_a": "floor", "robot_b": "floor"},
+        ],
+    }
+    rows = dict(clearance_rows({"status": "ok", "clearance": clearance}))
+    assert rows["R_CLEARANCE"] == (
+        "50 mm kept (floor's own links 5, 7: closer at home, kept apart only)"
+    )
+    assert rows["clearance floor (own links)"].startswith("min 7.9 mm (links 5, 7)")
+    failed = dict(clearance_rows({"status": "failed", "clearance": clearance}))
+    assert failed["R_CLEARANCE"] == "50 mm kept"  # a failed run: no claim about home
