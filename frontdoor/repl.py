@@ -1,4 +1,4 @@
-"""``irlc repl``: an interactive IRL session on one simulated robot.
+"""``irlc repl``: an interactive IRL session on one simulated robot, or a cell of several.
 
 Every entry is compiled as a whole program — the accumulated data-list imports and
 declarations, then the new statements as the main body (``compile_source(…, repl=True)``)
@@ -15,7 +15,11 @@ Entries:
 * statements — anything else; after motion the session prints where the robot went;
 * meta-commands — ``:where :robot :limits :options :trace FILE :plot DIR :teach NAME [FILE]
   :program :reset :help :quit``. ``:teach`` stores the current pose and joints into a
-  data list (:mod:`irlc.teach`), like a teach pendant.
+  data list (:mod:`irlc.teach`), like a teach pendant;
+* robots — ``ROBOT name := robot [AT pose];``: the first replaces the default robot (none
+  given with ``--robot``), the next make the session a cell (:mod:`irlc.repl_cell`); there
+  ``:robot NAME`` selects the robot ``:limits``, ``:options`` and ``:teach`` show, ``:where``
+  shows every robot. What the meta-commands show of a robot: :mod:`irlc.repl_views`.
 
 A block (IF … ENDIF, WHILE … ENDWHILE, FOR, REPEAT … UNTIL, CASE, PROCEDURE … ENDPROC,
 FUNCTION … ENDFCT, RECORD … ENDRECORD) is read until it closes; a final ``;`` may be left
@@ -27,25 +31,34 @@ completion, highlighting); otherwise plain lines.
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import os
 import re
 import sys
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from irlc.errors import UsageError
 from irlc.lang import types as T
-from irlc.lang.diagnostics import Diagnostic, line_span, render
 from irlc.lang.file_access import path_kind
-from irlc.lang.settings import LIMIT_OPTIONS, SETTINGS
-from irlc.runtime import units, values
+from irlc.repl_cell import CellMachine, robot_clause, robot_spec
+from irlc.repl_positions import SCRIPT_NAME, Positions
+from irlc.repl_views import (
+    RobotView,
+    cell_lines,
+    cell_where_lines,
+    limits_lines,
+    names_line,
+    options_lines,
+    pose_text,
+    robot_lines,
+    where_lines,
+)
+from irlc.runtime import units
 from irlc.runtime.model.naming import JointNaming
 
-INPUT_NAME = "<input>"  # an entry typed at the terminal
-SCRIPT_NAME = "<stdin>"  # a script piped in
 DEFAULT_ROBOT = "koch11"
 TYPE_WORDS = (*T.SIMPLE, *T.JOINT_TUPLE_TYPES)
 DECL_STARTS = ("VAR", "CONST", "TYPE", "PROCEDURE", "FUNCTION")
@@ -60,19 +73,20 @@ BLOCKS = {  # opener → closer
     "RECORD": "ENDRECORD",
 }
 META_HELP = """\
-:where          pose (mm, deg) and joints of the robot, simulated time
-:robot          the robot: joints, kinds, units
-:limits         joint limits: the robot's and the active program limits
-:options        active modal options (JOINTLIMIT …, CYCLIC, OBSTACLE, FREEZE), the R_… settings
+:where [NAME]   pose (mm, deg) and joints of the robot (a cell: of every robot), time
+:robot [NAME]   the robot: joints, kinds, units (a cell: its robots; NAME selects one)
+:limits [NAME]  joint limits: the robot's and the active program limits
+:options [NAME] active modal options (JOINTLIMIT …, CYCLIC, OBSTACLE, FREEZE), the R_… settings
 :trace FILE     write the session's trace (CSV, program units)
 :plot DIR       write the session's figures (PNG) into DIR
 :teach NAME [FILE]  store the pose as NAME and the joints as NAME_joints in a data list
                 (default taught.toml here; created or updated, comments kept)
 :program        print the session as one IRL program
-:reset          forget declarations and variables; robot back home
+:reset          forget declarations and variables; the robots back home
 :help           this text
 :quit           end the session (also Ctrl-D)
 Declarations: VAR POSE: p;  POSE: p := (x, y, z, a, b, c);  CONST …;  PROCEDURE … ENDPROC
+Robots: ROBOT b := as6 AT (0, -1550, 0, 180, 0, 0);  (a second robot makes a cell: MOVE b …)
 Statements run at once; blocks (IF … ENDIF, WHILE … ENDWHILE, …) are read until they close."""
 
 _TOKEN = re.compile(
@@ -93,16 +107,25 @@ def words(text: str) -> list[str]:
     return out
 
 
-def block_depth(text: str) -> int:
-    """Open blocks in ``text`` (openers minus closers; ``END…`` words of options excluded)."""
-    depth = 0
+def block_words(text: str) -> list[tuple[str, int]]:
+    """The words of ``text`` that open or close a block, with their offsets: not in
+    comments or strings, not ``END…`` words of options, and ``FOR`` only as a loop
+    (``FOR i :=``), not as the robot suffix of a cell (``JOINTLIMIT lo, hi FOR holder;``)."""
+    tokens = [(m.group(), m.start()) for m in _TOKEN.finditer(text)]
     closers = set(BLOCKS.values())
-    for w in words(text):
-        if w in BLOCKS:
-            depth += 1
-        elif w in closers:
-            depth -= 1
-    return depth
+    out = []
+    for k, (tok, start) in enumerate(tokens):
+        word = tok.upper()
+        if word == "FOR" and [t for t, _ in tokens[k + 2 : k + 4]] != [":", "="]:
+            continue  # FOR robot
+        if word in BLOCKS or word in closers:
+            out.append((word, start))
+    return out
+
+
+def block_depth(text: str) -> int:
+    """Open blocks in ``text`` (openers minus closers, :func:`block_words`)."""
+    return sum(1 if w in BLOCKS else -1 for w, _ in block_words(text))
 
 
 _CLOSED = re.compile(r"\{.*?\}|\(\*.*?\*\)|//[^\n]*|'(?:[^']|'')*'|\"[^\"]*\"", re.S)
@@ -132,7 +155,7 @@ def _teach_path(cwd: Path, raw: str) -> Path | None:
     return path if path.suffix else path.with_suffix(".toml")
 
 
-_ADDED_END = "unexpected ';'"  # a parse error at the ';' that _terminated adds
+_POSITION = re.compile(r"^\S+:\d+:\d+: error: ")  # a rendered diagnostic's position
 
 
 def _terminated(text: str) -> str:
@@ -185,19 +208,19 @@ class Entry:
 
 
 class Session:
-    """One robot, one controller, one machine state; see the module docstring."""
+    """One robot, or a cell of several, with its controller and one machine state; see the
+    module docstring."""
 
     def __init__(
         self,
-        robot: str | None = None,
+        robot: str | Sequence[str] | None = None,
         datalist_path=(),
         cwd: Path | None = None,
         allow_any_path: bool = False,
     ):
-        from irlc.robots import load_robot
+        from irlc.runtime.interpreter import MachineState
 
-        self.robot_name = robot or DEFAULT_ROBOT
-        self.model = load_robot(self.robot_name)
+        specs = [robot] if isinstance(robot, str) else list(robot or ())
         self.cwd = Path(cwd or Path.cwd())
         self.datalist_path = tuple(str(p) for p in datalist_path)
         self.allow_any_path = allow_any_path  # data lists outside cwd / --datalist-path
@@ -206,9 +229,30 @@ class Session:
         self.names: set[str] = set()
         self.history: list[str] = []  # statements run, for :program
         self.last_code = None
-        self.origin: int | None = None  # script line of the current entry (None: terminal)
-        self.q_start = self.model.home_q()
-        self._new_machine(self.q_start, {})
+        self.pos = Positions(str(self.cwd / "repl.irl"))  # where the entry is
+        self.implicit = not specs  # the default robot, until a ROBOT entry names one
+        self.clauses = [robot_clause(s) for s in specs] or [robot_clause(DEFAULT_ROBOT)]
+        self.current = 0  # the robot :where NAME, :limits, :options, :teach show (a cell's)
+        self.cell: CellMachine | None = None
+        self.obstacles: dict = {}
+        self.state = MachineState()
+        self._models: dict[str, object] = {}
+        for spec in specs:  # a robot that cannot be loaded: RobotFileError
+            self._load(robot_spec(spec)[1])
+        code, messages = self.compile([], [], "", "", 1)
+        if code is None:
+            shown = dict.fromkeys(_POSITION.sub("", m.splitlines()[0]) for m in messages)
+            raise UsageError(f"--robot: {'; '.join(shown)}")
+        self._use_robots(code, {})
+
+    def _load(self, name: str):
+        """The robot file ``name`` (loaded once per session)."""
+        from irlc.robots import load_robot
+
+        key = str(name)
+        if key not in self._models:
+            self._models[key] = load_robot(key)
+        return self._models[key]
 
     # ------------------------------------------------------------------ machine
 
@@ -222,106 +266,86 @@ class Session:
         if not keep_state:
             self.state = MachineState()
 
+    def _use_robots(self, code, joints: dict[str, np.ndarray]) -> None:
+        """Run on the robots of ``code``: one robot (placed by its AT) on its controller,
+        or a cell (:class:`~irlc.repl_cell.CellMachine`; ``joints``: the robots that keep
+        theirs); the machine state's robots grow with the cell."""
+        from irlc.runtime.interpreter.state import RobotContext
+        from irlc.runtime.run_setup import placed
+
+        if not code.is_cell:
+            record = code.robots[0]
+            self.robot_var, self.robot_name = record.var, record.robot
+            self.model = placed(self._load(record.robot), record.at)
+            self.cell = None
+            self._new_machine(self.model.home_q(), self.obstacles, keep_state=True)
+            return
+        st = self.state
+        if self.cell is None and not st.robots:  # one robot so far: its own variables
+            st.robots = [RobotContext(st.settings.tool, st.settings.base, st.options)]
+        st.robots += [RobotContext() for _ in range(len(code.robots) - len(st.robots))]
+        self.cell = CellMachine(code, self.cwd, self.allow_any_path, self.obstacles, joints)
+        self.model = self.cell.members[0].model
+
+    def _joints_by_name(self) -> dict[str, np.ndarray]:
+        if self.cell is not None:
+            return self.cell.joints()
+        return {self.robot_var: self.controller.q.copy()}
+
+    @property
+    def time(self) -> float:
+        return self.controller.time if self.cell is None else self.cell.time
+
     def reset(self) -> Entry:
+        from irlc.runtime.interpreter import MachineState
+
         self.imports, self.decls, self.names, self.history = [], [], set(), []
         self.last_code = None
+        if self.cell is not None:  # the robots stay, each at its home
+            self.state, self.obstacles, self.cell = MachineState(), {}, None
+            code, _ = self.compile([], [], "", "", 1)
+            self._use_robots(code, {})
+            return Entry([f"reset: {', '.join(self.cell.names)} at home, no declarations"])
         self._new_machine(self.model.home_q(), {})
         return Entry([f"reset: {self.model.name} at home, no declarations"])
 
     # ------------------------------------------------------------------ program text
 
-    def _robot_clause(self) -> str:
-        name = self.robot_name
-        shown = name if re.fullmatch(r"[A-Za-z_]\w*", name) else "'" + name.replace("'", "''") + "'"
-        return f"ROBOT r := {shown};"
-
-    def program_text(self, decls: list[str], imports: list[str], body: str) -> tuple[str, int]:
+    def program_text(
+        self, decls: list[str], imports: list[str], body: str, clauses: list[str] | None = None
+    ) -> tuple[str, int]:
         """The whole program and the 1-based line where ``body`` starts."""
-        head = ["PROGRAM repl;", self._robot_clause(), *imports, *decls, "BEGIN"]
+        head = ["PROGRAM repl;", *(clauses or self.clauses), *imports, *decls, "BEGIN"]
         text = "\n".join(head)
         first = text.count("\n") + 2
         return f"{text}\n{body}\nENDPROGRAM\n", first
 
     # ------------------------------------------------------------------ compiling
 
-    def compile(self, decls, imports, body: str, chunk: str, chunk_line: int):
-        """Compile; return ``(code, messages)`` (code None on errors)."""
+    def compile(self, decls, imports, body: str, chunk: str, chunk_line: int, clauses=None):
+        """Compile (with the robots of ``clauses``, default the session's); return
+        ``(code, messages)`` (code None on errors)."""
         from irlc.lang.compiler import compile_source
-        from irlc.robots import load_robot
 
-        text, _ = self.program_text(decls, imports, body)
-
-        def resolve(name: str):
-            return self.model if str(name) == self.robot_name else load_robot(name)
-
+        text, _ = self.program_text(decls, imports, body, clauses)
         result = compile_source(
             text,
             str(self.cwd / "repl.irl"),
-            resolve_robot=resolve,
+            resolve_robot=self._load,
             datalist_path=(str(self.cwd), *self.datalist_path),
             repl=True,
             allow_any_path=self.allow_any_path,
+            cooperating=() if self.cell is None else self.cell.cooperating(),
         )
         diags = list(result.diagnostics)
         errors = [d for d in diags if d.is_error]
-        messages = [self._render(d, chunk, chunk_line) for d in diags]
+        messages = [self.pos.render(d, chunk, chunk_line) for d in diags]
         session = str(self.cwd / "repl.irl")
         if errors and all(d.file != session for d in errors):  # all in a data list's file
-            messages.append(self._named_file(errors[0].file, chunk))
+            messages.append(self.pos.named_file(errors[0].file, chunk))
         if errors or result.code is None:
-            return None, messages or [self._located("the entry does not compile")]
+            return None, messages or [self.pos.located("the entry does not compile")]
         return result.code, messages
-
-    def _named_file(self, file: str, chunk: str) -> str:
-        """The entry's own error when its errors lie in another file (a data list it
-        imports, positioned there): at the entry's first mention of the file's name."""
-        name = Path(file).stem
-        for line, text in enumerate(chunk.split("\n"), 1):
-            column = text.lower().find(name.lower()) + 1
-            if column:
-                return self._located(f"data list '{name}' has errors (above)", line, column)
-        return self._located(f"data list '{name}' has errors (above)")
-
-    def _render(self, diag, chunk: str, chunk_line: int) -> str:
-        """``diag`` (a position in the session program) as a position in the entry."""
-        span = diag.span
-        n_lines = chunk.count("\n") + 1
-        session = str(self.cwd / "repl.irl")
-        if diag.file != session:  # a data list's problem: its own file and line
-            return render(diag, "")
-        if span is None or not chunk_line <= span.line < chunk_line + n_lines:
-            # outside the entry (the session program's end): at the entry's first or last line
-            local_line = n_lines if span is not None and span.line >= chunk_line else 1
-            _, _, rest = render(dataclasses.replace(diag, span=None), "").partition("\n")
-            header = self._located(diag.message, local_line, severity=diag.severity)
-            return f"{header}\n{rest}" if rest else header
-        local = _shifted(span, 1 - chunk_line)  # line 1 = the entry's first line
-        typed = chunk.split("\n")[local.line - 1].rstrip()
-        if local.column > len(typed) and diag.message.startswith(_ADDED_END):
-            # at the ';' the session adds to a statement: the user's entry ends there
-            rest = diag.message[len(_ADDED_END) :]
-            diag = dataclasses.replace(diag, message=f"unexpected end of the entry{rest}")
-        _, _, shown = render(dataclasses.replace(diag, span=local), chunk).partition("\n")
-        file, where = self._entry_file(), local
-        if self.origin is not None:
-            where = _shifted(local, self.origin - 1)
-        header = dataclasses.replace(diag, file=file, span=where).header()
-        return f"{header}\n{shown}" if shown else header
-
-    def _entry_file(self) -> str:
-        return INPUT_NAME if self.origin is None else SCRIPT_NAME
-
-    def _located(
-        self, message: str, local_line: int = 1, column: int = 1, severity: str = "error"
-    ) -> str:
-        """``FILE:LINE:COL: error: message`` at a line of the entry (1 = its first), as
-        every diagnostic of the session is (``docs/interfaces.md``, Diagnostics)."""
-        line = self._entry_line(local_line)
-        return f"{self._entry_file()}:{line}:{column}: {severity}: {message}"
-
-    def _entry_line(self, local_line: int) -> int:
-        """A line of the entry (1 = its first) as the user counts it."""
-        return local_line if self.origin is None else self.origin + local_line - 1
 
     # ------------------------------------------------------------------ entries
 
@@ -332,20 +356,20 @@ class Session:
         The session survives any entry: a failure that escapes the compiler and the
         interpreter (a robot or data file, the environment: 3; anything else, a bug: 4)
         is reported for this entry and the session goes on with its state."""
-        self.origin = line
+        self.pos.origin = line
         try:
             return self._enter(text)
         except RecursionError:
-            return Entry([self._located("the entry nests too deeply")], 1)
+            return Entry([self.pos.located("the entry nests too deeply")], 1)
         except Exception as e:
             return Entry([self._escaped_failure(e)], _failure_status(e))
 
     def _escaped_failure(self, e: Exception) -> str:
         if _failure_status(e) == 2:
-            return self._located(f"run-time failure: {getattr(e, 'message', e)}")
+            return self.pos.located(f"run-time failure: {getattr(e, 'message', e)}")
         if _failure_status(e) == 3:
-            return self._located(str(e))
-        return self._located(
+            return self.pos.located(str(e))
+        return self.pos.located(
             f"internal error: {type(e).__name__}: {e} (a bug in irlc; the session goes on)"
         )
 
@@ -356,7 +380,7 @@ class Session:
         if kind == "meta":
             return self.meta(text.strip())
         if kind == "robot":
-            return Entry([self._located("the robot is chosen with --robot or :robot NAME")], 1)
+            return self._robot(text)
         # entries keep their leading blanks, so that columns match what was typed
         if kind == "import":
             return self._declare(imports=[_terminated(text)], decls=[])
@@ -377,7 +401,7 @@ class Session:
             return self._declare(imports=[], decls=[decl], shown=text, skip=1, kept=kept)
         names = [n.strip() for n in m.group("names").split(",")]
         if len(names) != 1:
-            return Entry([self._located("':=' declares one name at a time")], 1)
+            return Entry([self.pos.located("':=' declares one name at a time")], 1)
         entry = self._declare(imports=[], decls=[decl], shown=text, skip=1, kept=kept)
         if entry.failure:
             return entry
@@ -401,7 +425,7 @@ class Session:
         chunk = (imports or decls)[0]
         new_imports, new_decls = self.imports + imports, self.decls + decls
         before = self.imports if imports else [*new_imports, *self.decls]
-        chunk_line = 3 + sum(t.count("\n") + 1 for t in before) + skip  # after PROGRAM, ROBOT
+        chunk_line = 2 + _line_count([*self.clauses, *before]) + skip  # after PROGRAM
         code, messages = self.compile(new_decls, new_imports, "", shown or chunk, chunk_line)
         if code is None:
             return Entry(messages, 1)
@@ -419,6 +443,7 @@ class Session:
         self.names.update(g.name for g in code.globals)
         self.names.update(r.name for r in code.routines if r.kind != "MAIN")
         self.names.update(o.name for o in code.obstacles)
+        self.names.update(r.var for r in code.robots)
         for m in re.finditer(r"\b([A-Za-z_]\w*)\s*=", chunk):
             self.names.add(m.group(1))
 
@@ -428,8 +453,82 @@ class Session:
         shapes = obstacle_shapes(code)
         if set(shapes) == set(self.obstacles):
             return []
-        self._new_machine(self.controller.q.copy(), shapes, keep_state=True)
+        if self.cell is None:
+            self._new_machine(self.controller.q.copy(), shapes, keep_state=True)
+        else:
+            self.obstacles = shapes
+            self.cell = self.cell.rebuilt(code, shapes, self.state)
         return [f"obstacles now known: {', '.join(sorted(shapes))} (the trace restarts here)"]
+
+    def _robot(self, text: str) -> Entry:
+        """``ROBOT name := robot [AT pose];``: a robot of the session (the first one
+        replaces the default robot; a second makes the session a cell). The program with
+        it must compile — the declarations, and in a cell the statements so far (what
+        :program shows); the robots keep their joints, a new one starts at its home."""
+        clauses = [*([] if self.implicit else self.clauses), _terminated(text)]
+        refused = self._robot_refused()
+        if refused:
+            return Entry([self.pos.located(refused)], 1)
+        chunk_line = 2 + _line_count(clauses[:-1])
+        code, messages = self.compile(self.decls, self.imports, "", text, chunk_line, clauses)
+        if code is None:
+            return Entry(messages, 1)
+        if self.history and code.is_cell:
+            problem = self._history_problem(clauses)
+            if problem:
+                return Entry([self.pos.located(problem)], 1)
+        moved, replaced = self.time > 0, self.implicit and self.model.name
+        joints = {} if self.implicit else self._joints_by_name()
+        self.clauses, self.implicit = [*clauses[:-1], clauses[-1].strip()], False
+        self._use_robots(code, joints)
+        self.last_code = code
+        self._learn_names(code, "")
+        record = code.robots[-1]
+        at = f" at {pose_text(record.at)}" if record.at is not None else ""
+        lines = [f"robot {record.var}: {record.robot}{at}"]
+        if self.cell is None:
+            lines[0] += f", the session's robot (in place of the default {replaced})"
+        else:
+            self.current = len(code.robots) - 1
+            lines += cell_lines(self.cell.robots(), self.current)
+        if moved:
+            lines.append("  (the robots keep their joints, the new one is at its home; the "
+                         "trace restarts here)")  # fmt: skip
+        return Entry(messages + lines)
+
+    def _robot_refused(self) -> str | None:
+        """Why a robot cannot be added now, else ``None``."""
+        if self.implicit and self.history:
+            return (
+                f"the statements so far ran on the default robot {self.model.name}: :reset "
+                "forgets them, then declare the robots (or start with --robot)"
+            )
+        if self.cell is not None and self.cell.cooperations():
+            worker, holder = self.cell.cooperations()[0]
+            return f"COOPERATE {worker} IN {holder} is open: end it (COOPERATEEND;) first"
+        return None
+
+    def _history_problem(self, clauses: list[str]) -> str | None:
+        """Why the statements so far do not compile with the robots of ``clauses`` (a
+        cell: each MOVE names its robot), else ``None``."""
+        from irlc.lang.compiler import compile_source
+
+        body = "\n".join(self.history)
+        text, _ = self.program_text(self.decls, self.imports, body, clauses)
+        result = compile_source(text, str(self.cwd / "repl.irl"), resolve_robot=self._load,
+                                datalist_path=(str(self.cwd), *self.datalist_path),
+                                repl=True, allow_any_path=self.allow_any_path)  # fmt: skip
+        errors = [d for d in result.diagnostics if d.is_error]
+        if not errors:
+            return None
+        where = ""
+        if errors[0].span is not None:
+            where = f" (in `{text.splitlines()[errors[0].span.line - 1].strip()}`)"
+        return (
+            f"with this robot the statements entered so far do not compile: "
+            f"{errors[0].message}{where}; in a cell every MOVE names its robot — :reset forgets "
+            "the statements (the robots stay)"
+        )
 
     def _statement(self, body: str, shown: str | None = None) -> Entry:
         """Run ``body``; ``shown`` (the entry as typed, default ``body``) has its columns."""
@@ -440,19 +539,21 @@ class Session:
         if code is None:
             return Entry(messages, 1)
         out: list[str] = []
-        t0, q0, motions = self.controller.time, self.controller.q.copy(), self.controller.motions
-        self.controller.restart_cycle_budget()  # each entry has the whole cycle budget
-        # an obstacle the arm is inside (a collision failed the last entry) may be left
-        self.controller.collisions.tolerate(self.controller.recorder.last_clearances())
-        self.controller.naming = JointNaming.for_model(self.model, code.joint_names)
-        result = Interpreter(code, self.controller, state=self.state, output=out.append).run(
-            check=False
-        )
+        controller = self.controller if self.cell is None else self.cell.controller
+        t0, q0, motions = self.time, self._joints_by_name(), controller.motions
+        if self.cell is not None:
+            self.cell.prepare(code)
+        else:
+            self.controller.restart_cycle_budget()  # each entry has the whole cycle budget
+            # an obstacle the arm is inside (a collision failed the last entry) may be left
+            self.controller.collisions.tolerate(self.controller.recorder.last_clearances())
+            self.controller.naming = JointNaming.for_model(self.model, code.joint_names)
+        result = Interpreter(code, controller, state=self.state, output=out.append).run(check=False)
         self.state, self.last_code = result.state, code
         _drop_temporaries(self.state)
         lines = messages + list(out)
         if result.error is not None:
-            lines.append(self._run_error(result.error, first, shown or body))
+            lines.append(self.pos.run_error(result.error, first, shown or body))
             # left out of :program (it would stop there), but not without a word: what it
             # did before failing (motion, assignments) stays in the session
             t = getattr(result.error, "time_s", None)
@@ -463,28 +564,17 @@ class Session:
             )
             return Entry(lines, 2)
         self.history.append(body.strip())
-        if self.controller.time > t0 or not np.array_equal(self.controller.q, q0):
+        now = self._joints_by_name()
+        moved = [k for k, (n, q) in enumerate(now.items()) if not np.array_equal(q, q0.get(n))]
+        if self.cell is not None and (self.time > t0 or moved):
+            lines.append(f"→ t = {self.time:.3f} s")
+            for k in moved:
+                lines += cell_where_lines(self._view(k))
+        elif self.time > t0 or moved:
             lines += self.where(short=True)
-        elif self.controller.motions > motions:
-            lines.append(f"→ already there (t = {self.controller.time:.3f} s)")
+        elif controller.motions > motions:
+            lines.append(f"→ already there (t = {self.time:.3f} s)")
         return Entry(lines)
-
-    def _run_error(self, error, first: int, body: str) -> str:
-        """``FILE:LINE:COL: error: run-time failure at t = … s: message`` (as ``irlc run``:
-        the column of the line's statement text); a failure in a routine declared earlier
-        is placed at the entry's first line."""
-        line = getattr(error, "line", None)
-        local = 1
-        if line is not None and first <= line < first + body.count("\n") + 1:
-            local = line - first + 1
-        t = getattr(error, "time_s", None)
-        at = f" at t = {t:.3f} s" if t is not None else ""
-        message = f"run-time failure{at}: {getattr(error, 'message', str(error))}"
-        span = line_span(body, local)
-        header = self._located(message, local, span.column)
-        # the line and its underline, as a compile error shows them
-        _, _, shown = render(Diagnostic("error", message, "", span), body).partition("\n")
-        return f"{header}\n{shown}" if shown else header
 
     # ------------------------------------------------------------------ meta-commands
 
@@ -492,10 +582,10 @@ class Session:
         name, _, arg = text[1:].partition(" ")
         arg = arg.strip()
         handlers: dict[str, Callable[[str], Entry]] = {
-            "where": lambda a: Entry(self.where()),
+            "where": self._meta_where,
             "robot": self._meta_robot,
-            "limits": lambda a: Entry(self.limits()),
-            "options": lambda a: Entry(self.options()),
+            "limits": lambda a: self._per_robot(a, limits_lines),
+            "options": lambda a: self._per_robot(a, options_lines),
             "trace": self._meta_trace,
             "plot": self._meta_plot,
             "teach": self._meta_teach,
@@ -507,14 +597,14 @@ class Session:
         handler = handlers.get(name.lower())
         if handler is None:
             known = " ".join(":" + k for k in [*handlers, "quit"])
-            return Entry([self._located(f"unknown command :{name}; known: {known}")], 1)
+            return Entry([self.pos.located(f"unknown command :{name}; known: {known}")], 1)
         try:
             return handler(arg)
         except OSError as e:  # a file it could not write or read: named, without the errno
             what = f"{e.filename}: {e.strerror}" if e.filename and e.strerror else str(e)
-            return Entry([self._located(f"cannot use {what}")], 3)
+            return Entry([self.pos.located(f"cannot use {what}")], 3)
         except Exception as e:  # a meta-command must not end the session
-            return Entry([self._located(str(e))], 3)
+            return Entry([self.pos.located(str(e))], 3)
 
     def _program_units(self, q_si: np.ndarray) -> list[float]:
         return [float(v) for v in units.joints_from_si(q_si, self.model.joint_kinds)]
@@ -528,96 +618,96 @@ class Session:
     def joint_names(self) -> tuple[str, ...]:
         return self.naming().program
 
-    def _names_line(self) -> list[str]:
-        """``names a1 (panda_joint1), …`` where the robot file names a joint differently."""
-        naming = self.naming()
-        if all(naming.label(j) == naming.name(j) for j in range(self.model.n)):
-            return []
-        return [f"  names  {naming.labels(range(self.model.n))}"]
+    # ------------------------------------------------------------------ the robots
+
+    def robot_names(self) -> list[str]:
+        return [self.robot_var] if self.cell is None else self.cell.names
+
+    def _robot_index(self, name: str) -> int | None:
+        """The session's robot called ``name`` (any case), else ``None``."""
+        found = [k for k, n in enumerate(self.robot_names()) if n.lower() == name.lower()]
+        return found[0] if found else None
+
+    def _unknown_robot(self, name: str) -> Entry:
+        robots = ", ".join(self.robot_names())
+        message = f"unknown robot '{name}'; the session's robots: {robots}"
+        return Entry([self.pos.located(message)], 1)
+
+    def _view(self, k: int | None = None) -> RobotView:
+        """Robot ``k`` (default: the current one) as the meta-commands show it."""
+        k = self.current if k is None else k
+        if self.cell is not None:
+            return self.cell.view(k, self.state)
+        pose = self.controller.pose(self.state.settings)
+        return RobotView(self.robot_var, self.model, self.controller.q.copy(), self.naming(),
+                         self.state.options, self.state.settings, pose)  # fmt: skip
+
+    def _per_robot(self, arg: str, lines: Callable[[RobotView], list[str]]) -> Entry:
+        """``:limits [NAME]``, ``:options [NAME]``: of the named robot or the current one;
+        in a cell under a line naming it."""
+        k = self.current if not arg else self._robot_index(arg)
+        if k is None:
+            return self._unknown_robot(arg)
+        view = self._view(k)
+        head = [] if self.cell is None else [f"robot {view.name} ({view.model.name}):"]
+        return Entry(head + lines(view))
 
     def where(self, short: bool = False) -> list[str]:
-        pose = self.controller.pose(self.state.settings)
-        x, y, z, a, b, c = units.pose_from_si(values.pose_to_matrix(pose))
-        q = self._program_units(self.controller.q)
-        joints = "  ".join(f"{n}={_fmt(v)}" for n, v in zip(self.joint_names(), q, strict=True))
-        pose_text = ", ".join(_fmt(v) for v in (x, y, z, a, b, c))
-        prefix = "→ " if short else ""
-        return [
-            f"{prefix}t = {self.controller.time:.3f} s  pose ({pose_text})  [mm, deg ZYX]",
-            f"  joints {joints}",
-            *([] if short else self._names_line()),
-        ]
+        return where_lines(self._view(0), self.controller.time, short)
+
+    def limits(self) -> list[str]:
+        return limits_lines(self._view())
+
+    def options(self) -> list[str]:
+        return options_lines(self._view())
+
+    def _meta_where(self, arg: str) -> Entry:
+        """``:where`` (a cell: every robot), ``:where NAME`` (that robot)."""
+        k = None if not arg else self._robot_index(arg)
+        if arg and k is None:
+            return self._unknown_robot(arg)
+        if self.cell is None:
+            return Entry(self.where())
+        if k is not None:
+            view = self._view(k)
+            head, joints = cell_where_lines(view, indent="")
+            return Entry([f"t = {self.time:.3f} s  {head}", joints, *names_line(view)])
+        lines = [f"t = {self.time:.3f} s"]
+        for j in range(len(self.cell.names)):
+            lines += cell_where_lines(self._view(j))
+        return Entry(lines)
 
     def _meta_robot(self, arg: str) -> Entry:
-        if arg:  # the robot is loaded first: one that cannot be keeps the session as it is
+        if arg:
+            k = self._robot_index(arg)
+            if k is not None:
+                self.current = k
+                return Entry([f"current robot: {self.robot_names()[k]}", *self._robot_lines()])
+            if self.cell is not None:
+                return self._unknown_robot(arg)
+            # the robot is loaded first: one that cannot be keeps the session as it is
             from irlc.robots import load_robot
 
             load_robot(arg)
             self.__init__(arg, self.datalist_path, self.cwd, self.allow_any_path)
             return Entry([f"robot {self.model.name}: a new session (declarations cleared)"])
-        m = self.model
-        out = [f"robot {m.name}: {m.n} joints  {m.description}".rstrip()]
-        naming = self.naming()
-        for i, j in enumerate(m.joints):
-            out.append(f"  {naming.label(i):20} {j.kind:9} [{units.joint_unit(j.kind)}]")
-        tool = ", ".join(_fmt(v) for v in units.pose_from_si(m.tool))
-        out.append(f"  tool ({tool}) [mm, deg]; R_TOOL is composed after it")
-        return Entry(out)
+        return Entry(self._robot_lines())
 
-    def _tool_line(self) -> str:
-        """The active tool: the robot file's, then R_TOOL (mm, deg ZYX)."""
+    def prompt(self) -> str:
+        """The terminal's prompt: the robot's name (a cell: the current robot's)."""
+        return self.model.name if self.cell is None else self.cell.names[self.current]
 
-        def pose(t) -> str:
-            return "(" + ", ".join(_fmt(v) for v in units.pose_from_si(t)) + ")"
+    def banner(self) -> list[str]:
+        """What an interactive session starts with."""
+        if self.cell is None:
+            head = f"irlc repl on {self.model.name} ({self.model.n} joints). :help for help."
+            return [head, *(line.strip() for line in names_line(self._view()))]
+        return [f"irlc repl on a cell of {len(self.cell.names)} robots. :help for help.",
+                *cell_lines(self.cell.robots(), self.current)]  # fmt: skip
 
-        file_tool = self.model.tool
-        r_tool = values.pose_to_matrix(self.state.settings.tool)
-        return (
-            f"R_TOOL {pose(r_tool)} after the robot file's tool {pose(file_tool)}: "
-            f"TCP tool {pose(file_tool @ r_tool)}  [mm, deg]"
-        )
-
-    def limits(self) -> list[str]:
-        m, opts = self.model, self.state.options
-        naming = self.naming()
-        width = max(len(naming.label(j)) for j in range(m.n))
-        out = [f"{'joint':{width}}  position min..max    speed max    accel max   program position"]
-        scale = units.joint_scale(m.joint_kinds)
-        prog = opts.joint_limits
-        for j, joint in enumerate(m.joints):
-            name = f"{naming.label(j):{width}}"
-            lo, hi = (v / scale[j] for v in joint.limits.position)
-            sp = joint.limits.speed[1] / scale[j]
-            ac = joint.limits.accel[1] / scale[j]
-            p = f"{_fmt(prog[0].values[j])}..{_fmt(prog[1].values[j])}" if prog else "-"
-            unit = units.joint_unit(joint.kind)
-            out.append(f"{name:6} {_fmt(lo):>9}..{_fmt(hi):<9} {_fmt(sp):>8} {_fmt(ac):>12}"
-                       f"   {p}  [{unit}]")  # fmt: skip
-        return out
-
-    def options(self) -> list[str]:
-        """The active modal options, then every setting of the table (lang/settings.py) and
-        the tool."""
-        o = self.state.options
-        out = []
-        for option in LIMIT_OPTIONS:
-            pair = getattr(o, option.field)
-            if pair:
-                lo = ", ".join(_fmt(v) for v in pair[0].values)
-                hi = ", ".join(_fmt(v) for v in pair[1].values)
-                out.append(f"{option.word} min ({lo}) max ({hi})")
-        if o.cyclic_reference is not None:
-            out.append("CYCLIC reference (" + ", ".join(_fmt(v) for v in o.cyclic_reference) + ")")
-        for name in o.obstacles:
-            out.append(f"OBSTACLE {name}")
-        if o.frozen:
-            naming = self.naming()
-            frozen = ", ".join(f"{naming.name(j)}={_fmt(v)}" for j, v in sorted(o.frozen.items()))
-            out.append(f"FREEZE {frozen}")
-        active = bool(out)
-        out += settings_lines(self.state.settings)
-        out.append(self._tool_line())
-        return out if active else ["no modal options active", *out]
+    def _robot_lines(self) -> list[str]:
+        lines = robot_lines(self._view())
+        return lines if self.cell is None else lines + cell_lines(self.cell.robots(), self.current)
 
     # ------------------------------------------------------------------ files
 
@@ -630,6 +720,8 @@ class Session:
 
         if self.last_code is None:
             _, self.last_code = None, self.compile([], [], "", "", 1)[0]
+        if self.cell is not None:
+            return self.cell.run_result(self.last_code, self.state)
         s = self.state
         execution = ExecutionResult("ok", list(s.output), list(s.events), list(s.warnings),
                                     None, s, 0)  # fmt: skip
@@ -644,11 +736,11 @@ class Session:
         from irlc.report import write_trace
 
         if not arg:
-            return Entry([self._located("usage: :trace FILE.csv")], 3)
+            return Entry([self.pos.located("usage: :trace FILE.csv")], 3)
         target = self.cwd / Path(arg).expanduser()
         if target.is_dir():
             return Entry(
-                [self._located(f"{target} is a folder; :trace takes a file (FILE.csv)")], 3
+                [self.pos.located(f"{target} is a folder; :trace takes a file (FILE.csv)")], 3
             )
         run = self.run_result()
         path = write_trace(run.trace_columns, run.trace, target)
@@ -658,11 +750,11 @@ class Session:
         from irlc.plots import write_plots
 
         if not arg:
-            return Entry([self._located("usage: :plot DIR")], 3)
+            return Entry([self.pos.located("usage: :plot DIR")], 3)
         target = self.cwd / Path(arg).expanduser()  # relative to the session's folder
         if target.exists() and not target.is_dir():
             return Entry(
-                [self._located(f"{target} is not a folder; :plot takes a folder (DIR)")], 3
+                [self.pos.located(f"{target} is not a folder; :plot takes a folder (DIR)")], 3
             )
         paths = write_plots(self.run_result(), target)
         return Entry([f"{len(paths)} figures → {Path(arg)}"])
@@ -677,31 +769,32 @@ class Session:
 
         parts = arg.split()
         if len(parts) not in (1, 2):
-            return Entry([self._located("usage: :teach NAME [FILE.toml]")], 3)
+            return Entry([self.pos.located("usage: :teach NAME [FILE.toml]")], 3)
         name, raw = parts[0], parts[1] if len(parts) == 2 else "taught.toml"
         path = _teach_path(self.cwd, raw)
         if path is None or path_kind(path) == "folder":
             where = raw if path is None else str(path)
             message = f"{where} is a folder; :teach takes a file (FILE.toml)"
-            return Entry([self._located(message)], 3)
+            return Entry([self.pos.located(message)], 3)
         taken = {n.lower() for n in (*self.names, *keywords(), *SYSTEM_VARIABLES)}
         clash = [n for n in (name, name + JOINTS_SUFFIX) if n.lower() in taken]
         if clash:
-            return Entry([self._located(f"'{clash[0]}' is already a name of this session, a "
+            return Entry([self.pos.located(f"'{clash[0]}' is already a name of this session, a "
                                         "keyword or a system variable; choose another name")],
                          3)  # fmt: skip
-        pose = self.controller.pose(self.state.settings)
-        xyzabc = units.pose_from_si(values.pose_to_matrix(pose))
-        joints = self._program_units(self.controller.q)
+        view = self._view()
+        xyzabc = view.xyzabc()
         try:
-            keys = teach(path, name, xyzabc, joints)
+            keys = teach(path, name, xyzabc, view.joints())
         except TeachError as e:
-            return Entry([self._located(str(e))], 3)
+            return Entry([self.pos.located(str(e))], 3)
+        robot = "" if self.cell is None else f"{view.name} "
+        frame = "" if self.cell is None else f" of {view.name} ({view.frame})"
         return Entry([
-            f"taught {name}: pose ({', '.join(_fmt(v) for v in xyzabc)}) [mm, deg ZYX] and "
+            f"taught {name}: pose{frame} {pose_text(xyzabc)} [mm, deg ZYX] and "
             f"joints → {', '.join(keys)} in {path}",
-            f"  use it: IMPORT DATALIST {path.stem};  MOVE LIN {name};  "
-            f"MOVE PTP {name}{JOINTS_SUFFIX};",
+            f"  use it: IMPORT DATALIST {path.stem};  MOVE {robot}LIN {name};  "
+            f"MOVE {robot}PTP {name}{JOINTS_SUFFIX};",
         ])  # fmt: skip
 
     # ------------------------------------------------------------------ completion
@@ -732,10 +825,9 @@ def unclosed_block(text: str) -> tuple[str, int] | None:
     first line of ``text``) it is on; ``None`` when every block closes."""
     closers = {v: k for k, v in BLOCKS.items()}
     stack: list[tuple[str, int]] = []
-    for m in _TOKEN.finditer(text):
-        word = m.group().upper()
+    for word, start in block_words(text):
         if word in BLOCKS:
-            stack.append((word, text.count("\n", 0, m.start()) + 1))
+            stack.append((word, text.count("\n", 0, start) + 1))
         elif word in closers and stack:
             stack.pop()
     return stack[-1] if stack else None
@@ -761,14 +853,6 @@ def _controller_class() -> type:
     return ReplController
 
 
-def _shifted(span, lines: int):
-    """``span`` moved down by ``lines`` lines (up when negative)."""
-    from irlc.lang.diagnostics import Span
-
-    end = max(span.end_line + lines, 0) if span.end_line else 0
-    return Span(span.line + lines, span.column, end, span.end_column)
-
-
 def _drop_temporaries(state) -> None:
     """Forget the entry's compiler temporaries (``$for12``, ``$case3`` globals).
 
@@ -781,28 +865,9 @@ def _drop_temporaries(state) -> None:
     del state.globals[keep:]
 
 
-def settings_lines(settings, width: int = 88) -> list[str]:
-    """The system variables of the settings table (lang/settings.py), one ``NAME value
-    unit`` each, in the table's order, as lines of at most ``width`` characters."""
-    items = []
-    for row in SETTINGS:
-        if row.system_variable:
-            value = getattr(settings, row.field)
-            shown = value if isinstance(value, str) else f"{value:g}"
-            items.append(f"{row.system_variable} {shown}{' ' + row.unit if row.unit else ''}")
-    lines = [items[0]]
-    for item in items[1:]:
-        if len(lines[-1]) + 2 + len(item) <= width:
-            lines[-1] += "  " + item
-        else:
-            lines.append(item)
-    return lines
-
-
-def _fmt(v: float) -> str:
-    """Up to 3 decimals, trailing zeros dropped; snapped (:func:`units.fixed`)."""
-    text = units.fixed(v, 3).rstrip("0").rstrip(".")
-    return "0" if text in ("-0", "") else text
+def _line_count(texts: list[str]) -> int:
+    """The lines ``texts`` take, one or more each."""
+    return sum(t.count("\n") + 1 for t in texts)
 
 
 # --------------------------------------------------------------------------- front ends
@@ -947,7 +1012,7 @@ def run_terminal(session: Session, echo: Callable[[str], None]) -> int:  # pragm
     )
     while True:
         try:
-            text = prompt.prompt(f"{session.model.name}> ")
+            text = prompt.prompt(f"{session.prompt()}> ")
         except KeyboardInterrupt:
             continue
         except EOFError:
@@ -961,9 +1026,11 @@ def run_terminal(session: Session, echo: Callable[[str], None]) -> int:  # pragm
 
 
 def main(
-    robot: str | None = None, datalist_path=(), plain: bool = False, allow_any_path: bool = False
+    robot: str | Sequence[str] | None = None,
+    datalist_path=(),
+    plain: bool = False,
+    allow_any_path: bool = False,
 ) -> int:
-    from irlc.errors import UsageError
     from irlc.robots import RobotFileError
 
     try:
@@ -982,8 +1049,7 @@ def main(
             echo("(prompt_toolkit is not installed: plain line input; pip install 'irlc[repl]')")
             interactive = False
     if interactive:
-        echo(f"irlc repl on {session.model.name} ({session.model.n} joints). :help for help.")
-        for line in session._names_line():
-            echo(line.strip())
+        for line in session.banner():
+            echo(line)
         return run_terminal(session, echo)
     return run_plain(session, sys.stdin, echo)

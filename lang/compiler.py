@@ -57,18 +57,21 @@ def compile_source(
     robot_override: str | None = None,
     repl: bool = False,
     allow_any_path: bool = False,
+    cooperating: tuple[tuple[int, int], ...] = (),
 ) -> CompileResult:
     """Compile IRL ``text`` (``filename`` is used in diagnostics and the SOURCE record).
 
     Data lists are searched in ``filename``'s folder, then in ``datalist_path``, then in
     the robot library, and must lie inside one of those folders once resolved unless
     ``allow_any_path`` (``irlc.lang.file_access``; the robot file's rule is the resolver's).
-    ``robot_override`` is the command line's ``--robot``.
+    ``robot_override`` is the command line's ``--robot``. ``cooperating`` (with ``repl``):
+    the ``COOPERATE`` blocks an earlier entry opened, ``(worker, holder)`` robot indices —
+    a ``COOPERATEEND`` of the program's main body may close them.
     """
     with _cycle_collector_paused():
         return _compile(
             text, filename, resolve_robot, tuple(datalist_path), robot_override, repl,
-            allow_any_path,
+            allow_any_path, cooperating=cooperating,
         ).result  # fmt: skip
 
 
@@ -134,6 +137,7 @@ def _compile(
     repl: bool,
     allow_any_path: bool,
     datalist_texts: dict[str, str] | None = None,
+    cooperating: tuple[tuple[int, int], ...] = (),
 ) -> Analysis:
     result = CompileResult(None, [], text, filename)
     analysis = Analysis(result)
@@ -152,7 +156,7 @@ def _compile(
     datalists = _datalists(
         program, filename, datalist_path, counts, result, allow_any_path, datalist_texts or {}
     )
-    checker = Checker(program, filename, robots, datalists, repl=repl)
+    checker = Checker(program, filename, robots, datalists, repl=repl, cooperating=cooperating)
     analysis.checked = checker.check()
     result.diagnostics += checker.diags
     if any(d.is_error for d in result.diagnostics):

@@ -43,7 +43,11 @@ def test_cmd(directory: Path, update: bool, jobs: int, allow_any_path: bool) -> 
 
 
 @cli.command("repl")
-@click.option("--robot", "robot", default=None, help="Robot name or description file.")
+@click.option(
+    "--robot", "robot", multiple=True,
+    help="Robot name or description file; NAME=ROBOT[@x,y,z,a,b,c] names the robot and places "
+    "it (mm, deg ZYX), repeated: a cell of several robots.",
+)  # fmt: skip
 @click.option(
     "--datalist-path", "datalist_path", multiple=True,
     type=click.Path(path_type=Path, file_okay=False, exists=True),
@@ -52,7 +56,7 @@ def test_cmd(directory: Path, update: bool, jobs: int, allow_any_path: bool) -> 
 @click.option("--plain", is_flag=True, help="Plain line input even on a terminal.")
 @allow_any_path_option
 def repl_cmd(
-    robot: str | None, datalist_path: tuple[Path, ...], plain: bool, allow_any_path: bool
+    robot: tuple[str, ...], datalist_path: tuple[Path, ...], plain: bool, allow_any_path: bool
 ) -> int:
     """Interactive session: declarations and statements run as they are entered."""
     from irlc.repl import main as repl_main

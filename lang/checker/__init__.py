@@ -68,6 +68,7 @@ class Checker:
         datalists: list[Datalist],
         *,
         repl: bool = False,
+        cooperating: tuple[tuple[int, int], ...] = (),
     ):
         self.prog = program
         self.datalists = datalists
@@ -77,7 +78,9 @@ class Checker:
         self.decls = Declarations(self.scope, self.typer, self.report)
         self.robots = RobotDeclarations(self.scope, self.typer, self.report)
         motion = MotionChecker(self.scope, self.typer, self.report)
-        modal = ModalBlocks(self.scope, self.typer, motion, self.report, repl=repl)
+        modal = ModalBlocks(
+            self.scope, self.typer, motion, self.report, repl=repl, cooperating=cooperating
+        )
         self.statements = StatementChecker(self.scope, self.typer, motion, modal, self.report)
 
     @property
@@ -109,7 +112,7 @@ class Checker:
             self.check_routine(info)
         self.scope.routine = main
         self.statements.collect_labels(p.body)
-        self.statements.check_list(p.body, p.end_span, "ENDPROGRAM")
+        self.statements.check_list(p.body, p.end_span, "ENDPROGRAM", main=True)
         self.scope.routine = None
         for node, message, hint in approx_warnings(p.body):
             self.report.warning(node.span, message, hint)

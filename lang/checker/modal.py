@@ -5,7 +5,8 @@ OBSTACLE name … OBSTACLEEND name, FREEZESTART … FREEZEEND and COOPERATE robo
 COOPERATEEND are checked per statement list: an END needs an earlier START of the same
 kind in the same list, a START is not repeated while it is open (also from an enclosing
 list), and every START is closed before its list ends. ``repl`` mode skips the two pairing
-checks (the interpreter checks them at run time).
+checks (the interpreter checks them at run time); there the main body starts with the
+cooperations an earlier entry opened (``cooperating``), which its COOPERATEEND closes.
 
 In a cell every option belongs to one robot (``FOR robot``): the blocks of different robots
 are independent. COOPERATEEND closes the innermost open COOPERATE of its list, and a robot
@@ -61,6 +62,10 @@ class _Open:
     span: Span
     closing: str
     robots: tuple[int, ...] = ()
+    earlier: bool = False  # opened by an earlier REPL entry
+
+    def where(self) -> str:
+        return "an earlier entry" if self.earlier else f"line {self.span.line}"
 
 
 class _ListState:
@@ -98,17 +103,25 @@ class ModalBlocks:
         report: Reporter,
         *,
         repl: bool,
+        cooperating: tuple[tuple[int, int], ...] = (),
     ):
         self.scope = scope
         self.typer = typer
         self.motion = motion
         self.report = report
         self.repl = repl
+        self.cooperating = cooperating if repl else ()
         self.state: _ListState | None = None
 
-    def enter_list(self) -> None:
-        """A statement list starts: its own START statements open in it."""
+    def enter_list(self, main: bool = False) -> None:
+        """A statement list starts: its own START statements open in it (the main body of
+        a REPL entry: also the cooperations an earlier entry opened)."""
         self.state = _ListState(self.state)
+        for worker, holder in self.cooperating if main else ():
+            w, h = self.scope.robots[worker].var, self.scope.robots[holder].var
+            self.state.open[f"COOPERATE#{worker}"] = _Open(
+                f"COOPERATE {w} IN {h}", Span(1, 1), "COOPERATEEND", (worker, holder), True
+            )
 
     def leave_list(self, end_span: Span, end_word: str) -> None:
         """The list ends at ``end_word`` (line of ``end_span``): report what is still open."""
@@ -276,7 +289,7 @@ class ModalBlocks:
             both = [r.var for r in (robot, holder) if r.index in busy.robots]
             self.report.error(
                 s.span,
-                f"robot {both[0]} already cooperates ({busy.display}, line {busy.span.line})",
+                f"robot {both[0]} already cooperates ({busy.display}, {busy.where()})",
                 "close that cooperation with COOPERATEEND first",
             )
         key = f"COOPERATE#{robot.index}"

@@ -49,9 +49,12 @@ class StatementChecker:
             "modaloff": modal.s_modaloff,
         }
 
-    def check_list(self, stmts: list[ast.Stmt], end_span: Span, end_word: str) -> None:
-        """One statement list, ended by ``end_word`` at ``end_span`` (for open blocks)."""
-        self.modal.enter_list()
+    def check_list(
+        self, stmts: list[ast.Stmt], end_span: Span, end_word: str, main: bool = False
+    ) -> None:
+        """One statement list, ended by ``end_word`` at ``end_span`` (for open blocks);
+        ``main``: the program's main body."""
+        self.modal.enter_list(main)
         for s in stmts:
             name = type(s).__name__.lower()
             handler = self._elsewhere.get(name) or getattr(self, f"s_{name}")
