@@ -9,6 +9,9 @@ The :class:`Index` (hover, go to definition, completion) needs a checked program
 statement is half typed the program does not parse; :meth:`ProgramAnalysis.index` then
 blanks the line of the syntax error (spaces, so every other line and column stays where it
 is) and analyses again, a few times at most, and falls back to the last text that checked.
+Completion knows where the cursor is: when that fails, the line being typed is blanked
+(:meth:`ProgramAnalysis.names_index`), so that a half-typed ``MOVE`` whose syntax error is
+reported on a later line still sees the program's names and robots.
 """
 
 from __future__ import annotations
@@ -58,6 +61,7 @@ class ProgramAnalysis:
     previous: Index | None = None  # the last index of this document (a fallback)
     _index: Index | None = field(default=None, init=False)
     _indexed: bool = field(default=False, init=False)
+    _without_line: dict[int, Index | None] = field(default_factory=dict, init=False)
 
     @classmethod
     def of(
@@ -93,10 +97,25 @@ class ProgramAnalysis:
         change must not wait for an index nobody asked for."""
         return self._index if self._index is not None else self.previous
 
-    def names_index(self) -> Index | None:
-        """This text's index, else the last one of this document that checked: for
-        completion, where the names matter and their positions may be stale."""
-        return self.index() or self.previous
+    def names_index(self, line: int | None = None) -> Index | None:
+        """This text's index, else (``line``: the cursor's) this text without that line,
+        else the last one of this document that checked: for completion, where the names
+        matter and their positions may be stale."""
+        index = self.index()
+        if index is None and line is not None:
+            index = self._index_without(line)
+        return index or self.previous
+
+    def _index_without(self, line: int) -> Index | None:
+        if line not in self._without_line:
+            lines = self.text.split("\n")
+            checked = None
+            if 1 <= line <= len(lines) and lines[line - 1].strip():
+                lines[line - 1] = " " * len(lines[line - 1])
+                blanked = "\n".join(lines)
+                checked = analyze(blanked, self.path, self.settings, self.datalist_texts).checked
+            self._without_line[line] = Index(checked) if checked is not None else None
+        return self._without_line[line]
 
     def _recovered(self):
         lines = self.text.split("\n")

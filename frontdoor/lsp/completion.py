@@ -8,8 +8,12 @@ The text before the cursor on its line picks the context:
 * ``ROBOT r := …`` — the robots of the library; ``IMPORT DATALIST …`` — the data lists
   next to the program and in the library; ``OBSTACLE …`` / ``OBSTACLEEND …`` — the
   obstacles of the imported data lists;
+* ``MOVE …``, ``MOVE_INC …``, ``AND …`` in a group move, ``… FOR …`` after a redundancy
+  construct, ``COOPERATE …``, ``COOPERATE a IN …`` — the program's robots (a cell's, by
+  their names: docs/language.md §10; with one robot after MOVE also the motion kinds);
+  ``COOPERATE a IN b WITH …`` — ``VERTICAL``;
 * ``name.…`` — the fields of ``name``'s type (a POSE's ``x y z pos ori``, a record's, a
-  joint tuple's joints);
+  joint tuple's joints), a robot's own system variables (``holder.R_TOOL``);
 * anywhere else — the names in scope (variables, parameters, constants and data-list
   entries, types, procedures and functions, obstacles: the routine's own first), the
   system variables (``R_…``: the settings table's, with unit and range), the built-in
@@ -25,16 +29,25 @@ from pathlib import Path
 from irlc.lang import settings as S
 from irlc.lang import types as T
 from irlc.lang.builtins import BUILTINS
+from irlc.lang.cell import ROBOT_VARIABLES
 from irlc.lang.checker import Symbol
 from irlc.lang.datalist import folders
 from irlc.lang.grammar import keywords
 from irlc.lsp.hover import setting_text, signature
 from irlc.lsp.index import Index
+from irlc.lsp.robots import ROBOT_VARIABLE_MEANINGS, placement_text
 from lsprotocol import types
 
 K = types.CompletionItemKind
 UNSUPPORTED = {"SYSTEM", "SPECIFICATION", "STANDARD_IN", "STANDARD_OUT", "FROM", "EXPORT"}
 WITH_CLAUSES = ("JOINTLIMIT", "JOINTSPEEDLIMIT", "JOINTACCELLIMIT", "RECONFIGURATION")
+MOTION_KINDS = ("PTP", "LIN", "LIN PATH", "CIRCLE")
+_MOVE = r"\bMOVE(?:_INC)?\b"
+_PART_ROBOT = re.compile(r"\b(?:MOVE(?:_INC)?|AND)\s+([A-Za-z_]\w*)\s+(?:PTP|LIN|CIRC)", re.I)
+# the constructs that take a FOR robot suffix (docs/language.md §10)
+_FOR_ROBOT = re.compile(
+    r"\b(?:JOINT(?:SPEED|ACCEL)?LIMIT(?:END)?|CYCLIC(?:START|END)|OBSTACLE(?:END)?"
+    r"|FREEZE(?:START|END)|RECONFIGURATION)\b[^;]*\bFOR\s+\w*$", re.I)  # fmt: skip
 
 # label → (snippet, plain text): the statements, as the language reference writes them
 STATEMENTS: dict[str, tuple[str, str]] = {
@@ -93,6 +106,8 @@ class Context:
 
 def complete(context: Context, index: Index | None) -> list[types.CompletionItem]:
     before = context.before
+    if (robots := robot_context(before, index)) is not None:
+        return robots
     if re.search(r"\bWITH\s+\w*$", before, re.I):
         return with_options(context.markdown)
     if re.search(r"\bROBOT\s+\w+\s*:=\s*\w*$", before, re.I):
@@ -102,9 +117,59 @@ def complete(context: Context, index: Index | None) -> list[types.CompletionItem
     if re.search(r"\bOBSTACLE(END)?\s+\w*$", before, re.I):
         return _names(index, context.line, kinds=("obstacle",))
     if m := re.search(r"([A-Za-z_]\w*)\s*\.\s*\w*$", before):
+        if index is not None and m.group(1).lower() in index.robots:
+            return robot_variables(m.group(1))
         return fields(index, context.line, m.group(1))
     return [*_names(index, context.line), *system_variables(context.markdown), *builtins(),
             *statements(context.snippets), *keyword_items()]  # fmt: skip
+
+
+def robot_context(before: str, index: Index | None) -> list[types.CompletionItem] | None:
+    """The items where a robot of the program is named (module doc), else ``None``."""
+    if re.search(r"\bCOOPERATE\s+\w+\s+IN\s+\w+\s+WITH\s+\w*$", before, re.I):
+        return [
+            types.CompletionItem(
+                label="VERTICAL",
+                kind=K.Keyword,
+                detail="the working robot's tool z axis stays vertical",
+            )
+        ]
+    robots = list(index.checked.robots) if index is not None else []
+    if m := re.search(r"\bCOOPERATE\s+(?:(\w+)\s+IN\s+)?\w*$", before, re.I):
+        worker = (m.group(1) or "").lower()
+        return program_robots([r for r in robots if r.var.lower() != worker])
+    if _FOR_ROBOT.search(before):
+        return program_robots(robots)
+    if re.search(_MOVE + r"\s+\w*$", before, re.I):
+        if len(robots) > 1:
+            return program_robots(robots)
+        kinds = [types.CompletionItem(label=k, kind=K.Keyword, sort_text=f"0{k}")
+                 for k in MOTION_KINDS]  # fmt: skip
+        return kinds + program_robots(robots, rank="1")
+    if (m := re.search(_MOVE + r"[^;]*\bAND\s+\w*$", before, re.I)) and len(robots) > 1:
+        moving = {name.lower() for name in _PART_ROBOT.findall(m.group(0))}
+        return program_robots([r for r in robots if r.var.lower() not in moving])
+    return None
+
+
+def program_robots(robots, rank: str = "0") -> list[types.CompletionItem]:
+    """The program's robots by name, each with its robot and placement."""
+    return [
+        types.CompletionItem(
+            label=r.var,
+            kind=K.Module,
+            sort_text=f"{rank}{r.index:03d}",
+            detail=f"robot {r.text} ({r.n} joints) {placement_text(r)}",
+        )
+        for r in robots
+    ]
+
+
+def robot_variables(robot: str) -> list[types.CompletionItem]:
+    """``robot.…``: the robot's own system variables."""
+    return [types.CompletionItem(label=v, kind=K.Variable,
+                                 detail=f"{robot}.{v}: {ROBOT_VARIABLE_MEANINGS[v]}")
+            for v in ROBOT_VARIABLES]  # fmt: skip
 
 
 def with_options(markdown: bool) -> list[types.CompletionItem]:

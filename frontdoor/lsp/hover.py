@@ -4,7 +4,8 @@ A setting (``R_SPEED``, ``WITH SPEED``): its meaning, unit, admissible values an
 value, from the one settings table (:mod:`irlc.lang.settings`). A variable, parameter or
 constant: its type (and a constant's value); a data-list entry: its value and where it is
 taught; a routine: its signature; an obstacle: its shape; the ``ROBOT`` clause: the robot's
-joints with their units and limits (:mod:`irlc.robots`).
+joints with their units and limits (:mod:`irlc.robots`); a robot's name in a cell, its own
+variables and joint values used with it (:mod:`irlc.lsp.robots`).
 """
 
 from __future__ import annotations
@@ -13,32 +14,54 @@ from pathlib import Path
 
 from irlc.lang import platform
 from irlc.lang import settings as S
+from irlc.lang.cell import ProgramRobot
 from irlc.lang.checker import Symbol
 from irlc.lang.irdata import Value
 from irlc.lang.types import Record
+from irlc.lsp import robots
 from irlc.lsp.index import (
+    CellRobotRef,
     DatalistRef,
     Index,
     LabelRef,
     OptionRef,
     RobotRef,
+    RobotVariableRef,
     SymbolRef,
     Target,
     ValueRef,
 )
-from irlc.runtime import units
 
 
-def hover_text(target: Target, index: Index, program: Path, allow_any_path: bool) -> str | None:
+def hover_text(
+    target: Target, index: Index, program: Path, allow_any_path: bool,
+    robot: ProgramRobot | None = None,
+) -> str | None:  # fmt: skip
+    """What ``target`` is; ``robot``: the robot its value is used with (a joint tuple's)."""
     if isinstance(target, SymbolRef):
-        return symbol_text(target.symbol, index)
+        text = symbol_text(target.symbol, index)
+        value = target.symbol.value
+        if robot is not None and value is not None and target.symbol.kind != "sysvar":
+            names = index.checked.joint_names
+            used = robots.joint_values_text(value, robot, names, program, allow_any_path)
+            text += f"\n\n{used}" if used else ""
+        return text
+    if isinstance(target, CellRobotRef):
+        return robots.cell_robot_text(
+            target.robot, index.checked.robots, index.checked.joint_names, program,
+            allow_any_path,
+        )  # fmt: skip
+    if isinstance(target, RobotVariableRef):
+        return robots.robot_variable_text(target.robot, target.name, target.type)
     if isinstance(target, OptionRef):
         if target.word == platform.WORD:
             return platform.MEANING
+        if target.word == "VERTICAL":
+            return robots.VERTICAL_MEANING
         setting = S.BY_WITH_WORD.get(target.word)
         return setting_text(setting, with_form=True) if setting else None
     if isinstance(target, RobotRef):
-        return robot_text(target.name, program, allow_any_path, index.checked.joint_names)
+        return robots.robot_text(target.name, program, allow_any_path, index.checked.joint_names)
     if isinstance(target, DatalistRef):
         return datalist_text(target.name, index)
     if isinstance(target, LabelRef):
@@ -130,6 +153,9 @@ def value_text(v: Value, index: Index) -> str:
     if v.type.startswith("MAIN_JOINT") and len(names) == len(v.data):
         pairs = ", ".join(f"{n} {_number(x)}" for n, x in zip(names, v.data, strict=True))
         return f"({numbers})\n\n{pairs} (deg | mm per joint)"
+    if v.type.startswith("MAIN_JOINT"):  # a cell of robots with different joint counts
+        fit = robots.fitting_robots(len(v.data), index.checked.robots)
+        return f"({numbers})" + (f"\n\n{fit}" if fit else "")
     if len(v.data) == 1:
         return _number(v.data[0]) if isinstance(v.data[0], float | int) else repr(v.data[0])
     return f"({numbers})"
@@ -162,36 +188,3 @@ def datalist_text(name: str, index: Index) -> str:
     lines = [f"data list `{Path(dl.path).name}` ({dl.shown_path})", ""]
     lines += [f"- {section}: {', '.join(names)}" for section, names in sections.items()]
     return "\n".join(lines)
-
-
-def robot_text(name: str, program: Path, allow_any_path: bool, names=()) -> str:
-    """The robot's joints: program and file names, units, position / speed / acceleration
-    limits in program units."""
-    from irlc.robots import RobotFileError, resolve_robot
-
-    try:
-        model = resolve_robot(name, program.parent, restricted=not allow_any_path)
-    except RobotFileError as e:
-        return f"robot `{name}`: cannot be used: {e}"
-    rows = [
-        f"**{model.name}** — {model.description}" if model.description else f"**{model.name}**",
-        "",
-        f"{model.n} joints (deg: revolute, mm: prismatic; speeds /s, accelerations /s²)",
-        "",
-        "| joint | in file | unit | position | speed | accel |",
-        "|---|---|---|---|---|---|",
-    ]
-    names = tuple(names) if len(names) == model.n else tuple(f"a{i}" for i in range(1, model.n + 1))
-    for i, j in enumerate(model.joints):
-        lim = j.limits
-        rows.append(
-            f"| {names[i]} | {j.name} | {units.joint_unit(j.kind)} | "
-            f"{_range(lim.position, j.kind)} | {_range(lim.speed, j.kind)} | "
-            f"{_range(lim.accel, j.kind)} |"
-        )
-    return "\n".join(rows)
-
-
-def _range(bounds: tuple[float, float], kind: str) -> str:
-    lo, hi = (float(v) for v in units.joints_from_si(bounds, [kind] * 2))
-    return f"±{hi:.6g}" if f"{-lo:.6g}" == f"{hi:.6g}" else f"{lo:.6g} … {hi:.6g}"

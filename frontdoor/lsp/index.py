@@ -8,6 +8,13 @@ annotate — a declaration's own name, an obstacle after ``OBSTACLE``, a ``GOTO`
 ``ROBOT`` clause, an ``IMPORT DATALIST`` clause, a ``WITH`` option — and answers "what is at
 this line and column" for hover and go to definition, and "which names are visible here"
 for completion.
+
+A cell's robots (docs/language.md §10) are found wherever a robot is named: the name of a
+``ROBOT`` clause, ``MOVE name …`` (each part of a group move), ``… FOR name``,
+``COOPERATE a IN b``, ``name.R_…`` and ``FK(name, k)``. A name used in a statement of one
+robot (a MOVE part's targets and WITH clauses, ``JOINTLIMIT … FOR r``,
+``RECONFIGURATION … FOR r``, ``FK(r, …)``) carries that robot (:attr:`Occurrence.robot`):
+its joint values are that robot's.
 """
 
 from __future__ import annotations
@@ -17,6 +24,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 
 from irlc.lang import ast
+from irlc.lang.cell import ProgramRobot
 from irlc.lang.checker import Checked, Symbol
 from irlc.lang.checker.scope import RoutineInfo
 from irlc.lang.diagnostics import Span
@@ -35,6 +43,23 @@ class RobotRef:
     """The robot of the ``ROBOT`` clause (a library name or a file)."""
 
     name: str
+
+
+@dataclass(frozen=True)
+class CellRobotRef:
+    """A robot of the program by its name (``ROBOT name := …``, ``MOVE name``, ``FOR name``,
+    ``COOPERATE a IN b``, ``name.R_…``, ``FK(name, …)``)."""
+
+    robot: ProgramRobot
+
+
+@dataclass(frozen=True)
+class RobotVariableRef:
+    """A robot's own system variable, ``name.R_TOOL`` (``lang.cell.ROBOT_VARIABLES``)."""
+
+    robot: ProgramRobot
+    name: str
+    type: object
 
 
 @dataclass(frozen=True)
@@ -67,13 +92,15 @@ class ValueRef:
     type: object
 
 
-Target = SymbolRef | RobotRef | DatalistRef | OptionRef | LabelRef | ValueRef
+Target = (SymbolRef | RobotRef | CellRobotRef | RobotVariableRef | DatalistRef | OptionRef
+          | LabelRef | ValueRef)  # fmt: skip
 
 
 @dataclass(frozen=True)
 class Occurrence:
     span: Span
     target: Target
+    robot: ProgramRobot | None = None  # the robot a value is used with (module doc)
 
 
 def walk(node: object) -> Iterator[ast.Node]:
@@ -103,6 +130,8 @@ class Index:
         self.checked = checked
         self.program = checked.program
         self.routines = [r for r in checked.routines if r.node is not None]
+        self.robots = {r.var.lower(): r for r in checked.robots}
+        self.used_with = robots_of_values(self.program, checked.robots)
         self.by_line: dict[int, list[Occurrence]] = {}
         for occurrence in self._occurrences():
             self.by_line.setdefault(occurrence.span.line, []).append(occurrence)
@@ -135,7 +164,7 @@ class Index:
         p = self.program
         for clause in p.robot:
             yield Occurrence(clause.robot_span, RobotRef(clause.robot))
-            yield from self._declared(clause.span, clause.var, self.checked.symbols)
+            yield from self._robot(clause.var_span, clause.var)
         for d in p.datalists:
             yield Occurrence(d.span, DatalistRef(d.name))
         yield from self._in_scope(p.decls, p.body, self.checked.symbols)
@@ -172,12 +201,47 @@ class Index:
         if sym is not None and sym.span == span:
             yield Occurrence(span, SymbolRef(sym))
 
+    def _robot(self, span: Span | None, name: str | None) -> Iterator[Occurrence]:
+        """The robot ``name`` written at ``span`` (nothing when it names no robot)."""
+        robot = self.robots.get(name.lower()) if name else None
+        if robot is not None and span is not None:
+            yield Occurrence(_name_span(span, name or ""), CellRobotRef(robot))
+
+    def _robots_named(self, node: ast.Node) -> Iterator[Occurrence]:
+        """The robots a statement names: MOVE name, FOR name, COOPERATE a IN b [WITH w]."""
+        if isinstance(node, ast.Move | ast.ModalOn | ast.ModalOff | ast.Reconfigure):
+            yield from self._robot(node.robot_span, node.robot)
+        if isinstance(node, ast.ModalOn) and node.option == "COOPERATE":
+            yield from self._robot(node.name_span, node.name)  # the holding robot
+            if node.word and node.word_span:
+                span = _name_span(node.word_span, node.word)
+                yield Occurrence(span, OptionRef(node.word.upper()))
+
+    def _robot_of_field(self, node: ast.Field) -> ProgramRobot | None:
+        """The robot of ``name.R_…`` (None: the field of another value)."""
+        base = node.base
+        if not isinstance(base, ast.Name) or getattr(base.sym, "kind", None) != "robot":
+            return None
+        return self.robots.get(base.name.lower())
+
     def _used(
         self, node: ast.Node, scope: dict[str, Symbol], labels: dict[str, Span]
     ) -> Iterator[Occurrence]:
+        yield from self._robots_named(node)
         sym = getattr(node, "sym", None)
-        if isinstance(node, ast.Name | ast.Call | ast.CallStmt) and sym is not None:
-            yield Occurrence(_name_span(node.span, node.name), SymbolRef(sym))
+        if isinstance(node, ast.Name) and sym is not None and sym.kind == "robot":
+            yield from self._robot(node.span, node.name)
+        elif isinstance(node, ast.Name | ast.Call | ast.CallStmt) and sym is not None:
+            robot = self.used_with.get(id(node))
+            yield Occurrence(_name_span(node.span, node.name), SymbolRef(sym), robot)
+        elif isinstance(node, ast.Field) and (robot := self._robot_of_field(node)) is not None:
+            target = RobotVariableRef(robot, node.name.upper(), node.ty)
+            yield Occurrence(_name_span(node.span, node.name), target)
+        elif isinstance(node, ast.Call) and node.robot is not None and node.args:
+            yield Occurrence(_name_span(node.span, node.name), ValueRef("FK", node.ty))
+            first = node.args[0]  # FK(robot, k)
+            if isinstance(first, ast.Name):
+                yield from self._robot(first.span, first.name)
         elif isinstance(node, ast.Call) and node.ty is not None:
             yield Occurrence(_name_span(node.span, node.name), ValueRef(node.name.upper(), node.ty))
         elif isinstance(node, ast.Field) and node.ty is not None:
@@ -195,6 +259,34 @@ class Index:
             yield Occurrence(span, LabelRef(node.label, labels.get(node.label.lower())))
         elif isinstance(node, ast.WithClause) and node.word:
             yield Occurrence(_name_span(node.span, node.word), OptionRef(node.kind))
+
+
+def robots_of_values(program: ast.Program, robots: list[ProgramRobot]) -> dict[int, ProgramRobot]:
+    """The robot each name node (by its id) is used with: the names in a MOVE part's targets
+    and WITH clauses, in ``JOINTLIMIT … FOR r``'s limits, ``RECONFIGURATION … FOR r``'s
+    target and ``FK(r, k)``'s joints, where the checker resolved the statement's robot."""
+    found: dict[int, ProgramRobot] = {}
+
+    def mark(robot: ProgramRobot, exprs: list) -> None:
+        for node in walk(exprs):
+            if isinstance(node, ast.Name):
+                found[id(node)] = robot
+
+    for node in walk([program.body, *(r.body for r in program.routines)]):
+        if isinstance(node, ast.Call) and isinstance(node.robot, ProgramRobot):
+            mark(node.robot, node.args[1:])
+            continue
+        resolved = getattr(node, "resolved", ())
+        if not resolved or not 0 <= resolved[0] < len(robots):
+            continue
+        robot = robots[resolved[0]]
+        if isinstance(node, ast.Move):
+            mark(robot, [node.targets, [c.args for c in node.clauses]])
+        elif isinstance(node, ast.ModalOn) and node.option != "COOPERATE":
+            mark(robot, node.args)
+        elif isinstance(node, ast.Reconfigure):
+            mark(robot, [node.target])
+    return found
 
 
 def _name_span(span: Span, name: str) -> Span:

@@ -2,9 +2,10 @@
 
 Definitions: a variable, parameter, constant, type or routine → its declaration; a
 data-list entry or obstacle → its key in the ``.toml``; ``IMPORT DATALIST name`` → that
-file; the ``ROBOT`` clause → the robot's description file; ``GOTO l`` → the label. The
-outline lists the program's constants, types, variables and routines (with their
-parameters and locals), from the parsed program: it needs no robot.
+file; the ``ROBOT`` clause → the robot's description file; a robot's name (``MOVE name``,
+``FOR name``, ``COOPERATE a IN b``, ``name.R_…``) → its ``ROBOT`` clause; ``GOTO l`` → the
+label. The outline lists the program's robots, constants, types, variables and routines
+(with their parameters and locals), from the parsed program: it needs no robot file.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from pathlib import Path
 from irlc.lang import ast
 from irlc.lang import datalist as dlmod
 from irlc.lang.diagnostics import Span
-from irlc.lsp.index import DatalistRef, LabelRef, RobotRef, SymbolRef, Target
+from irlc.lsp.index import CellRobotRef, DatalistRef, LabelRef, RobotRef, SymbolRef, Target
 from lsprotocol import types
 
 # (file, span) → Location: the server converts with the file's text (open or on disk)
@@ -33,6 +34,9 @@ def definition(
         return locate(Path(sym.file) if sym.file else program, sym.span)
     if isinstance(target, LabelRef):
         return locate(program, target.span) if target.span else None
+    if isinstance(target, CellRobotRef):
+        clause = target.robot.clause
+        return locate(program, clause.var_span or clause.span) if clause is not None else None
     if isinstance(target, DatalistRef):
         path, _ = dlmod.find(target.name, program.parent, datalist_path)
         return locate(path, None) if path is not None else None
@@ -50,8 +54,11 @@ def definition(
 def document_symbols(
     program: ast.Program, rng: Callable[[Span], types.Range]
 ) -> list[types.DocumentSymbol]:
-    """The outline: constants, types, variables, then the routines with their insides."""
-    out = _declarations(program.decls, rng)
+    """The outline: robots, constants, types, variables, then the routines with their
+    insides."""
+    out = [_symbol(c.var, types.SymbolKind.Object, c.var_span or c.span, rng, _robot(c))
+           for c in program.robot]  # fmt: skip
+    out += _declarations(program.decls, rng)
     for r in program.routines:
         children = [_symbol(p.name, types.SymbolKind.Variable, p.span, rng, _type(p.type))
                     for p in r.params]  # fmt: skip
@@ -84,6 +91,21 @@ def _symbol(name, kind, span, rng, detail, children=None) -> types.DocumentSymbo
     return types.DocumentSymbol(
         name=name, kind=kind, range=r, selection_range=r, detail=detail, children=children
     )
+
+
+def _robot(clause: ast.RobotClause) -> str:
+    """``ROBOT as6 AT (0, -1500, 0, 90, 0, 0)``: its robot and placement as written (the
+    outline needs no checker; an expression it does not show is ``…``)."""
+    at = clause.at
+    if at is None:
+        return f"ROBOT {clause.robot}"
+    if isinstance(at, ast.Name):
+        shown = at.name
+    elif isinstance(at, ast.Tuple):
+        shown = "(" + ", ".join(ast.literal_text(e) or "…" for e in at.items) + ")"
+    else:
+        shown = "…"
+    return f"ROBOT {clause.robot} AT {shown}"
 
 
 def _type(ref: ast.TypeRef) -> str:

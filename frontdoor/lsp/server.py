@@ -193,7 +193,7 @@ def make_server(settings: Settings) -> IrlServer:
             snippets=ls.supports("text_document.completion.completion_item.snippet_support"),
             markdown=types.MarkupKind.Markdown in (formats or []),
         )  # fmt: skip
-        items = completion.complete(context, program.names_index())
+        items = completion.complete(context, program.names_index(line))
         return types.CompletionList(is_incomplete=False, items=items)
 
     @server.feature(types.TEXT_DOCUMENT_HOVER)
@@ -202,7 +202,8 @@ def make_server(settings: Settings) -> IrlServer:
         if found is None:
             return None
         program, index, occurrence = found
-        text = hover.hover_text(occurrence.target, index, program.path, ls.settings.allow_any_path)
+        text = hover.hover_text(occurrence.target, index, program.path,
+                                ls.settings.allow_any_path, occurrence.robot)  # fmt: skip
         if text is None:
             return None
         formats = ls.supports("text_document.hover.content_format", []) or []

@@ -11,7 +11,13 @@ keyword (control, motion, declaration, operator word: ``keyword.*``; a type:
 ``storage.type.*``; TRUE/FALSE: ``constant.language.*``), a system variable, a built-in
 function, a name or an operator — every character of every token the lexer finds has its
 class's scope, and nothing the grammar scopes as a comment, string, number or keyword is
-anything else to the lexer.
+anything else to the lexer. Two words are keywords only where they stand (docs/language.md
+§10): ``AT`` in a ROBOT clause and the option after ``COOPERATE a IN b WITH`` (``VERTICAL``);
+the parsed program says where (:func:`contextual_keywords`).
+
+Cells are shown as such: a robot's name where a cell names it (``MOVE name``, a group
+move's ``AND name``, ``FOR name``, ``COOPERATE a IN b``) is scoped a robot, and the AND of a
+group move differs from the logical AND (:func:`test_cell_words_are_scoped_as_cells_read`).
 
 Needs node (skipped, saying so, without it) and the node packages of editors/vscode
 (``npm ci`` there, which ``.ci/run`` does; the test runs it when they are missing).
@@ -25,8 +31,10 @@ import subprocess
 from pathlib import Path
 
 import pytest
+from irlc.lang import ast
 from irlc.lang.builtins import BUILTINS
 from irlc.lang.grammar import keywords, lark_parser
+from irlc.lang.parser import parse
 from irlc.lang.settings import SYSTEM_VARIABLES
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -69,15 +77,41 @@ def _lexer_class(tok, text_after: str) -> str:
     return "operator"
 
 
+def contextual_keywords(text: str) -> set[tuple[int, int]]:
+    """The (line, column) of the words that are keywords where they stand: ``AT`` between a
+    ROBOT clause's robot and its placement, ``COOPERATE … WITH``'s option (a text that does
+    not parse has none)."""
+    program, _ = parse(text, "grammar_test.irl")
+    if program is None:
+        return set()
+    found = set()
+    for clause in program.robot:
+        if clause.at is not None:
+            end, start = clause.robot_span, clause.at.span
+            found.add(((end.end_line, end.end_column), (start.line, start.column)))
+    spots = set()
+    for s in ast.statements_in_order(program.body):
+        if isinstance(s, ast.ModalOn) and s.word_span is not None:
+            spots.add((s.word_span.line, s.word_span.column))
+    for tok in lark_parser().lex(text, dont_ignore=True):
+        here = (tok.line, tok.column)
+        if tok.type == "NAME" and tok.value.upper() == "AT":
+            spots |= {here for after, before in found if after <= here < before}
+    return spots
+
+
 def lexer_classes(text: str) -> list[list[str | None]]:
     """Per line, per character: the class of the lark token covering it (None: none)."""
     lines = text.split("\n")
     classes: list[list[str | None]] = [[None] * len(line) for line in lines]
+    contextual = contextual_keywords(text)
     for tok in lark_parser().lex(text, dont_ignore=True):
         if tok.type.startswith("__IGNORE"):
             continue
         end = tok.end_pos
         cls = _lexer_class(tok, text[end : end + 40])
+        if (tok.line, tok.column) in contextual:
+            cls = "keyword"
         line, column = tok.line - 1, tok.column - 1
         for char in tok.value:
             if char == "\n":
@@ -240,3 +274,59 @@ def test_the_extension_manifest_and_language_configuration(tmp_path):
     done = subprocess.run([NODE, "--check", str(VSCODE / manifest["main"])],
                           capture_output=True, text=True, timeout=60)  # fmt: skip
     assert done.returncode == 0, done.stderr
+
+
+CELL = """PROGRAM cell;
+ROBOT holder := as6;
+ROBOT welder := as6 AT (0, -2200, 0, 180, 0, 0);
+VAR BOOLEAN: ok; INTEGER: i;
+BEGIN
+  R_CLEARANCE := 50;
+  MOVE holder PTP h AND welder LIN w;
+  ok := ok AND ok;
+  JOINTLIMIT lo, hi FOR holder;
+  COOPERATE welder IN holder WITH VERTICAL;
+  COOPERATEEND;
+  FOR i := 1 TO 2 DO WAIT FOR ok; ENDFOR;
+ENDPROGRAM
+"""
+
+
+def test_cell_words_are_scoped_as_cells_read(tokenizer, tmp_path):
+    """The words of a cell (docs/language.md §10) by their role: AT and VERTICAL as keywords
+    where they stand, a group move's AND apart from the logical one, a FOR suffix apart
+    from a loop, the robots' names where a robot is named."""
+    path = tmp_path / "cell.irl"
+    path.write_text(CELL, encoding="utf-8")
+    scoped = grammar_classes(tokenizer, [path])[str(path)]
+    lines = CELL.split("\n")
+
+    def scope(line_start: str, word: str, nth: int = 0) -> str:
+        row = next(i for i, line in enumerate(lines) if line.startswith(line_start))
+        column = -1
+        for _ in range(nth + 1):
+            column = lines[row].index(word, column + 1)
+        names = {tuple(scoped[row][c]) for c in range(column, column + len(word))}
+        assert len(names) == 1, (line_start, word, names)  # one token
+        return names.pop()[-1]
+
+    assert scope("ROBOT welder", "ROBOT") == "keyword.other.declaration.irl"
+    assert scope("ROBOT welder", "welder") == "entity.name.robot.irl"
+    assert scope("ROBOT welder", "AT") == "keyword.other.placement.irl"
+    assert scope("  R_CLEARANCE", "R_CLEARANCE") == "variable.language.irl"
+    assert scope("  MOVE", "holder") == "variable.other.robot.irl"
+    assert scope("  MOVE", "AND") == "keyword.other.motion.group.irl"
+    assert scope("  MOVE", "welder") == "variable.other.robot.irl"
+    assert scope("  ok := ok AND", "AND") == "keyword.operator.word.irl"  # the logical AND
+    assert scope("  JOINTLIMIT", "FOR") == "keyword.other.redundancy.for.irl"
+    assert scope("  JOINTLIMIT", "holder") == "variable.other.robot.irl"
+    assert scope("  COOPERATE ", "COOPERATE") == "keyword.other.redundancy.irl"
+    assert scope("  COOPERATE ", "welder") == "variable.other.robot.irl"
+    assert scope("  COOPERATE ", "holder") == "variable.other.robot.irl"
+    assert scope("  COOPERATE ", "VERTICAL") == "keyword.other.redundancy.option.irl"
+    assert scope("  COOPERATEEND", "COOPERATEEND") == "keyword.other.redundancy.irl"
+    assert scope("  FOR i", "FOR") == "keyword.control.irl"  # a loop
+    assert scope("  FOR i", "FOR", 1) == "keyword.control.irl"  # WAIT FOR
+    assert scope("  FOR i", "ok") == "variable.other.irl"
+    assert disagreements(CELL, scoped) == []
+    assert contextual_keywords(CELL) == {(3, 21), (10, 35)}  # AT, VERTICAL (1-based)

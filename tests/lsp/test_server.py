@@ -5,9 +5,7 @@ read with tomllib), not from the server's modules."""
 
 from __future__ import annotations
 
-import asyncio
 import shutil
-import sys
 import tomllib
 from pathlib import Path
 
@@ -15,23 +13,27 @@ import pytest
 
 pytest_lsp = pytest.importorskip("pytest_lsp", reason="the test extra has pytest-lsp")
 from lsprotocol import types  # noqa: E402
-from pygls.protocol import default_converter  # noqa: E402
-from pygls.uris import from_fs_path  # noqa: E402
-from pytest_lsp import ClientServerConfig, LanguageClient, client_capabilities  # noqa: E402
-from pytest_lsp.client import DEFAULT_CLIENT_FEATURES, register_lsp_features  # noqa: E402
+
+from tests.lsp.lsp_client import (  # noqa: E402
+    ROOT,
+    UNITS,
+    at,
+    change,
+    close,
+    complete,
+    definition,
+    diagnostics_of,
+    hover,
+    open_doc,
+    span,
+    uri,
+)
 
 pytestmark = [
     pytest.mark.asyncio(loop_scope="module"),
     # an answer the client's capabilities do not allow (a snippet, Markdown) fails the test
     pytest.mark.filterwarnings("error::pytest_lsp.LspSpecificationWarning"),
 ]
-
-ROOT = Path(__file__).resolve().parents[2]
-IRLC = shutil.which("irlc", path=str(Path(sys.executable).parent))
-COMMAND = [IRLC, "lsp"] if IRLC else [sys.executable, "-c", "from irlc.cli import entry; entry()",
-                                       "lsp"]  # fmt: skip
-TIMEOUT = 30.0  # s: a loaded 2-core machine, the server's first compile
-UNITS = {"encoding": "utf-16"}  # the position encoding of the client the fixture started
 
 PROGRAM = """PROGRAM cell;
 ROBOT r := planar3;
@@ -78,105 +80,11 @@ radius = 100
 """
 
 
-def make_client() -> LanguageClient:
-    """pytest-lsp's test client, also recording the version of each diagnostics message."""
-    client = LanguageClient(converter_factory=default_converter)
-    client.diagnostic_versions = {}
-
-    def published(client: LanguageClient, params: types.PublishDiagnosticsParams) -> None:
-        client.diagnostics[params.uri] = params.diagnostics
-        client.diagnostic_versions[params.uri] = params.version
-
-    features = {**DEFAULT_CLIENT_FEATURES, types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS: published}
-    register_lsp_features(client, features)
-    return client
-
-
-@pytest_lsp.fixture(
-    config=ClientServerConfig(server_command=COMMAND, client_factory=make_client),
-    scope="module",
-    params=["visual-studio-code", "neovim"],
-)
-async def client(lsp_client: LanguageClient, request):
-    capabilities = client_capabilities(request.param)
-    result = await lsp_client.initialize_session(types.InitializeParams(capabilities=capabilities))
-    lsp_client.server_capabilities = result.capabilities
-    UNITS["encoding"] = result.capabilities.position_encoding or "utf-16"  # as negotiated
-    yield
-    await lsp_client.shutdown_session()
-
-
 @pytest.fixture
 def cell(tmp_path) -> Path:
     (tmp_path / "cell.irl").write_text(PROGRAM, encoding="utf-8")
     (tmp_path / "cell.toml").write_text(DATALIST, encoding="utf-8")
     return tmp_path
-
-
-def uri(path: Path) -> str:
-    return from_fs_path(str(path))
-
-
-def units(text: str) -> int:
-    """The length of ``text`` in the code units of the negotiated position encoding."""
-    encoding = {"utf-8": "utf-8", "utf-16": "utf-16-le", "utf-32": "utf-32-le"}
-    size = {"utf-8": 1, "utf-16": 2, "utf-32": 4}[UNITS["encoding"]]
-    return len(text.encode(encoding[UNITS["encoding"]])) // size
-
-
-def at(text: str, needle: str, nth: int = 0, offset: int = 0) -> types.Position:
-    """The position of the ``nth`` occurrence of ``needle`` (+ ``offset`` characters), in
-    the code units of the negotiated encoding (UTF-16 unless the client offered another)."""
-    start = -1
-    for _ in range(nth + 1):
-        start = text.index(needle, start + 1)
-    start += offset
-    line = text.count("\n", 0, start)
-    column = text[text.rfind("\n", 0, start) + 1 : start]
-    return types.Position(line, units(column))
-
-
-def span(text: str, needle: str, nth: int = 0) -> types.Range:
-    start = at(text, needle, nth)
-    end = types.Position(start.line, start.character + units(needle))
-    return types.Range(start, end)
-
-
-async def diagnostics_of(client: LanguageClient, doc: str, version: int) -> list:
-    """The diagnostics the server published for ``doc`` at ``version``."""
-
-    async def wait():
-        while True:
-            got = client.diagnostics.get(doc)
-            if got is not None and client.diagnostic_versions.get(doc) == version:
-                return list(got)
-            await asyncio.sleep(0.02)
-
-    return await asyncio.wait_for(wait(), TIMEOUT)
-
-
-async def open_doc(client: LanguageClient, path: Path, text: str | None = None, version=1):
-    text = path.read_text(encoding="utf-8") if text is None else text
-    language = "irl" if path.suffix == ".irl" else "toml"
-    item = types.TextDocumentItem(uri=uri(path), language_id=language, version=version, text=text)
-    client.text_document_did_open(types.DidOpenTextDocumentParams(item))
-    return await diagnostics_of(client, uri(path), version)
-
-
-async def change(client: LanguageClient, path: Path, text: str, version: int) -> list:
-    client.text_document_did_change(
-        types.DidChangeTextDocumentParams(
-            text_document=types.VersionedTextDocumentIdentifier(uri=uri(path), version=version),
-            content_changes=[types.TextDocumentContentChangeWholeDocument(text=text)],
-        )
-    )
-    return await diagnostics_of(client, uri(path), version)
-
-
-def close(client: LanguageClient, path: Path) -> None:
-    client.text_document_did_close(
-        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri(path)))
-    )
 
 
 # ---------------------------------------------------------------------------- diagnostics
@@ -263,14 +171,6 @@ async def test_a_toml_no_open_program_imports_is_checked_on_its_own(client, tmp_
 # ---------------------------------------------------------------------------- completion
 
 
-async def complete(client, path: Path, text: str, position: types.Position):
-    result = await client.text_document_completion_async(
-        types.CompletionParams(types.TextDocumentIdentifier(uri(path)), position)
-    )
-    items = result.items if isinstance(result, types.CompletionList) else result
-    return {item.label: item for item in items}
-
-
 async def test_completion_offers_names_in_scope_with_kinds(client, cell):
     path = cell / "cell.irl"
     await open_doc(client, path)
@@ -333,14 +233,6 @@ async def test_completion_while_a_statement_is_half_typed(client, cell):
 # ---------------------------------------------------------------------------- hover
 
 
-async def hover(client, path: Path, position: types.Position) -> str:
-    result = await client.text_document_hover_async(
-        types.HoverParams(types.TextDocumentIdentifier(uri(path)), position)
-    )
-    assert result is not None
-    return result.contents.value
-
-
 async def test_hover_shows_settings_types_values_and_the_robot(client, cell):
     path = cell / "cell.irl"
     await open_doc(client, path)
@@ -390,13 +282,6 @@ async def test_hover_gives_a_prismatic_joint_in_mm(client, tmp_path):
 # ---------------------------------------------------------------------------- definition
 
 
-async def definition(client, path: Path, position: types.Position):
-    result = await client.text_document_definition_async(
-        types.DefinitionParams(types.TextDocumentIdentifier(uri(path)), position)
-    )
-    return result[0] if isinstance(result, list) else result
-
-
 async def test_go_to_definition(client, cell):
     path = cell / "cell.irl"
     await open_doc(client, path)
@@ -438,8 +323,8 @@ async def test_document_symbols_and_no_formatting(client, cell):
     )
     S = types.SymbolKind
     top = {(s.name, s.kind) for s in result}
-    assert top == {("side", S.Constant), ("station", S.Struct), ("p1", S.Variable),
-                   ("p2", S.Variable), ("n", S.Variable), ("st", S.Variable),
+    assert top == {("r", S.Object), ("side", S.Constant), ("station", S.Struct),
+                   ("p1", S.Variable), ("p2", S.Variable), ("n", S.Variable), ("st", S.Variable),
                    ("corner", S.Method), ("half", S.Function)}  # fmt: skip
     corner = next(s for s in result if s.name == "corner")
     assert [c.name for c in corner.children] == ["c", "count", "tmp"]
