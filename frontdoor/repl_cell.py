@@ -168,11 +168,13 @@ class CellMachine:
     # ------------------------------------------------------------------ entries
     def prepare(self, code) -> None:
         """Before an entry runs: the whole cycle budget; obstacles a robot is inside (a
-        collision failed the last entry) may be left; the entry's joint names."""
+        collision failed the last entry) may be left, and so may robots inside each other; the
+        entry's joint names."""
         from irlc.runtime.model.naming import JointNaming
 
         cell = self.controller
         cell.restart_cycle_budget()
+        cell.tolerate_collisions()
         for unit, record in zip(cell.robots, code.robots, strict=True):
             ctl = unit.controller
             ctl.collisions.tolerate(ctl.recorder.last_clearances())

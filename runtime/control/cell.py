@@ -543,6 +543,14 @@ class CellController:
         if judge:
             self.rule.judge(m, self.required, line, t)
 
+    def tolerate_collisions(self) -> None:
+        """The robots' links that are inside each other now (a collision failed the last
+        REPL entry) may come apart, not go deeper (:meth:`ClearanceRule.tolerate`)."""
+        ends = [self._ends_at(u, u.controller.state.q) for u in self.robots]
+        self.rule.tolerate(
+            Measured.at(self.parts, *(np.concatenate(e) for e in zip(*ends, strict=True)))
+        )
+
     def start_failure(self, line: int) -> RunFailure | None:
         """The robots' links collide in the start configuration (t = 0, the program's
         first statement), unless collisions are allowed."""

@@ -28,6 +28,7 @@ from functools import cached_property
 
 import numpy as np
 from irlc.runtime import units
+from irlc.runtime.control.collision import DEEPER
 from irlc.runtime.errors import RunFailure
 from irlc.runtime.model.chain import Chain
 from irlc.runtime.model.clearance import Clearance, PartSet, RobotParts
@@ -74,22 +75,48 @@ class ClearanceRule:
     def __init__(self, parts: PartSet, allow: bool = False):
         self.parts = parts
         self.allow = allow
+        self._tolerated: dict[int, float] = {}  # pair → depth (m) it may keep (REPL)
 
     def judge(self, m: Measured, required: float, line: int, t: float) -> None:
         """A :class:`RunFailure` when a pair of the sample ``m`` penetrates (not allowed)
         or, with ``required`` (m, R_CLEARANCE) > 0, a pair is closer than it keeps
-        (:meth:`PartSet.keep`) by more than :data:`KEEP_TOLERANCE`."""
+        (:meth:`PartSet.keep`) by more than :data:`KEEP_TOLERANCE`. A tolerated pair
+        (:meth:`tolerate`) may stay inside as long as it goes no deeper."""
         parts, d = self.parts, m.d
         if not d.size:
             return
-        closest = m.closest()
-        if closest.distance < 0.0 and not self.allow:
-            raise self.failure(closest, 0.0, line, t)
+        backing_out = self._backing_out(d)
+        if not self.allow:
+            for k in np.argsort(d, kind="stable"):
+                if d[k] >= 0.0:
+                    break
+                if int(k) not in backing_out:
+                    raise self.failure(m.pair(int(k)), 0.0, line, t)
         if required > 0.0:
-            keep = parts.keep(required)
-            j = int(np.argmin(d - keep))
-            if d[j] < keep[j] - KEEP_TOLERANCE:
-                raise self.failure(m.pair(j), float(keep[j]), line, t)
+            slack = d - parts.keep(required)
+            slack[list(backing_out)] = np.inf
+            j = int(np.argmin(slack))
+            if slack[j] < -KEEP_TOLERANCE:
+                raise self.failure(m.pair(j), float(d[j] - slack[j]), line, t)
+
+    def tolerate(self, m: Measured) -> None:
+        """The pairs inside each other in ``m`` may come apart, not go deeper (a REPL entry
+        after a collision failed the last one, as one jogs robots out of a collision stop;
+        :class:`~irlc.runtime.control.collision.CollisionRule` does the same for
+        obstacles). Replaces what was tolerated before."""
+        self._tolerated = {int(k): -float(m.d[k]) for k in np.flatnonzero(m.d < 0.0)}
+
+    def _backing_out(self, d: np.ndarray) -> set[int]:
+        """The tolerated pairs still inside and no deeper (each keeps its least depth:
+        never deeper again); a pair that came out is judged from now on."""
+        out = set()
+        for k, held in list(self._tolerated.items()):
+            if d[k] >= 0.0 or -d[k] > held + DEEPER:
+                del self._tolerated[k]
+                continue
+            self._tolerated[k] = min(held, -float(d[k]))
+            out.add(k)
+        return out
 
     def failure(self, c: Clearance, required: float, line: int, t: float) -> RunFailure:
         """The failure of pair ``c``, which keeps ``required`` (m, R_CLEARANCE; 0: a

@@ -253,3 +253,19 @@ def test_reset_puts_every_robot_home_and_keeps_the_cell(tmp_path):
         "ROBOT b := as6 AT (0, -1550, 0, 180, 0, 0);",
         "BEGIN",
     ]
+
+
+def test_robots_inside_each_other_may_be_jogged_apart_not_deeper(tmp_path):
+    """After a collision between the robots failed an entry, the next entry may move them
+    apart (as after a collision stop) but not deeper; once apart the rule is whole again."""
+    s = Session("as6", cwd=tmp_path)
+    assert s.enter("ROBOT b := as6 AT (0, -1500, 0, 180, 0, 0);", 1).failure == 0
+    hit = s.enter("MOVE r PTP (90, 45, 0, 45, 90, 0) AND b PTP (90, 45, 0, 45, 90, 0);", 2)
+    assert hit.failure == 2 and "r link 6 and b link 6 collide" in _first(hit), hit.lines
+    depth = float(re.search(r"they are ([\d.]+) mm inside", _first(hit)).group(1))
+    deeper = s.enter("MOVE r PTP (90, 60, 0, 45, 90, 0);", 3)
+    assert deeper.failure == 2, deeper.lines
+    assert float(re.search(r"they are ([\d.]+) mm inside", _first(deeper)).group(1)) > depth
+    assert s.enter("MOVE r PTP (90, 20, 0, 45, 90, 0);", 4).failure == 0  # backs out
+    again = s.enter("MOVE r PTP (90, 30, 0, 30, 90, 0);", 5)  # into b again
+    assert again.failure == 2 and "collide" in _first(again), again.lines
