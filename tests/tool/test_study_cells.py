@@ -102,9 +102,18 @@ def test_a_cell_study_moves_a_robot_and_reports_the_cells_numbers(folder, capsys
     path = study_file(folder, body)
     out = folder / "out"
     args = ["study", str(path), "--out", str(out), "-j", "1"]
-    assert main([*args, "--sort=-min_clearance_left-right_mm"]) == 0
+    plot = []
+    try:
+        import matplotlib  # noqa: F401 (the plot extra)
+
+        plot = ["--plot", str(folder / "clearance.png")]
+    except ImportError:
+        pass
+    assert main([*args, "--sort=-min_clearance_left-right_mm", *plot]) == 0
     summary = " ".join(capsys.readouterr().out.split())
     assert "by min_clearance_left-right_mm, largest first" in summary
+    if plot:
+        assert (folder / "clearance.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     table = rows(out / "results.csv")
     assert [r["status"] for r in table] == ["ok", "ok"]
     traces = [rows(out / f"variants/variant_000000{i}.trace.csv") for i in (0, 1)]
@@ -185,6 +194,42 @@ def test_a_robot_files_value_changes_that_robot_only(folder):
     left = robot_model(robot_named(plan.robots, "left"), [(list(key.parts), [-10, 120])])
     assert np.allclose(left.position_limits[1], np.radians([-10, 120]))
     assert np.allclose(left.position_limits[0], np.radians([-180, 180]))
+
+
+DRIVES = """PROGRAM c3;
+ROBOT holder := as6;
+ROBOT welder := as6 AT (0, -2200, 0, 180, 0, 0);
+CONST
+  MAIN_JOINT: h1 = (100, 45, 0, 45, 90, 0);
+  MAIN_JOINT: w1 = (80, 40, 0, 45, 90, 0);
+BEGIN
+  MOVE holder PTP h1;
+  MOVE welder PTP w1;
+ENDPROGRAM
+"""
+
+
+def test_a_cell_with_drives_has_every_robots_drive_columns(folder):
+    """With drives each robot's axes are its columns (its report entry's summary), and
+    the cell could follow when every robot could."""
+    from irlc.study.worker import run_variant
+
+    (folder / "c3.irl").write_text(DRIVES)
+    body = '[output]\nreports = true\n\n[grid]\n"run.drives" = ["decoupled"]\n'
+    study = read_study(study_file(folder, body, "c3.irl"))
+    plan = build_plan(study, folder / "variants")
+    (row,) = [run_variant(plan, i, values) for i, values in variants(study)]
+    assert row["status"] == "ok", row["error"]
+    report = json.loads((folder / "variants/variant_0000000.report.json").read_text())
+    follow = [e["drives_summary"]["could_follow"] for e in report["robots"]]
+    assert row["drives_could_follow"] == ("true" if all(follow) else "false")
+    for entry in report["robots"]:
+        axes = entry["drives_summary"]["axes"]
+        assert len(axes) == 6
+        for k, axis in enumerate(axes, start=1):
+            assert float(row[f"peak_current_{entry['name']}_a{k}_A"]) == axis["peak_current_A"]
+    # joint 2 moved 15 deg (holder) and 10 deg (welder): their columns differ
+    assert row["peak_current_holder_a2_A"] != row["peak_current_welder_a2_A"]
 
 
 def test_one_robot_may_vary_its_placement_and_name_itself(folder):
