@@ -17,11 +17,13 @@ robot's) links inside each other, fails the program's first statement at t = 0.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 from irlc.lang.irdata import Code
+from irlc.robots.model import RobotModel
 from irlc.runtime import engine_policy, units
 from irlc.runtime import run_setup as setup
 from irlc.runtime.control.cell import CellController, CellMember
@@ -34,7 +36,8 @@ from irlc.runtime.run_setup import HeldOutput, RunSetupError
 def run_cell(code: Code, arguments: dict) -> RunResult:
     """Execute a cell's ``code`` (module doc). ``arguments`` are :func:`run_code`'s keyword
     arguments, which calls this one (its docstring); ``robot`` — another robot for the
-    program — is refused: a cell names its robots."""
+    program — is refused: a cell names its robots (``models``: a run's own model per robot,
+    :func:`~irlc.runtime.run_setup.with_overrides`)."""
     from irlc.runtime.outputs.cell_results import CellRunData, RobotRun, assemble_cell
 
     a = arguments
@@ -56,7 +59,9 @@ def run_cell(code: Code, arguments: dict) -> RunResult:
         a["allow_collisions"],
     )  # fmt: skip
     opts = common.options
-    members = cell_members(code, common.base_dir, seed_config, a["allow_any_path"])
+    members = cell_members(
+        code, common.base_dir, seed_config, a["allow_any_path"], a.get("models", ())
+    )
     if drives != "ideal":
         opts.drive_step_s = min(setup.drive_step_for(m.model, drives, m.q0) for m in members)
     if opts.engine is None and (opts.ik is None or opts.ik.accel is None):
@@ -89,10 +94,15 @@ def run_cell(code: Code, arguments: dict) -> RunResult:
 
 
 def cell_members(
-    code: Code, base_dir: Path | None, seed_config, allow_any_path: bool
+    code: Code,
+    base_dir: Path | None,
+    seed_config,
+    allow_any_path: bool,
+    models: Sequence[RobotModel | None] = (),
 ) -> list[CellMember]:
-    """Each robot of the code: its file (the ``ROBOT`` record's, positioned errors), placed
-    by ``AT``, its start configuration (module doc) and its joint naming."""
+    """Each robot of the code: its file (the ``ROBOT`` record's, positioned errors) or its
+    model in ``models`` (the run's own, ``None``: the record's), placed by ``AT``, its start
+    configuration (module doc) and its joint naming."""
     from irlc.lang.joint_kinds import kind_letters
 
     robots = code.robots
@@ -100,8 +110,10 @@ def cell_members(
     out = []
     for k, r in enumerate(robots):
         where = "{}:{}:{}: ".format(*r.position) if r.position else ""
+        model = models[k] if k < len(models) else None
         try:
-            model = setup.load_model(r.robot, base_dir, restricted=not allow_any_path)
+            if model is None:
+                model = setup.load_model(r.robot, base_dir, restricted=not allow_any_path)
         except RunSetupError as exc:
             raise RunSetupError(f"{where}cannot use robot {r.robot} of {r.var}: {exc}") from None
         kinds = kind_letters(model.joint_kinds)

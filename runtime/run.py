@@ -23,7 +23,7 @@ Bad setup (unknown robot, joint count mismatch, bad ``seed_config``) raises
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -43,6 +43,7 @@ from irlc.runtime.outputs.run_result import RunResult
 from irlc.runtime.outputs.samples import Samples
 from irlc.runtime.run_setup import (
     HeldOutput,
+    RobotOverride,
     RunOptions,
     RunSetupError,
     check_run_option,
@@ -54,9 +55,11 @@ from irlc.runtime.run_setup import (
     placed,
     placement,
     run_options,
+    with_overrides,
 )
 
 __all__ = [  # the setup's names, imported from here by the front door and the tests
+    "RobotOverride",
     "RunOptions",
     "RunSetupError",
     "check_run_option",
@@ -189,6 +192,7 @@ def run_code(
     allow_collisions: bool = False,
     phase: Callable[[str], None] | None = None,
     engine: str | None = None,
+    robots: Mapping[str, RobotOverride] | None = None,
 ) -> RunResult:
     """Execute compiled ``code`` (see the module doc). ``path_tolerance`` (mm, the start
     value of ``R_PATH_TOL``) and ``orientation_tolerance`` (deg) override ``options``'
@@ -219,6 +223,9 @@ def run_code(
     choice); ``None`` — the engine policy (:mod:`irlc.runtime.engine_policy`: with numba
     installed and ``IRLC_ENGINE`` unset, a long run goes on on the kernels, a long drive
     run's loop is compiled).
+    ``robots``: the run's own robots, by the program's robot names — another model or
+    placement (``AT``) than the code's :class:`RobotOverride` (a study's variant; a cell's
+    robots too, where ``robot`` is refused).
 
     The pipeline, one call per stage: the setup (robot, start, options), the interpreter
     with the simulated controller (the set points, :mod:`recorder`), the drives
@@ -227,6 +234,7 @@ def run_code(
     from irlc.runtime.drives.stage import run_drives
     from irlc.runtime.outputs.results import RunData, assemble
 
+    code, models = with_overrides(code, robots)
     if code.is_cell:
         from irlc.runtime.cell_run import run_cell
 
@@ -236,8 +244,13 @@ def run_code(
                          orientation_tolerance=orientation_tolerance,
                          instruction_budget=instruction_budget, max_time=max_time,
                          max_cycles=max_cycles, override=override, allow_any_path=allow_any_path,
-                         allow_collisions=allow_collisions, phase=phase, engine=engine)  # fmt: skip
+                         allow_collisions=allow_collisions, phase=phase, engine=engine,
+                         models=models)  # fmt: skip
         return run_cell(code, arguments)
+    if models[0] is not None:
+        if robot is not None:
+            raise RunSetupError("a run takes its robot from robot= or from robots=, not both")
+        robot = models[0]
     setup = _setup(code, robot, ipo, drives, seed_config, base_dir, options, path_tolerance,
                    orientation_tolerance, instruction_budget, max_time, max_cycles,
                    override, allow_any_path, allow_collisions)  # fmt: skip

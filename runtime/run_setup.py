@@ -1,16 +1,18 @@
 """The setup of a run, shared by the runs of one robot (:mod:`irlc.runtime.run`) and of a
 cell (:mod:`irlc.runtime.cell_run`): the usage errors of a run (:class:`RunSetupError`, exit
-3), the robot files and their placement (``AT``), the code's obstacles, the checked run
+3), the robot files and their placement (``AT``), a run's own robots in place of the code's
+(:class:`RobotOverride`, :func:`with_overrides`), the code's obstacles, the checked run
 options (:func:`run_options`, :func:`check_run_option`), the drives' step for the cycle
 budget, and the interpreter's call (:func:`interpret`, :class:`HeldOutput`)."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
+from irlc.lang.cell import placement_problem
 from irlc.lang.errors import IrlcError
 from irlc.lang.file_access import describe, is_finite_real
 from irlc.lang.irdata import Code
@@ -35,8 +37,6 @@ def placed(model: RobotModel, at: Sequence[float] | None) -> RobotModel:
     placement · the file's base; unchanged without ``AT``."""
     if at is None or not any(at):
         return model
-    from dataclasses import replace
-
     return replace(model, base=placement(at) @ model.base)
 
 
@@ -48,6 +48,50 @@ def placement(at: Sequence[float] | None) -> np.ndarray:
     from irlc.runtime import values
 
     return values.pose_to_matrix(values.pose_from_zyx(*at))
+
+
+@dataclass(frozen=True)
+class RobotOverride:
+    """A run's own choice for one robot of the code, in place of what its ``ROBOT`` record
+    gives (a study's variant, :mod:`irlc.study`): ``model``, its robot (e.g. its file with
+    a changed value; checked against the code's joints as the record's robot is), ``at``,
+    its placement (x, y, z mm, a, b, c ZYX deg; checked as the compiler checks ``AT``).
+    ``None``: the record's."""
+
+    model: RobotModel | None = None
+    at: tuple[float, ...] | None = None
+
+
+def with_overrides(
+    code: Code, overrides: Mapping[str, RobotOverride] | None
+) -> tuple[Code, list[RobotModel | None]]:
+    """``code`` with each overridden placement in its robot's record — the run, its report
+    (``at``) and its result then place the robot there, as if the program had said so:
+    ``AT`` is a record of the code, folded into no instruction — and the overriding models,
+    one per robot of the code in the records' order (``None``: the record's robot).
+    ``overrides`` is keyed by the program's robot names (any case); another name, or a
+    placement that is not one, is a :class:`RunSetupError`."""
+    robots = code.robots
+    models: list[RobotModel | None] = [None] * len(robots)
+    if not overrides:
+        return code, models
+    index = {r.var.lower(): k for k, r in enumerate(robots)}
+    placements = [r.at for r in robots]
+    for name, override in overrides.items():
+        k = index.get(name.lower())
+        if k is None:
+            known = ", ".join(r.var for r in robots)
+            raise RunSetupError(f"the program has no robot {name} (its robots: {known})")
+        models[k] = override.model
+        if override.at is not None:
+            at = tuple(override.at)
+            finite = all(is_finite_real(v) for v in at)
+            problem = placement_problem(at) if finite else "its values must be finite numbers"
+            if problem:
+                raise RunSetupError(f"placement of robot {robots[k].var}: {problem}")
+            placements[k] = tuple(float(v) for v in at)
+    others = [replace(r, at=at) for r, at in zip(code.other_robots, placements[1:], strict=True)]
+    return replace(code, at=placements[0], other_robots=others), models
 
 
 def load_model(

@@ -1,7 +1,8 @@
 """Studies: one program over many variants (``irlc study STUDY.toml``; docs/studies.md).
 
 :func:`run_study` reads the study file (:mod:`.spec`), compiles the program and checks
-every value before anything runs (:mod:`.plan`), expands the variants (:mod:`.expand`),
+every value before anything runs (:mod:`.plan`; the program's robots and the ``robot.…``
+keys that change them: :mod:`.robots`), expands the variants (:mod:`.expand`),
 runs the missing ones on local processes or a Dask cluster (:mod:`.runner`, each variant
 one run of the normal pipeline in :mod:`.worker`) and keeps ``DIR/results.csv``
 (:mod:`.results`, columns in :mod:`.metrics`).

@@ -6,7 +6,8 @@ A path starts with its target:
   same checks as ``irlc run`` (:mod:`irlc.runtime.run`, the settings table for ``ipo``);
 * ``robot.…`` — a value of the robot description file (its own units, e.g. deg and m for
   koch11): ``robot.joints.10.weight``, ``robot.joints.J10.speed``,
-  ``robot.inertials.3.mass``, ``robot.base.xyz``, ``robot.drives.dc.r``…;
+  ``robot.inertials.3.mass``, ``robot.base.xyz``, ``robot.drives.dc.r``…; ``robot.at`` the
+  robot's placement; in a cell ``robot.NAME.…`` (which robot's: :mod:`irlc.study.robots`);
 * ``datalist.NAME.…`` — a value of a data list the program imports (mm, deg):
   ``datalist.cell.obstacles.post.center``, ``datalist.square_cell.poses.poz_1.1``.
 
@@ -57,11 +58,16 @@ def target(key: str) -> tuple[str, list[str]]:
     if head not in TARGETS or not rest:
         raise PathError("unknown key; a varied key starts with run.KEY, robot.… or datalist.NAME.…")
     parts = rest.split(".")
-    if head == "robot" and len(parts) > 1 and parts[0] == "joints" and _A_N.fullmatch(parts[1]):
-        parts[1] = parts[1][1:]  # a10 → 10
+    if head == "robot" and len(parts) > 1 and parts[0] == "joints":
+        parts[1] = joint_index(parts[1])
     if head == "datalist" and len(parts) == 4 and parts[1] == "poses" and parts[3] in POSE:
         parts[3] = str(POSE.index(parts[3]) + 1)  # poz_1.x → poz_1.1
     return head, parts
+
+
+def joint_index(part: str) -> str:
+    """A program joint name ``aN`` → ``N`` (joint N of a robot file's ``[[joints]]``)."""
+    return part[1:] if _A_N.fullmatch(part) else part
 
 
 def check_run_value(key: str, value: Any) -> str | None:

@@ -3,9 +3,10 @@
 The program is compiled once here (:func:`irlc.api.compile_program`); every value of every
 varied key is put into its document and checked by that document's owner — run options by
 the run's checks, robot values by the robot loader (``build_model``, and the drive data
-reader for ``robot.drives.…``), data-list values by the data-list loader — so a bad value
-is reported with the study file's line before the first variant starts. A random key is
-checked at its smallest and largest sample.
+reader for ``robot.drives.…``), a placement by the run's check of ``AT``, data-list values
+by the data-list loader — so a bad value is reported with the study file's line before the
+first variant starts. A random key is checked at its smallest and largest sample. The
+program's robots — one, or a cell's — are :class:`~irlc.study.robots.PlanRobot` s.
 """
 
 from __future__ import annotations
@@ -15,18 +16,27 @@ import hashlib
 import json
 import tempfile
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from irlc.lang.errors import IrlcError
 from irlc.lang.file_access import describe
 from irlc.lang.irdata import Code
-from irlc.lang.joint_kinds import kind_letters
 from irlc.runtime import engine_policy
 from irlc.study import paths
 from irlc.study.expand import axis_values
+from irlc.study.robots import (
+    PlanRobot,
+    VariantSetupError,
+    check_placement,
+    placement,
+    robot_key,
+    robot_model,
+    robot_named,
+)
 from irlc.study.spec import Study, StudyError, count_variants
+
+__all__ = ["Plan", "VariantSetupError", "build_plan", "check_value", "datalist_text"]
 
 
 @dataclass(frozen=True)
@@ -41,10 +51,10 @@ class Plan:
     run: dict[str, Any]
     code: Code  # the program compiled once
     keys: tuple[str, ...]
-    robot_file: str | None = None  # the robot description (TOML) robot.… keys change
-    robot_doc: dict | None = None
+    robots: tuple[PlanRobot, ...] = ()  # the program's robots (a cell's: several)
     datalists: dict[str, tuple[str, dict]] = field(default_factory=dict)  # name → (file, doc)
-    joints: tuple[tuple[str, str], ...] = ()  # (program name, unit) per joint
+    joints: tuple[tuple[str, str], ...] = ()  # (program name, unit) per joint; a cell's
+    # prefixed by their robot's name (holder_a1), as the trace and the report name them
     obstacles: tuple[str, ...] = ()
     drives: bool = False  # some variant simulates the drives
     variants_dir: str | None = None  # where per-variant reports / traces go
@@ -56,6 +66,11 @@ class Plan:
     @property
     def program_dir(self) -> Path:
         return Path(self.program).parent
+
+    @property
+    def cell(self) -> tuple[str, ...]:
+        """A cell's robot names (record order); ``()`` for a program of one robot."""
+        return tuple(r.var for r in self.robots) if len(self.robots) > 1 else ()
 
 
 def build_plan(
@@ -72,15 +87,13 @@ def build_plan(
         except RunSetupError as e:
             raise study.error("robot", str(e)) from None
     code = _code(study, allow_any_path)
-    program_dir = study.program.parent
-    model = load_model(study.robot or code.robot, program_dir)
-    kinds = [axis.key.partition(".")[0] for axis in study.axes]
     for axis in study.axes:
         try:
             paths.target(axis.key)
         except paths.PathError as e:
             raise study.error(axis.key, str(e), axis.section) from None
-    robot_file, robot_doc = _robot_doc(study, code, "robot" in kinds)
+    robots = _robots(study, code)
+    models = [_model(study, r) for r in robots]
     datalists = _datalist_docs(study, code)
     text = study.program.read_text(encoding="utf-8")
     drives = study.run.get("drives", "ideal") != "ideal"
@@ -88,8 +101,13 @@ def build_plan(
     if "run.drives" in values:
         drives = drives or any(v != "ideal" for v in values["run.drives"])
     engine = engine_policy.for_study(count_variants(study))  # the installation's, per study
-    inputs = [study.text, text, json.dumps([robot_doc, datalists], sort_keys=True, default=str)]
+    docs = [r.doc for r in robots] if len(robots) > 1 else robots[0].doc
+    inputs = [study.text, text, json.dumps([docs, datalists], sort_keys=True, default=str)]
     inputs.append(f"engine={engine}")  # --resume with another engine: another study's bytes
+    joints = []
+    for r, model in zip(code.robots, models, strict=True):
+        for name, kind in zip(r.joint_names, model.joint_kinds, strict=True):
+            joints.append((f"{r.var}_{name}" if code.is_cell else name, units.joint_unit(kind)))
     plan = Plan(
         token=hashlib.sha256("\0".join(inputs).encode()).hexdigest()[:16],
         program=str(study.program),
@@ -99,13 +117,9 @@ def build_plan(
         run=dict(study.run),
         code=code,
         keys=tuple(study.keys),
-        robot_file=robot_file,
-        robot_doc=robot_doc,
+        robots=robots,
         datalists=datalists,
-        joints=tuple(
-            (name, units.joint_unit(kind))
-            for name, kind in zip(code.joint_names, model.joint_kinds, strict=True)
-        ),
+        joints=tuple(joints),
         obstacles=tuple(o.name for o in code.obstacles),
         drives=drives,
         allow_any_path=allow_any_path,
@@ -115,6 +129,9 @@ def build_plan(
         traces=study.traces,
     )
     for axis in study.axes:
+        problem = key_problem(plan, axis.key)
+        if problem:
+            raise study.error(axis.key, problem, axis.section)
         for value in values[axis.key]:
             problem = check_value(plan, axis.key, value)
             if problem:
@@ -124,7 +141,8 @@ def build_plan(
         if problem:
             raise study.error("seed_config", problem, "run")
     if drives:
-        _check_drive_data(study, model)
+        for model in models:
+            _check_drive_data(study, model)
     return plan
 
 
@@ -147,14 +165,20 @@ def _code(study: Study, allow_any_path: bool = False) -> Code:
     """The program compiled (``.irl``) or read (``.ird``: IRDATA code, whose data lists are
     compiled in, so no ``datalist.…`` key can change them)."""
     from irlc.api import compile_program
+    from irlc.lang.diagnostics import CompileError
 
     if study.program.suffix.lower() != ".ird":
-        return compile_program(
-            study.program,
-            robot=study.robot,
-            datalist_path=study.datalist_path,
-            allow_any_path=allow_any_path,
-        )
+        try:
+            return compile_program(
+                study.program,
+                robot=study.robot,
+                datalist_path=study.datalist_path,
+                allow_any_path=allow_any_path,
+            )
+        except CompileError:
+            if study.robot is not None:  # a cell refuses robot = …: the study file's error
+                _no_robot_for_a_cell(study, _code(replace(study, robot=None), allow_any_path))
+            raise
     from irlc.files import read_user_text
     from irlc.lang.irdata import read_code
 
@@ -167,23 +191,47 @@ def _code(study: Study, allow_any_path: bool = False) -> Code:
     return read_code(text, str(study.program))
 
 
-def _robot_doc(study: Study, code: Code, varied: bool) -> tuple[str | None, dict | None]:
-    """The robot file and its parsed text (so workers need no file of it), or ``None``s
-    for a URDF robot, whose values a study cannot vary."""
+def _robots(study: Study, code: Code) -> tuple[PlanRobot, ...]:
+    """The program's robots with their files' parsed texts (so workers need no file of
+    them; ``None`` for a URDF robot, whose values a study cannot vary)."""
     from irlc.robots import RobotFileError, robot_file
 
-    name = study.robot or code.robot
+    _no_robot_for_a_cell(study, code)
+    out = []
+    for r in code.robots:
+        source = study.robot or r.robot
+        try:
+            path = robot_file(source, study.program.parent)
+        except RobotFileError as e:
+            where = "robot" if study.robot else ""
+            raise StudyError(str(study.file), study.line("robot"), where, str(e)) from None
+        robot = PlanRobot(r.var, source, r.joint_kinds, r.at)
+        if path.suffix.lower() == ".toml":
+            doc = tomllib.loads(path.read_text(encoding="utf-8"))
+            robot = PlanRobot(r.var, source, r.joint_kinds, r.at, str(path), doc)
+        out.append(robot)
+    return tuple(out)
+
+
+def _no_robot_for_a_cell(study: Study, code: Code) -> None:
+    """``robot = …`` is refused for a cell, as ``--robot`` is: a cell names its robots."""
+    if study.robot is not None and code.is_cell:
+        names = ", ".join(r.var for r in code.robots)
+        raise study.error("robot", f"the program is a cell of {len(code.robots)} robots "
+                          f"({names}), each named by its ROBOT clause: robot = … cannot "
+                          "replace them; vary a robot's values with robot.NAME.… keys")  # fmt: skip
+
+
+def _model(study: Study, robot: PlanRobot):
+    """The robot as its file says (the loader's errors are the study file's)."""
+    from irlc.runtime.run import RunSetupError, load_model
+
     try:
-        path = robot_file(name, study.program.parent)
-    except RobotFileError as e:
-        where = "robot" if study.robot else ""
-        raise StudyError(str(study.file), study.line("robot"), where, str(e)) from None
-    if path.suffix.lower() != ".toml" and not varied:
-        return None, None
-    if path.suffix.lower() != ".toml":
-        key = next(k for k in study.keys if k.startswith("robot."))
-        raise study.error(key, f"robot.… keys change a TOML robot file; {path.name} is not one")
-    return str(path), tomllib.loads(path.read_text(encoding="utf-8"))
+        if robot.doc is None:
+            return load_model(robot.source, study.program.parent)
+        return robot_model(robot, [])
+    except (RunSetupError, VariantSetupError) as e:
+        raise StudyError(str(study.file), study.line("robot"), "", str(e)) from None
 
 
 def _datalist_docs(study: Study, code: Code) -> dict[str, tuple[str, dict]]:
@@ -215,58 +263,49 @@ def _datalist_docs(study: Study, code: Code) -> dict[str, tuple[str, dict]]:
 # --------------------------------------------------------------------------- one value
 
 
+def key_problem(plan: Plan, key: str) -> str | None:
+    """Why ``key`` names nothing the study can vary in this program, else ``None``."""
+    head, parts = paths.target(key)
+    if head != "robot":
+        return None
+    try:
+        rk = robot_key(plan.robots, parts)
+    except paths.PathError as e:
+        return str(e)
+    robot = robot_named(plan.robots, rk.robot)
+    if not rk.at and robot.doc is None:
+        name = Path(robot.source).name
+        return f"robot.… keys change a TOML robot file; {name} is not one"
+    return None
+
+
 def check_value(plan: Plan, key: str, value: Any) -> str | None:
     """``None`` if ``value`` may be put at ``key``, else why not (the owner's message)."""
     head, parts = paths.target(key)
     try:
         if head == "run":
             problem = paths.check_run_value(".".join(parts), value)
-            n = plan.code.joint_count
+            n = sum(r.joint_count for r in plan.code.robots)
             if problem is None and parts == ["seed_config"] and n and len(value) != n:
+                if plan.cell:
+                    counts = ", ".join(f"{r.var}: {r.joint_count}" for r in plan.code.robots)
+                    return (f"{len(value)} values, the cell's robots have {n} joints "
+                            f"({counts}), one robot after the other")  # fmt: skip
                 problem = f"{len(value)} values, the robot has {n} joints"
             return problem
         if head == "robot":
-            robot_model(plan, [(parts, value)])
+            rk = robot_key(plan.robots, parts)
+            robot = robot_named(plan.robots, rk.robot)
+            if rk.at:
+                check_placement(plan.code, robot, placement(robot, [(rk.component, value)]))
+            else:
+                robot_model(robot, [(list(rk.parts), value)])
             return None
         return _check_datalist(plan, parts[0], [(parts[1:], value)])
     except paths.PathError as e:
         return str(e)
     except VariantSetupError as e:
         return str(e)
-
-
-class VariantSetupError(IrlcError):
-    """A value does not fit its document (a robot-file or data-list message)."""
-
-
-def robot_model(plan: Plan, changes: list[tuple[list[str], Any]]):
-    """The robot with ``changes`` applied to its file, loaded by the robot loader (and,
-    for a ``drives`` change, its drive data read by the drives' reader)."""
-    from irlc.robots import RobotFileError
-    from irlc.robots.loader import build_model
-
-    doc = copy.deepcopy(plan.robot_doc)
-    for parts, value in changes:
-        paths.set_value(doc, parts, value, create=True)
-    assert plan.robot_file is not None
-    try:
-        model = build_model(doc, plan.robot_file, Path(plan.robot_file).parent)
-    except RobotFileError as e:
-        raise VariantSetupError(
-            e.message if e.key == "" else f"key '{e.key}': {e.message}"
-        ) from None
-    kinds = kind_letters(model.joint_kinds)
-    if plan.code.joint_kinds and kinds != plan.code.joint_kinds:
-        raise VariantSetupError(f"the robot's joints become {kinds}, the program's are "
-                                f"{plan.code.joint_kinds}")  # fmt: skip
-    if any(parts[0] == "drives" for parts, _ in changes):
-        from irlc.runtime.drives import drive_params
-
-        try:
-            drive_params(model)
-        except ValueError as e:
-            raise VariantSetupError(str(e)) from None
-    return model
 
 
 def datalist_text(plan: Plan, name: str, changes: list[tuple[list[str], Any]]) -> str:
@@ -278,6 +317,15 @@ def datalist_text(plan: Plan, name: str, changes: list[tuple[list[str], Any]]) -
     for parts, value in changes:
         paths.set_value(doc, parts, value, create=False)
     return dumps(doc)
+
+
+def _joint_counts(code: Code) -> int | tuple[int, ...] | None:
+    """The joint count a data list's joint values have (a cell's robots': any of theirs),
+    as the compiler checks them."""
+    counts = sorted({r.joint_count for r in code.robots if r.joint_count})
+    if not counts:
+        return None
+    return counts[0] if len(counts) == 1 else tuple(counts)
 
 
 def _dl_name(plan: Plan, name: str) -> str:
@@ -293,6 +341,6 @@ def _check_datalist(plan: Plan, name: str, changes) -> str | None:
     with tempfile.TemporaryDirectory(prefix="irlc-study-") as tmp:
         path = Path(tmp) / f"{real}.toml"
         path.write_text(text, encoding="utf-8")
-        _, diags = dlmod.load(real, path, plan.program_dir, plan.code.joint_count or None)
+        _, diags = dlmod.load(real, path, plan.program_dir, _joint_counts(plan.code))
     errors = [d for d in diags if d.is_error]
     return errors[0].message if errors else None

@@ -4,6 +4,7 @@ Format (docs/studies.md)::
 
     program = "../square.irl"        # relative to the study file (required)
     robot = "koch11"                 # optional: overrides the program's ROBOT clause
+                                     # (refused for a cell: robot.NAME.… keys instead)
     datalist_path = ["cells"]        # optional: folders IMPORT DATALIST searches
     name = "w10"                     # optional: shown in the summary
 

@@ -3,10 +3,12 @@
 :func:`run_variant` puts the variant's values where they belong and calls
 :func:`irlc.runtime.run.run_code` — the code compiled once per study (:class:`Plan`), or,
 when data-list values vary, compiled once per distinct data (the varied lists written to a
-private folder searched before the program's); the robot loaded once per distinct set of
-robot values. Both caches live in the worker process for the whole study (LRU,
-:data:`CACHE_SIZE` entries), so a worker that runs many variants reloads nothing that did
-not change. Any error becomes the row's status; nothing here raises for a bad variant.
+private folder searched before the program's); each robot loaded once per distinct set of
+its values and handed to the run, with its placement, as the run's own robot
+(:class:`~irlc.runtime.run_setup.RobotOverride`: a cell's robots too). Both caches live in
+the worker process for the whole study (LRU, :data:`CACHE_SIZE` entries), so a worker that
+runs many variants reloads nothing that did not change. Any error becomes the row's
+status; nothing here raises for a bad variant.
 """
 
 from __future__ import annotations
@@ -18,7 +20,8 @@ from pathlib import Path
 from typing import Any
 
 from irlc.study import metrics, paths
-from irlc.study.plan import Plan, VariantSetupError, datalist_text, robot_model
+from irlc.study.plan import Plan, VariantSetupError, datalist_text
+from irlc.study.robots import PlanRobot, placement, robot_key, robot_model
 
 CACHE_SIZE = 16
 _caches: dict[str, OrderedDict] = {}  # plan token + kind → LRU cache
@@ -66,11 +69,11 @@ def run_variant(plan: Plan, index: int, values: tuple) -> dict[str, str]:
     row = metrics.parameter_cells(plan, index, values)
     groups = _group(plan, values)
     try:
-        model = _model(plan, groups["robot"])
+        robots = _robots(plan, groups["robot"])
         code = _code(plan, groups["datalist"])
         options = {**plan.run, **groups["run"]}
         result = run_code(
-            code, robot=model, base_dir=plan.program_dir, engine=plan.engine, **options
+            code, robots=robots, base_dir=plan.program_dir, engine=plan.engine, **options
         )
     except CompileError as e:
         first = next((d for d in e.diagnostics if d.is_error), None)
@@ -86,14 +89,16 @@ def run_variant(plan: Plan, index: int, values: tuple) -> dict[str, str]:
 
 
 def _group(plan: Plan, values: tuple) -> dict[str, Any]:
-    """The values by target: run options, robot changes, data-list changes per list."""
-    out: dict[str, Any] = {"run": {}, "robot": [], "datalist": {}}
+    """The values by target: run options, robot changes per robot (:class:`RobotKey`,
+    value), data-list changes per list."""
+    out: dict[str, Any] = {"run": {}, "robot": {}, "datalist": {}}
     for key, value in zip(plan.keys, values, strict=True):
         head, parts = paths.target(key)
         if head == "run":
             out["run"][parts[0]] = value
         elif head == "robot":
-            out["robot"].append((parts, value))
+            rk = robot_key(plan.robots, parts)
+            out["robot"].setdefault(rk.robot, []).append((rk, value))
         else:
             out["datalist"].setdefault(parts[0], []).append((parts[1:], value))
     return out
@@ -103,15 +108,29 @@ def _freeze(changes) -> tuple:
     return tuple((tuple(p), repr(v)) for p, v in changes)
 
 
-def _model(plan: Plan, changes: list):
-    """The robot of this variant (the study's robot when no robot value varies)."""
+def _robots(plan: Plan, changes: dict[str, list]) -> dict:
+    """Each robot of this variant for the run, by its name: its model (its file's, or
+    with the varied values) and its placement (the program's ``AT`` when none varies)."""
+    from irlc.runtime.run import RobotOverride
+
+    out = {}
+    for robot in plan.robots:
+        mine = changes.get(robot.var, [])
+        values = [(list(rk.parts), v) for rk, v in mine if not rk.at]
+        at = [(rk.component, v) for rk, v in mine if rk.at]
+        model = _model(plan, robot, values)
+        out[robot.var] = RobotOverride(model, placement(robot, at) if at else None)
+    return out
+
+
+def _model(plan: Plan, robot: PlanRobot, changes: list):
+    """A robot of this variant (its file's when no value of it varies)."""
     from irlc.runtime.run import load_model
 
-    if not changes and plan.robot_doc is None:  # a URDF robot: loaded from its files
-        return _cached(
-            plan, "robot", (), lambda: load_model(plan.robot or plan.code.robot, plan.program_dir)
-        )
-    return _cached(plan, "robot", _freeze(changes), lambda: robot_model(plan, changes))
+    key = (robot.var, _freeze(changes))
+    if robot.doc is None:  # a URDF robot: loaded from its files (no value of it varies)
+        return _cached(plan, "robot", key, lambda: load_model(robot.source, plan.program_dir))
+    return _cached(plan, "robot", key, lambda: robot_model(robot, changes))
 
 
 def _code(plan: Plan, changes: dict[str, list]):
