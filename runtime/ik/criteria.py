@@ -30,6 +30,8 @@ the criterion how that distance is measured.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 from irlc.lang.settings import setting_message
 from irlc.robots.model import RobotModel
@@ -56,8 +58,15 @@ class DiagonalTerms:
 class CycleCriteria:
     """The criteria of one chain (module doc): ``terms`` gives a cycle's list."""
 
-    def __init__(self, model: RobotModel, weights: np.ndarray, a_conf: float):
+    def __init__(
+        self,
+        model: RobotModel,
+        weights: np.ndarray,
+        a_conf: float,
+        robots: Sequence[tuple[RobotModel, np.ndarray]] | None = None,
+    ):
         self.model = model
+        self.robots = robots  # the chain's robots and their columns (ENERGY's links)
         self.weights = np.asarray(weights, dtype=float)
         self.a_conf = a_conf
         self.distance = DiagonalTerms(self.weights, a_conf)
@@ -82,7 +91,7 @@ class CycleCriteria:
         """``Ĝ(θ)`` of the chain's links (raises ``EnergyNeedsInertia`` when they have no
         inertial data)."""
         if self._inertia is None:
-            self._inertia = InertiaMetric(self.model, self.weights)
+            self._inertia = InertiaMetric(self.model, self.weights, self.robots)
         return self._inertia
 
     def reference_metric(self, reference: np.ndarray) -> np.ndarray:

@@ -34,6 +34,8 @@ weigh it as they weigh ``W`` (:mod:`~irlc.runtime.ik.criteria` combines them).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 from irlc.lang.signature import criterion_problem
 from irlc.robots.model import RobotModel
@@ -49,17 +51,44 @@ class EnergyNeedsInertia(RunFailure):
 
 class InertiaMetric:
     """``Ĝ(θ) = M(θ)·Σw/tr M(θ)`` of one chain's links (module doc); raises
-    :class:`EnergyNeedsInertia` when the model's inertials cannot give ``M``."""
+    :class:`EnergyNeedsInertia` when a robot's inertials cannot give ``M``.
 
-    def __init__(self, model: RobotModel, weights: np.ndarray):
-        problem = criterion_problem("ENERGY", model)
-        if problem is not None:
-            raise EnergyNeedsInertia(problem)
-        self.dynamics = Dynamics(model)  # no rotor inertia: the links' M
+    ``robots`` are the chain's robots — each one's model and the chain column of each of
+    its joints (:meth:`Chain.robot_columns`; default: ``model`` itself). Robots that move
+    together (two cooperating robots as one chain) carry their own links, so the chain's
+    kinetic energy is the sum of theirs: ``M`` is block-diagonal, robot ``r``'s
+    ``M_r(θ_r)`` at its columns (a column taken in reverse by the chain is the same joint
+    variable, so ``M_r`` keeps its own order there)."""
+
+    def __init__(
+        self,
+        model: RobotModel,
+        weights: np.ndarray,
+        robots: Sequence[tuple[RobotModel, np.ndarray]] | None = None,
+    ):
+        robots = robots or ((model, np.arange(model.n)),)
+        for robot, _ in robots:
+            problem = criterion_problem("ENERGY", robot)
+            if problem is not None:
+                raise EnergyNeedsInertia(problem)
+        self.n = model.n
+        # no rotor inertia: the links' M
+        self.parts = [(Dynamics(r), np.asarray(c, dtype=int)) for r, c in robots]
+        one = len(self.parts) == 1 and np.array_equal(self.parts[0][1], np.arange(self.n))
+        self.dynamics = self.parts[0][0] if one else None  # the compiled kernel's packed data
         self.weight_sum = float(np.sum(weights))
 
+    def mass_matrix(self, q: np.ndarray) -> np.ndarray:
+        """``M(θ)``: the links' inertia matrix of the chain (block-diagonal over robots)."""
+        if self.dynamics is not None:
+            return self.dynamics.link_mass_matrix(q)
+        m = np.zeros((self.n, self.n))
+        for dynamics, columns in self.parts:
+            m[np.ix_(columns, columns)] = dynamics.link_mass_matrix(q[columns])
+        return m
+
     def __call__(self, q: np.ndarray) -> np.ndarray:
-        m = self.dynamics.link_mass_matrix(q)
+        m = self.mass_matrix(q)
         return m * (self.weight_sum / float(np.trace(m)))
 
 

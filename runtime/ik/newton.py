@@ -108,7 +108,9 @@ class InverseTransformation:
         self._no_frozen = FrozenJoints(n, {})
         self.limits = chain.limits
         self._default = CycleOptions()
-        self.criteria = CycleCriteria(model, self.weights, self.params.obstacle.a_conf)
+        self.criteria = CycleCriteria(
+            model, self.weights, self.params.obstacle.a_conf, chain.robot_columns()
+        )
         self._weighted = self.criteria.distance.displacement
         self._weighted_only = self.criteria.distance.only
         self._state = IterationState(np.zeros(n), np.zeros(n), np.zeros(n))

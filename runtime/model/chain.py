@@ -129,6 +129,12 @@ class Chain:
         out.tasks = tuple(tasks)
         return out
 
+    def robot_columns(self) -> tuple[tuple[RobotModel, np.ndarray], ...]:
+        """Each robot of the chain: its own model and the chain column of each of its
+        joints (one robot: the chain itself). What sums over robots reads it (the links'
+        kinetic energy of ``R_CRITERION := 'ENERGY'``)."""
+        return ((self.model, np.arange(self.n)),)
+
     def tcp(self, q: np.ndarray) -> np.ndarray:
         """The task's TCP pose at ``q`` (4×4, the chain's base frame)."""
         return self.kin.tcp(q)

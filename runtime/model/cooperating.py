@@ -138,6 +138,13 @@ class CooperatingChain(Chain):
         self.holder, self.worker = holder, worker
         self.members = members
 
+    def robot_columns(self) -> tuple[tuple[RobotModel, np.ndarray], ...]:
+        """The two robots (placed, with their tools) and their columns of the chain."""
+        return tuple(
+            (robot.placed(), m.columns)
+            for robot, m in zip((self.holder, self.worker), self.members, strict=True)
+        )
+
     def split(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(θ_I, θ_II)``, each in its robot's own joint order."""
         return tuple(np.asarray(theta)[m.columns].copy() for m in self.members)

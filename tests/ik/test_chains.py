@@ -9,11 +9,13 @@ each robot's own link frames and distances."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
 from irlc.robots import load_robot
+from irlc.runtime.ik.energy import EnergyNeedsInertia, InertiaMetric
 from irlc.runtime.ik.newton import InverseTransformation
 from irlc.runtime.ik.params import CycleOptions, IKParams
 from irlc.runtime.ik.tasks import AxisTask, PlatformTask
@@ -22,6 +24,7 @@ from irlc.runtime.model.chain import SerialChain
 from irlc.runtime.model.cooperating import CellRobot, CooperatingChain
 from irlc.runtime.model.distance import critical_points
 from irlc.runtime.model.kinematics import Kinematics
+from irlc.runtime.model.link_velocities import LinkVelocities
 from irlc.runtime.model.obstacles import SphereObstacle
 
 H = 1e-6  # finite-difference step (rad | m)
@@ -421,3 +424,27 @@ def test_freeze_with_task_rows_counts_every_row():
     frozen = {i: float(q[i]) for i in (3, 4)}  # 8 − 2 = 6 free < 6 + 2 rows
     with pytest.raises(FreezeError, match="8-dimensional task"):
         ik.step(q, q, Kinematics(model).tcp(q), 0.01, CycleOptions(frozen=frozen))
+
+
+def test_the_links_kinetic_energy_of_a_cooperating_chain_is_the_sum_of_both_robots():
+    """ENERGY on two cooperating robots: ``½ θ̇ᵀ M(θ) θ̇`` of the chain's metric equals the
+    two robots' own kinetic energies, each from its own Newton–Euler link velocities
+    (:class:`LinkVelocities`, not the inertia matrix) at its own joints — the holder's
+    columns taken in reverse by the chain included."""
+    rng = np.random.default_rng(11)
+    chain = _pair(rng, "as6", "panda")
+    metric = InertiaMetric(chain.model, chain.weights, chain.robot_columns())
+    robots = (chain.holder, chain.worker)
+    for _ in range(5):
+        theta, theta_d = _random_q(chain.model, rng), rng.normal(size=chain.n)
+        chain_energy = 0.5 * theta_d @ metric.mass_matrix(theta) @ theta_d
+        own = sum(
+            LinkVelocities(robot.placed()).kinetic_energy(q[None], qd[None])[0]
+            for robot, q, qd in zip(robots, chain.split(theta), chain.split(theta_d), strict=True)
+        )
+        assert chain_energy == pytest.approx(own, rel=1e-9)
+    # one robot without inertials: named, as for a program of one robot
+    bare = CellRobot("welder", dataclasses.replace(load_robot("panda"), inertials=()))
+    pair = CooperatingChain(CellRobot("holder", load_robot("as6")), bare)
+    with pytest.raises(EnergyNeedsInertia, match="robot panda has no"):
+        InertiaMetric(pair.model, pair.weights, pair.robot_columns())

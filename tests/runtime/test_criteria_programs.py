@@ -143,6 +143,47 @@ def test_cyclic_still_closes_the_square_under_energy_and_mvr(tmp_path):
         assert np.abs(end - KONF_0).max() < tol, (word, end - KONF_0)
 
 
+COOPERATING = """PROGRAM pair;
+ROBOT holder := as6;
+ROBOT welder := as6 AT (0, -2200, 0, 180, 0, 0);
+CONST
+  MAIN_JOINT: start = (90, 45, 0, 45, 90, 0);
+VAR
+  POSE: grip, seam_end;
+BEGIN
+  R_CRITERION := 'WORD';
+  MOVE holder PTP start AND welder PTP start;
+  grip := INV(FK(holder, start)) : FK(welder, start);
+  seam_end := grip : (200, 0, 0, 0, 0, 30);
+  COOPERATE welder IN holder;
+    MOVE welder LIN seam_end WITH SPEED := 100;
+  COOPERATEEND;
+ENDPROGRAM
+"""
+
+
+def test_energy_on_two_cooperating_robots_lowers_their_kinetic_energy(tmp_path):
+    """ENERGY on a cooperating chain sums both robots' links (docs/ik.md): the seam costs
+    the pair less kinetic energy than under DISTANCE, on the same path; each robot's
+    ``kinetic_energy_j`` column is its own links' (the chain's M is block-diagonal)."""
+    runs = {}
+    for word in ("DISTANCE", "ENERGY"):
+        path = tmp_path / f"{word.lower()}.irl"
+        path.write_text(COOPERATING.replace("WORD", word), encoding="utf-8")
+        runs[word] = run_program(path)
+        assert runs[word].status == "ok", runs[word].report.get("error")
+
+    def seam_energy(run):
+        t, line = _column(run, "t_s"), _column(run, "line")
+        total = _column(run, "holder_kinetic_energy_j") + _column(run, "welder_kinetic_energy_j")
+        seam = line == 14
+        return float(np.sum((total[1:] * np.diff(t))[seam[1:]]))
+
+    energy, distance = seam_energy(runs["ENERGY"]), seam_energy(runs["DISTANCE"])
+    assert runs["ENERGY"].report["duration_s"] == runs["DISTANCE"].report["duration_s"]
+    assert 0.0 < energy < distance
+
+
 def _write(folder: Path, name: str, text: str) -> Path:
     path = folder / name
     path.write_text(text, encoding="utf-8")

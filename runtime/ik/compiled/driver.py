@@ -287,8 +287,11 @@ class CompiledCycle:
     def _inertia(self, q, scale: float, out) -> None:
         """``out = scale·Ĝ(q)`` (:func:`.inertia.inertia_metric` on the packed chain and
         inertials; the packed inputs made on the first ENERGY cycle)."""
+        metric = self.ik.criteria.inertia  # raises EnergyNeedsInertia, as numpy does
+        if metric.dynamics is None:  # several robots' links (a cooperating chain): numpy
+            out[:] = scale * metric(np.asarray(q, dtype=float))
+            return
         if self._energy is None:
-            metric = self.ik.criteria.inertia  # raises EnergyNeedsInertia, as numpy does
             n, d = self.n, metric.dynamics.data
             dyn = (d.axes, d.revolute, d.rotor, d.mass, d.com, d.inertia, d.gravity)
             buf = (np.empty((n + 1, 4, 4)), np.empty((4, 4)), np.zeros(n), np.empty(n))
