@@ -108,7 +108,12 @@ class Scope:
         if robot is None:
             sym = self.lookup(name)
             what = f"'{sym.name}' is not a robot" if sym is not None else f"unknown robot '{name}'"
-            self.report.error(span, what, f"robots of this program: {robot_list(self.robots)}")
+            hint = f"robots of this program: {robot_list(self.robots)}"
+            names = [r.var for r in self.robots]
+            close = difflib.get_close_matches(name.lower(), [n.lower() for n in names], 1, 0.6)
+            if close:
+                hint = f"did you mean '{names[[n.lower() for n in names].index(close[0])]}'? {hint}"
+            self.report.error(span, what, hint)
         return robot
 
     def robot_of(self, s: RobotNamed, what: str, example: str) -> ProgramRobot | None:

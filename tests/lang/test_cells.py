@@ -221,6 +221,12 @@ def test_a_motion_names_a_robot_of_the_cell(stmt: str, column: int, fragment: st
     error_at(cell(stmt, "VAR POSE: p;\n"), 7, column, fragment)
 
 
+def test_a_misspelt_robot_gets_the_closest_name() -> None:
+    (d,) = compile_text(cell("  MOVE weldr PTP (0, 0, 0, 0, 0, 0);")).errors
+    assert d.message == "unknown robot 'weldr'"
+    assert d.hint == "did you mean 'welder'? robots of this program: holder, welder, arm"
+
+
 def test_a_group_move_pushes_each_part_then_one_move() -> None:
     lines = code_lines(cell(
         "  MOVE holder LIN p WITH SPEED := 100 AND welder PTP (0, 0, 0, 0, 0, 0)"
