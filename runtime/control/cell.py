@@ -544,12 +544,12 @@ class CellController:
             self.rule.judge(m, self.required, line, t)
 
     def tolerate_collisions(self) -> None:
-        """The robots' links that are inside each other now (a collision failed the last
-        REPL entry) may come apart, not go deeper (:meth:`ClearanceRule.tolerate`)."""
+        """The robots' links that are inside each other, or closer than R_CLEARANCE, now (a
+        collision failed the last REPL entry) may come apart, not closer
+        (:meth:`ClearanceRule.tolerate`)."""
         ends = [self._ends_at(u, u.controller.state.q) for u in self.robots]
-        self.rule.tolerate(
-            Measured.at(self.parts, *(np.concatenate(e) for e in zip(*ends, strict=True)))
-        )
+        m = Measured.at(self.parts, *(np.concatenate(e) for e in zip(*ends, strict=True)))
+        self.rule.tolerate(m, self.required)
 
     def start_failure(self, line: int) -> RunFailure | None:
         """The robots' links collide in the start configuration (t = 0, the program's

@@ -75,46 +75,53 @@ class ClearanceRule:
     def __init__(self, parts: PartSet, allow: bool = False):
         self.parts = parts
         self.allow = allow
-        self._tolerated: dict[int, float] = {}  # pair → depth (m) it may keep (REPL)
+        # pair → (distance it may not come closer than, distance that releases it), m (REPL)
+        self._tolerated: dict[int, tuple[float, float]] = {}
 
     def judge(self, m: Measured, required: float, line: int, t: float) -> None:
         """A :class:`RunFailure` when a pair of the sample ``m`` penetrates (not allowed)
         or, with ``required`` (m, R_CLEARANCE) > 0, a pair is closer than it keeps
         (:meth:`PartSet.keep`) by more than :data:`KEEP_TOLERANCE`. A tolerated pair
-        (:meth:`tolerate`) may stay inside as long as it goes no deeper."""
+        (:meth:`tolerate`) passes both as long as it comes no closer."""
         parts, d = self.parts, m.d
         if not d.size:
             return
-        backing_out = self._backing_out(d)
+        moving_apart = self._moving_apart(d)
         if not self.allow:
             for k in np.argsort(d, kind="stable"):
                 if d[k] >= 0.0:
                     break
-                if int(k) not in backing_out:
+                if int(k) not in moving_apart:
                     raise self.failure(m.pair(int(k)), 0.0, line, t)
         if required > 0.0:
             slack = d - parts.keep(required)
-            slack[list(backing_out)] = np.inf
+            slack[list(moving_apart)] = np.inf
             j = int(np.argmin(slack))
             if slack[j] < -KEEP_TOLERANCE:
                 raise self.failure(m.pair(j), float(d[j] - slack[j]), line, t)
 
-    def tolerate(self, m: Measured) -> None:
-        """The pairs inside each other in ``m`` may come apart, not go deeper (a REPL entry
-        after a collision failed the last one, as one jogs robots out of a collision stop;
-        :class:`~irlc.runtime.control.collision.CollisionRule` does the same for
-        obstacles). Replaces what was tolerated before."""
-        self._tolerated = {int(k): -float(m.d[k]) for k in np.flatnonzero(m.d < 0.0)}
+    def tolerate(self, m: Measured, required: float) -> None:
+        """The pairs of ``m`` inside each other, or closer than they keep under
+        ``required`` (m, R_CLEARANCE), may move apart but not closer — a REPL entry after
+        a collision or a clearance failed the last one, as one jogs robots out of a
+        collision stop (:class:`~irlc.runtime.control.collision.CollisionRule` does the
+        same for obstacles) — until they are out (at what they keep). Replaces what was
+        tolerated before."""
+        keep = self.parts.keep(required) if required > 0.0 else np.zeros_like(m.d)
+        close = np.flatnonzero(m.d < keep - KEEP_TOLERANCE)
+        if not self.allow:
+            close = np.union1d(close, np.flatnonzero(m.d < 0.0))
+        self._tolerated = {int(k): (float(m.d[k]), float(max(keep[k], 0.0))) for k in close}
 
-    def _backing_out(self, d: np.ndarray) -> set[int]:
-        """The tolerated pairs still inside and no deeper (each keeps its least depth:
-        never deeper again); a pair that came out is judged from now on."""
+    def _moving_apart(self, d: np.ndarray) -> set[int]:
+        """The tolerated pairs no closer than before (each keeps the farthest distance it
+        reached: never closer again); a pair that came out, or closer, is judged again."""
         out = set()
-        for k, held in list(self._tolerated.items()):
-            if d[k] >= 0.0 or -d[k] > held + DEEPER:
+        for k, (held, release) in list(self._tolerated.items()):
+            if d[k] >= release or d[k] < held - DEEPER:
                 del self._tolerated[k]
                 continue
-            self._tolerated[k] = min(held, -float(d[k]))
+            self._tolerated[k] = (max(held, float(d[k])), release)
             out.add(k)
         return out
 

@@ -269,3 +269,13 @@ def test_robots_inside_each_other_may_be_jogged_apart_not_deeper(tmp_path):
     assert s.enter("MOVE r PTP (90, 20, 0, 45, 90, 0);", 4).failure == 0  # backs out
     again = s.enter("MOVE r PTP (90, 30, 0, 30, 90, 0);", 5)  # into b again
     assert again.failure == 2 and "collide" in _first(again), again.lines
+
+
+def test_robots_closer_than_r_clearance_may_be_jogged_apart_not_closer(tmp_path):
+    s = Session("as6", cwd=tmp_path)
+    assert s.enter("ROBOT b := as6 AT (0, -1700, 0, 180, 0, 0);", 1).failure == 0
+    assert s.enter("R_CLEARANCE := 150;", 2).failure == 0
+    close = s.enter("MOVE r PTP (90, 45, 0, 45, 90, 0);", 3)  # a PTP is not steered
+    assert close.failure == 2 and "closer than R_CLEARANCE 150 mm" in _first(close), close.lines
+    assert s.enter("MOVE r PTP (90, 50, 0, 45, 90, 0);", 4).failure == 2  # closer still
+    assert s.enter("MOVE r PTP (90, 0, 0, 45, 90, 0);", 5).failure == 0  # apart
