@@ -434,7 +434,7 @@ def run_case(
             )
     if not mismatches and not diff:
         return CaseResult(program, "pass", message=_status_note(report, "expected"))
-    return CaseResult(program, "fail", mismatches, diff)
+    return CaseResult(program, "fail", mismatches, diff, _status_note(report, "now"))
 
 
 def _status_note(report: dict, how: str) -> str:
@@ -536,9 +536,12 @@ def render_results(results: list[CaseResult], console) -> None:
             # the key is what the user looks for: never cut it; values wrap instead
             longest = max(len(m.path) for m in r.mismatches)
             table.add_column("key", no_wrap=True, min_width=longest)
-            table.add_column("expected", overflow="fold")
-            table.add_column("actual", overflow="fold")
-            table.add_column("note", no_wrap=True)
+            # values keep their digits together up to 12 characters; the note wraps first
+            values = [_show(v) for m in r.mismatches for v in (m.expected, m.actual)]
+            widest = min(12, max(map(len, values)))
+            table.add_column("expected", overflow="fold", min_width=widest)
+            table.add_column("actual", overflow="fold", min_width=widest)
+            table.add_column("note", overflow="fold")
             for m in r.mismatches:
                 if m.path == "output" and r.output_diff:  # lines: the diff below shows them
                     exp, act = (_lines(v) for v in (m.expected, m.actual))

@@ -43,7 +43,7 @@ import numpy as np
 from irlc.errors import UsageError
 from irlc.lang import types as T
 from irlc.lang.file_access import path_kind
-from irlc.repl_cell import CellMachine, robot_clause, robot_spec
+from irlc.repl_cell import CellMachine, check_distinct_names, robot_clause, robot_spec
 from irlc.repl_positions import SCRIPT_NAME, Positions
 from irlc.repl_views import (
     RobotView,
@@ -221,6 +221,7 @@ class Session:
         from irlc.runtime.interpreter import MachineState
 
         specs = [robot] if isinstance(robot, str) else list(robot or ())
+        check_distinct_names(specs)
         self.cwd = Path(cwd or Path.cwd())
         self.datalist_path = tuple(str(p) for p in datalist_path)
         self.allow_any_path = allow_any_path  # data lists outside cwd / --datalist-path

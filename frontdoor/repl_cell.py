@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import functools
 import re
+from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
 
@@ -39,6 +40,21 @@ def robot_spec(spec: str) -> tuple[str | None, str, str | None]:
     if m is None:
         return None, spec, None
     return m.group("name"), m.group("robot"), m.group("at")
+
+
+def check_distinct_names(specs: Sequence[str]) -> None:
+    """UsageError if two ``--robot`` values give one name (the unnamed robot is ``r``):
+    before, the compiler's "'a' is already defined (line 2)" spoke of a program the user
+    never wrote."""
+    seen: dict[str, str] = {}
+    for spec in specs:
+        name = robot_spec(spec)[0] or "r"
+        if name.lower() in seen:
+            raise UsageError(
+                f"--robot {spec}: the name {name} is already given by --robot "
+                f"{seen[name.lower()]}; give each robot its own name (NAME=ROBOT)"
+            )
+        seen[name.lower()] = spec
 
 
 def robot_clause(spec: str, default_name: str = "r") -> str:

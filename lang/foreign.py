@@ -100,34 +100,45 @@ def statement_message(word: str) -> str:
     return f"'{word}' is not a statement of this dialect"
 
 
-def motion_form(word: str, args: str) -> str | None:
+def motion_form(word: str, args: str, robot: str | None = None) -> str | None:
     """irlc's statement for another language's motion ``word`` with the text of its
     arguments (``"left, v100, z10, tool0"``), e.g. ``MOVE LIN left WITH SPEED := 100 WITH
-    APPROX := 10``; ``None`` for no motion word."""
+    APPROX := 10``; with ``robot`` (a cell's ``MOVE a LIN_REL p``) the statement names it
+    (``MOVE_INC a LIN p``); ``None`` for no motion word."""
     upper = word.upper()
     if upper in KRL_MOTIONS:
         parts = args.split()
         approx = [p for p in parts if re.fullmatch(r"C_(DIS|PTP|VEL|ORI|SPL)", p, re.I)]
         target = " ".join(p for p in parts if p not in approx) or "target"
-        return KRL_MOTIONS[upper] + f" {target}" + (" WITH APPROX := mm" if approx else "")
+        motion = _named(KRL_MOTIONS[upper], robot)
+        return motion + f" {target}" + (" WITH APPROX := mm" if approx else "")
     if upper not in RAPID_MOTIONS:
         return None
     motion, targets = RAPID_MOTIONS[upper]
+    motion = _named(motion, robot)
     items = _split_arguments(args)
     shown = ", ".join(items[:targets]) or "target"
     clauses = []
     rest = items[targets:]
-    if rest and motion != "MOVE PTP" and (speed := re.fullmatch(r"v(\d+)", rest[0], re.I)):
+    if rest and not motion.endswith(" PTP") and (speed := re.fullmatch(r"v(\d+)", rest[0], re.I)):
         clauses.append(f"WITH SPEED := {speed[1]}")
     if len(rest) > 1 and (zone := re.fullmatch(r"z(\d+)", rest[1], re.I)):
         clauses.append(f"WITH APPROX := {zone[1]}")
     return " ".join([motion, shown, *clauses])
 
 
-def motion_hint(word: str, args: str) -> str | None:
-    """The hint for a motion word of KRL or RAPID: the statement rewritten and the words
-    that differ."""
-    form = motion_form(word, args)
+def _named(motion: str, robot: str | None) -> str:
+    """``"MOVE LIN"`` with a cell's robot named after its first word: ``"MOVE a LIN"``."""
+    if robot is None:
+        return motion
+    first, rest = motion.split(" ", 1)
+    return f"{first} {robot} {rest}"
+
+
+def motion_hint(word: str, args: str, robot: str | None = None) -> str | None:
+    """The hint for a motion word of KRL or RAPID: the statement rewritten (naming
+    ``robot``, see :func:`motion_form`) and the words that differ."""
+    form = motion_form(word, args, robot)
     if form is None:
         return None
     if word.upper() in KRL_MOTIONS:

@@ -3,7 +3,8 @@
 :func:`lark_parser` builds it once per process (its tables cached per user, see
 :func:`grammar_cache_file`) with :class:`~irlc.lang.ast_builder.Builder` as the transformer,
 so parsing yields the AST. The lexer callbacks report what the token patterns accept but
-the language does not: an unterminated comment, a keyword used as a name.
+the language does not: an unterminated comment, a keyword used as a name; the post-lexer
+(:class:`GluedWords`) one word the contextual lexer split into a keyword and a name.
 """
 
 from __future__ import annotations
@@ -50,6 +51,42 @@ def _name_callback(tok: Token) -> Token:
     return tok
 
 
+class GluedWord(SourceError):
+    """One word read as a keyword and the word glued to it: where only keywords may come
+    (``MOVE a ▯``: PTP, LIN, CIRCLE), the contextual lexer reads ``LIN_REL`` as ``LIN`` and
+    the name ``_REL``, ``LINEAR`` as ``LIN`` and ``EAR``. ``word`` is the whole word."""
+
+    def __init__(self, span: Span, word: str, keyword: str):
+        super().__init__(span, f"'{word}' is not a word of this language")
+        self.word, self.keyword = word, keyword
+
+
+class GluedWords:
+    """Lark post-lexer: a keyword token followed, with nothing between them, by a word
+    token is one word of the text the lexer split (see :class:`GluedWord`); it is raised
+    as that word, never parsed as two."""
+
+    always_accept = ()
+
+    def process(self, stream):
+        previous = None
+        for tok in stream:
+            if previous is not None and _glued(previous, tok):
+                whole = previous.value + tok.value
+                end = Span(tok.line, tok.column, tok.end_line, tok.end_column)
+                span = Span(previous.line, previous.column, end.end_line, end.end_column)
+                raise GluedWord(span, whole, previous.value)
+            previous = tok
+            yield tok
+
+
+def _glued(first: Token, second: Token) -> bool:
+    if first.end_pos != second.start_pos or first.type == "NAME":
+        return False
+    head = str(second.value)[:1]
+    return (head.isalnum() or head == "_") and str(first.value).upper() in _keywords()
+
+
 @lru_cache(maxsize=1)
 def lark_parser() -> Lark:
     grammar = resources.files("irlc.lang").joinpath("irl.lark").read_text(encoding="utf-8")
@@ -63,6 +100,7 @@ def lark_parser() -> Lark:
             "COMMENT": _comment_callback,
             "NAME": _name_callback,
         },
+        postlex=GluedWords(),
         cache=grammar_cache_file(grammar),
     )
 

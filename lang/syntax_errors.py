@@ -14,7 +14,7 @@ import re
 from irlc.lang import foreign
 from irlc.lang.ast_builder import SourceError, token_span
 from irlc.lang.diagnostics import Diagnostic, Span
-from irlc.lang.grammar import keywords, lark_parser
+from irlc.lang.grammar import GluedWord, keywords, lark_parser
 from irlc.lang.settings import BY_LIMIT_WORD, approximation_hint
 from irlc.lang.typos import misspelled_keyword
 from lark import Token
@@ -314,8 +314,20 @@ def syntax_diagnostic(e: UnexpectedInput, text: str, filename: str) -> Diagnosti
         f"unexpected {_token_text(tok)}; expected {_describe_expected(expected)}",
         filename,
         span,
-        approximation_hint(str(tok.value)) or _token_hint(tok, expected, text),
+        approximation_hint(str(tok.value))
+        or _with_flag_hint(prev, expected)
+        or _token_hint(tok, expected, text),
     )
+
+
+def _with_flag_hint(prev: tuple[str, Span] | None, expected: set[str]) -> str | None:
+    """``MOVE … WITH VERTICAL;``: COOPERATE's condition written on a motion."""
+    if prev is not None and prev[0].upper() == "VERTICAL" and "__ANON_0" in expected:
+        return (
+            "VERTICAL is a condition of a cooperation, not a motion's option: "
+            "COOPERATE welder IN holder WITH VERTICAL;"
+        )
+    return None
 
 
 def source_error_diagnostic(e: SourceError, text: str, filename: str) -> Diagnostic:
@@ -323,6 +335,8 @@ def source_error_diagnostic(e: SourceError, text: str, filename: str) -> Diagnos
     another language's motion word at the start of a statement (KRL's ``PTP left;``)."""
     span = e.span
     lines = text.split("\n")
+    if isinstance(e, GluedWord):
+        return _glued_word(e, lines[span.line - 1], text, filename)
     if e.message.endswith("is a reserved word") and 0 < span.line <= len(lines):
         row = lines[span.line - 1]
         word = row[span.column - 1 : span.end_column - 1]
@@ -333,6 +347,32 @@ def source_error_diagnostic(e: SourceError, text: str, filename: str) -> Diagnos
         if word.upper() == "SEC" and prev is not None and prev[0].upper() == "WAIT":
             return _wait_sec_first(row, span, filename)  # KRL: WAIT SEC 1
     return e.diagnostic(filename)
+
+
+def _glued_word(e: GluedWord, row: str, text: str, filename: str) -> Diagnostic:
+    """A word the lexer split into a keyword and a name (``MOVE a LIN_REL p``): another
+    language's motion word gets irlc's statement, naming the cell's robot; any other word
+    the keyword it starts with."""
+    span = e.span
+    robot = _moved_robot(text, span)
+    hint = foreign.motion_hint(e.word, _statement_rest(row, span.end_column - 1), robot)
+    if hint is not None:
+        return Diagnostic("error", foreign.statement_message(e.word), filename, span, hint)
+    rest = e.word[len(e.keyword) :]
+    hint = f"irlc read {e.keyword.upper()} and then '{rest}': a keyword is followed by a space"
+    return Diagnostic("error", f"unknown word '{e.word}'", filename, span, hint)
+
+
+def _moved_robot(text: str, span: Span) -> str | None:
+    """The robot a cell's motion names before ``span`` (``MOVE a ▯``, ``MOVE_INC a ▯``,
+    ``AND a ▯``), else ``None``."""
+    robot = _previous_token(text, span.line, span.column)
+    if robot is None or not robot[0].isidentifier() or robot[0].upper() in keywords():
+        return None
+    before = _previous_token(text, robot[1].line, robot[1].column)
+    if before is None or before[0].upper() not in ("MOVE", "MOVE_INC", "AND"):
+        return None
+    return robot[0]
 
 
 def _wait_sec_first(row: str, span: Span, filename: str) -> Diagnostic:
@@ -370,6 +410,12 @@ def _foreign_word(
         return Diagnostic("error", foreign.statement_message(word), filename, token_span(tok), hint)
     if prev is None:
         return None
+    robot = _moved_robot(text, token_span(tok)) if tok.type == "NAME" else None
+    if robot is not None:  # MOVE a SLIN p, … AND b LIN_REL p
+        hint = foreign.motion_hint(word, _statement_rest(row, tok.end_column - 1), robot)
+        if hint is not None:
+            message = foreign.statement_message(word)
+            return Diagnostic("error", message, filename, token_span(tok), hint)
     prev_word, prev_span = prev
     if prev_span.line == tok.line:
         args = _statement_rest(row, prev_span.end_column - 1)

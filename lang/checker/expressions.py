@@ -54,6 +54,11 @@ class ExpressionTyper:
         e.ty = ty
         return ty
 
+    def after_error(self, e: ast.Expr) -> None:
+        """Check ``e`` whose context is in error (an unknown robot or target): a tuple there
+        gets no second error for having no type."""
+        self.expr(e, T.ERROR if isinstance(e, ast.Tuple) else None)
+
     def e_num(self, e: ast.Num, want) -> T.Type:
         if isinstance(e.value, int):
             e.const = Value("INTEGER", (e.value,))
@@ -466,7 +471,7 @@ class ExpressionTyper:
             self.report.error(e.span, f"FK: takes 1 argument, got {len(e.args)}")
         if robot is None:
             for a in e.args[1:] if len(e.args) == 2 else e.args:
-                self.expr(a, None)
+                self.after_error(a)
             return T.ERROR
         e.robot = robot
         got = self.robot_tuple(e.args[1], "MAIN_JOINT", robot, "FK")

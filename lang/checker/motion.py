@@ -50,16 +50,28 @@ class MotionChecker:
 
     def s_movegroup(self, g: ast.MoveGroup) -> None:
         """``MOVE a LIN p AND b PTP k``: every part names its robot, each robot once."""
+        robots = self.scope.robots
+        if not self.scope.cell:
+            self.report.error(
+                g.span,
+                f"a group move (… AND …) moves several robots of a cell; this program has one "
+                f"robot, {robots[0].var}",
+                "write each part as a statement of its own: "
+                + " ".join(f"{KIND_WORDS[p.kind]} …;" for p in g.parts),
+            )
+            for part in g.parts:
+                self.s_move(part)
+            return
         first: dict[int, ast.Move] = {}
         for part in g.parts:
             if part.robot is None:
                 self.report.error(
                     part.span,
                     "each part of a group move names its robot",
-                    f"write {KIND_WORDS[part.kind].split()[0]} holder "
-                    f"{_kind_word(part.kind)} … AND welder …",
+                    f"write {KIND_WORDS[part.kind].split()[0]} {robots[0].var} "
+                    f"{_kind_word(part.kind)} … AND {robots[1].var} …",
                 )
-            self.s_move(part)
+            self.s_move(part, unnamed_reported=True)
             if not part.resolved:
                 continue
             k = part.resolved[0]
@@ -72,9 +84,15 @@ class MotionChecker:
                 )
             first.setdefault(k, part)
 
-    def s_move(self, s: ast.Move) -> None:
+    def s_move(self, s: ast.Move, unnamed_reported: bool = False) -> None:
+        """One motion (a part of a group with ``unnamed_reported``: its missing robot name
+        has been reported)."""
         words = KIND_WORDS[s.kind]
-        robot = self.scope.robot_of(s, words, f"{words.split()[0]} {{}} {_kind_word(s.kind)} …")
+        if unnamed_reported and s.robot is None and self.scope.cell:
+            robot = None
+        else:
+            example = f"{words.split()[0]} {{}} {_kind_word(s.kind)} …"
+            robot = self.scope.robot_of(s, words, example)
         if robot is not None:
             s.resolved = (robot.index,)
         for t in s.targets:

@@ -92,12 +92,12 @@ class StatementChecker:
             sym = self.scope.lookup(root.name)
         reported = sym is not None and sym.kind == "sysvar" and sym.type == T.ERROR
         if sym is not None and (reported or self.scope.robot_variable_problem(sym, root.span)):
-            self.typer.expr(s.value, None)
+            self.typer.after_error(s.value)
             return
         if sym is None:
             hint = self.scope.suggest(root.name)
             self.report.error(root.span, f"unknown name '{root.name}'", hint)
-            self.typer.expr(s.value, None)
+            self.typer.after_error(s.value)
             return
         if sym.kind not in ("var", "param", "sysvar"):
             what = {
@@ -108,7 +108,7 @@ class StatementChecker:
                 "obstacle": "an obstacle",
             }.get(sym.kind, sym.kind)
             self.report.error(root.span, f"cannot assign to '{sym.name}': it is {what}")
-            self.typer.expr(s.value, None)
+            self.typer.after_error(s.value)
             return
         if not sym.writable:
             self.report.error(root.span, f"{sym.name} is read-only")

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 H = "PROGRAM t;\nROBOT r := six;\n"  # header: the body starts on line 3
 K = "PROGRAM t;\nROBOT r := koch11;\n"
+C = "PROGRAM t;\nROBOT a := six;\nROBOT b := six AT (0, 2000, 0, 0, 0, 0);\n"  # a cell
 
 
 def body(stmts: str, decls: str = "", header: str = H) -> str:
@@ -174,6 +175,56 @@ CASES: list[tuple[str, str, int, int, str]] = [
         3,
         7,
         "'R' is already defined as 'r'",
+    ),
+    # ---------------------------------------------------------------- cells (new-user pass)
+    (
+        "cooperate_end_typo",
+        body("  COOPERATE b IN a;\n  COOPERATE_END;", header=C),
+        6,
+        3,
+        "'COOPERATE_END' is not a keyword of this dialect",
+    ),
+    (
+        "cooperatend_typo",
+        body("  COOPERATE b IN a;\n  COOPERATEND;", header=C),
+        6,
+        3,
+        "'COOPERATEND' is not a keyword of this dialect",
+    ),
+    (
+        "obstacle_end_typo",
+        body("  OBSTACLE_END o;"),
+        4,
+        3,
+        "'OBSTACLE_END' is not a keyword of this dialect",
+    ),
+    (
+        "jointspeedlimit_end_typo",
+        body("  JOINTSPEEDLIMIT_END;"),
+        4,
+        3,
+        "'JOINTSPEEDLIMIT_END' is not a keyword of this dialect",
+    ),
+    (
+        "cell_lin_rel",
+        body("  MOVE a LIN_REL (0, 0, 10, 0, 0, 0);", header=C),
+        5,
+        10,
+        "'LIN_REL' is not a statement of this dialect",
+    ),  # was: unknown function '_REL'
+    (
+        "cell_glued_word",
+        body("  MOVE a LINEAR p;", "VAR POSE: p;\n", header=C),
+        6,
+        10,
+        "unknown word 'LINEAR'",
+    ),  # was: unexpected name 'p'
+    (
+        "group_move_of_one_robot",
+        body("  MOVE LIN p AND LIN p;", "VAR POSE: p;\n"),
+        5,
+        3,
+        "a group move (… AND …) moves several robots of a cell; this program has one robot, r",
     ),
     # ---------------------------------------------------------------- names
     ("unknown_name", body("  x := y;", "VAR REAL: x;\n"), 5, 8, "unknown name 'y'"),

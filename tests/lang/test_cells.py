@@ -91,7 +91,19 @@ def test_a_one_robot_program_names_no_other_robot() -> None:
 
 
 def test_a_group_move_in_a_one_robot_program_is_an_error() -> None:
-    error_at(ONE + PLAIN, 6, 3, "each part of a group move names its robot")
+    error_at(ONE + PLAIN, 6, 3, "a group move (… AND …) moves several robots of a cell")
+    result = compile_text(ONE + PLAIN)
+    assert [d.line for d in result.errors] == [6]  # one error: not one per part too
+    hint = "write each part as a statement of its own: MOVE LIN …; MOVE LIN …;"
+    assert result.errors[0].hint == hint
+
+
+def test_a_part_of_a_group_without_its_robot_is_one_error_naming_the_cells_robots() -> None:
+    result = compile_text(cell("  MOVE holder PTP (0, 0, 0, 0, 0, 0) AND PTP (0, 0, 0, 0, 0, 0);"))
+    (error,) = result.errors
+    assert (error.line, error.column) == (6, 42)  # the second part's PTP
+    assert error.message == "each part of a group move names its robot"
+    assert error.hint == "write MOVE holder PTP … AND welder …"
 
 
 def test_at_on_one_robot_is_written_on_its_robot_record() -> None:
@@ -600,3 +612,21 @@ def test_a_cell_whose_prefixed_trace_columns_coincide_does_not_compile() -> None
     assert compile_text(
         "PROGRAM c;\nROBOT h := six;\nROBOT g := six AT (0, 2000, 0, 0, 0, 0);\nBEGIN\nENDPROGRAM\n"
     ).ok
+
+
+@pytest.mark.parametrize(
+    ("stmt", "column", "fragment"),
+    [
+        ("  R_TOOL := (0, 0, 100, 0, 0, 0);", 3, "R_TOOL belongs to one robot of the cell"),
+        ("  weldr.R_TOOL := (0, 0, 100, 0, 0, 0);", 3, "unknown name 'weldr'"),
+        ("  x := FK(nobody, (1, 2, 3, 4, 5, 6)).x;", 11, "unknown robot 'nobody'"),
+        ("  x := FK((1, 2, 3, 4, 5, 6)).x;", 8, "FK in a cell names its robot"),
+        ("  y := (1, 2, 3, 4, 5, 6);", 3, "unknown name 'y'"),
+    ],
+)
+def test_a_tuple_after_an_error_in_its_context_is_not_a_second_error(stmt, column, fragment):
+    """Before, each of these also said "a tuple of 6 values has no type here"."""
+    result = compile_text(cell(stmt, "VAR REAL: x;\n"))
+    (error,) = result.errors
+    assert (error.line, error.column) == (7, column)
+    assert fragment in error.message

@@ -24,6 +24,10 @@ def _case(name: str) -> tuple[str, int, int]:
         ("end_while_semicolon", "END_WHILE", "ENDWHILE"),
         ("endprocedure_semicolon", "ENDPROCEDURE", "ENDPROC"),
         ("endfunction_semicolon", "ENDFUNCTION", "ENDFCT"),
+        ("cooperate_end_typo", "COOPERATE_END", "COOPERATEEND"),
+        ("cooperatend_typo", "COOPERATEND", "COOPERATEEND"),
+        ("obstacle_end_typo", "OBSTACLE_END", "OBSTACLEEND"),
+        ("jointspeedlimit_end_typo", "JOINTSPEEDLIMIT_END", "JOINTSPEEDLIMITEND"),
     ],
 )
 def test_end_typo_hint_at_its_own_line(name, word, right):

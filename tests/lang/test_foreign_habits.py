@@ -136,3 +136,66 @@ def test_a_name_of_the_program_is_not_taken_for_a_habit():
     for body in ("x := PTP;", "x := 1 + LIN;", "VAR_x := FOR;"):
         error = _only_error(body)
         assert error.message.endswith("is a reserved word"), (body, error.message)
+
+
+CELL_HEAD = (
+    "PROGRAM p;\nROBOT a := planar3;\nROBOT b := planar3 AT (0, 3000, 0, 0, 0, 0);\n"
+    "VAR POSE: left, right; MAIN_JOINT: k;\nBEGIN\n"
+)
+
+
+def _compile_cell(body: str):
+    return compile_source(
+        CELL_HEAD + f"  {body}\nENDPROGRAM\n", "p.irl", resolve_robot=lambda n: PLANAR3
+    )
+
+
+# In a cell only a motion kind may follow MOVE a: the lexer read LIN_REL as LIN and a name
+# _REL ("unknown function '_REL'"), LINEAR as LIN and EAR ("unexpected name 'left'"), and
+# the hints dropped the robot (write MOVE_INC LIN left: a cell's motion names its robot).
+@pytest.mark.parametrize(
+    ("body", "word", "form"),
+    [
+        ("MOVE a LIN_REL left;", "LIN_REL", "MOVE_INC a LIN left;"),
+        ("MOVE a LIN_REL (0, 0, 10, 0, 0, 0);", "LIN_REL", "MOVE_INC a LIN (0, 0, 10, 0, 0, 0);"),
+        ("MOVE_INC b PTP_REL k;", "PTP_REL", "MOVE_INC b PTP k;"),
+        ("MOVE a SLIN left;", "SLIN", "MOVE a LIN left;"),
+        ("MOVE a PTP k AND b SPTP k;", "SPTP", "MOVE b PTP k;"),
+        ("MOVE a PTP k AND b LIN_REL left;", "LIN_REL", "MOVE_INC b LIN left;"),
+        (
+            "MOVE a MoveL left, v100, z10, tool0;",
+            "MoveL",
+            "MOVE a LIN left WITH SPEED := 100 WITH APPROX := 10;",
+        ),
+    ],
+)
+def test_a_foreign_motion_in_a_cell_names_its_robot_and_the_form_compiles(body, word, form):
+    result = _compile_cell(body)
+    assert result.code is None
+    (error,) = result.errors
+    line = (CELL_HEAD + f"  {body}\n").splitlines()[error.span.line - 1]
+    assert error.span.line == 6
+    assert line[error.span.column - 1 :].startswith(word), (error.span, word)
+    assert error.span.end_column - error.span.column == len(word)
+    assert error.message == f"'{word}' is not a statement of this dialect"
+    assert f"write {form}" in error.hint, error.hint
+    fixed = _compile_cell(form)
+    assert fixed.code is not None, [d.message for d in fixed.diagnostics]
+
+
+@pytest.mark.parametrize(
+    ("word", "keyword"), [("LINEAR", "LIN"), ("PTPx", "PTP"), ("CIRCLEx", "CIRCLE")]
+)
+def test_a_word_glued_to_a_keyword_is_reported_as_the_word(word, keyword):
+    result = _compile_cell(f"MOVE a {word} left, right;")
+    (error,) = result.errors
+    assert (error.span.line, error.span.column, error.span.end_column) == (6, 10, 10 + len(word))
+    assert error.message == f"unknown word '{word}'"
+    assert f"irlc read {keyword} and then '{word[len(keyword) :]}'" in error.hint
+
+
+def test_vertical_on_a_motion_points_at_cooperate():
+    result = _compile_cell("MOVE a PTP k WITH VERTICAL;")
+    (error,) = result.errors
+    assert error.message == "unexpected ';'; expected ':='"
+    assert "COOPERATE welder IN holder WITH VERTICAL" in error.hint

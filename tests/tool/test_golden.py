@@ -244,3 +244,29 @@ def test_a_cell_s_golden_test_and_its_tolerance_keys(tmp_path, capsys):
         capsys.readouterr()
         assert main(["test", str(tmp_path)]) == 1
         assert why in capsys.readouterr().out
+
+
+def test_a_failing_case_says_why_the_run_failed_and_keeps_its_numbers_whole(tmp_path):
+    """Regression (new-user walk, a cell): a case whose run now fails showed `status ok →
+    failed` and `error_line 15` but not why, and on 80 columns its values were cut inside
+    their digits (`-134.` / `76`, `faile` / `d`) while the note kept its whole width."""
+    import io
+
+    from irlc.golden import render_results
+    from rich.console import Console
+
+    prog = _program(tmp_path)
+    run_case(prog, update=True, runner=lambda p, o: _report())
+    failing = _report(status="failed", error={"message": "joint a2 beyond", "line": 3})
+    res = run_case(prog, runner=lambda p, o: failing)
+    assert (res.status, res.message) == ("fail", "now: the run fails — joint a2 beyond")
+    assert run_case(prog, runner=lambda p, o: _report(samples=300)).message == ""
+    buf = io.StringIO()
+    render_results([res], Console(file=buf, width=80, highlight=False, color_system=None))
+    text = buf.getvalue()
+    assert "now: the run fails — joint a2 beyond" in text
+    status = next(line for line in text.splitlines() if line.strip().startswith("status"))
+    assert status.split() == ["status", "ok", "failed"]
+    for m in res.mismatches:  # every number on one line, whole
+        shown = m.actual if isinstance(m.actual, str) else json.dumps(m.actual)
+        assert any(shown in line for line in text.splitlines()), (shown, text)

@@ -234,11 +234,20 @@ def test_robot_option_names_and_places_the_robots(tmp_path):
     assert "   b            as6          AT (0, -1550, 0, 180, 0, 0)  [mm, deg ZYX]" in lines
     for args, message in (
         (["--robot", "b=as6@1,2,3"], "the placement after @ is x,y,z,a,b,c"),
-        (["--robot", "a=as6", "--robot", "a=panda"], "--robot: 'a' is already defined"),
+        # (was "'a' is already defined (line 2)": a line of a program the user never wrote)
+        (
+            ["--robot", "a=as6", "--robot", "A=panda"],
+            "--robot A=panda: the name A is already given by --robot a=as6",
+        ),
+        (
+            ["--robot", "as6", "--robot", "r=panda"],
+            "--robot r=panda: the name r is already given by --robot as6",
+        ),
     ):
         bad = subprocess.run([*IRLC, "repl", *args], input="", capture_output=True, text=True,
                              timeout=120, cwd=tmp_path)  # fmt: skip
         assert bad.returncode == 3 and message in bad.stderr and "Traceback" not in bad.stderr
+        assert "(line " not in bad.stderr
 
 
 def test_reset_puts_every_robot_home_and_keeps_the_cell(tmp_path):
