@@ -247,9 +247,11 @@ def _pair_text(pair: dict, own: bool = False) -> str:
         links = f"links {pair['link_a']}, {pair['link_b']}"
     else:
         links = f"{pair['robot_a']} link {pair['link_a']}, {pair['robot_b']} link {pair['link_b']}"
+    line = pair.get("line")
+    where = f"line {line}" if line else "the start configuration"  # line 0: before any
     return (
         f"min {shown_number(pair['min_distance_mm'], '.1f')} mm ({links}) at t = "
-        f"{shown_number(pair.get('at_time_s'), '.2f')} s, line {pair.get('line')}"
+        f"{shown_number(pair.get('at_time_s'), '.2f')} s, {where}"
     )
 
 

@@ -95,3 +95,9 @@ def test_r_clearance_row_names_own_pairs_closer_at_home():
     assert rows["clearance floor (own links)"].startswith("min 7.9 mm (links 5, 7)")
     failed = dict(clearance_rows({"status": "failed", "clearance": clearance}))
     assert failed["R_CLEARANCE"] == "50 mm kept"  # a failed run: no claim about home
+
+
+def test_a_least_distance_at_the_start_names_no_line_0():
+    own = {"min_distance_mm": 7.3, "at_time_s": 0.0, "line": 0, "link_a": 8, "link_b": 10}
+    rows = dict(clearance_rows({"status": "ok", "self_clearance": own}))
+    assert rows["own links"] == "min 7.3 mm (links 8, 10) at t = 0.00 s, the start configuration"
