@@ -47,7 +47,6 @@ from irlc.repl_cell import CellMachine, check_distinct_names, robot_clause, robo
 from irlc.repl_positions import SCRIPT_NAME, Positions
 from irlc.repl_views import (
     RobotView,
-    cell_lines,
     cell_where_lines,
     limits_lines,
     names_line,
@@ -491,7 +490,7 @@ class Session:
             lines[0] += f", the session's robot (in place of the default {replaced})"
         else:
             self.current = len(code.robots) - 1
-            lines += cell_lines(self.cell.robots(), self.current)
+            lines += self.cell.lines(self.current)
         if moved:
             lines.append("  (the robots keep their joints, the new one is at its home; the "
                          "trace restarts here)")  # fmt: skip
@@ -704,11 +703,11 @@ class Session:
             head = f"irlc repl on {self.model.name} ({self.model.n} joints). :help for help."
             return [head, *(line.strip() for line in names_line(self._view()))]
         return [f"irlc repl on a cell of {len(self.cell.names)} robots. :help for help.",
-                *cell_lines(self.cell.robots(), self.current)]  # fmt: skip
+                *self.cell.lines(self.current)]  # fmt: skip
 
     def _robot_lines(self) -> list[str]:
         lines = robot_lines(self._view())
-        return lines if self.cell is None else lines + cell_lines(self.cell.robots(), self.current)
+        return lines if self.cell is None else lines + self.cell.lines(self.current)
 
     # ------------------------------------------------------------------ files
 
@@ -1053,4 +1052,7 @@ def main(
         for line in session.banner():
             echo(line)
         return run_terminal(session, echo)
+    for line in session.banner()[1:]:  # piped: only a warning of the start, if any
+        if line.lstrip().startswith("warning:"):
+            echo(line.strip())
     return run_plain(session, sys.stdin, echo)

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 from irlc.errors import UsageError
-from irlc.repl_views import RobotView
+from irlc.repl_views import RobotView, cell_lines
 from irlc.runtime import values
 
 _PLACED = re.compile(r"^(?P<name>[A-Za-z_]\w*)=(?P<robot>.+?)(?:@(?P<at>[^@]*))?$")
@@ -145,6 +145,17 @@ class CellMachine:
             if n.lower() == name.lower():
                 return k
         return None
+
+    def lines(self, current: int) -> list[str]:
+        """The cell's robots (:func:`~irlc.repl_views.cell_lines`), then a warning when
+        their links are inside each other where they stand (a program would fail at its
+        first statement; here the next motions may only move them apart)."""
+        out = cell_lines(self.robots(), current)
+        overlap = self.controller.start_failure(0)
+        if overlap is not None:
+            what = str(overlap.message).split(" at t = ")[0].split(";")[0]
+            out.append(f"  warning: {what} where they stand; move them apart first")
+        return out
 
     def robots(self) -> list[tuple[str, str, tuple[float, ...]]]:
         """Each robot's name, robot file and placement (mm, deg ZYX)."""

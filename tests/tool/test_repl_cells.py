@@ -288,3 +288,21 @@ def test_robots_closer_than_r_clearance_may_be_jogged_apart_not_closer(tmp_path)
     assert close.failure == 2 and "closer than R_CLEARANCE 150 mm" in _first(close), close.lines
     assert s.enter("MOVE r PTP (90, 50, 0, 45, 90, 0);", 4).failure == 2  # closer still
     assert s.enter("MOVE r PTP (90, 0, 0, 45, 90, 0);", 5).failure == 0  # apart
+
+
+def test_robots_placed_inside_each_other_are_warned_of():
+    """Two robots on one base: a program stops at its first statement; the session says
+    so when the robots are listed and, piped, when it starts."""
+    done = subprocess.run(
+        [*IRLC, "repl", "--robot", "as6", "--robot", "b=as6@0,0,0,0,0,0"],
+        input=":robot\n", capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    warning = "warning: r link 1 and b link 1 collide: they are 240 mm inside each other"
+    assert done.stdout.startswith(warning), done.stdout[:300]
+    assert done.stdout.count(warning) == 2  # at the start, and under :robot's listing
+    apart = subprocess.run(
+        [*IRLC, "repl", "--robot", "as6", "--robot", "b=as6@0,-2200,0,180,0,0"],
+        input=":robot\n", capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert "warning" not in apart.stdout
