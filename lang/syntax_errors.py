@@ -346,7 +346,24 @@ def source_error_diagnostic(e: SourceError, text: str, filename: str) -> Diagnos
             return Diagnostic("error", foreign.statement_message(word), filename, span, hint)
         if word.upper() == "SEC" and prev is not None and prev[0].upper() == "WAIT":
             return _wait_sec_first(row, span, filename)  # KRL: WAIT SEC 1
+        unfinished = prev is not None and not _statement_starts_after(prev)
+        if unfinished and _closes_a_block(word) and not row[: span.column - 1].strip():
+            return Diagnostic(
+                "error",
+                f"the statement is not finished: '{word}' on the next line cannot follow "
+                f"'{prev[0]}'",
+                filename,
+                prev[1],
+                "finish the statement (and end it with ';') or delete it",
+            )
     return e.diagnostic(filename)
+
+
+def _closes_a_block(word: str) -> bool:
+    """``ENDPROGRAM``, ``ENDIF``, ``ELSE`` …: first on its line where a name must come, the
+    word is the next line's after an unfinished statement (``MOVE``), not a chosen name."""
+    upper = word.upper()
+    return upper.startswith("END") or upper in {"ELSE", "UNTIL", "BEGIN"}
 
 
 def _glued_word(e: GluedWord, row: str, text: str, filename: str) -> Diagnostic:
