@@ -261,6 +261,14 @@ def _cell_report(run: CellRunData, reports: list[dict], entries: list[dict]) -> 
         "clearance": _clearance_report(run, run.clearances),
         "robots": entries,
     }  # fmt: skip
+    inside = out["clearance"]
+    if run.actual is not None and (inside["min_distance_mm"] or 0.0) < 0.0:
+        out["warnings"].append(  # (allowed: else the run failed at it)
+            "collisions allowed (--allow-collisions): the actual motion (simulated drives) "
+            f"brings {inside['robot_a']} link {inside['link_a']} and {inside['robot_b']} link "
+            f"{inside['link_b']} {-inside['min_distance_mm']:.4g} mm inside each other at "
+            f"t = {inside['at_time_s']:.3f} s, line {inside['line']}"
+        )
     if run.actual is not None:  # the set points' figures, for comparison (as a robot's)
         ideal = [e["ideal"] for e in entries if e.get("ideal")]
         out["ideal"] = {
