@@ -106,10 +106,7 @@ def overview_table(report: dict) -> Table:
         f"{shown_number(report['duration_s'], '.3f')} s, {report['samples']} samples at "
         f"IPO {shown_number(report['ipo_s'] * 1e3, '.3g')} ms, drives {report['drives']}",
     )
-    path_error = _path_error(report)
-    if report.get("robots") and report.get("drives") != "ideal":
-        path_error += " (actual motion; judged per robot below)"
-    table.add_row("path error", path_error)
+    table.add_row("path error", _path_error(report, cell=bool(report.get("robots"))))
     ik = report.get("ik") or {}
     table.add_row(
         "inverse transformation",
@@ -162,12 +159,17 @@ def clearance_rows(report: dict) -> list[tuple[str, str]]:
             text += " — they overlap: reported, not judged (R_CLEARANCE judges them)"
         rows.append(("own links", text))
     clearance = report.get("clearance") or {}
-    for pair in clearance.get("pairs") or []:
+    ideal = ((report.get("ideal") or {}).get("clearance") or {}).get("pairs")
+    for k, pair in enumerate(clearance.get("pairs") or []):
         if pair.get("min_distance_mm") is None:
             continue
         a, b = pair["robot_a"], pair["robot_b"]
         label = f"clearance {a}–{b}" if a != b else f"clearance {a} (own links)"
-        rows.append((label, _pair_text(pair, own=a == b)))
+        text = _pair_text(pair, own=a == b)
+        if ideal is not None and k < len(ideal):  # a drive run: the actual motion's
+            commanded = shown_number(ideal[k].get("min_distance_mm"), ".1f")
+            text += f" (actual motion; set points {commanded} mm)"
+        rows.append((label, text))
     required = clearance.get("required_mm")
     if required:
         kept = _closer(clearance) if report.get("status") == "ok" else ""
@@ -324,9 +326,9 @@ def approximations_text(report: dict) -> str:
     return ", ".join(parts)
 
 
-def _path_error(report: dict) -> str:
+def _path_error(report: dict, cell: bool = False) -> str:
     """``max … mm, … deg``; with drives ``(actual motion; ideal …)`` and the tolerance that
-    judged the path (the verdict's), if one did."""
+    judged the path (the verdict's), if one did; a ``cell``'s: judged per robot."""
     text = (
         f"max {shown_number(report['max_path_error_mm'], '.3g')} mm, "
         f"{shown_number(report['max_orientation_error_deg'], '.3g')} deg"
@@ -336,8 +338,11 @@ def _path_error(report: dict) -> str:
         return text
     text += (
         f" (actual motion; ideal {shown_number(ideal.get('max_path_error_mm'), '.3g')} mm, "
-        f"{shown_number(ideal.get('max_orientation_error_deg'), '.3g')} deg)"
+        f"{shown_number(ideal.get('max_orientation_error_deg'), '.3g')} deg"
     )
+    if cell:
+        return text + "; judged per robot below)"
+    text += ")"
     criteria = (report.get("verdict") or {}).get("criteria") or {}
     path = criteria.get("path_tolerance_mm")
     if path is None:
@@ -371,6 +376,10 @@ def _criteria(verdict: dict) -> str:
             )
     if c.get("collisions") == "allowed":
         parts.append("collisions allowed")
+    required = c.get("clearance_required_mm")
+    if required:  # a cell's actual clearance (docs/drives.md)
+        tolerance = shown_number(c.get("clearance_tolerance_mm"), "g")
+        parts.append(f"links ≥ R_CLEARANCE {shown_number(required, 'g')} mm − {tolerance} mm")
     for key, what in (("current_peak_A", "peak current"), ("torque_rating", "gear torque")):
         rated = [r for r in c.get(key) or [] if r.get("value") is not None]
         parts.append(f"{what} {'rated' if rated else 'not rated'}")

@@ -29,6 +29,7 @@ from irlc.runtime import run_setup as setup
 from irlc.runtime.control.cell import CellController, CellMember
 from irlc.runtime.model.limit_check import first_outside
 from irlc.runtime.model.naming import JointNaming
+from irlc.runtime.outputs import actual_clearance
 from irlc.runtime.outputs.run_result import RunResult
 from irlc.runtime.run_setup import HeldOutput, RunSetupError
 
@@ -73,7 +74,7 @@ def run_cell(code: Code, arguments: dict) -> RunResult:
     execution = setup.interpret(code, cell, common.settings, held or output, common.budget,
                           _start_failure(code, cell, members, seed_config))  # fmt: skip
     robots = [RobotRun.kinematic(unit) for unit in cell.robots]
-    verdict_failure = None
+    actual = None
     if drives != "ideal" and len(robots[0].samples.recorded.times) > 0:
         if phase is not None:
             t_end = robots[0].samples.recorded.times[-1]
@@ -81,15 +82,20 @@ def run_cell(code: Code, arguments: dict) -> RunResult:
         until = None if execution.error is None else execution.error.time_s
         for run in robots:
             run.drive(drives, False, cell.obstacles, opts, until)
-        verdict_failure = _first_failure(robots, until)
-        if verdict_failure is not None:
-            t_f = float(verdict_failure.time_s)
+        actual = actual_clearance.measure(cell.parts, [r.samples.actual for r in robots],
+                                          cell.clearances.required, opts.allow_collisions,
+                                          until)  # fmt: skip
+        failure = _first_failure(robots, until, actual)
+        if failure is not None:
+            t_f = float(failure.time_s)
             for run in robots:
-                run.cut(t_f)
-            execution = _stopped(execution, held, verdict_failure)
+                run.cut(t_f, opts)
+            actual.cut(t_f)
+            execution = _stopped(execution, held, failure)
+        _judge_actual_clearance(robots, actual)
     if held is not None:
         held.release(output, execution.output)
-    data = CellRunData(code, cell, execution, opts, robots, drives, common.base_dir)
+    data = CellRunData(code, cell, execution, opts, robots, drives, common.base_dir, actual)
     return assemble_cell(data)
 
 
@@ -180,11 +186,26 @@ def _start_failure(code: Code, cell: CellController, members, seed_config):
     return cell.start_failure(line)
 
 
-def _first_failure(robots, until):
-    """The earliest drive verdict failure of the robots (before ``until``), or ``None``."""
-    failures = [r.verdict.failure for r in robots if r.verdict is not None]
+def _first_failure(robots, until, actual):
+    """The earliest failure of the drive run (before ``until``): of a robot's verdict or
+    of the actual clearance (a tie: the robot's), or ``None``."""
+    failures = [r.verdict.failure for r in robots if r.verdict is not None] + [actual.failure]
     failures = [f for f in failures if f is not None and (until is None or f.time_s < until)]
     return min(failures, key=lambda f: f.time_s) if failures else None
+
+
+def _judge_actual_clearance(robots, actual) -> None:
+    """The actual clearance in the robots' verdicts: its criteria in each, its failure (if
+    the run stopped at it) a violation of both robots it names."""
+    row = actual.violation()
+    for run in robots:
+        verdict = run.verdict
+        if verdict is None:
+            continue
+        verdict.criteria.update(actual.criteria)
+        if row is not None and run.unit.name in (row["robot_a"], row["robot_b"]):
+            verdict.violations = sorted([*verdict.violations, row], key=lambda v: v["time_s"])
+            verdict.failure = verdict.failure or actual.failure
 
 
 def _stopped(execution, held: HeldOutput | None, failure):

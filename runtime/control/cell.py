@@ -42,7 +42,7 @@ from irlc.robots.model import RobotModel
 from irlc.runtime import units, values
 from irlc.runtime.commands import ModalOptions, MotionCommand, RobotMotion, Settings
 from irlc.runtime.control.budget import RunBudget
-from irlc.runtime.control.clearance_rule import ClearanceRule, Measured
+from irlc.runtime.control.clearance_rule import CellClearances, ClearanceRule, Measured
 from irlc.runtime.control.cooperation import Cooperation
 from irlc.runtime.control.executor import ExecutionOptions, SimulatedController
 from irlc.runtime.control.group import GroupMove, GroupStatement, Part
@@ -103,35 +103,6 @@ class UnitObserver:
 
     def cycle(self, runner) -> None:
         self.cell.recorded(self.unit, runner.state)
-
-
-class CellClearances:
-    """Per cell sample: the clearance (m) and its pair (robot and link of each part), the
-    least distance per pair of robots (``PartSet.groups``) with its pair's index, and the
-    R_CLEARANCE in effect (m)."""
-
-    def __init__(self) -> None:
-        self.distance: list[float] = []
-        self.pair: list[tuple[int, int, int, int]] = []
-        self.groups: list[tuple[np.ndarray, np.ndarray]] = []
-        self.required: list[float] = []
-
-    def __len__(self) -> int:
-        return len(self.distance)
-
-    def add(self, m: Measured, required: float) -> None:
-        c = m.closest()
-        if c is None:
-            self.distance.append(float("inf"))
-            self.pair.append((-1, -1, -1, -1))
-        else:
-            self.distance.append(c.distance)
-            self.pair.append((c.robot_a, c.link_a, c.robot_b, c.link_b))
-        self.groups.append(m.parts.group_minima(m.d))
-        self.required.append(required)
-
-    def truncate(self, k: int) -> None:
-        del self.distance[k:], self.pair[k:], self.groups[k:], self.required[k:]
 
 
 @dataclass(frozen=True)

@@ -68,6 +68,35 @@ class Measured:
         return self.parts.clearance(k, float(self.d[k]), self.p[k], self.q[k], self.a, self.b)
 
 
+class CellClearances:
+    """Per cell sample: the clearance (m) and its pair (robot and link of each part), the
+    least distance per pair of robots (``PartSet.groups``) with its pair's index, and the
+    R_CLEARANCE in effect (m)."""
+
+    def __init__(self) -> None:
+        self.distance: list[float] = []
+        self.pair: list[tuple[int, int, int, int]] = []
+        self.groups: list[tuple[np.ndarray, np.ndarray]] = []
+        self.required: list[float] = []
+
+    def __len__(self) -> int:
+        return len(self.distance)
+
+    def add(self, m: Measured, required: float) -> None:
+        c = m.closest()
+        if c is None:
+            self.distance.append(float("inf"))
+            self.pair.append((-1, -1, -1, -1))
+        else:
+            self.distance.append(c.distance)
+            self.pair.append((c.robot_a, c.link_a, c.robot_b, c.link_b))
+        self.groups.append(m.parts.group_minima(m.d))
+        self.required.append(required)
+
+    def truncate(self, k: int) -> None:
+        del self.distance[k:], self.pair[k:], self.groups[k:], self.required[k:]
+
+
 class ClearanceRule:
     """Judges the clearance of a sample (module doc). ``parts`` are the watched parts and
     pairs (their names in messages); ``allow``: collisions (penetrations) are allowed."""
@@ -78,11 +107,14 @@ class ClearanceRule:
         # pair → (distance it may not come closer than, distance that releases it), m (REPL)
         self._tolerated: dict[int, tuple[float, float]] = {}
 
-    def judge(self, m: Measured, required: float, line: int, t: float) -> None:
+    def judge(
+        self, m: Measured, required: float, line: int, t: float, actual: bool = False
+    ) -> None:
         """A :class:`RunFailure` when a pair of the sample ``m`` penetrates (not allowed)
         or, with ``required`` (m, R_CLEARANCE) > 0, a pair is closer than it keeps
         (:meth:`PartSet.keep`) by more than :data:`KEEP_TOLERANCE`. A tolerated pair
-        (:meth:`tolerate`) passes both as long as it comes no closer."""
+        (:meth:`tolerate`) passes both as long as it comes no closer. ``actual``: ``m``
+        is the drives' actual motion (:meth:`failure`)."""
         parts, d = self.parts, m.d
         if not d.size:
             return
@@ -92,13 +124,13 @@ class ClearanceRule:
                 if d[k] >= 0.0:
                     break
                 if int(k) not in moving_apart:
-                    raise self.failure(m.pair(int(k)), 0.0, line, t)
+                    raise self.failure(m.pair(int(k)), 0.0, line, t, actual)
         if required > 0.0:
             slack = d - parts.keep(required)
             slack[list(moving_apart)] = np.inf
             j = int(np.argmin(slack))
             if slack[j] < -KEEP_TOLERANCE:
-                raise self.failure(m.pair(j), float(d[j] - slack[j]), line, t)
+                raise self.failure(m.pair(j), float(d[j] - slack[j]), line, t, actual)
 
     def tolerate(self, m: Measured, required: float) -> None:
         """The pairs of ``m`` inside each other, or closer than they keep under
@@ -125,20 +157,36 @@ class ClearanceRule:
             out.add(k)
         return out
 
-    def failure(self, c: Clearance, required: float, line: int, t: float) -> RunFailure:
+    def failure(
+        self, c: Clearance, required: float, line: int, t: float, actual: bool = False
+    ) -> RunFailure:
         """The failure of pair ``c``, which keeps ``required`` (m, R_CLEARANCE; 0: a
-        collision)."""
+        collision). ``actual``: the drives' actual motion (a drive run of a cell, whose set
+        points were clear), said as :func:`~irlc.runtime.control.collision.failure` says it
+        for an obstacle; ``details["actual"]`` is then true."""
         a, b = self.parts.label(c.robot_a, c.link_a), self.parts.label(c.robot_b, c.link_b)
         mm = c.distance / units.MM
+        who = "the actual motion (simulated drives): " if actual else ""
         if required <= 0.0:
             what = f"{a} and {b} collide: they are {-mm:.4g} mm inside each other at t = {t:.3f} s"
             hint = "change the path, or keep them apart with R_CLEARANCE"
+            if actual:
+                hint = (
+                    "slow down (the drives lag the set points), keep them further apart "
+                    "(R_CLEARANCE), or allow collisions (--allow-collisions)"
+                )
         else:
             what = (
                 f"{a} and {b} are {mm:.4g} mm apart at t = {t:.3f} s, closer than R_CLEARANCE "
                 f"{required / units.MM:g} mm"
             )
             hint = "the clearance cannot be kept here (a PTP is not steered by it): change the path"
+            if actual:
+                what += f" by more than {KEEP_TOLERANCE / units.MM:g} mm"
+                hint = (
+                    "the set points keep it, the lagging drives do not: slow down, or keep more "
+                    "clearance (R_CLEARANCE)"
+                )
         details = {
             "robot_a": self.parts.robots[c.robot_a].name,
             "link_a": c.link_a,
@@ -147,7 +195,11 @@ class ClearanceRule:
             "distance_mm": mm,
             "required_mm": required / units.MM,
         }
-        return RunFailure(f"{what}; {hint}", line, t, f"clearance {a} – {b}", "clearance", details)
+        if actual:
+            details["actual"] = True
+        return RunFailure(
+            f"{who}{what}; {hint}", line, t, f"clearance {a} – {b}", "clearance", details
+        )
 
 
 class OwnClearance:

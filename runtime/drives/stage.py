@@ -46,7 +46,7 @@ def run_drives(
     there: samples, drive rows and verdict end at the failure
     (:mod:`~irlc.runtime.outputs.stop`)."""
     from irlc.runtime.outputs.actual_motion import measure
-    from irlc.runtime.outputs.verdict import following_bound, judge
+    from irlc.runtime.outputs.verdict import judge
 
     rec = samples.recorded
     params = drive_data(model)
@@ -56,21 +56,44 @@ def run_drives(
     at_samples = measure(model, rec, rec.times, at_times(drive, rec.times), task_rows, obstacles)
     actual = measured(rec, at_samples)
     verdict = judge(model, names, rec, drive, actual, opts, params)
-    first = verdict.failure
-    if first is not None and (until is None or first.time_s < until):
-        t_f = float(first.time_s)
-        drive = stop.drive_until(drive, t_f, following_bound(model, params, rec.q[0]).bound)
-        rec, at_samples = stop.recorded_until(rec, t_f), stop.actual_until(at_samples, t_f)
-        actual = measured(rec, at_samples)
-        cut = judge(model, names, rec, drive, actual, opts, params)
-        if cut.failure is not None:  # (judged on the same samples up to t_f: the same one)
-            verdict = cut
-        else:
-            verdict.violations = [v for v in verdict.violations if v["time_s"] <= t_f]
     steps = None
     if every_step:
         steps = measured(rec, measure(model, rec, drive.t, drive.q_actual, task_rows, obstacles))
-    return Samples(rec, commanded(rec), actual, steps, drive), verdict
+    samples = Samples(rec, commanded(rec), actual, steps, drive)
+    first = verdict.failure
+    if first is not None and (until is None or first.time_s < until):
+        return stopped(samples, verdict, model, names, opts, float(first.time_s), params)
+    return samples, verdict
+
+
+def stopped(
+    samples: Samples,
+    verdict: Verdict,
+    model: RobotModel,
+    names: tuple[str, ...],
+    opts: ExecutionOptions,
+    t_f: float,
+    params=None,
+) -> tuple[Samples, Verdict]:
+    """A drive run stopped at ``t_f`` — its own first failure, or another's (a robot of
+    the same cell, the clearance of the cell's actual motion): samples, drive rows and
+    the verdict end there (:mod:`~irlc.runtime.outputs.stop`); the verdict is judged
+    again on that part (the same failure, when it was this run's own)."""
+    from irlc.runtime.outputs.verdict import following_bound, judge
+
+    params = params if params is not None else drive_data(model)
+    rec = samples.recorded
+    drive = stop.drive_until(samples.drive, t_f, following_bound(model, params, rec.q[0]).bound)
+    rec = stop.recorded_until(rec, t_f)
+    actual = stop.motion_until(samples.actual, t_f)
+    cut = judge(model, names, rec, drive, actual, opts, params)
+    if cut.failure is None:  # stopped by another's failure, or between recorded rows
+        cut = verdict
+        cut.violations = [v for v in verdict.violations if v["time_s"] <= t_f + stop.SLACK]
+        if cut.failure is not None and cut.failure.time_s > t_f + stop.SLACK:
+            cut.failure = None
+    steps = stop.motion_until(samples.steps, t_f)
+    return Samples(rec, commanded(rec), actual, steps, drive), cut
 
 
 def drive_data(model):

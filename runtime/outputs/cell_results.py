@@ -85,12 +85,22 @@ class RobotRun:
                                                 obstacles, ctl.recorder.task_rows,
                                                 ctl.naming.program, opts, until)  # fmt: skip
 
-    def cut(self, t_end: float) -> None:
-        """Its samples up to ``t_end`` (another robot's drives failed there)."""
+    def cut(self, t_end: float, opts) -> None:
+        """Its samples up to ``t_end`` (a drive run failed there: its own drives, another
+        robot's, or the cell's actual clearance): with drives its drive rows and verdict
+        too (:func:`~irlc.runtime.drives.stage.stopped`)."""
+        from irlc.runtime.drives.stage import stopped
+
         self.cut_at = t_end
         samples = self.samples
-        if len(samples.recorded.times) and samples.recorded.times[-1] > t_end:
+        if not len(samples.recorded.times) or samples.recorded.times[-1] <= t_end:
+            return
+        if samples.drive is None or self.verdict is None:
             self.samples = stop.samples_until(samples, t_end)
+            return
+        names = tuple(self.unit.controller.naming.program)
+        self.samples, self.verdict = stopped(samples, self.verdict, self.unit.model, names,
+                                             opts, t_end)  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -104,6 +114,13 @@ class CellRunData:
     robots: list[RobotRun]
     level: str = "ideal"
     base_dir: Path | None = None
+    actual: Any = None  # ActualClearance: with drives, the actual motion's clearance
+
+    @property
+    def clearances(self):
+        """The clearance the report and trace show: the actual motion's with drives
+        (:mod:`~irlc.runtime.outputs.actual_clearance`), else the set points'."""
+        return self.cell.clearances if self.actual is None else self.actual.clearances
 
     @property
     def error(self):
@@ -241,9 +258,28 @@ def _cell_report(run: CellRunData, reports: list[dict], entries: list[dict]) -> 
         "program_name": run.code.program,
         "statements": rows,
         "cycle_time_s": rnd(sum(r["duration_s"] or 0.0 for r in rows)),
-        "clearance": _clearance_report(run),
+        "clearance": _clearance_report(run, run.clearances),
         "robots": entries,
     }  # fmt: skip
+    inside = out["clearance"]
+    if run.actual is not None and (inside["min_distance_mm"] or 0.0) < 0.0:
+        out["warnings"].append(  # (allowed: else the run failed at it)
+            "collisions allowed (--allow-collisions): the actual motion (simulated drives) "
+            f"brings {inside['robot_a']} link {inside['link_a']} and {inside['robot_b']} link "
+            f"{inside['link_b']} {-inside['min_distance_mm']:.4g} mm inside each other at "
+            f"t = {inside['at_time_s']:.3f} s, line {inside['line']}"
+        )
+    if run.actual is not None:  # the set points' figures, for comparison (as a robot's)
+        ideal = [e["ideal"] for e in entries if e.get("ideal")]
+        out["ideal"] = {
+            "max_path_error_mm": max((i["max_path_error_mm"] or 0.0 for i in ideal), default=0.0),
+            "max_orientation_error_deg": max((i["max_orientation_error_deg"] or 0.0
+                                              for i in ideal), default=0.0),
+            "obstacles": _obstacles([{**e, "obstacles": e["ideal"]["obstacles"]}
+                                     for e in entries if e.get("ideal")]),
+            "clearance": _clearance_report(run, run.cell.clearances),
+        }  # fmt: skip
+        out["robots"] = out.pop("robots")  # (the last key)
     return out
 
 
@@ -320,24 +356,25 @@ def _statements(run: CellRunData) -> list[dict]:
     return rows
 
 
-def _clearance_report(run: CellRunData) -> dict:
-    """The smallest clearance between links over the run — its pair, time and line — the
+def _clearance_report(run: CellRunData, clearances) -> dict:
+    """The smallest clearance between links over the run (of ``clearances``: the actual
+    motion's or the set points', :class:`CellClearances`) — its pair, time and line — the
     largest R_CLEARANCE in effect, and the same per pair of robots (``pairs``: between two
     robots, and each robot with itself)."""
     cell = run.cell
     rec = run.robots[0].samples.recorded
     n = len(rec.times)
     names = [r.unit.name for r in run.robots]
-    d = np.array(cell.clearances.distance[:n])
-    out = _least(d, rec, lambda k: cell.clearances.pair[k], names)
+    d = np.array(clearances.distance[:n])
+    out = _least(d, rec, lambda k: clearances.pair[k], names)
     out["required_mm"] = rnd(max(cell.clearances.required[:n], default=0.0) / units.MM)
     parts = cell.parts
     pairs = []
     for g in range(len(parts.groups)):
-        dg = np.array([m[0][g] for m in cell.clearances.groups[:n]])
+        dg = np.array([m[0][g] for m in clearances.groups[:n]])
 
         def pair_of(k: int, g: int = g) -> tuple[int, int, int, int]:
-            p = int(cell.clearances.groups[k][1][g])
+            p = int(clearances.groups[k][1][g])
             i, j = int(parts.i[p]), int(parts.j[p])
             return int(parts.robot[i]), int(parts.link[i]), int(parts.robot[j]), int(parts.link[j])
 
@@ -361,10 +398,11 @@ def _least(d: np.ndarray, rec, pair_of, names) -> dict:
 
 
 def _clearance_columns(run: CellRunData, rows: int) -> tuple[list[str], np.ndarray]:
-    """``clearance_mm`` and the pair's robot and link numbers, per trace row."""
-    cell = run.cell
-    d = np.array(cell.clearances.distance[:rows], dtype=float) / units.MM
-    pair = np.array(cell.clearances.pair[:rows], dtype=float).reshape(-1, 4)
+    """``clearance_mm`` and the pair's robot and link numbers, per trace row (with drives
+    the actual motion's, as the joint columns are)."""
+    clearances = run.clearances
+    d = np.array(clearances.distance[:rows], dtype=float) / units.MM
+    pair = np.array(clearances.pair[:rows], dtype=float).reshape(-1, 4)
     d = np.where(np.isfinite(d), d, 0.0)
     return list(tc.CELL_CLEARANCE), np.column_stack([d, pair]) if rows else np.zeros((0, 5))
 

@@ -75,7 +75,8 @@ def test_each_robot_s_drives_in_a_cell_summary(tmp_path, capsys):
     assert out.count("│ verdict criteria") == 2
     judged = r"│ path error +max .* \(actual motion; ideal .*\), not judged"
     assert len(re.findall(judged, out)) == 2
-    assert "(actual motion; judged per robot below)" in out
+    # the cell's row: the actual motion, the set points' (ideal) beside it, judged per robot
+    assert re.search(r"\(actual motion; ideal .*; judged per robot below\)", out)
 
 
 def test_r_clearance_row_names_own_pairs_closer_at_home():
