@@ -268,6 +268,8 @@ def robot_tables(report: dict) -> list:
         rows = [("path error", _path_error(entry)), *measure_rows(entry)]
         if entry.get("drives_summary"):
             rows.append(("drives", drives_text(entry["drives_summary"])))
+        elif report.get("drives", "ideal") != "ideal":
+            rows.append(("drives", "ideal: its robot file has no drive data"))
         if entry.get("verdict"):
             rows.append(("verdict criteria", _criteria(entry["verdict"])))
         if rows:

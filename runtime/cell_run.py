@@ -63,8 +63,13 @@ def run_cell(code: Code, arguments: dict) -> RunResult:
     members = cell_members(
         code, common.base_dir, seed_config, a["allow_any_path"], a.get("models", ())
     )
+    driven = _driven(members, drives)
     if drives != "ideal":
-        opts.drive_step_s = min(setup.drive_step_for(m.model, drives, m.q0) for m in members)
+        opts.drive_step_s = min(
+            setup.drive_step_for(m.model, drives, m.q0)
+            for m, d in zip(members, driven, strict=True)
+            if d
+        )
     if opts.engine is None and (opts.ik is None or opts.ik.accel is None):
         opts.engine = engine_policy.for_run(a["engine"])
     cell = CellController(
@@ -80,9 +85,15 @@ def run_cell(code: Code, arguments: dict) -> RunResult:
             t_end = robots[0].samples.recorded.times[-1]
             phase(f"simulating the drives ({drives}) of {len(robots)} robots over {t_end:.2f} s")
         until = None if execution.error is None else execution.error.time_s
-        for run in robots:
-            run.drive(drives, False, cell.obstacles, opts, until)
-        actual = actual_clearance.measure(cell.parts, [r.samples.actual for r in robots],
+        for run, d in zip(robots, driven, strict=True):
+            if d:
+                run.drive(drives, False, cell.obstacles, opts, until)
+            else:
+                run.undriven = (
+                    f"robot {run.unit.model.name} has no drive data ([drives] in its robot "
+                    f"file): it runs ideal beside the others' {drives} drives"
+                )
+        actual = actual_clearance.measure(cell.parts, [r.samples.shown for r in robots],
                                           cell.clearances.required, opts.allow_collisions,
                                           until)  # fmt: skip
         failure = _first_failure(robots, until, actual)
@@ -184,6 +195,20 @@ def _start_failure(code: Code, cell: CellController, members, seed_config):
         if failure is not None:
             return failure
     return cell.start_failure(line)
+
+
+def _driven(members, drives: str) -> list[bool]:
+    """Which robots' drives are simulated: with ``--drives`` every robot with drive data
+    (one without runs ideal, and its report says so); none has any: the one-robot error
+    (:class:`~irlc.runtime.errors.DriveSetupError`, exit 3)."""
+    if drives == "ideal":
+        return [False] * len(members)
+    from irlc.runtime.drives.stage import drive_data, has_drive_data
+
+    driven = [has_drive_data(m.model) for m in members]
+    if not any(driven):
+        drive_data(members[0].model)  # raises, naming the robot
+    return driven
 
 
 def _first_failure(robots, until, actual):

@@ -96,6 +96,16 @@ def stopped(
     return Samples(rec, commanded(rec), actual, steps, drive), cut
 
 
+def has_drive_data(model) -> bool:
+    """Whether the robot file has drive data (``[drives]``; bad data still raises)."""
+    from irlc.runtime.drives import drive_params
+
+    try:
+        return drive_params(model) is not None
+    except ValueError as exc:
+        raise DriveSetupError(f"robot {model.name}: bad drive data: {exc}") from None
+
+
 def drive_data(model):
     """The robot's validated drive data (:func:`irlc.runtime.drives.drive_params`)."""
     try:

@@ -71,6 +71,7 @@ class RobotRun:
     samples: Samples
     verdict: Any = None
     cut_at: float | None = None  # a drive failure (of any robot) ends the run here
+    undriven: str | None = None  # why its drives were not simulated (no drive data)
 
     @classmethod
     def kinematic(cls, unit) -> RobotRun:
@@ -187,9 +188,11 @@ def _robot_data(run: CellRunData, k: int) -> RunData:
         run.execution, warnings=[], state=dataclasses.replace(state, settings=settings)
     )
     error = run.error if rr.verdict is None else None
-    execution = dataclasses.replace(execution, error=error)
+    warnings = [rr.undriven] if rr.undriven else []
+    execution = dataclasses.replace(execution, error=error, warnings=warnings)
+    level = "ideal" if rr.undriven else run.level
     return RunData(code, rr.unit.model, RobotView(rr.unit), execution, run.options, rr.samples,
-                   run.level, rr.verdict, run.base_dir)  # fmt: skip
+                   level, rr.verdict, run.base_dir)  # fmt: skip
 
 
 _ROBOT_KEYS = ("joints", "start_joints", "end_joints", "max_path_error_mm",
