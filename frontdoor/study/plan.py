@@ -141,24 +141,31 @@ def build_plan(
         if problem:
             raise study.error("seed_config", problem, "run")
     if drives:
-        for model in models:
-            _check_drive_data(study, model)
+        _check_drive_data(study, models)
     return plan
 
 
-def _check_drive_data(study: Study, model) -> None:
-    """Some variant simulates the drives: the robot must have drive data."""
+def _check_drive_data(study: Study, models) -> None:
+    """Some variant simulates the drives: a robot's drive data must be valid, and one
+    robot at least must have them (a cell's robot without runs ideal beside the others,
+    docs/drives.md)."""
     from irlc.runtime.drives import drive_params
 
-    try:
-        ok = drive_params(model) is not None
-        problem = "" if ok else f"robot {model.name} has no drive data ([drives] in its file)"
-    except ValueError as e:
-        problem = f"robot {model.name}: bad drive data: {e}"
-    if problem:
-        key = "run.drives" if "run.drives" in study.keys else "drives"
-        section = next((a.section for a in study.axes if a.key == key), "run")
-        raise study.error(key, problem, section)
+    driven = []
+    for model in models:
+        try:
+            driven.append(drive_params(model) is not None)
+        except ValueError as e:
+            _drive_data_error(study, f"robot {model.name}: bad drive data: {e}")
+    if not any(driven):
+        name = models[0].name
+        _drive_data_error(study, f"robot {name} has no drive data ([drives] in its file)")
+
+
+def _drive_data_error(study: Study, problem: str) -> None:
+    key = "run.drives" if "run.drives" in study.keys else "drives"
+    section = next((a.section for a in study.axes if a.key == key), "run")
+    raise study.error(key, problem, section)
 
 
 def _code(study: Study, allow_any_path: bool = False) -> Code:

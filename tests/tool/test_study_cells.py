@@ -329,3 +329,14 @@ def test_the_example_cell_study_is_valid():
     for column in ("min_clearance_ceiling-floor_mm", "floor_max_path_error_mm",
                    "cycle_time_s", "peak_speed_floor_a1_deg_s"):  # fmt: skip
         assert column in cols
+
+
+def test_a_cell_study_with_drives_needs_drive_data_of_one_robot_only(tmp_path):
+    """two_robots.irl's Panda has no drive data: with run.drives the study is accepted
+    (the Panda runs ideal beside the AS arm's drives, docs/drives.md)."""
+    program = (ROOT / "programs" / "two_robots.irl").as_posix()
+    path = tmp_path / "drives.toml"
+    body = '[run]\ndrives = "decoupled"\n[grid]\n"robot.floor.at.x" = [0, 100]\n'
+    path.write_text(f'program = "{program}"\n{body}', encoding="utf-8")
+    plan = build_plan(read_study(path))
+    assert plan.drives and plan.cell == ("ceiling", "floor")
