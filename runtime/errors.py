@@ -71,6 +71,16 @@ class RunFailure(IrlcError):
         self.cause = cause
         self.details = dict(details or {})
 
+    def of_robot(self, who: str) -> RunFailure:
+        """This failure as one robot's of a cell (``who``: ``robot welder``, or a
+        cooperation ``welder in holder``): its message begins with ``who`` unless it names
+        it already or speaks of two robots' links (a clearance). Returns ``self``."""
+        if self.cause == "clearance" or self.message.startswith(who) or f"{who} " in self.message:
+            return self
+        self.message = f"{who}: {self.message}"
+        self.args = (self.message,)
+        return self
+
     def as_dict(self) -> dict:
         out = {"message": self.message, "line": self.line, "time_s": self.time_s}
         if self.constraint:

@@ -425,7 +425,8 @@ class CellController:
         log = unit.controller.log
         before = len(log.spans)
         try:
-            run()
+            with part.failures():
+                run()
         finally:
             self.settle()
             self.moving = ()

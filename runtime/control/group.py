@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 from irlc.runtime.commands import ModalOptions, MotionCommand, Settings
@@ -56,6 +57,21 @@ class Part:
     plan: PlanState | None = None
     segments: list[Segment] = field(default_factory=list)
     own_cycles: int = 0  # the cycles of the part planned alone
+
+    @property
+    def who(self) -> str:
+        """Whose motion this is, in a failure's message: ``robot welder``; a cooperating
+        pair's ``welder in holder``; a follower is its robot."""
+        name = getattr(self.unit, "name", self.name)
+        return f"robot {self.name}" if len(self.robots) == 1 or self.follows else name
+
+    @contextmanager
+    def failures(self) -> Iterator[None]:
+        """A :class:`RunFailure` inside names this part (:meth:`RunFailure.of_robot`)."""
+        try:
+            yield
+        except RunFailure as failure:
+            raise failure.of_robot(self.who) from None
 
     @property
     def kind(self) -> str:
@@ -93,7 +109,8 @@ class GroupMove:
         t0, stop, n, dt = cell.time, "failed", 0, 0.0
         try:
             for p in leaders:
-                self._plan(p)
+                with p.failures():
+                    self._plan(p)
             dts = {p.plan.dt for p in leaders}
             if len(dts) > 1:  # (R_IPO is the cell's: a hand-written .ird only)
                 raise RunFailure("the parts of a group move have different IPO cycles")
@@ -101,12 +118,15 @@ class GroupMove:
             n = max(p.own_cycles for p in leaders)
             for p in leaders:
                 if 0 < p.own_cycles < n:
-                    self._stretch(p, n)
+                    with p.failures():
+                        self._stretch(p, n)
             for p in parts:
                 if p.follows is not None:
-                    self._follow(p, n, dt)
+                    with p.failures():
+                        self._follow(p, n, dt)
             for p in leaders:
-                p.controller.admit(p.cmd, p.segments, p.plan, p.options, p.prepared.solver)
+                with p.failures():
+                    p.controller.admit(p.cmd, p.segments, p.plan, p.options, p.prepared.solver)
             # a part already at its target holds: its robot's samples are the cell's holds
             cell.moving = tuple(
                 r for p in parts if p.follows is not None or p.own_cycles for r in p.robots
@@ -190,13 +210,15 @@ class GroupMove:
         after the holder it follows)."""
         steps = []
         for p in self.parts:
-            runs = p.controller.segment_runs(p.segments, p.prepared.solver, dt, p.options)
-            steps.append((p.controller.cycles, _cycle_steps(runs)))
+            with p.failures():
+                runs = p.controller.segment_runs(p.segments, p.prepared.solver, dt, p.options)
+            steps.append((p, p.controller.cycles, _cycle_steps(runs)))
         for _ in range(n):
-            for cycles, it in steps:
+            for p, cycles, it in steps:
                 step = next(it, None)
                 if step is not None:
-                    cycles.run(*step)
+                    with p.failures():
+                        cycles.run(*step)
 
 
 def _cycle_steps(runs: list[SegmentRun]) -> Iterator[tuple[SegmentRun, int]]:

@@ -488,3 +488,33 @@ ENDPROGRAM
     assert notes[("a", 14)]["blended"]
     held = a.recorded.lines == 13  # robot a holds while b moves
     assert np.ptp(a.q[held], axis=0).max() == 0.0
+
+
+NAMED = """PROGRAM named;
+ROBOT holder := as6;
+ROBOT welder := as6 AT (0, -2200, 0, 180, 0, 0);
+CONST
+  MAIN_JOINT: start = (90, 40, 20, 45, 70, 10);
+BEGIN
+  R_SPEED := 50; R_ACC := 200;
+  MOVE holder PTP start AND welder PTP start;
+  MOVE holder LIN holder.R_ACT_POSE : (0, 0, -20, 0, 0, 0) AND welder LIN POSE(0, 5000, 0, 0, 0, 0);
+  COOPERATE welder IN holder;
+    MOVE holder LIN holder.R_ACT_POSE : (0, 0, -50, 0, 0, 0);
+  COOPERATEEND;
+ENDPROGRAM
+"""
+
+
+def test_a_robots_failure_in_a_cell_names_the_robot():
+    """Which robot of a group move cannot reach its target; which robot (the welder,
+    following the holder's motion: master–slave) cannot follow — its joint a3 is its own."""
+    run = _run(NAMED)
+    error = run.report["error"]
+    assert error["line"] == 9
+    assert error["message"].startswith("robot welder: MOVE LIN: target not reachable")
+    follows = _run(NAMED.replace("AND welder LIN POSE(0, 5000, 0, 0, 0, 0)", ""))
+    error = follows.report["error"]
+    assert error["line"] == 11
+    assert error["message"].startswith("robot welder: the path cannot be followed")
+    assert "bound by a3 (J3) accel min" in error["message"]
