@@ -214,7 +214,11 @@ def _driven(members, drives: str) -> list[bool]:
 def _first_failure(robots, until, actual):
     """The earliest failure of the drive run (before ``until``): of a robot's verdict or
     of the actual clearance (a tie: the robot's), or ``None``."""
-    failures = [r.verdict.failure for r in robots if r.verdict is not None] + [actual.failure]
+    failures = [
+        r.verdict.failure.of_robot(f"robot {r.unit.name}")
+        for r in robots
+        if r.verdict is not None and r.verdict.failure is not None
+    ] + [actual.failure]
     failures = [f for f in failures if f is not None and (until is None or f.time_s < until)]
     return min(failures, key=lambda f: f.time_s) if failures else None
 

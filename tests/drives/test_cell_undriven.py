@@ -46,3 +46,13 @@ def test_a_cell_without_any_drive_data_is_refused(tmp_path):
     )
     with pytest.raises(DriveSetupError, match="robot panda has no drive data"):
         _run(tmp_path, two, drives="decoupled")
+
+
+def test_a_robots_drive_failure_in_a_cell_names_the_robot(tmp_path):
+    text = CELL.replace(
+        "ENDPROGRAM", "  MOVE arm LIN arm.R_ACT_POSE : (0, 0, -100, 0, 0, 0);\nENDPROGRAM"
+    )
+    run = _run(tmp_path, text, drives="decoupled", path_tolerance=0.5)
+    error = run.report["error"]
+    assert run.status == "failed" and error["line"] == 6
+    assert error["message"].startswith("robot arm: the actual TCP (simulated drives) leaves")
