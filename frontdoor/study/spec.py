@@ -289,8 +289,27 @@ def _read_grid(study: Study, table: dict) -> list[Axis]:
             raise study.error(
                 key, f"expected a non-empty list of values, got {_show(values)}", "grid"
             )
+        twice = _repeated(values)
+        if twice is not None:
+            raise study.error(
+                key, f"value {_show(twice)} is listed twice: each grid value is one variant", "grid"
+            )
         axes.append(Axis(key, "grid", values=tuple(values)))
     return axes
+
+
+def _repeated(values: list):
+    """The first value listed again (``1`` and ``1.0`` are one value), else ``None``."""
+    seen: list = []
+    for v in values:
+        if any(type(v) is type(u) or (_number(v) and _number(u)) for u in seen if u == v):
+            return v
+        seen.append(v)
+    return None
+
+
+def _number(v) -> bool:
+    return isinstance(v, int | float) and not isinstance(v, bool)
 
 
 def _read_random(study: Study, table: dict) -> None:

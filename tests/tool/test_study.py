@@ -123,6 +123,8 @@ BAD = [
     ('[grid]\n"run.path_tolrance" = [1]\n', "path_tolrance", "unknown run option"),
     ("[grid]\nfoo.bar = [1]\n", "foo.bar", "unknown key"),
     ('[grid]\n"run.ipo" = []\n', '"run.ipo"', "non-empty list"),
+    ('[grid]\n"run.ipo" = [0.01, 0.02, 0.01]\n', '"run.ipo"', "value 0.01 is listed twice"),
+    ('[grid]\n"run.override" = [50, 50.0]\n', '"run.override"', "value 50.0 is listed twice"),
     (
         '[random]\nn = 0\nseed = 1\n"run.ipo" = { uniform = [0.01, 0.02] }\n',
         "n = 0",
@@ -430,7 +432,7 @@ def test_a_variant_that_kills_its_worker_is_a_crashed_row_and_the_rest_run(cell)
     from irlc.study.plan import build_plan
     from irlc.study.runner import run_local
 
-    study = read_study(write_study(cell, '[grid]\n"run.ipo" = [0.01, 0.02, 0.01]\n'))
+    study = read_study(write_study(cell, '[grid]\n"run.ipo" = [0.01, 0.02]\n'))
     plan = build_plan(study)
     todo = [(0, (0.01,)), (1, (_KillsTheWorker(),)), (2, (0.02,))]
     got: list[dict] = []
