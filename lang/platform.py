@@ -53,9 +53,17 @@ class PlatformSignature(Protocol):
         """The world coordinates a target sets: ``("x", "y")``, ``("y",)``."""
         ...
 
-    def problem(self, target_mm: Sequence[float]) -> str | None:
+    @property
+    def joints(self) -> Sequence[int]:
+        """The platform's joints (0-based indices of the robot's joints)."""
+        ...
+
+    def problem(
+        self, target_mm: Sequence[float], labels: Sequence[str] | None = None
+    ) -> str | None:
         """Why the platform cannot be at ``target_mm`` (one value per coordinate, mm) —
-        outside its limits —, else ``None``."""
+        outside its limits —, else ``None``; ``labels``: the platform joints as a message
+        names them."""
         ...
 
 

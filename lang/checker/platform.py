@@ -62,8 +62,22 @@ class PlatformChecker:
                 "the platform's path is not blended (docs/language.md §7)",
             )
         values = self.target(value, platform)
-        if values is not None and (problem := platform.problem(values)) is not None:
+        if values is None:
+            return
+        problem = platform.problem(values, labels=self._labels(robot, platform))
+        if problem is not None:
             self.report.error(value.span, f"WITH PLATFORM: {problem}")
+
+    def _labels(self, robot: ProgramRobot, platform: P.PlatformSignature) -> list[str]:
+        """The platform joints as run-time messages name them: ``a1 (T)``."""
+        program = self.scope.joint_names
+        files = robot.signature.joint_names
+        out = []
+        for j in platform.joints:
+            name = program[j] if j < len(program) else f"a{j + 1}"
+            own = files[j] if j < len(files) else ""
+            out.append(name if not own or own.lower() == name.lower() else f"{name} ({own})")
+        return out
 
     def target(self, value: ast.Expr, platform: P.PlatformSignature) -> list[float] | None:
         """Types ``value`` as a target of ``platform``; its coordinates (mm) when constant."""

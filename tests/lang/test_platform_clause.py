@@ -24,7 +24,11 @@ class FakePlatform:
     low: float = -5000.0
     high: float = 5000.0
 
-    def problem(self, target_mm: Sequence[float]) -> str | None:
+    @property
+    def joints(self) -> tuple[int, ...]:
+        return tuple(range(len(self.coordinates)))
+
+    def problem(self, target_mm: Sequence[float], labels=None) -> str | None:
         bad = [v for v in target_mm if not self.low <= v <= self.high]
         if not bad:
             return None
@@ -182,5 +186,5 @@ def test_the_library_mobile8_checks_a_constant_against_its_file_limits():
                       resolve_robot=load_robot)  # fmt: skip
     assert _errors(result) == [
         (4, 54, "WITH PLATFORM: the platform target (x 100, y -5001) mm is outside the "
-         "platform's limits: it needs joint Y at -5001 mm, beyond its limit (min -5000 mm)")
+         "platform's limits: it needs joint a2 (Y) at -5001 mm, beyond its limit (min -5000 mm)")
     ]  # fmt: skip
