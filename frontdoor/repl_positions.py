@@ -10,6 +10,7 @@ Diagnostics). A diagnostic in another file (a data list the entry imports) keeps
 from __future__ import annotations
 
 import dataclasses
+import re
 from pathlib import Path
 
 from irlc.lang.diagnostics import Diagnostic, Span, line_span
@@ -18,6 +19,7 @@ from irlc.lang.diagnostics import render as render_diagnostic
 INPUT_NAME = "<input>"  # an entry typed at the terminal
 SCRIPT_NAME = "<stdin>"  # a script piped in
 ADDED_END = "unexpected ';'"  # a parse error at the ';' the session adds to a statement
+_CITED_LINE = re.compile(r"\(line (\d+)\)")
 
 
 class Positions:
@@ -45,6 +47,9 @@ class Positions:
         session = self.session_file
         if diag.file != session:  # a data list's problem: its own file and line
             return render_diagnostic(diag, "")
+        diag = dataclasses.replace(
+            diag, message=self.cited_lines(diag.message, chunk_line, n_lines)
+        )
         if span is None or not chunk_line <= span.line < chunk_line + n_lines:
             # outside the entry (the session program's end): at the entry's first or last line
             local_line = n_lines if span is not None and span.line >= chunk_line else 1
@@ -64,6 +69,19 @@ class Positions:
             where = shifted(local, self.origin - 1)
         header = dataclasses.replace(diag, file=file, span=where).header()
         return f"{header}\n{shown}" if shown else header
+
+    def cited_lines(self, message: str, chunk_line: int, n_lines: int) -> str:
+        """``(line N)`` in a message — a line of the session program — as the user knows it:
+        a line of this entry where it is one, else ``(earlier in the session)``."""
+
+        def cited(m: re.Match) -> str:
+            n = int(m.group(1))
+            if not chunk_line <= n < chunk_line + n_lines:
+                return "(earlier in the session)"
+            line = self.entry_line(n - chunk_line + 1)
+            return f"(line {line})" if self.origin is not None else f"(line {line} of the entry)"
+
+        return _CITED_LINE.sub(cited, message)
 
     def entry_file(self) -> str:
         return INPUT_NAME if self.origin is None else SCRIPT_NAME

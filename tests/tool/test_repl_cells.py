@@ -125,7 +125,10 @@ def test_mistakes_are_positioned_and_list_the_robots(tmp_path):
             f"<stdin>:{line}:1: error: unknown robot 'c'; the session's robots: r, b"
         ]
     twice = s.enter("ROBOT b := panda;", 12)
-    assert twice.failure == 1 and _first(twice).startswith("<stdin>:12:7: error: 'b' is already")
+    assert twice.failure == 1
+    assert _first(twice) == "<stdin>:12:7: error: 'b' is already defined (earlier in the session)"
+    same = s.enter("VAR REAL: y,\n  y;", 14)  # a line the user typed: as they count it
+    assert _first(same) == "<stdin>:15:3: error: 'y' is already defined (line 14)"
     bad_at = s.enter("ROBOT c := as6 AT 5;", 13)
     assert _first(bad_at) == "<stdin>:13:19: error: AT of robot c: expected POSE, got INTEGER"
     assert s.robot_names() == ["r", "b"]  # refused entries leave the cell as it was
