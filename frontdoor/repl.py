@@ -36,16 +36,16 @@ import os
 import re
 import sys
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from irlc import repl_files
 from irlc.errors import UsageError
 from irlc.lang import types as T
-from irlc.lang.file_access import path_kind
 from irlc.repl_cell import CellMachine, check_distinct_names, robot_clause, robot_spec
 from irlc.repl_positions import SCRIPT_NAME, Positions
 from irlc.repl_views import (
+    Entry,
     RobotView,
     cell_where_lines,
     limits_lines,
@@ -140,20 +140,6 @@ def is_complete(text: str) -> bool:
     return block_depth(text) <= 0 and not _unterminated_comment(text)
 
 
-def _teach_path(cwd: Path, raw: str) -> Path | None:
-    """The data-list file of ``:teach NAME FILE``: relative to ``cwd``, ``.toml`` added to
-    a name without a suffix (``cell`` is ``cell.toml``, even beside a folder ``cell``);
-    ``None`` when ``raw`` can only mean a folder (``dir/``, ``.``, ``..``, ``~``)."""
-    if (
-        raw.endswith(("/", os.sep))
-        or Path(raw).name in ("", ".", "..")
-        or (raw.startswith("~") and os.sep not in raw)
-    ):
-        return None
-    path = cwd / Path(raw).expanduser()
-    return path if path.suffix else path.with_suffix(".toml")
-
-
 _POSITION = re.compile(r"^\S+:\d+:\d+: error: ")  # a rendered diagnostic's position
 
 
@@ -196,14 +182,6 @@ def _typed_short_form(text: str) -> re.Match | None:
 
 
 # --------------------------------------------------------------------------- session
-
-
-@dataclass
-class Entry:
-    """The outcome of one entry: what to print and whether it failed (1 compile, 2 run)."""
-
-    lines: list[str] = field(default_factory=list)
-    failure: int = 0
 
 
 class Session:
@@ -586,9 +564,10 @@ class Session:
             "robot": self._meta_robot,
             "limits": lambda a: self._per_robot(a, limits_lines),
             "options": lambda a: self._per_robot(a, options_lines),
-            "trace": self._meta_trace,
-            "plot": self._meta_plot,
-            "teach": self._meta_teach,
+            "trace": lambda a: repl_files.trace(self.pos, self.cwd, a, self.run_result),
+            "plot": lambda a: repl_files.plot(self.pos, self.cwd, a, self.run_result),
+            "teach": lambda a: repl_files.teach(self.pos, self.cwd, a, self.names, self._view(),
+                                                self.cell is not None),
             "program": lambda a: Entry(self.program_text(self.decls, self.imports,
                                                         "\n".join(self.history))[0].splitlines()),
             "reset": lambda a: self.reset(),
@@ -731,71 +710,6 @@ class Session:
         for row in run.report["statements"]:  # entries have no source file (a repl.irl
             row["statement"] = row["kind"]  # in the folder is not the session's)
         return run
-
-    def _meta_trace(self, arg: str) -> Entry:
-        from irlc.report import write_trace
-
-        if not arg:
-            return Entry([self.pos.located("usage: :trace FILE.csv")], 3)
-        target = self.cwd / Path(arg).expanduser()
-        if target.is_dir():
-            return Entry(
-                [self.pos.located(f"{target} is a folder; :trace takes a file (FILE.csv)")], 3
-            )
-        run = self.run_result()
-        path = write_trace(run.trace_columns, run.trace, target)
-        return Entry([f"trace: {len(run.trace)} samples → {path}"])
-
-    def _meta_plot(self, arg: str) -> Entry:
-        from irlc.plots import write_plots
-
-        if not arg:
-            return Entry([self.pos.located("usage: :plot DIR")], 3)
-        target = self.cwd / Path(arg).expanduser()  # relative to the session's folder
-        if target.exists() and not target.is_dir():
-            return Entry(
-                [self.pos.located(f"{target} is not a folder; :plot takes a folder (DIR)")], 3
-            )
-        paths = write_plots(self.run_result(), target)
-        return Entry([f"{len(paths)} figures → {Path(arg)}"])
-
-    def _meta_teach(self, arg: str) -> Entry:
-        """``:teach NAME [FILE]``: the pose (R_ACT_POSE: R_BASE frame, with R_TOOL) and the
-        joints into a data list (:mod:`irlc.teach`); ``FILE`` relative to the session's
-        folder, ``.toml`` added when it has no suffix, default ``taught.toml``."""
-        from irlc.lang.parser import keywords
-        from irlc.lang.settings import SYSTEM_VARIABLES
-        from irlc.teach import JOINTS_SUFFIX, TeachError, teach
-
-        parts = arg.split()
-        if len(parts) not in (1, 2):
-            return Entry([self.pos.located("usage: :teach NAME [FILE.toml]")], 3)
-        name, raw = parts[0], parts[1] if len(parts) == 2 else "taught.toml"
-        path = _teach_path(self.cwd, raw)
-        if path is None or path_kind(path) == "folder":
-            where = raw if path is None else str(path)
-            message = f"{where} is a folder; :teach takes a file (FILE.toml)"
-            return Entry([self.pos.located(message)], 3)
-        taken = {n.lower() for n in (*self.names, *keywords(), *SYSTEM_VARIABLES)}
-        clash = [n for n in (name, name + JOINTS_SUFFIX) if n.lower() in taken]
-        if clash:
-            return Entry([self.pos.located(f"'{clash[0]}' is already a name of this session, a "
-                                        "keyword or a system variable; choose another name")],
-                         3)  # fmt: skip
-        view = self._view()
-        xyzabc = view.xyzabc()
-        try:
-            keys = teach(path, name, xyzabc, view.joints())
-        except TeachError as e:
-            return Entry([self.pos.located(str(e))], 3)
-        robot = "" if self.cell is None else f"{view.name} "
-        frame = "" if self.cell is None else f" of {view.name} ({view.frame})"
-        return Entry([
-            f"taught {name}: pose{frame} {pose_text(xyzabc)} [mm, deg ZYX] and "
-            f"joints → {', '.join(keys)} in {path}",
-            f"  use it: IMPORT DATALIST {path.stem};  MOVE {robot}LIN {name};  "
-            f"MOVE {robot}PTP {name}{JOINTS_SUFFIX};",
-        ])  # fmt: skip
 
     # ------------------------------------------------------------------ completion
 

@@ -9,7 +9,7 @@ cell (:mod:`irlc.repl_cell`); the functions here turn a view into lines, the sam
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from irlc.lang.settings import LIMIT_OPTIONS, SETTINGS
@@ -18,6 +18,15 @@ from irlc.runtime import units, values
 from irlc.runtime.commands import ModalOptions, Settings
 from irlc.runtime.model.naming import JointNaming
 from irlc.runtime.values import Pose
+
+
+@dataclass
+class Entry:
+    """The outcome of one REPL entry: what to print and whether it failed (1 compile,
+    2 run, 3 a file or usage problem)."""
+
+    lines: list[str] = field(default_factory=list)
+    failure: int = 0
 
 
 @dataclass(frozen=True)
