@@ -153,8 +153,12 @@ class CellMachine:
         out = cell_lines(self.robots(), current)
         overlap = self.controller.start_failure(0)
         if overlap is not None:
-            what = str(overlap.message).split(" at t = ")[0].split(";")[0]
-            out.append(f"  warning: {what} where they stand; move them apart first")
+            d = overlap.details  # the clearance failure's facts (ClearanceRule.failure)
+            out.append(
+                f"  warning: {d['robot_a']} link {d['link_a']} and {d['robot_b']} link "
+                f"{d['link_b']} collide: they are {-d['distance_mm']:.4g} mm inside each other "
+                "where they stand; move them apart first"
+            )
         return out
 
     def robots(self) -> list[tuple[str, str, tuple[float, ...]]]:

@@ -36,6 +36,15 @@ class RobotSignature(Protocol):
 RobotResolver = Callable[[str], RobotSignature]
 
 
+def joint_label(program: str, robot: str | None) -> str:
+    """The rule for naming one joint in a message: ``a4 (panda_joint4)``; ``a4`` where the
+    robot file's name agrees case-insensitively or is unknown (e.g. a report written before
+    it was kept). The compiler and the runtime name joints by it."""
+    if not robot or program.lower() == robot.lower():
+        return program
+    return f"{program} ({robot})"
+
+
 @dataclass(frozen=True)
 class SimpleRobot:
     """A plain signature (tests, REPL, tools that know a robot without loading it)."""

@@ -27,6 +27,7 @@ from irlc.lang.checker.constants import number
 from irlc.lang.checker.expressions import ExpressionTyper
 from irlc.lang.checker.scope import Reporter, Scope
 from irlc.lang.settings import PTP_KINDS
+from irlc.lang.signature import joint_label
 
 _NO_PLATFORM_HINT = "a robot file names its platform in [platform] (docs/robots.md)"
 
@@ -72,12 +73,11 @@ class PlatformChecker:
         """The platform joints as run-time messages name them: ``a1 (T)``."""
         program = self.scope.joint_names
         files = robot.signature.joint_names
-        out = []
-        for j in platform.joints:
-            name = program[j] if j < len(program) else f"a{j + 1}"
-            own = files[j] if j < len(files) else ""
-            out.append(name if not own or own.lower() == name.lower() else f"{name} ({own})")
-        return out
+        return [
+            joint_label(program[j] if j < len(program) else f"a{j + 1}",
+                        files[j] if j < len(files) else None)
+            for j in platform.joints
+        ]  # fmt: skip
 
     def target(self, value: ast.Expr, platform: P.PlatformSignature) -> list[float] | None:
         """Types ``value`` as a target of ``platform``; its coordinates (mm) when constant."""

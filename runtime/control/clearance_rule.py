@@ -118,16 +118,16 @@ class ClearanceRule:
         parts, d = self.parts, m.d
         if not d.size:
             return
-        moving_apart = self._moving_apart(d)
+        moving_apart = self._moving_apart(d) if self._tolerated else set()
         if not self.allow:
-            for k in np.argsort(d, kind="stable"):
-                if d[k] >= 0.0:
-                    break
+            inside = np.flatnonzero(d < 0.0)  # (every sample: nearly always none)
+            for k in inside[np.argsort(d[inside], kind="stable")]:
                 if int(k) not in moving_apart:
                     raise self.failure(m.pair(int(k)), 0.0, line, t, actual)
         if required > 0.0:
             slack = d - parts.keep(required)
-            slack[list(moving_apart)] = np.inf
+            if moving_apart:
+                slack[list(moving_apart)] = np.inf
             j = int(np.argmin(slack))
             if slack[j] < -KEEP_TOLERANCE:
                 raise self.failure(m.pair(j), float(d[j] - slack[j]), line, t, actual)

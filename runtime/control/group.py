@@ -213,12 +213,16 @@ class GroupMove:
             with p.failures():
                 runs = p.controller.segment_runs(p.segments, p.prepared.solver, dt, p.options)
             steps.append((p, p.controller.cycles, _cycle_steps(runs)))
-        for _ in range(n):
-            for p, cycles, it in steps:
-                step = next(it, None)
-                if step is not None:
-                    with p.failures():
+        running = None  # the part whose cycle runs: a failure names it (one try in all)
+        try:
+            for _ in range(n):
+                for part, cycles, it in steps:
+                    step = next(it, None)
+                    if step is not None:
+                        running = part
                         cycles.run(*step)
+        except RunFailure as failure:
+            raise (failure if running is None else failure.of_robot(running.who)) from None
 
 
 def _cycle_steps(runs: list[SegmentRun]) -> Iterator[tuple[SegmentRun, int]]:

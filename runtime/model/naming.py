@@ -13,6 +13,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from irlc.lang.signature import joint_label
+
+__all__ = ["JointNaming", "default_names", "joint_label", "naming_or_default"]
+
 
 def default_names(n: int) -> tuple[str, ...]:
     """``a1 … aN``: the program names when a program declares none."""
@@ -46,14 +50,6 @@ class JointNaming:
 
     def labels(self, joints: Sequence[int]) -> str:
         return ", ".join(self.label(j) for j in joints)
-
-
-def joint_label(program: str, robot: str | None) -> str:
-    """The rule for one joint: ``a4 (panda_joint4)``; ``a4`` where the robot file's name
-    agrees case-insensitively or is unknown (e.g. a report written before it was kept)."""
-    if not robot or program.lower() == robot.lower():
-        return program
-    return f"{program} ({robot})"
 
 
 def naming_or_default(naming: JointNaming | None, model) -> JointNaming:
